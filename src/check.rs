@@ -1,0 +1,778 @@
+//! Stage 2, `check`: spanned syntax → the typed [`Material`] model, or every error at once.
+//!
+//! **Input:** the [`Value`] tree from `parse`. **Output:** a [`Material`] plus its
+//! [`SourceMap`], or *all* semantic problems as [`Diagnostic`]s (`E02xx`), each pointing at the
+//! offending value's own span, with a help line: the valid names of an enum (and "did you mean"),
+//! the physical range of a number, or a fix.
+//!
+//! Checking is table-driven: each constructor (`Material`, `Coat`, `Ggx`, `Lambert`, …) has a
+//! list of [`FieldSpec`]s, and one routine maps named or positional arguments onto it, reporting
+//! unknown, duplicate and missing fields. Values are then converted slot by slot; a slot that
+//! fails is reported and skipped, so one run finds every error.
+//!
+//! **Invariants of the output:** those listed in [`crate::model`].
+
+use std::collections::HashMap;
+
+use crate::diag::{Code, Diagnostic, Span, Spanned};
+use crate::model::*;
+use crate::parse::{Arg, Value};
+
+/// Checks a parsed material.
+///
+/// # Errors
+/// Every semantic problem found, in source order.
+pub fn check(root: &Spanned<Value>) -> Result<(Material, SourceMap), Vec<Diagnostic>> {
+    let mut checker = Checker::default();
+    let material = checker.material(root);
+    checker.errors.sort_by_key(|d| d.primary_span().start);
+    match material {
+        Some(material) if checker.errors.is_empty() => {
+            let map = SourceMap { name: checker.name_span, layers: checker.layer_spans, params: checker.param_spans };
+            Ok((material, map))
+        }
+        _ => Err(checker.errors),
+    }
+}
+
+/// One field of a constructor: its name, whether it must be present, and an example value for
+/// the "missing field" help line.
+struct FieldSpec {
+    name: &'static str,
+    required: bool,
+    example: &'static str,
+}
+
+const fn req(name: &'static str, example: &'static str) -> FieldSpec {
+    FieldSpec { name, required: true, example }
+}
+
+const fn opt(name: &'static str, example: &'static str) -> FieldSpec {
+    FieldSpec { name, required: false, example }
+}
+
+const MATERIAL_FIELDS: &[FieldSpec] =
+    &[req("name", "\"clay\""), opt("method", "Interfaced"), req("layers", "[Lambert(albedo: 0.5)]")];
+const COAT_FIELDS: &[FieldSpec] = &[
+    req("lobe", "Ggx(roughness: 0.2)"),
+    req("ior", "1.5"),
+    opt("absorption", "(0.1, 0.2, 0.4)"),
+    opt("thickness", "0.5"),
+];
+const ROUGH_LOBE_FIELDS: &[FieldSpec] = &[req("roughness", "0.2")];
+const LAMBERT_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.5, 0.3)")];
+const ROUGH_DIFFUSE_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.5, 0.3)"), req("roughness", "0.5")];
+const CONDUCTOR_FIELDS: &[FieldSpec] = &[
+    req("roughness", "0.3"),
+    opt("f0", "(0.95, 0.64, 0.54)"),
+    opt("eta", "(0.2, 0.92, 1.1)"),
+    opt("k", "(3.9, 2.45, 2.14)"),
+];
+const PLASTIC_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.1, 0.1)"), req("roughness", "0.3"), req("ior", "1.5")];
+const PARAM_FIELDS: &[FieldSpec] = &[req("name", "\"roughness\""), req("default", "0.5")];
+
+const LAYER_NAMES: &[&str] = &["Coat", "Lambert", "OrenNayar", "Eon", "Conductor", "Plastic"];
+
+/// The physical range a number must lie in, with its code and help text.
+#[derive(Clone, Copy)]
+enum Rule {
+    /// Perceptual roughness, [0, 1].
+    Roughness,
+    /// Oren–Nayar σ in radians, [0, 1].
+    Sigma,
+    /// IOR or real part of a complex IOR: finite and > 0.
+    Ior,
+    /// Absorption σa ≥ 0.
+    Absorption,
+    /// Thickness d ≥ 0.
+    Thickness,
+    /// Conductor extinction κ ≥ 0.
+    Extinction,
+    /// A reflectance in [0, 1].
+    Albedo,
+}
+
+impl Rule {
+    fn accepts(self, x: f64) -> bool {
+        match self {
+            Rule::Roughness | Rule::Sigma | Rule::Albedo => (0.0..=1.0).contains(&x),
+            Rule::Ior => x > 0.0,
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => x >= 0.0,
+        }
+    }
+
+    fn code(self) -> Code {
+        match self {
+            Rule::Roughness | Rule::Sigma => Code::RoughnessRange,
+            Rule::Ior => Code::IorRange,
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => Code::NegativeMedium,
+            Rule::Albedo => Code::AlbedoRange,
+        }
+    }
+
+    fn what(self) -> &'static str {
+        match self {
+            Rule::Roughness => "roughness",
+            Rule::Sigma => "Oren–Nayar roughness",
+            Rule::Ior => "index of refraction",
+            Rule::Absorption => "absorption",
+            Rule::Thickness => "thickness",
+            Rule::Extinction => "extinction coefficient",
+            Rule::Albedo => "albedo",
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            Rule::Roughness | Rule::Sigma | Rule::Albedo => "must lie in [0, 1]",
+            Rule::Ior => "must be greater than 0",
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => "must not be negative",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Rule::Roughness => "roughness is perceptual (α = roughness²): 0 is a mirror, 1 is fully rough",
+            Rule::Sigma => "Oren–Nayar roughness is the facet-slope deviation σ in radians, from 0 (Lambert) to 1",
+            Rule::Ior => "an index of refraction relative to the medium above is a finite number above 0 \
+                          (water 1.33, glass 1.5, diamond 2.42)",
+            Rule::Absorption => "absorption σa is per unit length; 0 means a clear coat",
+            Rule::Thickness => "thickness is a length (the seed's density d); 0 means an interface with no slab",
+            Rule::Extinction => "the imaginary part κ of a conductor's IOR is 0 or more (gold: (0.2, 0.92, 1.1) + i(3.9, 2.45, 2.14))",
+            Rule::Albedo => "albedo is a reflectance in [0, 1]; a value above 1 creates energy",
+        }
+    }
+}
+
+#[derive(Default)]
+struct Checker {
+    errors: Vec<Diagnostic>,
+    params: Vec<Param>,
+    param_spans: Vec<Span>,
+    param_ids: HashMap<String, ParamId>,
+    name_span: Option<Span>,
+    layer_spans: Vec<Span>,
+}
+
+/// The arguments of one constructor call, mapped onto its field list.
+struct Fields<'v> {
+    values: Vec<Option<&'v Spanned<Value>>>,
+}
+
+impl<'v> Fields<'v> {
+    fn get(&self, index: usize) -> Option<&'v Spanned<Value>> {
+        self.values.get(index).copied().flatten()
+    }
+}
+
+/// "did you mean `x`?" over a list of valid names: the closest by edit distance, if close enough.
+pub fn suggest<'a>(word: &str, candidates: &[&'a str]) -> Option<&'a str> {
+    let lower = word.to_lowercase();
+    candidates
+        .iter()
+        .map(|&c| (strsim::damerau_levenshtein(&lower, &c.to_lowercase()), c))
+        .filter(|&(d, c)| d <= (c.len().max(word.len()) / 3).max(1))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, c)| c)
+}
+
+fn one_of(names: &[&str]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
+/// Reserved words of GLSL and HLSL that naga would rename if used as a struct member; a
+/// parameter's name must survive unchanged in every backend (naga's WGSL list is checked too).
+const RESERVED_NAMES: &[&str] = &[
+    "active", "asm", "attribute", "bool", "break", "buffer", "case", "cast", "centroid", "cbuffer", "class",
+    "coherent", "column_major", "common", "compile", "const", "continue", "default", "discard", "do", "double",
+    "else", "enum", "export", "extern", "external", "false", "filter", "fixed", "flat", "float", "for", "goto",
+    "groupshared", "half", "highp", "if", "in", "inline", "inout", "input", "int", "interface", "invariant",
+    "layout", "line", "linear", "long", "lowp", "matrix", "mediump", "namespace", "noinline", "nointerpolation",
+    "noperspective", "out", "output", "packed", "packoffset", "partition", "pass", "patch", "point", "precise",
+    "precision", "readonly", "register", "resource", "restrict", "return", "row_major", "sample", "sampler",
+    "shared", "short", "signed", "sizeof", "smooth", "static", "string", "struct", "subroutine", "superp",
+    "switch", "technique", "template", "texture", "this", "triangle", "true", "typedef", "uint", "uniform",
+    "union", "unsigned", "using", "vector", "void", "volatile", "while", "writeonly", "main", "params",
+];
+
+/// Whether `name` can name a material (files, shader functions) or a parameter (struct member).
+fn name_problem(name: &str) -> Option<&'static str> {
+    if name.is_empty() {
+        return Some("a name cannot be empty");
+    }
+    if name.len() > 48 {
+        return Some("a name has at most 48 characters");
+    }
+    if !name.starts_with(|c: char| c.is_ascii_lowercase()) {
+        return Some("a name starts with a lowercase ASCII letter");
+    }
+    if !name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_') {
+        return Some("a name uses only lowercase ASCII letters, digits and `_`");
+    }
+    if name.contains("__") {
+        return Some("`__` is reserved in GLSL");
+    }
+    if RESERVED_NAMES.contains(&name) || naga::keywords::wgsl::RESERVED.contains(&name) {
+        return Some("this word is reserved in WGSL, GLSL or HLSL");
+    }
+    None
+}
+
+impl Checker {
+    fn error(&mut self, d: Diagnostic) {
+        self.errors.push(d);
+    }
+
+    fn wrong_type(&mut self, v: &Spanned<Value>, expected: &str, help: Option<&str>) {
+        let mut d = Diagnostic::error(
+            Code::WrongType,
+            format!("expected {expected}, found {}", v.node.describe()),
+            v.span,
+            format!("expected {expected}"),
+        );
+        if let Some(help) = help {
+            d = d.with_help(help);
+        }
+        self.error(d);
+    }
+
+    /// Maps a constructor's arguments onto `spec`, reporting unknown, duplicate and missing
+    /// fields and bad positional use. Returns what could be mapped.
+    fn fields<'v>(
+        &mut self,
+        ctor: &Spanned<String>,
+        args: Option<&'v [Arg]>,
+        whole: Span,
+        spec: &[FieldSpec],
+    ) -> Fields<'v> {
+        let mut values: Vec<Option<&'v Spanned<Value>>> = vec![None; spec.len()];
+        let mut first_span: Vec<Option<Span>> = vec![None; spec.len()];
+        let args = args.unwrap_or(&[]);
+        let named = args.iter().any(|a| a.name.is_some());
+        let positional = args.iter().any(|a| a.name.is_none());
+        if named && positional {
+            let first_positional = args.iter().find(|a| a.name.is_none()).map_or(whole, |a| a.value.span);
+            self.error(
+                Diagnostic::error(
+                    Code::BadArguments,
+                    format!("`{}` mixes positional and named arguments", ctor.node),
+                    first_positional,
+                    "positional argument",
+                )
+                .with_help(format!("name every argument, e.g. `{}: {}`", spec[0].name, spec[0].example)),
+            );
+            return Fields { values };
+        }
+        for (i, arg) in args.iter().enumerate() {
+            let index = match &arg.name {
+                None if i < spec.len() => i,
+                None => {
+                    let names: Vec<&str> = spec.iter().map(|f| f.name).collect();
+                    self.error(
+                        Diagnostic::error(
+                            Code::BadArguments,
+                            format!("`{}` takes at most {} positional argument(s)", ctor.node, spec.len()),
+                            arg.value.span,
+                            "unexpected argument",
+                        )
+                        .with_help(format!("the arguments are, in order: {}", one_of(&names))),
+                    );
+                    continue;
+                }
+                Some(name) => match spec.iter().position(|f| f.name == name.node) {
+                    Some(index) => index,
+                    None => {
+                        let names: Vec<&str> = spec.iter().map(|f| f.name).collect();
+                        let mut d = Diagnostic::error(
+                            Code::UnknownField,
+                            format!("unknown field `{}` in `{}`", name.node, ctor.node),
+                            name.span,
+                            "unknown field",
+                        );
+                        if let Some(s) = suggest(&name.node, &names) {
+                            d = d.with_help(format!("did you mean `{s}`?"));
+                        }
+                        d = d.with_help(format!("`{}` has the fields {}", ctor.node, one_of(&names)));
+                        self.error(d);
+                        continue;
+                    }
+                },
+            };
+            let this_span = arg.name.as_ref().map_or(arg.value.span, |n| n.span);
+            if let Some(first) = first_span[index] {
+                self.error(
+                    Diagnostic::error(
+                        Code::DuplicateField,
+                        format!("field `{}` is given twice in `{}`", spec[index].name, ctor.node),
+                        this_span,
+                        "given again here",
+                    )
+                    .with_secondary(first, "first given here")
+                    .with_help("remove one of them"),
+                );
+                continue;
+            }
+            first_span[index] = Some(this_span);
+            values[index] = Some(&arg.value);
+        }
+        let missing: Vec<&FieldSpec> =
+            spec.iter().zip(&values).filter(|(f, v)| f.required && v.is_none()).map(|(f, _)| f).collect();
+        for f in missing {
+            self.error(
+                Diagnostic::error(
+                    Code::MissingField,
+                    format!("missing field `{}` in `{}`", f.name, ctor.node),
+                    ctor.span,
+                    format!("`{}` needs `{}`", ctor.node, f.name),
+                )
+                .with_help(format!("add `{}: {}`", f.name, f.example)),
+            );
+        }
+        Fields { values }
+    }
+
+    /// Splits a value into a constructor name and its arguments, or reports `expected`.
+    fn constructor<'v>(
+        &mut self,
+        v: &'v Spanned<Value>,
+        expected: &str,
+        names: &[&str],
+    ) -> Option<(&'v Spanned<String>, Option<&'v [Arg]>)> {
+        match &v.node {
+            Value::Call { name: Some(name), args } => {
+                if names.contains(&name.node.as_str()) {
+                    return Some((name, args.as_deref()));
+                }
+                let mut d = Diagnostic::error(
+                    Code::UnknownVariant,
+                    format!("unknown {expected} `{}`", name.node),
+                    name.span,
+                    format!("not a known {expected}"),
+                );
+                if let Some(s) = suggest(&name.node, names) {
+                    d = d.with_help(format!("did you mean `{s}`?"));
+                }
+                self.error(d.with_help(format!("a {expected} is one of {}", one_of(names))));
+                None
+            }
+            _ => {
+                self.wrong_type(v, &format!("a {expected}"), Some(&format!("a {expected} is one of {}", one_of(names))));
+                None
+            }
+        }
+    }
+
+    fn material(&mut self, root: &Spanned<Value>) -> Option<Material> {
+        let (ctor, args) = self.constructor(root, "top-level item", &["Material"])?;
+        let f = self.fields(ctor, args, root.span, MATERIAL_FIELDS);
+        let name = f.get(0).and_then(|v| self.material_name(v));
+        let method = match f.get(1) {
+            Some(v) => self.method(v),
+            None => Some(Method::default()),
+        };
+        let stack = f.get(2).and_then(|v| self.layers(v));
+        let (coats, base) = stack?;
+        Some(Material { name: name?, method: method?, coats, base, params: std::mem::take(&mut self.params) })
+    }
+
+    fn string<'v>(&mut self, v: &'v Spanned<Value>) -> Option<&'v str> {
+        match &v.node {
+            Value::Str(s) => Some(s),
+            _ => {
+                self.wrong_type(v, "a string", None);
+                None
+            }
+        }
+    }
+
+    fn identifier(&mut self, v: &Spanned<Value>, what: &str) -> Option<String> {
+        let s = self.string(v)?;
+        if let Some(problem) = name_problem(s) {
+            self.error(
+                Diagnostic::error(Code::BadName, format!("`{s}` cannot be a {what} name"), v.span, problem)
+                    .with_help("use a lowercase snake_case identifier such as `wet_clay`; it names files and shader symbols"),
+            );
+            return None;
+        }
+        Some(s.to_string())
+    }
+
+    fn material_name(&mut self, v: &Spanned<Value>) -> Option<String> {
+        self.name_span = Some(v.span);
+        self.identifier(v, "material")
+    }
+
+    fn method(&mut self, v: &Spanned<Value>) -> Option<Method> {
+        let (name, args) = self.constructor(v, "method", Method::NAMES)?;
+        self.no_arguments(name, args, v.span);
+        Some(match name.node.as_str() {
+            "Additive" => Method::Additive,
+            "WeidlichWilkie" => Method::WeidlichWilkie,
+            _ => Method::Interfaced,
+        })
+    }
+
+    fn no_arguments(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) {
+        if args.is_some_and(|a| !a.is_empty()) {
+            self.error(
+                Diagnostic::error(
+                    Code::BadArguments,
+                    format!("`{}` takes no arguments", name.node),
+                    whole,
+                    "unexpected arguments",
+                )
+                .with_help(format!("write just `{}`", name.node)),
+            );
+        }
+    }
+
+    fn layers(&mut self, v: &Spanned<Value>) -> Option<(Vec<Coat>, Base)> {
+        let Value::List(items) = &v.node else {
+            self.wrong_type(v, "a list of layers", Some("write the stack top to bottom: `layers: [Coat(…), Lambert(…)]`"));
+            return None;
+        };
+        let Some((last, coats)) = items.split_last() else {
+            self.error(
+                Diagnostic::error(Code::EmptyStack, "the layer stack is empty", v.span, "no layers")
+                    .with_help("a material needs at least an opaque base, e.g. `layers: [Lambert(albedo: 0.5)]`"),
+            );
+            return None;
+        };
+        self.layer_spans = items.iter().map(|i| i.span).collect();
+        let mut ok = true;
+        let mut checked_coats = Vec::new();
+        for item in coats {
+            match self.layer(item) {
+                Some(Layer::Coat(c)) => checked_coats.push(c),
+                Some(Layer::Base(_)) => {
+                    ok = false;
+                    self.error(
+                        Diagnostic::error(
+                            Code::BaseNotLast,
+                            "an opaque base must be the last layer",
+                            item.span,
+                            "this base hides every layer below it",
+                        )
+                        .with_help("list the stack top to bottom: coats first, then exactly one base"),
+                    );
+                }
+                None => ok = false,
+            }
+        }
+        let base = match self.layer(last) {
+            Some(Layer::Base(b)) => Some(b),
+            Some(Layer::Coat(_)) => {
+                self.error(
+                    Diagnostic::error(
+                        Code::BaseNotLast,
+                        "the last layer must be an opaque base",
+                        last.span,
+                        "a coat cannot end the stack",
+                    )
+                    .with_help(format!("add a base below it: {}", one_of(&LAYER_NAMES[1..]))),
+                );
+                None
+            }
+            None => None,
+        };
+        if checked_coats.len() > MAX_COATS {
+            self.error(
+                Diagnostic::error(
+                    Code::TooManyLayers,
+                    format!("{} coat layers; at most {MAX_COATS} are supported", checked_coats.len()),
+                    v.span,
+                    "too many layers",
+                )
+                .with_help("merge layers with identical interfaces, or drop the ones that cannot be seen"),
+            );
+            ok = false;
+        }
+        if !ok {
+            return None;
+        }
+        Some((checked_coats, base?))
+    }
+
+    fn layer(&mut self, v: &Spanned<Value>) -> Option<Layer> {
+        let (name, args) = self.constructor(v, "layer", LAYER_NAMES)?;
+        let layer = match name.node.as_str() {
+            "Coat" => Layer::Coat(self.coat(name, args, v.span)?),
+            "Lambert" => {
+                let f = self.fields(name, args, v.span, LAMBERT_FIELDS);
+                Layer::Base(Base::Lambert { albedo: self.color(f.get(0), Rule::Albedo)? })
+            }
+            "OrenNayar" | "Eon" => {
+                let f = self.fields(name, args, v.span, ROUGH_DIFFUSE_FIELDS);
+                let sigma_rule = if name.node == "OrenNayar" { Rule::Sigma } else { Rule::Roughness };
+                let albedo = self.color(f.get(0), Rule::Albedo);
+                let roughness = self.scalar(f.get(1), sigma_rule);
+                let (albedo, roughness) = (albedo?, roughness?);
+                Layer::Base(if name.node == "OrenNayar" {
+                    Base::OrenNayar { albedo, roughness }
+                } else {
+                    Base::Eon { albedo, roughness }
+                })
+            }
+            "Conductor" => Layer::Base(self.conductor(name, args, v.span)?),
+            _ => {
+                let f = self.fields(name, args, v.span, PLASTIC_FIELDS);
+                let albedo = self.color(f.get(0), Rule::Albedo);
+                let roughness = self.scalar(f.get(1), Rule::Roughness);
+                let ior = self.scalar(f.get(2), Rule::Ior);
+                Layer::Base(Base::Plastic { albedo: albedo?, roughness: roughness?, ior: ior? })
+            }
+        };
+        Some(layer)
+    }
+
+    fn coat(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) -> Option<Coat> {
+        let f = self.fields(name, args, whole, COAT_FIELDS);
+        let lobe = f.get(0).and_then(|v| self.lobe(v));
+        let ior = self.scalar(f.get(1), Rule::Ior);
+        let absorption = match f.get(2) {
+            Some(v) => self.color(Some(v), Rule::Absorption),
+            None => Some(Color::Lit([0.0; 3])),
+        };
+        let thickness = match f.get(3) {
+            Some(v) => self.scalar(Some(v), Rule::Thickness),
+            None => Some(Scalar::Lit(0.0)),
+        };
+        Some(Coat { lobe: lobe?, ior: ior?, absorption: absorption?, thickness: thickness? })
+    }
+
+    fn lobe(&mut self, v: &Spanned<Value>) -> Option<Lobe> {
+        let (name, args) = self.constructor(v, "lobe", Lobe::NAMES)?;
+        if name.node == "Smooth" {
+            self.no_arguments(name, args, v.span);
+            return Some(Lobe::Smooth);
+        }
+        let f = self.fields(name, args, v.span, ROUGH_LOBE_FIELDS);
+        let roughness = self.scalar(f.get(0), Rule::Roughness)?;
+        Some(if name.node == "Ggx" { Lobe::Ggx { roughness } } else { Lobe::Gtr1 { roughness } })
+    }
+
+    fn conductor(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) -> Option<Base> {
+        let f = self.fields(name, args, whole, CONDUCTOR_FIELDS);
+        let roughness = self.scalar(f.get(0), Rule::Roughness);
+        let fresnel = match (f.get(1), f.get(2), f.get(3)) {
+            (Some(f0), None, None) => self.color(Some(f0), Rule::Albedo).map(ConductorFresnel::F0),
+            (None, Some(eta), Some(k)) => {
+                let eta = self.color(Some(eta), Rule::Ior);
+                let k = self.color(Some(k), Rule::Extinction);
+                Some(ConductorFresnel::Complex { eta: eta?, k: k? })
+            }
+            (f0, eta, k) => {
+                let span = [f0, eta, k].into_iter().flatten().map(|v| v.span).reduce(Span::to).unwrap_or(name.span);
+                let message = if f0.is_some() {
+                    "a conductor takes either `f0` or `eta` and `k`, not both"
+                } else {
+                    "a conductor needs its Fresnel reflectance: `f0`, or `eta` and `k`"
+                };
+                self.error(
+                    Diagnostic::error(Code::ConductorFresnel, message, span, "conductor Fresnel")
+                        .with_help("write `f0: (0.95, 0.64, 0.54)` (Schlick) or `eta: (0.2, 0.92, 1.1), k: (3.9, 2.45, 2.14)` (exact)"),
+                );
+                None
+            }
+        };
+        Some(Base::Conductor { roughness: roughness?, fresnel: fresnel? })
+    }
+
+    /// A finite number from a literal, with its span.
+    fn number(&mut self, v: &Spanned<Value>, rule: Rule) -> Option<f64> {
+        let Value::Number(x) = v.node else {
+            self.wrong_type(v, "a number", Some(rule.help()));
+            return None;
+        };
+        if !x.is_finite() {
+            self.error(
+                Diagnostic::error(
+                    Code::NotFinite,
+                    format!("the {} must be a finite number", rule.what()),
+                    v.span,
+                    "not finite",
+                )
+                .with_help(rule.help()),
+            );
+            return None;
+        }
+        if !rule.accepts(x) || !(x as f32).is_finite() {
+            self.error(
+                Diagnostic::error(rule.code(), format!("{} {x} is out of range", rule.what()), v.span, rule.label())
+                    .with_help(rule.help()),
+            );
+            return None;
+        }
+        Some(x)
+    }
+
+    /// `(r, g, b)` or a single grey number.
+    fn rgb(&mut self, v: &Spanned<Value>, rule: Rule) -> Option<[f32; 3]> {
+        match &v.node {
+            Value::Number(_) => self.number(v, rule).map(|x| [x as f32; 3]),
+            Value::Call { name: None, args: Some(items) } if items.len() == 3 && items.iter().all(|a| a.name.is_none()) => {
+                let c: Vec<Option<f64>> = items.iter().map(|a| self.number(&a.value, rule)).collect();
+                Some([c[0]? as f32, c[1]? as f32, c[2]? as f32])
+            }
+            _ => {
+                self.wrong_type(v, "an RGB triple `(r, g, b)` or a number", Some(rule.help()));
+                None
+            }
+        }
+    }
+
+    fn scalar(&mut self, v: Option<&Spanned<Value>>, rule: Rule) -> Option<Scalar> {
+        let v = v?;
+        if let Some((name, args)) = as_param(v) {
+            let (id, default) = self.param(name, args, v.span, rule)?;
+            return match default {
+                ParamValue::Scalar(_) => Some(Scalar::Param(id)),
+                ParamValue::Rgb(_) => {
+                    self.wrong_type(v, "a scalar parameter", Some("this slot takes one number; give the parameter a number as default"));
+                    None
+                }
+            };
+        }
+        self.number(v, rule).map(|x| Scalar::Lit(x as f32))
+    }
+
+    fn color(&mut self, v: Option<&Spanned<Value>>, rule: Rule) -> Option<Color> {
+        let v = v?;
+        if let Some((name, args)) = as_param(v) {
+            return self.param(name, args, v.span, rule).map(|(id, _)| Color::Param(id));
+        }
+        self.rgb(v, rule).map(Color::Lit)
+    }
+
+    /// Declares (or re-uses) a runtime parameter `Param("name", default)`.
+    fn param(&mut self, ctor: &Spanned<String>, args: Option<&[Arg]>, whole: Span, rule: Rule) -> Option<(ParamId, ParamValue)> {
+        let f = self.fields(ctor, args, whole, PARAM_FIELDS);
+        let name = f.get(0).and_then(|v| self.identifier(v, "parameter"));
+        let default = f.get(1).and_then(|v| match &v.node {
+            Value::Number(_) => self.number(v, rule).map(|x| ParamValue::Scalar(x as f32)),
+            _ => self.rgb(v, rule).map(ParamValue::Rgb),
+        });
+        let (name, default) = (name?, default?);
+        let name_span = f.get(0).map_or(whole, |v| v.span);
+        if let Some(&id) = self.param_ids.get(&name) {
+            let first = self.params[id.0 as usize].default;
+            let first_span = self.param_spans[id.0 as usize];
+            if first.type_name() != default.type_name() {
+                self.error(
+                    Diagnostic::error(
+                        Code::ParamConflict,
+                        format!("parameter `{name}` is declared with two types"),
+                        whole,
+                        format!("declared here as {}", default.type_name()),
+                    )
+                    .with_secondary(first_span, format!("first declared here as {}", first.type_name()))
+                    .with_help("rename one of them, or give both defaults the same shape"),
+                );
+                return None;
+            }
+            if first != default {
+                self.error(
+                    Diagnostic::error(
+                        Code::ParamConflict,
+                        format!("parameter `{name}` is declared with two different defaults"),
+                        whole,
+                        "declared again here",
+                    )
+                    .with_secondary(first_span, "first declared here")
+                    .with_help("a parameter has one default; repeat the same value or rename one"),
+                );
+                return None;
+            }
+            return Some((id, first));
+        }
+        let id = ParamId(self.params.len() as u16);
+        let _ = name_span;
+        self.param_ids.insert(name.clone(), id);
+        self.params.push(Param { name, default });
+        self.param_spans.push(whole);
+        Some((id, default))
+    }
+}
+
+enum Layer {
+    Coat(Coat),
+    Base(Base),
+}
+
+fn as_param(v: &Spanned<Value>) -> Option<(&Spanned<String>, Option<&[Arg]>)> {
+    match &v.node {
+        Value::Call { name: Some(name), args } if name.node == "Param" => Some((name, args.as_deref())),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_text(text: &str) -> Result<Material, Vec<Diagnostic>> {
+        let root = crate::parse::parse(text).map_err(|d| vec![d])?;
+        check(&root).map(|(m, _)| m)
+    }
+
+    #[test]
+    fn suggestions() {
+        assert_eq!(suggest("rougness", &["roughness", "ior"]), Some("roughness"));
+        assert_eq!(suggest("ggx", Lobe::NAMES), Some("Ggx"));
+        assert_eq!(suggest("zzz", Lobe::NAMES), None);
+    }
+
+    #[test]
+    fn a_full_material() {
+        let m = check_text(
+            r#"Material(name: "clay", method: WeidlichWilkie, layers: [
+                Coat(lobe: Ggx(Param("coat_roughness", 0.3)), ior: 1.5, absorption: 0.8, thickness: 0.1),
+                OrenNayar(albedo: Param("tint", (0.8, 0.5, 0.3)), roughness: 0.5),
+            ])"#,
+        )
+        .expect("valid");
+        assert_eq!(m.method, Method::WeidlichWilkie);
+        assert_eq!(m.params.len(), 2);
+        assert_eq!(m.coats[0].absorption, Color::Lit([0.8; 3]));
+        assert_eq!(m.coats[0].lobe, Lobe::Ggx { roughness: Scalar::Param(ParamId(0)) });
+    }
+
+    #[test]
+    fn all_errors_are_reported() {
+        let errors = check_text(
+            r#"Material(name: "Bad Name", layers: [
+                Coat(lobe: Ggx(roughness: 1.5), ior: -1, absorption: -0.1),
+                Lambert(albedo: 2),
+            ])"#,
+        )
+        .unwrap_err();
+        let codes: Vec<Code> = errors.iter().map(|d| d.code).collect();
+        assert_eq!(codes, [Code::BadName, Code::RoughnessRange, Code::IorRange, Code::NegativeMedium, Code::AlbedoRange]);
+    }
+
+    #[test]
+    fn shared_parameters() {
+        let m = check_text(
+            r#"Material(name: "m", layers: [
+                Coat(lobe: Ggx(Param("r", 0.3)), ior: 1.5),
+                Conductor(roughness: Param("r", 0.3), f0: 0.9),
+            ])"#,
+        )
+        .expect("same name, type and default is one parameter");
+        assert_eq!(m.params.len(), 1);
+        let errors = check_text(
+            r#"Material(name: "m", layers: [
+                Coat(lobe: Ggx(Param("r", 0.3)), ior: 1.5),
+                Lambert(Param("r", (0.3, 0.3, 0.3))),
+            ])"#,
+        )
+        .unwrap_err();
+        assert_eq!(errors[0].code, Code::ParamConflict);
+        assert_eq!(errors[0].labels.len(), 2);
+    }
+}

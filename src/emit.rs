@@ -1,0 +1,185 @@
+//! Stage 5, `emit`: a validated module → shader files (thin adapters over `naga::back`).
+//!
+//! **Input:** a `naga::Module`, its `ModuleInfo`, and the requested [`Target`]s.
+//! **Output:** [`Artifact`]s (file name + bytes), in a fixed order. Nothing is written here;
+//! writing (atomically, all or nothing) is the caller's job.
+//!
+//! | target | files | notes |
+//! |---|---|---|
+//! | WGSL | `<m>.wgsl` | all entry points |
+//! | GLSL 450 | `<m>.<entry>.<stage>.glsl` | one per entry point (naga's GLSL backend writes one); every binding in set 0 |
+//! | HLSL SM 6.0 | `<m>.hlsl` | all entry points; registers `b`/`t`/`u` N = binding N, `space0` |
+//! | SPIR-V 1.0 | `<m>.spv` | on request; all entry points |
+//!
+//! Text outputs start with a one-line header and carry each term's citation as a `//` comment
+//! above its function (naga keeps doc comments in the IR but its backends do not print them).
+
+use naga::back::{glsl, hlsl, spv, wgsl};
+use naga::valid::ModuleInfo;
+use naga::{Module, ShaderStage};
+
+/// An output language.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Target {
+    Wgsl,
+    Glsl,
+    Hlsl,
+    Spv,
+}
+
+impl Target {
+    pub const TEXT: [Target; 3] = [Target::Wgsl, Target::Glsl, Target::Hlsl];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Wgsl => "wgsl",
+            Target::Glsl => "glsl",
+            Target::Hlsl => "hlsl",
+            Target::Spv => "spv",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Target> {
+        [Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Spv].into_iter().find(|t| t.name() == name)
+    }
+}
+
+/// One emitted file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Artifact {
+    /// File name (no directory), e.g. `clay.eval_pairs.comp.glsl`.
+    pub file_name: String,
+    pub contents: Vec<u8>,
+    /// For GLSL files: the stage and entry point they contain (what `glslangValidator -S` needs).
+    pub stage: Option<(ShaderStage, String)>,
+}
+
+/// A naga backend failed on a validated module (a bug in glazec or naga).
+#[derive(Debug, thiserror::Error)]
+pub enum EmitError {
+    #[error("WGSL backend: {0}")]
+    Wgsl(#[from] wgsl::Error),
+    #[error("GLSL backend ({entry}): {source}")]
+    Glsl { entry: String, source: glsl::Error },
+    #[error("HLSL backend: {0}")]
+    Hlsl(#[from] hlsl::Error),
+    #[error("SPIR-V backend: {0}")]
+    Spv(#[from] spv::Error),
+}
+
+/// The file-name suffix glslang understands for a stage.
+pub fn stage_suffix(stage: ShaderStage) -> &'static str {
+    match stage {
+        ShaderStage::Vertex => "vert",
+        ShaderStage::Fragment => "frag",
+        _ => "comp",
+    }
+}
+
+/// Emits `targets` for the module of material `name`, in target order.
+///
+/// # Errors
+/// A backend error (never expected for a module that passed validation).
+pub fn emit(name: &str, module: &Module, info: &ModuleInfo, targets: &[Target]) -> Result<Vec<Artifact>, EmitError> {
+    let mut targets = targets.to_vec();
+    targets.sort();
+    targets.dedup();
+    let mut out = Vec::new();
+    for target in targets {
+        match target {
+            Target::Wgsl => {
+                let text = wgsl::write_string(module, info, wgsl::WriterFlags::empty())?;
+                out.push(text_artifact(format!("{name}.wgsl"), name, module, &text, None));
+            }
+            Target::Glsl => {
+                for ep in &module.entry_points {
+                    let text = write_glsl(module, info, ep.stage, &ep.name)?;
+                    let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
+                    out.push(text_artifact(file, name, module, &text, Some((ep.stage, ep.name.clone()))));
+                }
+            }
+            Target::Hlsl => {
+                let text = write_hlsl(module, info)?;
+                out.push(text_artifact(format!("{name}.hlsl"), name, module, &text, None));
+            }
+            Target::Spv => {
+                let options = spv::Options { lang_version: (1, 0), flags: spv::WriterFlags::empty(), ..Default::default() };
+                let words = spv::write_vec(module, info, &options, None)?;
+                let contents = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+                out.push(Artifact { file_name: format!("{name}.spv"), contents, stage: None });
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn write_glsl(module: &Module, info: &ModuleInfo, stage: ShaderStage, entry: &str) -> Result<String, EmitError> {
+    let glsl_error = |source| EmitError::Glsl { entry: entry.to_string(), source };
+    // Vulkan GLSL: naga's GLSL backend never writes `set =`, so every resource lives in set 0
+    // (research/probe.md §3, gotcha 10) with its WGSL binding number.
+    let binding_map = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, var)| var.binding)
+        .map(|rb| (rb, rb.binding as u8))
+        .collect();
+    let options = glsl::Options {
+        version: glsl::Version::Desktop(450),
+        writer_flags: glsl::WriterFlags::empty(),
+        binding_map,
+        zero_initialize_workgroup_memory: false,
+    };
+    let pipeline = glsl::PipelineOptions { shader_stage: stage, entry_point: entry.to_string(), multiview: None };
+    let mut text = String::new();
+    let mut writer = glsl::Writer::new(&mut text, module, info, &options, &pipeline, naga::proc::BoundsCheckPolicies::default())
+        .map_err(glsl_error)?;
+    writer.write().map_err(glsl_error)?;
+    Ok(text)
+}
+
+fn write_hlsl(module: &Module, info: &ModuleInfo) -> Result<String, EmitError> {
+    let options = hlsl::Options { shader_model: hlsl::ShaderModel::V6_0, ..Default::default() };
+    let mut text = String::new();
+    hlsl::Writer::new(&mut text, &options, &hlsl::PipelineOptions { entry_point: None }).write(module, info, None)?;
+    Ok(text)
+}
+
+fn text_artifact(file_name: String, material: &str, module: &Module, text: &str, stage: Option<(ShaderStage, String)>) -> Artifact {
+    let mut out = format!("// Generated by glazec from material `{material}`. Do not edit: change the .ron file and recompile.\n");
+    out.push_str(&with_doc_comments(module, text));
+    Artifact { file_name, contents: out.into_bytes(), stage }
+}
+
+/// Inserts each function's doc comment (`// …`) above its definition line. Works for all three
+/// text backends: a definition is a line `<type-or-fn> <name>(` at column 0.
+fn with_doc_comments(module: &Module, text: &str) -> String {
+    let Some(docs) = module.doc_comments.as_deref() else {
+        return text.to_string();
+    };
+    let by_name: Vec<(String, &Vec<String>)> = docs
+        .functions
+        .iter()
+        .filter_map(|(h, lines)| module.functions[*h].name.as_ref().map(|n| (format!("{n}("), lines)))
+        .collect();
+    let mut out = String::with_capacity(text.len() + 4096);
+    for line in text.lines() {
+        if !line.starts_with(char::is_whitespace) {
+            if let Some((_, rest)) = line.split_once(' ') {
+                if let Some((_, lines)) = by_name.iter().find(|(prefix, _)| rest.starts_with(prefix.as_str())) {
+                    for doc in lines.iter() {
+                        if doc.is_empty() {
+                            out.push_str("//\n");
+                        } else {
+                            out.push_str("// ");
+                            out.push_str(doc);
+                            out.push('\n');
+                        }
+                    }
+                }
+            }
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}

@@ -1,0 +1,94 @@
+//! # glazec — a layered-material compiler
+//!
+//! A material is a small RON file that declares a stack of layers (each coat with its
+//! interface lobe, IOR, absorption and thickness) over an opaque base. glazec checks it with
+//! precise diagnostics, lowers it **through naga IR** to WGSL, GLSL and HLSL (and SPIR-V), and
+//! evaluates the very same formulas on the CPU.
+//!
+//! ```text
+//!   .ron text ──parse──▶ spanned syntax ──check──▶ Material model
+//!      ──lower──▶ naga::Module ──validate──▶ ModuleInfo ──emit──▶ WGSL / GLSL / HLSL / SPIR-V
+//!                     ▲
+//!        math (one source: terms + layering, generic over Real) ──▶ eval (CPU, f32)
+//! ```
+//!
+//! One module per stage, data flowing one way: [`parse`] knows RON, [`check`] knows materials
+//! and reports every error with a span and a code ([`diag`]), [`model`] is plain data,
+//! [`lower`] builds IR by running [`math`] on a naga builder, [`validate`] is naga's validator,
+//! [`emit`] wraps naga's backends, [`eval`] runs [`math`] on `f32`, and [`output`] writes files
+//! atomically. [`compile`] chains the stages; the CLI (`src/main.rs`) is a thin layer over it.
+//!
+//! `build.rs` users depend on this crate with `default-features = false`: they get the whole
+//! compiler (naga, codespan-reporting) without the CLI.
+
+pub mod check;
+pub mod diag;
+pub mod emit;
+pub mod eval;
+pub mod lower;
+pub mod math;
+pub mod model;
+pub mod output;
+pub mod parse;
+pub mod validate;
+
+use diag::Diagnostic;
+pub use emit::{Artifact, Target};
+pub use model::{Material, SourceMap};
+
+/// A material that went through every stage up to validation.
+pub struct Compiled {
+    pub material: Material,
+    pub source_map: SourceMap,
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+}
+
+/// Why a compilation produced nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum CompileError {
+    /// Problems in the material's text, all of them, in source order.
+    #[error("{} error(s) in the material", .0.len())]
+    Diagnostics(Vec<Diagnostic>),
+    /// A bug in glazec: naga rejected IR that `lower` built.
+    #[error(transparent)]
+    Internal(#[from] validate::ValidateError),
+}
+
+/// Parses and checks a material's text.
+///
+/// # Errors
+/// The first syntax error, or every semantic error.
+pub fn load(text: &str) -> Result<(Material, SourceMap), Vec<Diagnostic>> {
+    let syntax = parse::parse(text).map_err(|d| vec![d])?;
+    check::check(&syntax)
+}
+
+/// Compiles a material's text up to a validated naga module.
+///
+/// # Errors
+/// [`CompileError::Diagnostics`] for bad input; [`CompileError::Internal`] for a compiler bug.
+pub fn compile(text: &str) -> Result<Compiled, CompileError> {
+    let (material, source_map) = load(text).map_err(CompileError::Diagnostics)?;
+    Ok(compile_material(material, source_map)?)
+}
+
+/// Lowers and validates an already-checked material (for programs that build [`Material`]s).
+///
+/// # Errors
+/// Only for a compiler bug (naga rejecting the generated IR).
+pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Compiled, validate::ValidateError> {
+    let module = lower::lower(&material);
+    let info = validate::validate(&material.name, &module)?;
+    Ok(Compiled { material, source_map, module, info })
+}
+
+impl Compiled {
+    /// Emits shader files for `targets`.
+    ///
+    /// # Errors
+    /// Only for a backend bug; a validated module is expected to emit.
+    pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
+        emit::emit(&self.material.name, &self.module, &self.info, targets)
+    }
+}

@@ -1,0 +1,839 @@
+//! The naga implementation of the shading ops: values are IR expressions.
+//!
+//! [`ModuleBuilder`] owns a `naga::Module` under construction and a stack of functions being
+//! built (a term's function is built to completion the first time the term is called, while the
+//! caller waits on the stack). [`Expr`], [`ExprVec`] and [`ExprBool`] implement
+//! [`Real`]/[`Vector`]/[`Logic`]: each operation appends an expression to the current function.
+//!
+//! Three duties that naga leaves to whoever builds IR by hand:
+//!
+//! * **Emit ranges.** Every expression that is not pre-emitted (literals, arguments, globals)
+//!   must be covered by exactly one `Statement::Emit`; call results must not be. The builder
+//!   keeps one open range and closes it before any statement or pre-emitted expression.
+//! * **Constant folding.** naga does not fold. Values start as Rust constants and become IR only
+//!   when they meet a runtime value, so literal arithmetic (`roughness²`, F0 from an IOR, whole
+//!   slab integrals) is computed here, in f32, exactly as the CPU path computes it; a term whose
+//!   arguments are all constants is evaluated, not called. Identities (x·1, x+0, 0·x) fold too;
+//!   0·x → 0 is sound because every x in the formulas is finite by its guards.
+//! * **Names.** Named `let`s come from the terms' source (see `shading_fn!`), so the generated
+//!   code reads like the Rust it came from.
+//!
+//! Invariant: an expression handle is used only in the function that created it (checked in
+//! debug builds via a function id carried by each value).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+use naga::{
+    BinaryOperator, Block, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, MathFunction,
+    Module, Scalar as NagaScalar, Span, Statement, Type, TypeInner, UnaryOperator, VectorSize,
+};
+
+use crate::math::{Kind, Logic, Named, Real, Slot, TermDef, Vector};
+
+/// Types the builder uses everywhere.
+#[derive(Clone, Copy, Debug)]
+pub struct CommonTypes {
+    pub f32: Handle<Type>,
+    pub u32: Handle<Type>,
+    pub bool: Handle<Type>,
+    pub vec2: Handle<Type>,
+    pub vec3: Handle<Type>,
+    pub vec4: Handle<Type>,
+    pub uvec3: Handle<Type>,
+}
+
+struct FnState {
+    function: Function,
+    block: Block,
+    emit_start: Option<usize>,
+    id: u32,
+}
+
+struct State {
+    module: Module,
+    stack: Vec<FnState>,
+    terms: HashMap<&'static str, Handle<Function>>,
+    next_id: u32,
+}
+
+/// Builds one `naga::Module`; see the module docs.
+pub struct ModuleBuilder {
+    state: RefCell<State>,
+    pub types: CommonTypes,
+}
+
+fn insert_type(module: &mut Module, name: Option<&str>, inner: TypeInner) -> Handle<Type> {
+    module.types.insert(Type { name: name.map(str::to_string), inner }, Span::UNDEFINED)
+}
+
+impl Default for ModuleBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ModuleBuilder {
+    pub fn new() -> Self {
+        let mut module = Module::default();
+        let vector = |size, scalar| TypeInner::Vector { size, scalar };
+        let types = CommonTypes {
+            f32: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::F32)),
+            u32: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::U32)),
+            bool: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::BOOL)),
+            vec2: insert_type(&mut module, None, vector(VectorSize::Bi, NagaScalar::F32)),
+            vec3: insert_type(&mut module, None, vector(VectorSize::Tri, NagaScalar::F32)),
+            vec4: insert_type(&mut module, None, vector(VectorSize::Quad, NagaScalar::F32)),
+            uvec3: insert_type(&mut module, None, vector(VectorSize::Tri, NagaScalar::U32)),
+        };
+        ModuleBuilder {
+            state: RefCell::new(State { module, stack: Vec::new(), terms: HashMap::new(), next_id: 0 }),
+            types,
+        }
+    }
+
+    /// Runs `f` with mutable access to the module (types, globals, entry points).
+    pub fn with_module<R>(&self, f: impl FnOnce(&mut Module) -> R) -> R {
+        f(&mut self.state.borrow_mut().module)
+    }
+
+    pub fn finish(self) -> Module {
+        self.state.into_inner().module
+    }
+
+    pub fn kind_type(&self, kind: Kind) -> Handle<Type> {
+        match kind {
+            Kind::Scalar => self.types.f32,
+            Kind::Vec3 => self.types.vec3,
+        }
+    }
+
+    // ----- functions -------------------------------------------------------------------------
+
+    /// Starts a new function; expressions now go into it until [`Self::end_function`].
+    pub fn begin_function(&self, name: &str, arguments: Vec<FunctionArgument>, result: Option<FunctionResult>) {
+        let mut state = self.state.borrow_mut();
+        let id = state.next_id;
+        state.next_id += 1;
+        let function = Function { name: Some(name.to_string()), arguments, result, ..Function::default() };
+        state.stack.push(FnState { function, block: Block::new(), emit_start: None, id });
+    }
+
+    /// Finishes the current function (closing its last emit range) and returns it.
+    pub fn end_function(&self) -> Function {
+        let mut state = self.state.borrow_mut();
+        let Some(mut f) = state.stack.pop() else {
+            unreachable!("end_function without begin_function");
+        };
+        close_emit(&mut f);
+        f.function.body = f.block;
+        f.function
+    }
+
+    /// The `index`-th argument of the current function.
+    pub fn argument(&self, index: u32) -> Handle<Expression> {
+        self.append(Expression::FunctionArgument(index))
+    }
+
+    fn current_id(&self) -> u32 {
+        self.state.borrow().stack.last().map_or(u32::MAX, |f| f.id)
+    }
+
+    /// Appends an expression to the current function, keeping emit ranges right.
+    pub fn append(&self, expression: Expression) -> Handle<Expression> {
+        let mut state = self.state.borrow_mut();
+        let Some(f) = state.stack.last_mut() else {
+            unreachable!("expression built outside of a function");
+        };
+        if expression.needs_pre_emit() {
+            close_emit(f);
+        } else if f.emit_start.is_none() {
+            f.emit_start = Some(f.function.expressions.len());
+        }
+        f.function.expressions.append(expression, Span::UNDEFINED)
+    }
+
+    /// Appends a statement to the current function's body.
+    pub fn statement(&self, statement: Statement) {
+        let mut state = self.state.borrow_mut();
+        let Some(f) = state.stack.last_mut() else {
+            unreachable!("statement outside of a function");
+        };
+        close_emit(f);
+        f.block.push(statement, Span::UNDEFINED);
+    }
+
+    /// `if (condition) { return; }` in the current function.
+    pub fn return_if(&self, condition: Handle<Expression>) {
+        let mut accept = Block::new();
+        accept.push(Statement::Return { value: None }, Span::UNDEFINED);
+        self.statement(Statement::If { condition, accept, reject: Block::new() });
+    }
+
+    /// Names an expression of the current function (`let name = …` in every backend).
+    pub fn name(&self, handle: Handle<Expression>, name: &str) {
+        let mut state = self.state.borrow_mut();
+        let Some(f) = state.stack.last_mut() else { return };
+        let expression = &f.function.expressions[handle];
+        if expression.needs_pre_emit() || f.function.named_expressions.contains_key(&handle) {
+            return;
+        }
+        f.function.named_expressions.insert(handle, name.to_string());
+    }
+
+    /// Calls `function` with `arguments`; returns the result expression.
+    pub fn call(&self, function: Handle<Function>, arguments: Vec<Handle<Expression>>) -> Handle<Expression> {
+        let mut state = self.state.borrow_mut();
+        let Some(f) = state.stack.last_mut() else {
+            unreachable!("call outside of a function");
+        };
+        // A call result is defined by its Call statement and must not be inside an Emit range.
+        close_emit(f);
+        let result = f.function.expressions.append(Expression::CallResult(function), Span::UNDEFINED);
+        f.block.push(Statement::Call { function, arguments, result: Some(result) }, Span::UNDEFINED);
+        result
+    }
+
+    /// Adds a finished function to the module.
+    pub fn add_function(&self, function: Function, doc: &[&str]) -> Handle<Function> {
+        let mut state = self.state.borrow_mut();
+        let handle = state.module.functions.append(function, Span::UNDEFINED);
+        if !doc.is_empty() {
+            let docs = state.module.doc_comments.get_or_insert_with(Default::default);
+            docs.functions.insert(handle, doc.iter().map(|l| l.trim().to_string()).collect());
+        }
+        handle
+    }
+
+    // ----- values ----------------------------------------------------------------------------
+
+    pub fn scalar(&self, handle: Handle<Expression>) -> Expr<'_> {
+        Expr { b: self, v: Val::Dyn(handle, self.current_id()) }
+    }
+
+    pub fn vector(&self, handle: Handle<Expression>) -> ExprVec<'_> {
+        ExprVec { b: self, v: VVal::Dyn(handle, self.current_id()) }
+    }
+
+    pub fn constant(&self, x: f32) -> Expr<'_> {
+        Expr { b: self, v: Val::Const(x) }
+    }
+
+    fn literal(&self, x: f32) -> Handle<Expression> {
+        self.append(Expression::Literal(Literal::F32(x)))
+    }
+
+    fn check_owner(&self, id: u32) {
+        debug_assert_eq!(id, self.current_id(), "expression used outside the function that built it");
+    }
+
+    fn scalar_handle(&self, v: Val) -> Handle<Expression> {
+        match v {
+            Val::Const(x) => self.literal(x),
+            Val::Dyn(h, id) => {
+                self.check_owner(id);
+                h
+            }
+        }
+    }
+
+    fn vector_handle(&self, v: VVal) -> Handle<Expression> {
+        match v {
+            VVal::Const([x, y, z]) if x.to_bits() == y.to_bits() && y.to_bits() == z.to_bits() => {
+                let value = self.literal(x);
+                self.append(Expression::Splat { size: VectorSize::Tri, value })
+            }
+            VVal::Const(c) => {
+                let components = c.iter().map(|&x| self.literal(x)).collect();
+                self.append(Expression::Compose { ty: self.types.vec3, components })
+            }
+            VVal::Dyn(h, id) => {
+                self.check_owner(id);
+                h
+            }
+        }
+    }
+
+    fn bool_handle(&self, v: BVal) -> Handle<Expression> {
+        match v {
+            BVal::Const(b) => self.append(Expression::Literal(Literal::Bool(b))),
+            BVal::Dyn(h, id) => {
+                self.check_owner(id);
+                h
+            }
+        }
+    }
+
+    fn slot_handle(&self, slot: Slot<Expr<'_>>) -> Handle<Expression> {
+        match slot {
+            Slot::S(x) => self.scalar_handle(x.v),
+            Slot::V(v) => self.vector_handle(v.v),
+        }
+    }
+
+    fn math(&self, fun: MathFunction, args: &[Handle<Expression>]) -> Handle<Expression> {
+        self.append(Expression::Math {
+            fun,
+            arg: args[0],
+            arg1: args.get(1).copied(),
+            arg2: args.get(2).copied(),
+            arg3: None,
+        })
+    }
+
+    /// The function that implements `def`, building it on first use.
+    fn term_function<'a>(&'a self, def: &'static TermDef, body: &dyn Fn(&[Slot<Expr<'a>>]) -> Slot<Expr<'a>>) -> Handle<Function> {
+        if let Some(&f) = self.state.borrow().terms.get(def.name) {
+            return f;
+        }
+        let arguments = def
+            .params
+            .iter()
+            .map(|&(name, kind)| FunctionArgument { name: Some(name.to_string()), ty: self.kind_type(kind), binding: None })
+            .collect();
+        let result = FunctionResult { ty: self.kind_type(def.ret), binding: None };
+        self.begin_function(def.name, arguments, Some(result));
+        let slots: Vec<Slot<Expr<'a>>> = def
+            .params
+            .iter()
+            .enumerate()
+            .map(|(i, &(_, kind))| {
+                let h = self.argument(i as u32);
+                match kind {
+                    Kind::Scalar => Slot::S(self.scalar(h)),
+                    Kind::Vec3 => Slot::V(self.vector(h)),
+                }
+            })
+            .collect();
+        let out = body(&slots);
+        let value = self.slot_handle(out);
+        self.statement(Statement::Return { value: Some(value) });
+        let function = self.end_function();
+        let handle = self.add_function(function, def.doc);
+        self.state.borrow_mut().terms.insert(def.name, handle);
+        handle
+    }
+}
+
+fn close_emit(f: &mut FnState) {
+    if let Some(start) = f.emit_start.take() {
+        if f.function.expressions.len() > start {
+            let range = f.function.expressions.range_from(start);
+            f.block.push(Statement::Emit(range), Span::UNDEFINED);
+        }
+    }
+}
+
+// ----- value types -------------------------------------------------------------------------------
+
+#[derive(Clone, Copy, Debug)]
+enum Val {
+    Const(f32),
+    Dyn(Handle<Expression>, u32),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum VVal {
+    Const([f32; 3]),
+    Dyn(Handle<Expression>, u32),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum BVal {
+    Const(bool),
+    Dyn(Handle<Expression>, u32),
+}
+
+/// An `f32` value: a constant not yet in the IR, or an IR expression.
+#[derive(Clone, Copy)]
+pub struct Expr<'a> {
+    b: &'a ModuleBuilder,
+    v: Val,
+}
+
+/// A `vec3<f32>` value.
+#[derive(Clone, Copy)]
+pub struct ExprVec<'a> {
+    b: &'a ModuleBuilder,
+    v: VVal,
+}
+
+/// A `bool` value.
+#[derive(Clone, Copy)]
+pub struct ExprBool<'a> {
+    b: &'a ModuleBuilder,
+    v: BVal,
+}
+
+impl<'a> Expr<'a> {
+    /// The IR handle of this value (materialising a constant as a literal).
+    pub fn handle(self) -> Handle<Expression> {
+        self.b.scalar_handle(self.v)
+    }
+
+    /// The constant value, if this is one.
+    pub fn as_const(self) -> Option<f32> {
+        match self.v {
+            Val::Const(x) => Some(x),
+            Val::Dyn(..) => None,
+        }
+    }
+
+    fn dynamic(self, h: Handle<Expression>) -> Expr<'a> {
+        Expr { b: self.b, v: Val::Dyn(h, self.b.current_id()) }
+    }
+
+    fn binary(self, op: BinaryOperator, rhs: Expr<'a>) -> Expr<'a> {
+        use BinaryOperator as B;
+        match (self.v, rhs.v, op) {
+            (Val::Const(a), Val::Const(b), _) => Expr { b: self.b, v: Val::Const(fold_binary(op, a, b)) },
+            (_, Val::Const(c), B::Multiply | B::Divide) if c == 1.0 => self,
+            (Val::Const(c), _, B::Multiply) if c == 1.0 => rhs,
+            (_, Val::Const(c), B::Add | B::Subtract) if c == 0.0 => self,
+            (Val::Const(c), _, B::Add) if c == 0.0 => rhs,
+            (Val::Const(c), _, B::Multiply) | (_, Val::Const(c), B::Multiply) if c == 0.0 => self.b.constant(0.0),
+            _ => {
+                let (left, right) = (self.handle(), rhs.handle());
+                self.dynamic(self.b.append(Expression::Binary { op, left, right }))
+            }
+        }
+    }
+
+    fn unary_math(self, fun: MathFunction, fold: fn(f32) -> f32) -> Expr<'a> {
+        match self.v {
+            Val::Const(x) => self.b.constant(fold(x)),
+            Val::Dyn(..) => self.dynamic(self.b.math(fun, &[self.handle()])),
+        }
+    }
+
+    fn binary_math(self, fun: MathFunction, other: Expr<'a>, fold: fn(f32, f32) -> f32) -> Expr<'a> {
+        match (self.v, other.v) {
+            (Val::Const(a), Val::Const(b)) => self.b.constant(fold(a, b)),
+            _ => {
+                let args = [self.handle(), other.handle()];
+                self.dynamic(self.b.math(fun, &args))
+            }
+        }
+    }
+
+    fn compare(self, op: BinaryOperator, other: Expr<'a>, fold: fn(f32, f32) -> bool) -> ExprBool<'a> {
+        match (self.v, other.v) {
+            (Val::Const(a), Val::Const(b)) => ExprBool { b: self.b, v: BVal::Const(fold(a, b)) },
+            _ => {
+                let (left, right) = (self.handle(), other.handle());
+                let h = self.b.append(Expression::Binary { op, left, right });
+                ExprBool { b: self.b, v: BVal::Dyn(h, self.b.current_id()) }
+            }
+        }
+    }
+}
+
+fn fold_binary(op: BinaryOperator, a: f32, b: f32) -> f32 {
+    match op {
+        BinaryOperator::Add => a + b,
+        BinaryOperator::Subtract => a - b,
+        BinaryOperator::Multiply => a * b,
+        BinaryOperator::Divide => a / b,
+        _ => unreachable!("only arithmetic operators are folded"),
+    }
+}
+
+macro_rules! scalar_ops {
+    ($($trait:ident $method:ident $op:ident;)*) => {$(
+        impl<'a> $trait for Expr<'a> {
+            type Output = Expr<'a>;
+            fn $method(self, rhs: Expr<'a>) -> Expr<'a> {
+                self.binary(BinaryOperator::$op, rhs)
+            }
+        }
+        impl<'a> $trait<f32> for Expr<'a> {
+            type Output = Expr<'a>;
+            fn $method(self, rhs: f32) -> Expr<'a> {
+                self.binary(BinaryOperator::$op, self.b.constant(rhs))
+            }
+        }
+    )*};
+}
+
+scalar_ops! {
+    Add add Add;
+    Sub sub Subtract;
+    Mul mul Multiply;
+    Div div Divide;
+}
+
+impl<'a> Neg for Expr<'a> {
+    type Output = Expr<'a>;
+    fn neg(self) -> Expr<'a> {
+        match self.v {
+            Val::Const(x) => self.b.constant(-x),
+            Val::Dyn(..) => self.dynamic(self.b.append(Expression::Unary { op: UnaryOperator::Negate, expr: self.handle() })),
+        }
+    }
+}
+
+impl Named for Expr<'_> {
+    fn named(self, name: &str) -> Self {
+        if let Val::Dyn(h, _) = self.v {
+            self.b.name(h, name);
+        }
+        self
+    }
+}
+
+impl<'a> Real for Expr<'a> {
+    type Vec = ExprVec<'a>;
+    type Bool = ExprBool<'a>;
+    type Ctx = &'a ModuleBuilder;
+
+    fn ctx(self) -> &'a ModuleBuilder {
+        self.b
+    }
+    fn constant(ctx: &'a ModuleBuilder, x: f32) -> Expr<'a> {
+        ctx.constant(x)
+    }
+    fn sqrt(self) -> Self {
+        self.unary_math(MathFunction::Sqrt, f32::sqrt)
+    }
+    fn exp(self) -> Self {
+        self.unary_math(MathFunction::Exp, f32::exp)
+    }
+    fn ln(self) -> Self {
+        self.unary_math(MathFunction::Log, f32::ln)
+    }
+    fn powf(self, exponent: Self) -> Self {
+        self.binary_math(MathFunction::Pow, exponent, f32::powf)
+    }
+    fn abs(self) -> Self {
+        self.unary_math(MathFunction::Abs, f32::abs)
+    }
+    fn min(self, other: Self) -> Self {
+        self.binary_math(MathFunction::Min, other, f32::min)
+    }
+    fn max(self, other: Self) -> Self {
+        self.binary_math(MathFunction::Max, other, f32::max)
+    }
+    fn lt(self, other: Self) -> ExprBool<'a> {
+        self.compare(BinaryOperator::Less, other, |a, b| a < b)
+    }
+    fn gt(self, other: Self) -> ExprBool<'a> {
+        self.compare(BinaryOperator::Greater, other, |a, b| a > b)
+    }
+    fn select(condition: ExprBool<'a>, accept: Self, reject: Self) -> Self {
+        let b = condition.b;
+        match (condition.v, accept.v, reject.v) {
+            (BVal::Const(c), ..) => {
+                if c {
+                    accept
+                } else {
+                    reject
+                }
+            }
+            (_, Val::Const(x), Val::Const(y)) if x.to_bits() == y.to_bits() => accept,
+            _ => {
+                let (condition, accept_h, reject_h) = (b.bool_handle(condition.v), accept.handle(), reject.handle());
+                accept.dynamic(b.append(Expression::Select { condition, accept: accept_h, reject: reject_h }))
+            }
+        }
+    }
+    fn splat(self) -> ExprVec<'a> {
+        match self.v {
+            Val::Const(x) => ExprVec { b: self.b, v: VVal::Const([x; 3]) },
+            Val::Dyn(..) => {
+                let value = self.handle();
+                self.b.vector(self.b.append(Expression::Splat { size: VectorSize::Tri, value }))
+            }
+        }
+    }
+    fn vec3(x: Self, y: Self, z: Self) -> ExprVec<'a> {
+        let b = x.b;
+        match (x.v, y.v, z.v) {
+            (Val::Const(x), Val::Const(y), Val::Const(z)) => ExprVec { b, v: VVal::Const([x, y, z]) },
+            _ => {
+                let components = vec![x.handle(), y.handle(), z.handle()];
+                b.vector(b.append(Expression::Compose { ty: b.types.vec3, components }))
+            }
+        }
+    }
+    fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self> {
+        let all_const = args.iter().all(|a| match a {
+            Slot::S(x) => matches!(x.v, Val::Const(_)),
+            Slot::V(v) => matches!(v.v, VVal::Const(_)),
+        });
+        let b = match args.first() {
+            Some(Slot::S(x)) => x.b,
+            Some(Slot::V(v)) => v.b,
+            None => unreachable!("every term takes at least one argument"),
+        };
+        // A call with constant arguments is evaluated here: every operation in the body folds.
+        if all_const {
+            return body(args);
+        }
+        let function = b.term_function(def, body);
+        let arguments = args.iter().map(|&a| b.slot_handle(a)).collect();
+        let result = b.call(function, arguments);
+        match def.ret {
+            Kind::Scalar => Slot::S(b.scalar(result)),
+            Kind::Vec3 => Slot::V(b.vector(result)),
+        }
+    }
+}
+
+impl<'a> ExprVec<'a> {
+    pub fn handle(self) -> Handle<Expression> {
+        self.b.vector_handle(self.v)
+    }
+
+    fn dynamic(self, h: Handle<Expression>) -> ExprVec<'a> {
+        self.b.vector(h)
+    }
+
+    fn binary(self, op: BinaryOperator, rhs: ExprVec<'a>) -> ExprVec<'a> {
+        use BinaryOperator as B;
+        let is = |v: VVal, c: f32| matches!(v, VVal::Const(k) if k == [c; 3]);
+        match (self.v, rhs.v, op) {
+            (VVal::Const(a), VVal::Const(b), _) => {
+                ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold_binary(op, a[i], b[i]))) }
+            }
+            (_, r, B::Multiply | B::Divide) if is(r, 1.0) => self,
+            (l, _, B::Multiply) if is(l, 1.0) => rhs,
+            (_, r, B::Add | B::Subtract) if is(r, 0.0) => self,
+            (l, _, B::Add) if is(l, 0.0) => rhs,
+            (l, r, B::Multiply) if is(l, 0.0) || is(r, 0.0) => ExprVec { b: self.b, v: VVal::Const([0.0; 3]) },
+            _ => {
+                let (left, right) = (self.handle(), rhs.handle());
+                self.dynamic(self.b.append(Expression::Binary { op, left, right }))
+            }
+        }
+    }
+
+    /// vector ∘ scalar, kept as a vector-scalar operation in the IR (`v * s`).
+    fn binary_scalar(self, op: BinaryOperator, rhs: Expr<'a>) -> ExprVec<'a> {
+        match (self.v, rhs.v) {
+            (VVal::Const(_), Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]) }),
+            (_, Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]) }),
+            _ => {
+                let (left, right) = (self.handle(), rhs.handle());
+                self.dynamic(self.b.append(Expression::Binary { op, left, right }))
+            }
+        }
+    }
+
+    fn map(self, fun: MathFunction, fold: fn(f32) -> f32) -> ExprVec<'a> {
+        match self.v {
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(fold)) },
+            VVal::Dyn(..) => self.dynamic(self.b.math(fun, &[self.handle()])),
+        }
+    }
+
+    fn zip(self, fun: MathFunction, other: ExprVec<'a>, fold: fn(f32, f32) -> f32) -> ExprVec<'a> {
+        match (self.v, other.v) {
+            (VVal::Const(a), VVal::Const(b)) => ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold(a[i], b[i]))) },
+            _ => {
+                let args = [self.handle(), other.handle()];
+                self.dynamic(self.b.math(fun, &args))
+            }
+        }
+    }
+
+    fn component(self, index: u32) -> Expr<'a> {
+        match self.v {
+            VVal::Const(c) => self.b.constant(c[index as usize]),
+            VVal::Dyn(..) => {
+                let base = self.handle();
+                self.b.scalar(self.b.append(Expression::AccessIndex { base, index }))
+            }
+        }
+    }
+
+    fn to_glam(c: [f32; 3]) -> glam::Vec3 {
+        glam::Vec3::from_array(c)
+    }
+}
+
+macro_rules! vector_ops {
+    ($($trait:ident $method:ident $op:ident;)*) => {$(
+        impl<'a> $trait for ExprVec<'a> {
+            type Output = ExprVec<'a>;
+            fn $method(self, rhs: ExprVec<'a>) -> ExprVec<'a> {
+                self.binary(BinaryOperator::$op, rhs)
+            }
+        }
+    )*};
+}
+
+vector_ops! {
+    Add add Add;
+    Sub sub Subtract;
+    Mul mul Multiply;
+    Div div Divide;
+}
+
+impl<'a> Mul<f32> for ExprVec<'a> {
+    type Output = ExprVec<'a>;
+    fn mul(self, rhs: f32) -> ExprVec<'a> {
+        self.binary_scalar(BinaryOperator::Multiply, self.b.constant(rhs))
+    }
+}
+
+impl<'a> Mul<Expr<'a>> for ExprVec<'a> {
+    type Output = ExprVec<'a>;
+    fn mul(self, rhs: Expr<'a>) -> ExprVec<'a> {
+        self.binary_scalar(BinaryOperator::Multiply, rhs)
+    }
+}
+
+impl<'a> Div<Expr<'a>> for ExprVec<'a> {
+    type Output = ExprVec<'a>;
+    fn div(self, rhs: Expr<'a>) -> ExprVec<'a> {
+        self.binary_scalar(BinaryOperator::Divide, rhs)
+    }
+}
+
+impl<'a> Neg for ExprVec<'a> {
+    type Output = ExprVec<'a>;
+    fn neg(self) -> ExprVec<'a> {
+        match self.v {
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(|x| -x)) },
+            VVal::Dyn(..) => {
+                let expr = self.handle();
+                self.dynamic(self.b.append(Expression::Unary { op: UnaryOperator::Negate, expr }))
+            }
+        }
+    }
+}
+
+impl Named for ExprVec<'_> {
+    fn named(self, name: &str) -> Self {
+        if let VVal::Dyn(h, _) = self.v {
+            self.b.name(h, name);
+        }
+        self
+    }
+}
+
+impl<'a> Vector for ExprVec<'a> {
+    type Real = Expr<'a>;
+
+    fn dot(self, other: Self) -> Expr<'a> {
+        match (self.v, other.v) {
+            (VVal::Const(a), VVal::Const(b)) => self.b.constant(Self::to_glam(a).dot(Self::to_glam(b))),
+            _ => {
+                let args = [self.handle(), other.handle()];
+                self.b.scalar(self.b.math(MathFunction::Dot, &args))
+            }
+        }
+    }
+    fn normalize(self) -> Self {
+        match self.v {
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(Vector::normalize(Self::to_glam(c)).to_array()) },
+            VVal::Dyn(..) => self.dynamic(self.b.math(MathFunction::Normalize, &[self.handle()])),
+        }
+    }
+    fn x(self) -> Expr<'a> {
+        self.component(0)
+    }
+    fn y(self) -> Expr<'a> {
+        self.component(1)
+    }
+    fn z(self) -> Expr<'a> {
+        self.component(2)
+    }
+    fn exp(self) -> Self {
+        self.map(MathFunction::Exp, f32::exp)
+    }
+    fn sqrt(self) -> Self {
+        self.map(MathFunction::Sqrt, f32::sqrt)
+    }
+    fn min(self, other: Self) -> Self {
+        self.zip(MathFunction::Min, other, f32::min)
+    }
+    fn max(self, other: Self) -> Self {
+        self.zip(MathFunction::Max, other, f32::max)
+    }
+    fn select(condition: ExprBool<'a>, accept: Self, reject: Self) -> Self {
+        let b = condition.b;
+        match (condition.v, accept.v, reject.v) {
+            (BVal::Const(c), ..) => {
+                if c {
+                    accept
+                } else {
+                    reject
+                }
+            }
+            _ => {
+                let (condition, accept_h, reject_h) = (b.bool_handle(condition.v), accept.handle(), reject.handle());
+                accept.dynamic(b.append(Expression::Select { condition, accept: accept_h, reject: reject_h }))
+            }
+        }
+    }
+    fn refract(self, normal: Self, eta: Expr<'a>) -> Self {
+        match (self.v, normal.v, eta.v) {
+            (VVal::Const(i), VVal::Const(n), Val::Const(e)) => {
+                let r = Self::to_glam(i).refract(Self::to_glam(n), e);
+                ExprVec { b: self.b, v: VVal::Const(r.to_array()) }
+            }
+            _ => {
+                let args = [self.handle(), normal.handle(), eta.handle()];
+                self.dynamic(self.b.math(MathFunction::Refract, &args))
+            }
+        }
+    }
+}
+
+impl<'a> ExprBool<'a> {
+    fn logical(self, op: BinaryOperator, rhs: ExprBool<'a>, fold: fn(bool, bool) -> bool) -> ExprBool<'a> {
+        match (self.v, rhs.v) {
+            (BVal::Const(a), BVal::Const(b)) => ExprBool { b: self.b, v: BVal::Const(fold(a, b)) },
+            _ => {
+                let (left, right) = (self.b.bool_handle(self.v), self.b.bool_handle(rhs.v));
+                let h = self.b.append(Expression::Binary { op, left, right });
+                ExprBool { b: self.b, v: BVal::Dyn(h, self.b.current_id()) }
+            }
+        }
+    }
+
+    pub fn handle(self) -> Handle<Expression> {
+        self.b.bool_handle(self.v)
+    }
+}
+
+impl<'a> BitAnd for ExprBool<'a> {
+    type Output = ExprBool<'a>;
+    fn bitand(self, rhs: Self) -> Self {
+        self.logical(BinaryOperator::LogicalAnd, rhs, |a, b| a && b)
+    }
+}
+
+impl<'a> BitOr for ExprBool<'a> {
+    type Output = ExprBool<'a>;
+    fn bitor(self, rhs: Self) -> Self {
+        self.logical(BinaryOperator::LogicalOr, rhs, |a, b| a || b)
+    }
+}
+
+impl<'a> Not for ExprBool<'a> {
+    type Output = ExprBool<'a>;
+    fn not(self) -> Self {
+        match self.v {
+            BVal::Const(c) => ExprBool { b: self.b, v: BVal::Const(!c) },
+            BVal::Dyn(..) => {
+                let expr = self.handle();
+                let h = self.b.append(Expression::Unary { op: UnaryOperator::LogicalNot, expr });
+                ExprBool { b: self.b, v: BVal::Dyn(h, self.b.current_id()) }
+            }
+        }
+    }
+}
+
+impl Named for ExprBool<'_> {
+    fn named(self, name: &str) -> Self {
+        if let BVal::Dyn(h, _) = self.v {
+            self.b.name(h, name);
+        }
+        self
+    }
+}
+
+impl Logic for ExprBool<'_> {}

@@ -1,0 +1,413 @@
+//! Stage 3, `lower`: the material model → a `naga::Module`, built programmatically.
+//!
+//! **Input:** a checked [`Material`]. **Output:** a `naga::Module` holding
+//!
+//! * one function per BRDF term the material uses (`d_ggx`, `fr_dielectric`, …; built by
+//!   running [`crate::math`] on the [`builder`]), each carrying its citation as a doc comment;
+//! * `<material>_brdf(n, v, l[, params]) -> vec3<f32>`: f(l, v) **without** the cosine;
+//! * `<material>_eval(n, v, l[, params]) -> vec3<f32>`: f · max(n·l, 0), for users' light loops;
+//! * a uniform struct `<Material>Params` with one member per runtime parameter (declaration
+//!   order, `f32` or `vec3<f32>`), when the material has any;
+//! * the entry points `eval_pairs` (compute: f(wi, wo) for a buffer of direction pairs, used by
+//!   the tests, `eval` and benchmarks) and `preview_vs`/`preview_fs` (a full-screen triangle
+//!   that shades a sphere under one directional light).
+//!
+//! The binding layout is fixed and the same in every backend (group 0): see [`bindings`]. The
+//! kernel reads its element count from a uniform rather than from `arrayLength`, because
+//! glslang's HLSL front end lowers `GetDimensions` on byte-address buffers to a dword count
+//! (research/probe.md §4), which would cover only a quarter of the buffer.
+//!
+//! **Invariants:** the module validates with all of naga's validation flags (checked by
+//! `validate`); output is a pure function of the material (no hash-map iteration order, no
+//! addresses), so emitted files are byte-identical across runs.
+
+pub mod builder;
+
+use naga::{
+    AddressSpace, Binding, BuiltIn, EntryPoint, Expression, Function, FunctionArgument, FunctionResult,
+    GlobalVariable, Handle, MemoryDecorations, Module, ResourceBinding, ShaderStage, Span, Statement,
+    StorageAccess, StructMember, SwizzleComponent, Type, TypeInner, VectorSize,
+};
+
+use crate::math::layering::{self, Inputs};
+use crate::math::{Named, Real, Slot, Vector};
+use crate::model::{Material, ParamValue};
+use builder::{Expr, ModuleBuilder};
+
+/// The resource bindings of generated modules (all in bind group 0).
+pub mod bindings {
+    pub const GROUP: u32 = 0;
+    /// `var<uniform> params: <Material>Params` (only when the material has runtime parameters).
+    pub const PARAMS: u32 = 0;
+    /// `var<storage, read> pairs: array<DirectionPair>`: `wi` then `wo`, each a `vec4<f32>` (w unused).
+    pub const PAIRS: u32 = 1;
+    /// `var<storage, read_write> values: array<vec4<f32>>`: f(wi, wo) in `xyz`, `w` = 0.
+    pub const VALUES: u32 = 2;
+    /// `var<uniform> dispatch: EvalDispatch`: `pair_count: u32` (padded to 16 bytes).
+    pub const DISPATCH: u32 = 3;
+}
+
+/// Entry point names.
+pub mod entry_points {
+    pub const EVAL_PAIRS: &str = "eval_pairs";
+    pub const PREVIEW_VS: &str = "preview_vs";
+    pub const PREVIEW_FS: &str = "preview_fs";
+}
+
+/// Workgroup size of `eval_pairs`.
+pub const EVAL_WORKGROUP_SIZE: u32 = 64;
+
+/// Byte size of one direction pair in the `pairs` buffer.
+pub const PAIR_STRIDE: u32 = 32;
+
+/// The preview's light: direction towards the light in view space (x right, y up, z towards the
+/// viewer), not normalised here, and its radiance. Chosen to light the sphere from the upper left.
+pub const PREVIEW_LIGHT_DIRECTION: [f32; 3] = [-0.5, 0.6, 0.62];
+pub const PREVIEW_LIGHT_RADIANCE: f32 = 3.0;
+/// Linear grey behind the sphere.
+pub const PREVIEW_BACKGROUND: f32 = 0.02;
+
+/// The layout of one runtime parameter inside the uniform struct.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParamLayout {
+    pub name: String,
+    /// `"f32"` or `"vec3<f32>"`.
+    pub wgsl_type: &'static str,
+    pub offset: u32,
+    pub size: u32,
+}
+
+/// The uniform struct's layout (WGSL uniform rules; naga reproduces it in every backend).
+pub fn params_layout(material: &Material) -> (Vec<ParamLayout>, u32) {
+    let mut offset: u32 = 0;
+    let mut layout = Vec::new();
+    let mut align_max = 4;
+    for p in &material.params {
+        let (align, size, wgsl_type) = match p.default {
+            ParamValue::Scalar(_) => (4, 4, "f32"),
+            ParamValue::Rgb(_) => (16, 12, "vec3<f32>"),
+        };
+        align_max = u32::max(align_max, align);
+        offset = offset.next_multiple_of(align);
+        layout.push(ParamLayout { name: p.name.clone(), wgsl_type, offset, size });
+        offset += size;
+    }
+    // Uniform structs are padded to 16 bytes so that they can be bound in every backend.
+    (layout, offset.next_multiple_of(align_max.max(16)))
+}
+
+/// Lowers a material to a naga module (see the module docs for what it contains).
+pub fn lower(material: &Material) -> Module {
+    let b = ModuleBuilder::new();
+    let params_ty = params_type(&b, material);
+    let brdf = brdf_function(&b, material, params_ty);
+    eval_function(&b, material, params_ty, brdf);
+    let params_var = params_ty.map(|ty| {
+        global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty)
+    });
+    eval_pairs_entry(&b, brdf, params_var);
+    preview_entries(&b, material, params_var);
+    b.finish()
+}
+
+fn params_type(b: &ModuleBuilder, material: &Material) -> Option<Handle<Type>> {
+    if material.params.is_empty() {
+        return None;
+    }
+    let (layout, span) = params_layout(material);
+    let members = layout
+        .iter()
+        .map(|p| StructMember {
+            name: Some(p.name.clone()),
+            ty: if p.size == 4 { b.types.f32 } else { b.types.vec3 },
+            binding: None,
+            offset: p.offset,
+        })
+        .collect();
+    let name = material.params_struct_name();
+    Some(b.with_module(|m| m.types.insert(Type { name: Some(name), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)))
+}
+
+fn global(b: &ModuleBuilder, name: &str, space: AddressSpace, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
+    b.with_module(|m| {
+        m.global_variables.append(
+            GlobalVariable {
+                name: Some(name.to_string()),
+                space,
+                binding: Some(ResourceBinding { group: bindings::GROUP, binding }),
+                ty,
+                init: None,
+                memory_decorations: MemoryDecorations::empty(),
+            },
+            Span::UNDEFINED,
+        )
+    })
+}
+
+fn argument(name: &str, ty: Handle<Type>, binding: Option<Binding>) -> FunctionArgument {
+    FunctionArgument { name: Some(name.to_string()), ty, binding }
+}
+
+/// The `n`, `v`, `l` (and `params`) arguments shared by `<material>_brdf` and `<material>_eval`.
+fn direction_arguments(b: &ModuleBuilder, params_ty: Option<Handle<Type>>) -> Vec<FunctionArgument> {
+    let mut arguments = vec![argument("n", b.types.vec3, None), argument("v", b.types.vec3, None), argument("l", b.types.vec3, None)];
+    if let Some(ty) = params_ty {
+        arguments.push(argument("params", ty, None));
+    }
+    arguments
+}
+
+fn add(b: &ModuleBuilder, function: Function) -> Handle<Function> {
+    b.add_function(function, &[])
+}
+
+/// `<material>_brdf(n, v, l[, params])`: the layering method run on the IR builder.
+fn brdf_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handle<Type>>) -> Handle<Function> {
+    let result = FunctionResult { ty: b.types.vec3, binding: None };
+    b.begin_function(&format!("{}_brdf", material.name), direction_arguments(b, params_ty), Some(result));
+    let n = b.vector(b.argument(0));
+    let v = b.vector(b.argument(1));
+    let l = b.vector(b.argument(2));
+    let params = if params_ty.is_some() {
+        let params = b.argument(3);
+        material
+            .params
+            .iter()
+            .enumerate()
+            .map(|(index, p)| {
+                let h = b.append(Expression::AccessIndex { base: params, index: index as u32 });
+                match p.default {
+                    ParamValue::Scalar(_) => Slot::S(b.scalar(h)),
+                    ParamValue::Rgb(_) => Slot::V(b.vector(h)),
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let inputs = Inputs::new(&*b, params);
+    let f = layering::brdf(material, &inputs, n, v, l);
+    let value = f.handle();
+    b.statement(Statement::Return { value: Some(value) });
+    add(b, b.end_function())
+}
+
+/// `<material>_eval(n, v, l[, params])` = brdf · max(n·l, 0).
+fn eval_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handle<Type>>, brdf: Handle<Function>) {
+    let result = FunctionResult { ty: b.types.vec3, binding: None };
+    let arguments = direction_arguments(b, params_ty);
+    let count = arguments.len() as u32;
+    b.begin_function(&format!("{}_eval", material.name), arguments, Some(result));
+    let handles: Vec<_> = (0..count).map(|i| b.argument(i)).collect();
+    let f = b.vector(b.call(brdf, handles.clone()));
+    let n = b.vector(handles[0]);
+    let l = b.vector(handles[2]);
+    let cosine = n.dot(l).at_least(0.0);
+    let value = (f * cosine).handle();
+    b.statement(Statement::Return { value: Some(value) });
+    let eval = add(b, b.end_function());
+    b.with_module(|m| {
+        let docs = m.doc_comments.get_or_insert_with(Default::default);
+        docs.functions.insert(eval, vec![format!(
+            "The reflected radiance factor f(l, v) · max(n·l, 0) of material `{}`: multiply by a light's radiance.",
+            material.name
+        )]);
+        docs.functions.insert(brdf, vec![format!(
+            "The BRDF f(l, v) of material `{}` ({} layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.",
+            material.name,
+            material.method.name()
+        )]);
+    });
+}
+
+fn struct_type(b: &ModuleBuilder, name: &str, members: &[(&str, Handle<Type>, u32, Option<Binding>)], span: u32) -> Handle<Type> {
+    let members = members
+        .iter()
+        .map(|(name, ty, offset, binding)| StructMember {
+            name: Some((*name).to_string()),
+            ty: *ty,
+            binding: binding.clone(),
+            offset: *offset,
+        })
+        .collect();
+    b.with_module(|m| {
+        m.types.insert(Type { name: Some(name.to_string()), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
+    })
+}
+
+fn runtime_array(b: &ModuleBuilder, base: Handle<Type>, stride: u32) -> Handle<Type> {
+    b.with_module(|m| {
+        m.types.insert(
+            Type { name: None, inner: TypeInner::Array { base, size: naga::ArraySize::Dynamic, stride } },
+            Span::UNDEFINED,
+        )
+    })
+}
+
+/// `eval_pairs`: values[i] = f(pairs[i].wi, pairs[i].wo) for i < dispatch.pair_count.
+fn eval_pairs_entry(b: &ModuleBuilder, brdf: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
+    let pair_ty = struct_type(b, "DirectionPair", &[("wi", b.types.vec4, 0, None), ("wo", b.types.vec4, 16, None)], PAIR_STRIDE);
+    let pairs_ty = runtime_array(b, pair_ty, PAIR_STRIDE);
+    let values_ty = runtime_array(b, b.types.vec4, 16);
+    let dispatch_ty = struct_type(b, "EvalDispatch", &[("pair_count", b.types.u32, 0, None)], 16);
+    let pairs = global(b, "pairs", AddressSpace::Storage { access: StorageAccess::LOAD }, bindings::PAIRS, pairs_ty);
+    let values = global(
+        b,
+        "values",
+        AddressSpace::Storage { access: StorageAccess::LOAD | StorageAccess::STORE },
+        bindings::VALUES,
+        values_ty,
+    );
+    let dispatch = global(b, "dispatch", AddressSpace::Uniform, bindings::DISPATCH, dispatch_ty);
+
+    let id = argument("id", b.types.uvec3, Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)));
+    b.begin_function(entry_points::EVAL_PAIRS, vec![id], None);
+    let id = b.argument(0);
+    let index = b.append(Expression::AccessIndex { base: id, index: 0 });
+    b.name(index, "index");
+    let dispatch_ptr = b.append(Expression::GlobalVariable(dispatch));
+    let count_ptr = b.append(Expression::AccessIndex { base: dispatch_ptr, index: 0 });
+    let count = b.append(Expression::Load { pointer: count_ptr });
+    let outside = b.append(Expression::Binary { op: naga::BinaryOperator::GreaterEqual, left: index, right: count });
+    b.return_if(outside);
+
+    let pairs_ptr = b.append(Expression::GlobalVariable(pairs));
+    let pair_ptr = b.append(Expression::Access { base: pairs_ptr, index });
+    let pair = b.append(Expression::Load { pointer: pair_ptr });
+    b.name(pair, "pair");
+    let xyz = |b: &ModuleBuilder, member: u32| {
+        let v4 = b.append(Expression::AccessIndex { base: pair, index: member });
+        b.append(Expression::Swizzle {
+            size: VectorSize::Tri,
+            vector: v4,
+            pattern: [SwizzleComponent::X, SwizzleComponent::Y, SwizzleComponent::Z, SwizzleComponent::X],
+        })
+    };
+    let wi = xyz(b, 0);
+    let wo = xyz(b, 1);
+    let normal = b.constant(0.0);
+    let normal = Expr::vec3(normal, normal, b.constant(1.0)).handle();
+    let mut arguments = vec![normal, wo, wi];
+    if let Some(var) = params_var {
+        let ptr = b.append(Expression::GlobalVariable(var));
+        arguments.push(b.append(Expression::Load { pointer: ptr }));
+    }
+    let f = b.call(brdf, arguments);
+    let zero = b.constant(0.0).handle();
+    let value = b.append(Expression::Compose { ty: b.types.vec4, components: vec![f, zero] });
+    let values_ptr = b.append(Expression::GlobalVariable(values));
+    let out_ptr = b.append(Expression::Access { base: values_ptr, index });
+    b.statement(Statement::Store { pointer: out_ptr, value });
+    b.statement(Statement::Return { value: None });
+    let function = b.end_function();
+    b.with_module(|m| {
+        m.entry_points.push(EntryPoint {
+            name: entry_points::EVAL_PAIRS.to_string(),
+            stage: ShaderStage::Compute,
+            early_depth_test: None,
+            workgroup_size: [EVAL_WORKGROUP_SIZE, 1, 1],
+            workgroup_size_overrides: None,
+            function,
+            mesh_info: None,
+            task_payload: None,
+            incoming_ray_payload: None,
+        })
+    });
+}
+
+fn push_entry(b: &ModuleBuilder, name: &str, stage: ShaderStage, function: Function) {
+    b.with_module(|m| {
+        m.entry_points.push(EntryPoint {
+            name: name.to_string(),
+            stage,
+            early_depth_test: None,
+            workgroup_size: [0, 0, 0],
+            workgroup_size_overrides: None,
+            function,
+            mesh_info: None,
+            task_payload: None,
+            incoming_ray_payload: None,
+        })
+    });
+}
+
+fn location(location: u32) -> Binding {
+    Binding::Location { location, interpolation: None, sampling: None, blend_src: None, per_primitive: false }
+}
+
+/// A perspective-interpolated varying at `location`.
+fn varying(location: u32) -> Binding {
+    Binding::Location {
+        location,
+        interpolation: Some(naga::Interpolation::Perspective),
+        sampling: Some(naga::Sampling::Center),
+        blend_src: None,
+        per_primitive: false,
+    }
+}
+
+/// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a unit sphere seen
+/// along −z, shaded by `<material>_eval` under one directional light).
+fn preview_entries(b: &ModuleBuilder, material: &Material, params_var: Option<Handle<GlobalVariable>>) {
+    let varying_ty = struct_type(
+        b,
+        "PreviewVarying",
+        &[
+            ("position", b.types.vec4, 0, Some(Binding::BuiltIn(BuiltIn::Position { invariant: false }))),
+            (
+                "p",
+                b.types.vec2,
+                16,
+                Some(varying(0)),
+            ),
+        ],
+        24,
+    );
+
+    // Vertex: a full-screen triangle from a vertex buffer of clip-space corners, e.g.
+    // (−1, −1), (3, −1), (−1, 3). (An index-generated triangle would need `vertex_index`, which
+    // naga's GLSL backend writes as GL's `gl_VertexID`, not Vulkan's `gl_VertexIndex`.)
+    let corner = argument("corner", b.types.vec2, Some(location(0)));
+    b.begin_function(entry_points::PREVIEW_VS, vec![corner], Some(FunctionResult { ty: varying_ty, binding: None }));
+    let corner = b.argument(0);
+    let x = b.append(Expression::AccessIndex { base: corner, index: 0 });
+    let y = b.append(Expression::AccessIndex { base: corner, index: 1 });
+    let zero = b.constant(0.0).handle();
+    let w = b.constant(1.0).handle();
+    let position = b.append(Expression::Compose { ty: b.types.vec4, components: vec![x, y, zero, w] });
+    let out = b.append(Expression::Compose { ty: varying_ty, components: vec![position, corner] });
+    b.statement(Statement::Return { value: Some(out) });
+    push_entry(b, entry_points::PREVIEW_VS, ShaderStage::Vertex, b.end_function());
+
+    // Fragment: at clip-space position p, on the disk |p| ≤ 1, the normal is (p, √(1 − |p|²)).
+    let eval = b.with_module(|m| {
+        m.functions.iter().find(|(_, f)| f.name.as_deref() == Some(&format!("{}_eval", material.name))).map(|(h, _)| h)
+    });
+    let Some(eval) = eval else { unreachable!("eval_function runs first") };
+    let p_arg = argument("p", b.types.vec2, Some(varying(0)));
+    let output = FunctionResult { ty: b.types.vec4, binding: Some(location(0)) };
+    b.begin_function(entry_points::PREVIEW_FS, vec![p_arg], Some(output));
+    let p = b.argument(0);
+    let px = b.scalar(b.append(Expression::AccessIndex { base: p, index: 0 }));
+    let py = b.scalar(b.append(Expression::AccessIndex { base: p, index: 1 }));
+    let r2 = (px * px + py * py).named("r2");
+    // Guard: outside the disk the square root would be of a negative number; the select below
+    // discards those pixels anyway.
+    let nz = r2.one_minus().at_least(0.0).sqrt();
+    let n = Expr::vec3(px, py, nz).named("n");
+    let c = |x: f32| b.constant(x);
+    let v = Expr::vec3(c(0.0), c(0.0), c(1.0));
+    let [lx, ly, lz] = PREVIEW_LIGHT_DIRECTION;
+    let l = Expr::vec3(c(lx), c(ly), c(lz)).normalize();
+    let mut arguments = vec![n.handle(), v.handle(), l.handle()];
+    if let Some(var) = params_var {
+        let ptr = b.append(Expression::GlobalVariable(var));
+        arguments.push(b.append(Expression::Load { pointer: ptr }));
+    }
+    let radiance = b.vector(b.call(eval, arguments)) * PREVIEW_LIGHT_RADIANCE;
+    let inside = r2.lt(c(1.0));
+    let color = <builder::ExprVec as Vector>::select(inside, radiance, c(PREVIEW_BACKGROUND).splat());
+    let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), c(1.0).handle()] });
+    b.statement(Statement::Return { value: Some(color4) });
+    push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
+}

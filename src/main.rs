@@ -1,0 +1,305 @@
+//! `glazec`: the command-line front end. A thin layer over the library: it reads files, calls
+//! the pipeline, prints diagnostics, and maps outcomes to exit codes:
+//! 0 success, 1 diagnostics (or `--check` drift), 2 usage or unreadable input, 3 internal error.
+
+use std::collections::BTreeMap;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use clap::{Parser, Subcommand, ValueEnum};
+use codespan_reporting::term::termcolor::{ColorChoice, StandardStream};
+
+use glazec::diag::{self, Code, Diagnostic, Format, Source};
+use glazec::model::{Material, ParamValue};
+use glazec::output::{self, OutputFile};
+use glazec::{CompileError, Compiled, Target};
+
+#[derive(Parser)]
+#[command(name = "glazec", version, about = "A layered-material compiler: RON material stacks → WGSL, GLSL, HLSL")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum MessageFormat {
+    /// Rendered source excerpts (coloured on a terminal).
+    Human,
+    /// One JSON object per diagnostic per line.
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TargetArg {
+    Wgsl,
+    Glsl,
+    Hlsl,
+    Spv,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Backend {
+    /// The CPU evaluation of the shared math (f32).
+    Cpu,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile material files (or every `*.ron` in a directory) to shaders.
+    Compile {
+        /// Material files or directories.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Output directory; each material gets a sub-directory named after it.
+        #[arg(short, long, default_value = "generated")]
+        out: PathBuf,
+        /// Comma-separated targets.
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "wgsl,glsl,hlsl")]
+        target: Vec<TargetArg>,
+        /// Write nothing; exit 1 if any output differs from what is on disk.
+        #[arg(long)]
+        check: bool,
+        #[arg(long, value_enum, default_value = "human")]
+        message_format: MessageFormat,
+    },
+    /// Check material files and print diagnostics; write nothing.
+    Check {
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        #[arg(long, value_enum, default_value = "human")]
+        message_format: MessageFormat,
+    },
+    /// Evaluate f(wi, wo) (without the cosine) for direction pairs; prints `r,g,b` per pair.
+    Eval {
+        file: PathBuf,
+        /// CSV lines `wi_x,wi_y,wi_z,wo_x,wo_y,wo_z` in the local frame (z = normal), a header allowed.
+        #[arg(long)]
+        pairs: PathBuf,
+        #[arg(long, value_enum, default_value = "cpu")]
+        backend: Backend,
+        /// Override a runtime parameter: `name=0.3` or `name=0.8,0.5,0.3`.
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
+        #[arg(long, value_enum, default_value = "human")]
+        message_format: MessageFormat,
+    },
+}
+
+/// How a run failed, and with which exit code.
+enum Failure {
+    /// Diagnostics were printed (exit 1).
+    Diagnostics,
+    /// Bad arguments or unreadable input (exit 2).
+    Usage(anyhow::Error),
+    /// A bug in glazec (exit 3).
+    Internal(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Usage(e)
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Compile { inputs, out, target, check, message_format } => {
+            compile(&inputs, &out, &target, check, message_format)
+        }
+        Command::Check { files, message_format } => check(&files, message_format),
+        Command::Eval { file, pairs, backend, set, message_format } => eval(&file, &pairs, backend, &set, message_format),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Diagnostics) => ExitCode::from(1),
+        Err(Failure::Usage(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Internal(e)) => {
+            eprintln!("internal error: {e:#}");
+            ExitCode::from(3)
+        }
+    }
+}
+
+/// A material file and its text.
+struct Input {
+    path: PathBuf,
+    name: String,
+    text: String,
+}
+
+impl Input {
+    fn source(&self) -> Source<'_> {
+        Source { name: &self.name, text: &self.text }
+    }
+}
+
+/// Expands directories to their `*.ron` files (sorted) and reads everything.
+fn read_inputs(paths: &[PathBuf]) -> anyhow::Result<Vec<Input>> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut entries: Vec<PathBuf> = std::fs::read_dir(path)
+                .with_context(|| format!("cannot read directory {}", path.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "ron") && p.is_file())
+                .collect();
+            entries.sort();
+            if entries.is_empty() {
+                bail!("no .ron files in {}", path.display());
+            }
+            files.extend(entries);
+        } else {
+            files.push(path.clone());
+        }
+    }
+    files
+        .into_iter()
+        .map(|path| {
+            let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+            Ok(Input { name: path.display().to_string(), path, text })
+        })
+        .collect()
+}
+
+fn print_diagnostics(source: Source<'_>, diagnostics: &[Diagnostic], format: MessageFormat) {
+    let format = match format {
+        MessageFormat::Json => Format::Json,
+        MessageFormat::Human => Format::Human { color: std::io::stderr().is_terminal() },
+    };
+    let choice = if matches!(format, Format::Human { color: true }) { ColorChoice::Auto } else { ColorChoice::Never };
+    let mut stderr = StandardStream::stderr(choice);
+    let _ = diag::emit(&mut stderr, source, diagnostics, format);
+    let _ = stderr.flush();
+}
+
+/// Compiles every input, printing all diagnostics. Fails if any input has errors.
+fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>, Failure> {
+    let mut compiled = Vec::new();
+    let mut failed = false;
+    for input in inputs {
+        match glazec::compile(&input.text) {
+            Ok(c) => compiled.push(c),
+            Err(CompileError::Diagnostics(diagnostics)) => {
+                print_diagnostics(input.source(), &diagnostics, format);
+                failed = true;
+            }
+            Err(CompileError::Internal(e)) => return Err(Failure::Internal(e.into())),
+        }
+    }
+    // Two files declaring one name would overwrite each other's outputs.
+    let mut first_by_name: BTreeMap<&str, &Input> = BTreeMap::new();
+    for (input, c) in inputs.iter().zip(&compiled) {
+        if let Some(first) = first_by_name.insert(&c.material.name, input) {
+            let span = c.source_map.name.unwrap_or_default();
+            let d = Diagnostic::error(
+                Code::DuplicateMaterial,
+                format!("material `{}` is also defined in {}", c.material.name, first.path.display()),
+                span,
+                "a second material with this name",
+            )
+            .with_help("material names must be unique: they name the output directory and shader symbols");
+            print_diagnostics(input.source(), &[d], format);
+            failed = true;
+        }
+    }
+    if failed { Err(Failure::Diagnostics) } else { Ok(compiled) }
+}
+
+fn compile(inputs: &[PathBuf], out: &Path, targets: &[TargetArg], check: bool, format: MessageFormat) -> Result<(), Failure> {
+    let inputs = read_inputs(inputs)?;
+    let compiled = compile_all(&inputs, format)?;
+    let targets: Vec<Target> = targets
+        .iter()
+        .map(|t| match t {
+            TargetArg::Wgsl => Target::Wgsl,
+            TargetArg::Glsl => Target::Glsl,
+            TargetArg::Hlsl => Target::Hlsl,
+            TargetArg::Spv => Target::Spv,
+        })
+        .collect();
+    let mut files: Vec<OutputFile> = Vec::new();
+    for c in &compiled {
+        let artifacts = c.emit(&targets).map_err(|e| Failure::Internal(e.into()))?;
+        files.extend(output::plan(out, &c.material.name, artifacts));
+    }
+    if check {
+        let drift = output::drift(&files);
+        for d in &drift {
+            eprintln!("{d}");
+        }
+        if !drift.is_empty() {
+            eprintln!("{} of {} files differ; run `glazec compile` without --check to update them", drift.len(), files.len());
+            return Err(Failure::Diagnostics);
+        }
+        eprintln!("{} files up to date in {}", files.len(), out.display());
+        return Ok(());
+    }
+    output::write_all(&files).with_context(|| format!("cannot write to {}", out.display()))?;
+    eprintln!("wrote {} files for {} material(s) to {}", files.len(), compiled.len(), out.display());
+    Ok(())
+}
+
+fn check(files: &[PathBuf], format: MessageFormat) -> Result<(), Failure> {
+    let inputs = read_inputs(files)?;
+    let compiled = compile_all(&inputs, format)?;
+    eprintln!("{} material(s) ok", compiled.len());
+    Ok(())
+}
+
+/// Parses `--set name=value` overrides against the material's parameters.
+fn parameter_values(material: &Material, overrides: &[String]) -> anyhow::Result<Vec<ParamValue>> {
+    let mut values = material.default_values();
+    for item in overrides {
+        let Some((name, value)) = item.split_once('=') else {
+            bail!("--set expects NAME=VALUE, got `{item}`");
+        };
+        let Some(index) = material.params.iter().position(|p| p.name == name.trim()) else {
+            let names: Vec<&str> = material.params.iter().map(|p| p.name.as_str()).collect();
+            bail!("material `{}` has no parameter `{name}` (it has: {})", material.name, names.join(", "));
+        };
+        let numbers: Vec<f32> = value
+            .split(',')
+            .map(|x| x.trim().parse::<f32>().ok().filter(|v| v.is_finite()))
+            .collect::<Option<_>>()
+            .with_context(|| format!("--set {name}: `{value}` is not a finite number or r,g,b triple"))?;
+        values[index] = match (values[index], numbers.as_slice()) {
+            (ParamValue::Scalar(_), [x]) => ParamValue::Scalar(*x),
+            (ParamValue::Rgb(_), [x]) => ParamValue::Rgb([*x; 3]),
+            (ParamValue::Rgb(_), [r, g, b]) => ParamValue::Rgb([*r, *g, *b]),
+            (default, _) => bail!("--set {name}: expected a {} value", default.type_name()),
+        };
+    }
+    Ok(values)
+}
+
+fn eval(file: &Path, pairs: &Path, backend: Backend, set: &[String], format: MessageFormat) -> Result<(), Failure> {
+    let inputs = read_inputs(&[file.to_path_buf()])?;
+    let input = &inputs[0];
+    let material = match glazec::load(&input.text) {
+        Ok((material, _)) => material,
+        Err(diagnostics) => {
+            print_diagnostics(input.source(), &diagnostics, format);
+            return Err(Failure::Diagnostics);
+        }
+    };
+    let values = parameter_values(&material, set)?;
+    let text = std::fs::read_to_string(pairs).with_context(|| format!("cannot read {}", pairs.display()))?;
+    let pairs = glazec::eval::parse_pairs(&text).with_context(|| format!("{}", pairs.display()))?;
+    let mut stdout = std::io::BufWriter::new(std::io::stdout().lock());
+    match backend {
+        Backend::Cpu => {
+            for pair in &pairs {
+                let f = glazec::eval::brdf(&material, &values, pair.wi, pair.wo);
+                writeln!(stdout, "{}", glazec::eval::format_rgb(f)).context("cannot write to stdout")?;
+            }
+        }
+    }
+    stdout.flush().context("cannot write to stdout")?;
+    Ok(())
+}

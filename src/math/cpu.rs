@@ -1,0 +1,121 @@
+//! The immediate implementation of the shading ops: `f32` scalars, `glam::Vec3` vectors.
+//!
+//! Every operation follows the WGSL definition of the corresponding builtin, so that a term run
+//! here and the same term run as a shader differ only by the rounding of the hardware (e.g.
+//! `refract` returns the zero vector on total internal reflection, exactly as WGSL does).
+
+use glam::Vec3;
+
+use super::{Logic, Named, Real, Slot, TermDef, Vector};
+
+impl Named for f32 {
+    fn named(self, _: &str) -> Self {
+        self
+    }
+}
+
+impl Named for Vec3 {
+    fn named(self, _: &str) -> Self {
+        self
+    }
+}
+
+impl Named for bool {
+    fn named(self, _: &str) -> Self {
+        self
+    }
+}
+
+impl Logic for bool {}
+
+impl Real for f32 {
+    type Vec = Vec3;
+    type Bool = bool;
+    type Ctx = ();
+
+    fn ctx(self) {}
+    fn constant((): (), x: f32) -> f32 {
+        x
+    }
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    fn exp(self) -> f32 {
+        f32::exp(self)
+    }
+    fn ln(self) -> f32 {
+        f32::ln(self)
+    }
+    fn powf(self, exponent: f32) -> f32 {
+        f32::powf(self, exponent)
+    }
+    fn abs(self) -> f32 {
+        f32::abs(self)
+    }
+    fn min(self, other: f32) -> f32 {
+        f32::min(self, other)
+    }
+    fn max(self, other: f32) -> f32 {
+        f32::max(self, other)
+    }
+    fn lt(self, other: f32) -> bool {
+        self < other
+    }
+    fn gt(self, other: f32) -> bool {
+        self > other
+    }
+    fn select(condition: bool, accept: f32, reject: f32) -> f32 {
+        if condition { accept } else { reject }
+    }
+    fn splat(self) -> Vec3 {
+        Vec3::splat(self)
+    }
+    fn vec3(x: f32, y: f32, z: f32) -> Vec3 {
+        Vec3::new(x, y, z)
+    }
+    fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {
+        body(args)
+    }
+}
+
+impl Vector for Vec3 {
+    type Real = f32;
+
+    fn dot(self, other: Vec3) -> f32 {
+        Vec3::dot(self, other)
+    }
+    fn normalize(self) -> Vec3 {
+        self / self.length()
+    }
+    fn x(self) -> f32 {
+        self.x
+    }
+    fn y(self) -> f32 {
+        self.y
+    }
+    fn z(self) -> f32 {
+        self.z
+    }
+    fn exp(self) -> Vec3 {
+        Vec3::new(self.x.exp(), self.y.exp(), self.z.exp())
+    }
+    fn sqrt(self) -> Vec3 {
+        Vec3::new(self.x.sqrt(), self.y.sqrt(), self.z.sqrt())
+    }
+    fn min(self, other: Vec3) -> Vec3 {
+        Vec3::min(self, other)
+    }
+    fn max(self, other: Vec3) -> Vec3 {
+        Vec3::max(self, other)
+    }
+    fn select(condition: bool, accept: Vec3, reject: Vec3) -> Vec3 {
+        if condition { accept } else { reject }
+    }
+    fn refract(self, normal: Vec3, eta: f32) -> Vec3 {
+        // WGSL §17.5 refract(e1, e2, e3): k = 1 − e3²(1 − dot(e2, e1)²);
+        // 0 if k < 0, else e3·e1 − (e3·dot(e2, e1) + √k)·e2.
+        let d = normal.dot(self);
+        let k = 1.0 - eta * eta * (1.0 - d * d);
+        if k < 0.0 { Vec3::ZERO } else { self * eta - normal * (eta * d + k.sqrt()) }
+    }
+}

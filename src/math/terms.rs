@@ -1,0 +1,443 @@
+//! The BRDF terms, each written once (see the [module essay](super)).
+//!
+//! Every term cites its source on the first line of its doc comment (which is also copied above
+//! the function in the generated shaders), and documents its numerical guards where they sit.
+//! Cosine arguments are expected to be clamped by the caller where they divide (see
+//! [`super::layering::COS_EPSILON`]); terms clamp only what they introduce themselves.
+
+use std::f32::consts::PI;
+
+use super::Vector;
+
+use crate::shading_fn;
+
+/// Smallest GGX / GTR1 α. Below it a microfacet lobe is a mirror for all practical purposes
+/// (pbrt-v4's `EffectivelySmooth` threshold); clamping keeps D finite at n·h = 1, where its peak
+/// value 1/(πα²) ≈ 3.2·10⁵ is still representable in f32.
+pub const ALPHA_MIN: f32 = 1e-3;
+
+/// Roughness above which GTR1's α²−1 → 0 and ln α² → 0 cancel badly; the limit there is D = 1/π.
+const GTR1_ALPHA_MAX: f32 = 0.9999;
+
+/// Largest Schlick F0 accepted when converting F0 back to an IOR (η = (1+√F0)/(1−√F0) → ∞ at 1).
+const F0_MAX: f32 = 0.9999;
+
+/// Smallest argument of a square root or reciprocal that would otherwise hit 0 at grazing angles.
+const TINY: f32 = 1e-12;
+
+shading_fn! {
+    /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
+    /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+    /// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+    pub fn d_ggx(n_dot_h: S, alpha: S) -> S {
+        let a2 = alpha.at_least(ALPHA_MIN).sq();
+        let d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+        a2 / (d * d * PI)
+    }
+}
+
+shading_fn! {
+    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
+    /// eq. 10): the clear-coat distribution D = (α²−1) / (π ln α² (1 + (α²−1) cos²θh)).
+    /// Guards: α ≥ ALPHA_MIN (ln 0); at α → 1 the 0/0 limit 1/π is taken directly.
+    pub fn d_gtr1(n_dot_h: S, alpha: S) -> S {
+        let a2 = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX).sq();
+        let d = (a2 - 1.0) / (a2.ln() * (n_dot_h * n_dot_h * (a2 - 1.0) + 1.0) * PI);
+        F::select(alpha.gt_lit(GTR1_ALPHA_MAX), alpha.lit(1.0 / PI), d)
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
+    /// the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
+    pub fn g1_schlick_ggx(n_dot_x: S, k: S) -> S {
+        n_dot_x / (n_dot_x * k.one_minus() + k)
+    }
+}
+
+shading_fn! {
+    /// Karis 2013 with Burley's remapping (seed 000 eq. 8–9): Smith's separable product of two
+    /// Schlick-GGX terms with k = (roughness + 1)² / 8.
+    pub fn g_smith_schlick_ggx(n_dot_v: S, n_dot_l: S, roughness: S) -> S {
+        let k = (roughness + 1.0).sq() / 8.0;
+        g1_schlick_ggx(n_dot_v, k) * g1_schlick_ggx(n_dot_l, k)
+    }
+}
+
+shading_fn! {
+    /// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+    /// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+    /// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+    pub fn lambda_ggx(n_dot_x: S, alpha: S) -> S {
+        let mu2 = (n_dot_x * n_dot_x).at_least(TINY);
+        let tan2 = mu2.one_minus() / mu2;
+        ((alpha * alpha * tan2 + 1.0).sqrt() - 1.0) * 0.5
+    }
+}
+
+shading_fn! {
+    /// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+    /// G2 = 1 / (1 + Λ(v) + Λ(l)).
+    pub fn g_smith_ggx_correlated(n_dot_v: S, n_dot_l: S, alpha: S) -> S {
+        let alpha = alpha.at_least(ALPHA_MIN);
+        (lambda_ggx(n_dot_v, alpha) + lambda_ggx(n_dot_l, alpha) + 1.0).recip()
+    }
+}
+
+shading_fn! {
+    /// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
+    /// The caller passes cosines clamped to ≥ COS_EPSILON.
+    pub fn f_cook_torrance(d: S, g: S, fresnel: V, n_dot_v: S, n_dot_l: S) -> V {
+        fresnel * (d * g / (n_dot_v * n_dot_l * 4.0))
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
+    /// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+    pub fn f_schlick(f0: V, cos_theta: S) -> V {
+        let m = cos_theta.clamp(0.0, 1.0).one_minus();
+        let m2 = m * m;
+        f0 + f0.one_minus() * (m2 * m2 * m)
+    }
+}
+
+shading_fn! {
+    /// The normal-incidence reflectance of a dielectric interface, F0 = ((η − 1)/(η + 1))².
+    pub fn f0_dielectric(eta: S) -> S {
+        ((eta - 1.0) / (eta + 1.0)).sq()
+    }
+}
+
+shading_fn! {
+    /// Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
+    /// `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
+    /// Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
+    /// rejected by the select.
+    pub fn fr_dielectric(cos_i: S, eta: S) -> S {
+        let cos_i = cos_i.clamp(0.0, 1.0);
+        let sin2_t = cos_i.sq().one_minus() / (eta * eta);
+        let cos_t = sin2_t.one_minus().at_least(0.0).sqrt();
+        let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+        let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+        let fresnel = (r_parl * r_parl + r_perp * r_perp) * 0.5;
+        F::select(sin2_t.lt_lit(1.0), fresnel, cos_i.lit(1.0))
+    }
+}
+
+shading_fn! {
+    /// Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
+    /// (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
+    /// the medium above.
+    pub fn fr_conductor(cos_i: S, eta: V, k: V) -> V {
+        let cos2 = cos_i.clamp(0.0, 1.0).sq();
+        let sin2 = cos2.one_minus();
+        let eta2 = eta * eta;
+        let k2 = k * k;
+        let t0 = eta2 - k2 - sin2.splat();
+        let a2_plus_b2 = (t0 * t0 + eta2 * k2 * 4.0).sqrt();
+        let t1 = a2_plus_b2 + cos2.splat();
+        let a = ((a2_plus_b2 + t0) * 0.5).sqrt();
+        let t2 = a * (cos2.sqrt() * 2.0);
+        let r_s = (t1 - t2) / (t1 + t2);
+        let t3 = a2_plus_b2 * cos2 + (sin2 * sin2).splat();
+        let t4 = t2 * sin2;
+        let r_p = r_s * (t3 - t4) / (t3 + t4);
+        (r_p + r_s) * 0.5
+    }
+}
+
+shading_fn! {
+    /// Re-expresses a conductor's F0 (given against air) for a base that sits in a medium of
+    /// absolute index `n_medium`: F0 → η = (1+√F0)/(1−√F0) → η/n → F0′ (the approach of
+    /// Filament's `f0ClearCoatToSurface`, generalised from n = 1.5). Guard: F0 ≤ F0_MAX.
+    pub fn f0_under_medium(f0: V, n_medium: S) -> V {
+        let s = f0.min(n_medium.lit(F0_MAX).splat()).sqrt();
+        let eta = (s + n_medium.lit(1.0).splat()) / s.one_minus() / n_medium;
+        let r = (eta - n_medium.lit(1.0).splat()) / (eta + n_medium.lit(1.0).splat());
+        r * r
+    }
+}
+
+shading_fn! {
+    /// Lambert 1760: the ideal diffuse BRDF f = ρ/π.
+    pub fn fd_lambert(albedo: V) -> V {
+        albedo * (1.0 / PI)
+    }
+}
+
+shading_fn! {
+    /// Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
+    /// (seed 000 eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
+    /// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
+    /// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
+    /// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
+    pub fn fd_oren_nayar(albedo: V, sigma: S, n_dot_v: S, n_dot_l: S, v_dot_l: S) -> V {
+        let sigma2 = sigma * sigma;
+        let a = (sigma2 / (sigma2 + 0.33) * 0.5).one_minus();
+        let b = sigma2 / (sigma2 + 0.09) * 0.45;
+        let s = v_dot_l - n_dot_v * n_dot_l;
+        let s_over_t = s.at_least(0.0) / n_dot_v.max(n_dot_l);
+        albedo * ((b * s_over_t + a) / PI)
+    }
+}
+
+/// Fujii's FON constant c1 = 1/2 − 2/(3π) (EON listing, `constant1_FON`).
+const FON_C1: f32 = 0.5 - 2.0 / (3.0 * PI);
+/// Average FON albedo coefficient c2 = 2/3 − 28/(15π) (EON listing, `constant2_FON`).
+const FON_C2: f32 = 2.0 / 3.0 - 28.0 / (15.0 * PI);
+/// Average albedo coefficient of the qualitative Oren–Nayar B term: ⟨E⟩ = ρ(A + c B) with
+/// c = 2/3 − 64/(45π). It is FON's c2 plus 4/(9π), the share of the s < 0 half that QON clamps
+/// to zero; checked against numerical quadrature (0.213959273) in the tests.
+pub const QON_AVG_B: f32 = 2.0 / 3.0 - 64.0 / (45.0 * PI);
+
+shading_fn! {
+    /// Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
+    /// (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
+    /// Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
+    pub fn e_fon(mu: S, r: S) -> S {
+        let x = mu.clamp(0.0, 1.0).one_minus();
+        let g_over_pi = x * (x * (x * (x * 0.071_442_995 - 0.332_181_44) + 0.491_881_87) + 0.057_108_53);
+        (r * g_over_pi + 1.0) / (r * FON_C1 + 1.0)
+    }
+}
+
+shading_fn! {
+    /// Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
+    /// plus the analytic multiple-scattering compensation that makes it energy-preserving.
+    /// Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
+    pub fn fd_eon(albedo: V, r: S, n_dot_v: S, n_dot_l: S, v_dot_l: S) -> V {
+        let s = v_dot_l - n_dot_v * n_dot_l;
+        let s_over_t = F::select(s.gt_lit(0.0), s / n_dot_v.max(n_dot_l), s);
+        let a_f = (r * FON_C1 + 1.0).recip();
+        let f_ss = albedo * (a_f * (r * s_over_t + 1.0) / PI);
+        let e_o = e_fon(n_dot_v, r);
+        let e_i = e_fon(n_dot_l, r);
+        let e_avg = a_f * (r * FON_C2 + 1.0);
+        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        let f_ms = rho_ms * (e_o.one_minus().at_least(1e-7) * e_i.one_minus().at_least(1e-7)
+            / (e_avg.one_minus().at_least(1e-7) * PI));
+        f_ss + f_ms
+    }
+}
+
+shading_fn! {
+    /// Hemispherical-average albedo ⟨E⟩ of the qualitative Oren–Nayar lobe (Oren & Nayar 1994):
+    /// ρ (A + c B), c = 2/3 − 64/(45π), from integrating the B term over both hemispheres.
+    pub fn albedo_avg_oren_nayar(albedo: V, sigma: S) -> V {
+        let sigma2 = sigma * sigma;
+        let a = (sigma2 / (sigma2 + 0.33) * 0.5).one_minus();
+        let b = sigma2 / (sigma2 + 0.09) * 0.45;
+        albedo * (b * QON_AVG_B + a)
+    }
+}
+
+shading_fn! {
+    /// Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
+    /// ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
+    pub fn albedo_avg_eon(albedo: V, r: S) -> V {
+        let e_avg = (r * FON_C2 + 1.0) / (r * FON_C1 + 1.0);
+        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        albedo * e_avg + rho_ms * e_avg.one_minus()
+    }
+}
+
+shading_fn! {
+    /// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": the hemispherical
+    /// average of Schlick's Fresnel, F_avg = F0 + (1 − F0)/21. Used as a conductor's mean albedo
+    /// (an approximation that ignores the lobe's single-scattering loss).
+    pub fn albedo_avg_conductor(f0: V) -> V {
+        f0 + f0.one_minus() * (1.0 / 21.0)
+    }
+}
+
+shading_fn! {
+    /// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
+    /// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
+    /// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
+    /// zero vector, whose cosine 0 makes every transmission factor 0.
+    pub fn refract_down(w: V, n: V, eta: S) -> V {
+        -((-w).refract(n, eta.recip()))
+    }
+}
+
+shading_fn! {
+    /// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
+    /// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
+    pub fn slab_transmittance(tau: V, mu: S) -> V {
+        (-(tau / mu)).exp()
+    }
+}
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 (seed 000 eq. 14–15): the absorption a = e^{−α l} along the path
+    /// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
+    pub fn absorption_ww(sigma_a: V, thickness: S, n_dot_l1: S, n_dot_v1: S) -> V {
+        let path = thickness * (n_dot_l1.recip() + n_dot_v1.recip());
+        (-(sigma_a * path)).exp()
+    }
+}
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 via seed 000 §3.0.3: the internal-reflection term
+    /// t = (1 − G) + T21·G, with T21 = T12.
+    pub fn ww_inner_reflection(g: S, t21: V) -> V {
+        t21 * g + g.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,
+    /// f = f_r1(L, V) + T12 · f_r2(L′, V′) · a · t.
+    pub fn ww_layer(f_top: V, t12: V, absorption: V, inner: V, f_below: V) -> V {
+        f_top + f_below * t12 * absorption * inner
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
+    /// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
+    /// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
+    /// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
+    /// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
+    /// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
+    pub fn interfaced_layer(f_top: V, t_i: S, t_o: S, a_i: V, a_o: V, f_below: V, rho_below: V, r_return: V, eta: S) -> V {
+        let bounces = (rho_below * r_return).one_minus();
+        f_top + f_below * a_i * a_o * (t_i * t_o / (eta * eta)) / bounces
+    }
+}
+
+shading_fn! {
+    /// The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
+    /// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
+    /// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
+    pub fn interfaced_albedo(eta: S, e_escape_clear: S, e_escape: V, r_return: V, rho_below: V) -> V {
+        let eta2 = eta * eta;
+        let e_fresnel = (eta2 * e_escape_clear).one_minus();
+        e_escape * e_escape * rho_below * eta2 / (rho_below * r_return).one_minus() + e_fresnel.splat()
+    }
+}
+
+shading_fn! {
+    /// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
+    /// diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
+    /// absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
+    /// by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+    pub fn slab_return(eta: S, tau: V) -> V {
+        super::layering::slab_integral(eta, tau, super::layering::SlabIntegral::Return)
+    }
+}
+
+shading_fn! {
+    /// The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
+    /// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
+    /// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+    pub fn slab_escape(eta: S, tau: V) -> V {
+        super::layering::slab_integral(eta, tau, super::layering::SlabIntegral::Escape)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Integrates f(μ) over [0, 1] with a fine composite Simpson rule (test-only reference).
+    fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+        let h = (b - a) / n as f64;
+        let mut s = f(a) + f(b);
+        for i in 1..n {
+            s += f(a + h * i as f64) * if i % 2 == 1 { 4.0 } else { 2.0 };
+        }
+        s * h / 3.0
+    }
+
+    #[test]
+    fn ggx_d_is_normalised() {
+        // ∫ D(h) (n·h) dω_h = 1 (Walter et al. 2007, eq. 4).
+        for alpha in [0.05_f32, 0.2, 0.5, 1.0] {
+            let integral = simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
+        }
+    }
+
+    #[test]
+    fn gtr1_is_normalised_and_continuous_at_one() {
+        for alpha in [0.01_f32, 0.1, 0.5] {
+            let integral = simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
+        }
+        assert!((d_gtr1(0.5, 1.0) - 1.0 / PI).abs() < 1e-6);
+        assert!((d_gtr1(0.5, 0.9998) - 1.0 / PI).abs() < 1e-3);
+    }
+
+    #[test]
+    fn smith_limits() {
+        // E(μ=1, α=1) = 1 − ln 2 needs the full lobe; here: G2 = 1 at normal incidence, and
+        // Λ = 0 for a smooth surface.
+        assert!((g_smith_ggx_correlated(1.0, 1.0, 0.5) - 1.0).abs() < 1e-6);
+        assert!(lambda_ggx(0.3, 0.0).abs() < 1e-6);
+        assert!((g1_schlick_ggx(1.0, 0.3) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn dielectric_fresnel() {
+        assert!((fr_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((f0_dielectric(1.5) - 0.04).abs() < 1e-7);
+        // Total internal reflection beyond the critical angle (sin θc = 1/1.5 from inside).
+        let cos_c = (1.0_f32 - 1.0 / 2.25).sqrt();
+        assert_eq!(fr_dielectric(cos_c - 0.01, 1.0 / 1.5), 1.0);
+        assert!(fr_dielectric(cos_c + 0.01, 1.0 / 1.5) < 1.0);
+        // Reciprocity of the interface: F(θi, η) = F(θt, 1/η).
+        let cos_t = (1.0_f32 - (1.0 - 0.6 * 0.6) / 2.25).sqrt();
+        assert!((fr_dielectric(0.6, 1.5) - fr_dielectric(cos_t, 1.0 / 1.5)).abs() < 1e-6);
+        assert_eq!(fr_dielectric(0.0, 1.5), 1.0);
+    }
+
+    #[test]
+    fn conductor_fresnel_matches_dielectric_without_extinction() {
+        for cos in [0.1_f32, 0.5, 0.9, 1.0] {
+            let c = fr_conductor(cos, Vec3::splat(1.5), Vec3::ZERO);
+            assert!((c.x - fr_dielectric(cos, 1.5)).abs() < 1e-5, "{cos}: {c}");
+        }
+        // Normal incidence: ((η−1)² + κ²) / ((η+1)² + κ²).
+        let c = fr_conductor(1.0, Vec3::splat(0.2), Vec3::splat(3.9));
+        let expected = (0.64 + 15.21) / (1.44 + 15.21);
+        assert!((c.x - expected).abs() < 1e-5);
+    }
+
+    #[test]
+    fn f0_under_medium_matches_ior_ratio() {
+        let f0 = Vec3::splat(crate::model::f0_from_ior(3.0));
+        let got = f0_under_medium(f0, 1.5);
+        assert!((got.x - crate::model::f0_from_ior(2.0)).abs() < 1e-5);
+        assert!((f0_under_medium(f0, 1.0).x - f0.x).abs() < 1e-6);
+    }
+
+    #[test]
+    fn qon_average_albedo_constant() {
+        assert!((QON_AVG_B - 0.213_959_27).abs() < 1e-6);
+    }
+
+    #[test]
+    fn eon_white_furnace() {
+        // EON conserves energy: E(μ) = 1 for ρ = 1 (to the accuracy of E_FON_approx).
+        let r = 1.0_f32;
+        for mu_o in [0.2_f32, 0.6, 1.0] {
+            let n = 256;
+            let mut e = 0.0_f64;
+            for a in 0..n {
+                let mu_i = (a as f32 + 0.5) / n as f32;
+                for b in 0..n {
+                    let phi = (b as f32 + 0.5) / n as f32 * std::f32::consts::TAU;
+                    let s_i = (1.0 - mu_i * mu_i).sqrt();
+                    let s_o = (1.0 - mu_o * mu_o).sqrt();
+                    let v_dot_l = s_i * s_o * phi.cos() + mu_i * mu_o;
+                    let f = fd_eon(Vec3::ONE, r, mu_o, mu_i, v_dot_l).x as f64;
+                    e += f * mu_i as f64 / (n * n) as f64 * std::f64::consts::TAU;
+                }
+            }
+            assert!((e - 1.0).abs() < 2e-3, "mu_o {mu_o}: {e}");
+        }
+    }
+}

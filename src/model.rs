@@ -1,0 +1,227 @@
+//! The material model: what a checked material *is*, as plain typed data.
+//!
+//! `check` produces a [`Material`]; `lower` (the shader) and `eval` (the CPU) consume it through
+//! the same BRDF code in [`crate::math`]. There are no spans in here: spans live in the side
+//! table [`SourceMap`] so that the model can be built by programs (tests, proptest, the
+//! `build.rs` API) as easily as by the parser.
+//!
+//! **Invariants** (established by `check`, assumed downstream): the material name is a valid
+//! identifier; every literal is finite and inside its physical range (roughness and albedo in
+//! `[0, 1]`, IOR > 0, absorption and thickness ≥ 0); every [`ParamId`] indexes
+//! [`Material::params`]; parameter names are unique; a parameter's default obeys the same range
+//! as every slot it is used in.
+//!
+//! Conventions: the stack is listed **top to bottom**; each coat's `ior` is relative to the
+//! medium directly above it; `roughness` is perceptual (α = roughness², as in Burley 2012),
+//! except for Oren–Nayar, whose roughness is the facet-slope deviation σ in radians.
+
+/// A complete layered material: coats (top to bottom) over one opaque base.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// A lowercase identifier; it names the output files and the shader functions.
+    pub name: String,
+    pub method: Method,
+    /// Coat layers, top to bottom. May be empty (a bare base).
+    pub coats: Vec<Coat>,
+    pub base: Base,
+    /// Runtime parameters in order of first use; they become one uniform struct.
+    pub params: Vec<Param>,
+}
+
+/// How a stack of layers is combined into one BRDF.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Disney clear-coat (Burley 2012; seed 000 §3.0.2): each coat adds a specular lobe on top of
+    /// the base, with no attenuation. The cheapest; creates energy.
+    Additive,
+    /// The recurrence of Weidlich & Wilkie 2007 as the seed writes it (seed 000 §3.0.3,
+    /// eq. 12–19). Kept faithful so it can be measured.
+    WeidlichWilkie,
+    /// glazec's default: reciprocal, energy-conserving layering that is exact for a smooth
+    /// dielectric coat over a Lambertian base with absorption (η² radiance compression, internal
+    /// reflection including TIR, absorption along refracted paths).
+    #[default]
+    Interfaced,
+}
+
+impl Method {
+    pub const NAMES: &'static [&'static str] = &["Additive", "WeidlichWilkie", "Interfaced"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Additive => "Additive",
+            Method::WeidlichWilkie => "WeidlichWilkie",
+            Method::Interfaced => "Interfaced",
+        }
+    }
+}
+
+/// A dielectric coat: an interface (its lobe and IOR) over an absorbing slab.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coat {
+    pub lobe: Lobe,
+    /// Index of refraction relative to the medium above.
+    pub ior: Scalar,
+    /// Absorption coefficient σa per unit length, per RGB channel.
+    pub absorption: Color,
+    /// Slab thickness d (the seed's "density"); the optical depth is τ = σa·d.
+    pub thickness: Scalar,
+}
+
+/// The microfacet lobe of a coat's top interface.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Lobe {
+    /// A perfectly flat interface: a mirror reflection (a delta lobe, invisible to point lights)
+    /// and a sharp refraction.
+    Smooth,
+    /// GGX / Trowbridge–Reitz microfacets (Walter et al. 2007), α = roughness².
+    Ggx { roughness: Scalar },
+    /// The Disney clear-coat lobe: GTR1 distribution (Burley 2012), α = roughness².
+    Gtr1 { roughness: Scalar },
+}
+
+impl Lobe {
+    pub const NAMES: &'static [&'static str] = &["Smooth", "Ggx", "Gtr1"];
+}
+
+/// The opaque layer at the bottom of the stack.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Base {
+    /// Lambertian diffuse, f = ρ/π.
+    Lambert { albedo: Color },
+    /// The qualitative Oren–Nayar model (Oren & Nayar 1994; seed 000 eq. 17); `roughness` is σ
+    /// in radians.
+    OrenNayar { albedo: Color, roughness: Scalar },
+    /// Energy-preserving Oren–Nayar (Portsmouth, Kutz & Hill 2025), roughness r ∈ [0, 1].
+    Eon { albedo: Color, roughness: Scalar },
+    /// A rough conductor: GGX microfacets with a conductor Fresnel term.
+    Conductor { roughness: Scalar, fresnel: ConductorFresnel },
+    /// A rough dielectric over a diffuse body (plastic). Lowered as a GGX coat of zero
+    /// thickness over a Lambertian base, so it obeys the material's method like any coat.
+    Plastic { albedo: Color, roughness: Scalar, ior: Scalar },
+}
+
+impl Base {
+    pub const NAMES: &'static [&'static str] = &["Lambert", "OrenNayar", "Eon", "Conductor", "Plastic"];
+}
+
+/// How a conductor's Fresnel reflectance is given.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConductorFresnel {
+    /// Normal-incidence reflectance, used with Schlick's approximation.
+    F0(Color),
+    /// Complex IOR η + iκ per channel (relative to vacuum), used with the exact conductor Fresnel.
+    Complex { eta: Color, k: Color },
+}
+
+/// A scalar slot: a literal folded into the shader, or a runtime parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scalar {
+    Lit(f32),
+    Param(ParamId),
+}
+
+/// An RGB slot: a literal, or a runtime parameter (a scalar parameter is broadcast to grey).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Color {
+    Lit([f32; 3]),
+    Param(ParamId),
+}
+
+/// Index into [`Material::params`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ParamId(pub u16);
+
+/// A named runtime parameter: one member of the material's uniform struct.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: String,
+    pub default: ParamValue,
+}
+
+/// A parameter's value; its variant is the parameter's type.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamValue {
+    Scalar(f32),
+    Rgb([f32; 3]),
+}
+
+impl ParamValue {
+    pub fn type_name(self) -> &'static str {
+        match self {
+            ParamValue::Scalar(_) => "f32",
+            ParamValue::Rgb(_) => "rgb",
+        }
+    }
+}
+
+/// Byte spans of the material's parts in its source file, for diagnostics after `check`.
+/// Programmatically built materials have an empty map.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceMap {
+    pub name: Option<crate::diag::Span>,
+    /// One span per layer (coats, then the base).
+    pub layers: Vec<crate::diag::Span>,
+    /// One span per parameter (its first declaration).
+    pub params: Vec<crate::diag::Span>,
+}
+
+impl Material {
+    /// The runtime parameters' default values, in declaration order.
+    pub fn default_values(&self) -> Vec<ParamValue> {
+        self.params.iter().map(|p| p.default).collect()
+    }
+
+    /// The struct name used for the uniform block in generated code (`wet_clay` → `WetClayParams`).
+    pub fn params_struct_name(&self) -> String {
+        let mut out = String::new();
+        for part in self.name.split('_').filter(|p| !p.is_empty()) {
+            let mut chars = part.chars();
+            if let Some(first) = chars.next() {
+                out.extend(first.to_uppercase());
+                out.push_str(chars.as_str());
+            }
+        }
+        out.push_str("Params");
+        out
+    }
+}
+
+/// Largest number of coat layers a material may have. The stack is unrolled into straight-line
+/// shader code, so this bounds shader size, not correctness.
+pub const MAX_COATS: usize = 16;
+
+/// F0 of a dielectric interface with relative IOR η: ((η − 1)/(η + 1))² (normal incidence).
+pub fn f0_from_ior(ior: f32) -> f32 {
+    let r = (ior - 1.0) / (ior + 1.0);
+    r * r
+}
+
+/// The relative IOR η ≥ 1 whose normal-incidence reflectance is `f0` (inverse of [`f0_from_ior`]).
+pub fn ior_from_f0(f0: f32) -> f32 {
+    let s = f0.clamp(0.0, 0.999_999).sqrt();
+    (1.0 + s) / (1.0 - s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f0_and_ior_round_trip() {
+        assert!((f0_from_ior(1.5) - 0.04).abs() < 1e-7);
+        assert!((ior_from_f0(0.04) - 1.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn params_struct_name_is_camel_case() {
+        let m = Material {
+            name: "wet_clay_2".into(),
+            method: Method::Interfaced,
+            coats: vec![],
+            base: Base::Lambert { albedo: Color::Lit([0.5; 3]) },
+            params: vec![],
+        };
+        assert_eq!(m.params_struct_name(), "WetClay2Params");
+    }
+}

@@ -1,0 +1,103 @@
+//! Writing outputs: all or nothing, each file atomically.
+//!
+//! Every file is first written to a temporary file in its destination directory; only when all
+//! of them exist are they renamed into place (a rename within one directory is atomic on POSIX).
+//! If anything fails before the renames, the temporary files are removed and nothing changes.
+//! [`drift`] compares planned outputs with what is on disk (for `compile --check` and the golden
+//! tests) without writing anything.
+
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+/// A file to be written.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutputFile {
+    pub path: PathBuf,
+    pub contents: Vec<u8>,
+}
+
+/// Writes every file, or none of them.
+///
+/// # Errors
+/// The first I/O error; files already staged are removed.
+pub fn write_all(files: &[OutputFile]) -> io::Result<()> {
+    let mut staged = Vec::with_capacity(files.len());
+    for file in files {
+        match stage(file) {
+            Ok(temp) => staged.push((temp, &file.path)),
+            Err(e) => return Err(e), // dropping `staged` deletes the temporary files
+        }
+    }
+    for (temp, path) in staged {
+        temp.persist(path).map_err(|e| e.error)?;
+    }
+    Ok(())
+}
+
+fn stage(file: &OutputFile) -> io::Result<tempfile::NamedTempFile> {
+    let dir = file.path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    fs::create_dir_all(dir)?;
+    let mut temp = tempfile::Builder::new().prefix(".glazec-").tempfile_in(dir)?;
+    temp.write_all(&file.contents)?;
+    temp.as_file().sync_all()?;
+    Ok(temp)
+}
+
+/// The files for one compiled material: `<out_dir>/<material>/<artifact>`.
+pub fn plan(out_dir: &Path, material: &str, artifacts: Vec<crate::Artifact>) -> Vec<OutputFile> {
+    artifacts
+        .into_iter()
+        .map(|a| OutputFile { path: out_dir.join(material).join(a.file_name), contents: a.contents })
+        .collect()
+}
+
+/// How a planned output differs from the file on disk.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Drift {
+    Missing(PathBuf),
+    Different(PathBuf),
+}
+
+impl std::fmt::Display for Drift {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Drift::Missing(p) => write!(f, "missing: {}", p.display()),
+            Drift::Different(p) => write!(f, "out of date: {}", p.display()),
+        }
+    }
+}
+
+/// The planned files that are missing or differ on disk.
+pub fn drift(files: &[OutputFile]) -> Vec<Drift> {
+    files
+        .iter()
+        .filter_map(|file| match fs::read(&file.path) {
+            Ok(existing) if existing == file.contents => None,
+            Ok(_) => Some(Drift::Different(file.path.clone())),
+            Err(_) => Some(Drift::Missing(file.path.clone())),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_all_files_and_reports_drift() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let files = vec![
+            OutputFile { path: dir.path().join("a/x.txt"), contents: b"one".to_vec() },
+            OutputFile { path: dir.path().join("b/y.txt"), contents: b"two".to_vec() },
+        ];
+        assert_eq!(drift(&files).len(), 2);
+        write_all(&files).expect("writes");
+        assert!(drift(&files).is_empty());
+        let changed = vec![OutputFile { path: dir.path().join("a/x.txt"), contents: b"three".to_vec() }];
+        assert_eq!(drift(&changed), vec![Drift::Different(dir.path().join("a/x.txt"))]);
+        // No temporary files are left behind.
+        let leftovers: Vec<_> = fs::read_dir(dir.path().join("a")).expect("dir").collect();
+        assert_eq!(leftovers.len(), 1);
+    }
+}

@@ -1,0 +1,29 @@
+//! Stage 4, `validate`: naga's validator with every check on.
+//!
+//! **Input:** the `naga::Module` from `lower`. **Output:** the `ModuleInfo` that the backends
+//! need (which expressions to bake, which globals each entry point uses).
+//!
+//! A validation failure here is a bug in glazec, never a problem with the user's material:
+//! `check` has already rejected every bad input, and `lower` only builds well-typed IR. It is
+//! reported as an internal error carrying naga's full message. External validators
+//! (`glslangValidator`, `spirv-val`) run over the emitted files in the test suite.
+
+use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
+
+/// naga rejected a module that `lower` built.
+#[derive(Debug, thiserror::Error)]
+#[error("internal error: naga rejected the generated module for `{material}`: {message}")]
+pub struct ValidateError {
+    pub material: String,
+    pub message: String,
+}
+
+/// Validates `module` with all validation flags and the default capabilities.
+///
+/// # Errors
+/// naga's validation error, rendered, if the module is invalid.
+pub fn validate(material: &str, module: &naga::Module) -> Result<ModuleInfo, ValidateError> {
+    Validator::new(ValidationFlags::all(), Capabilities::default())
+        .validate(module)
+        .map_err(|e| ValidateError { material: material.to_string(), message: e.emit_to_string("") })
+}
