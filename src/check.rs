@@ -200,6 +200,11 @@ const RESERVED_NAMES: &[&str] = &[
     "union", "unsigned", "using", "vector", "void", "volatile", "while", "writeonly", "main", "params",
 ];
 
+/// Whether `word` is reserved in one of the target languages (or by glazec's generated code).
+pub fn is_reserved(word: &str) -> bool {
+    RESERVED_NAMES.contains(&word) || naga::keywords::wgsl::RESERVED.contains(&word)
+}
+
 /// Whether `name` can name a material (files, shader functions) or a parameter (struct member).
 fn name_problem(name: &str) -> Option<&'static str> {
     if name.is_empty() {
@@ -217,7 +222,7 @@ fn name_problem(name: &str) -> Option<&'static str> {
     if name.contains("__") {
         return Some("`__` is reserved in GLSL");
     }
-    if RESERVED_NAMES.contains(&name) || naga::keywords::wgsl::RESERVED.contains(&name) {
+    if is_reserved(name) {
         return Some("this word is reserved in WGSL, GLSL or HLSL");
     }
     None

@@ -120,7 +120,7 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
         Err(Failure::Internal(e)) => {
-            eprintln!("internal error: {e:#}");
+            eprintln!("{e:#}");
             ExitCode::from(3)
         }
     }

@@ -608,11 +608,12 @@ impl<'a> ExprVec<'a> {
         }
     }
 
-    /// vector ∘ scalar, kept as a vector-scalar operation in the IR (`v * s`).
+    /// vector ∘ scalar. naga's IR has a vector-scalar form only for multiplication (`v * s`);
+    /// for division the scalar is splatted first.
     fn binary_scalar(self, op: BinaryOperator, rhs: Expr<'a>) -> ExprVec<'a> {
         match (self.v, rhs.v) {
-            (VVal::Const(_), Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]) }),
             (_, Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]) }),
+            _ if op != BinaryOperator::Multiply => self.binary(op, rhs.splat()),
             _ => {
                 let (left, right) = (self.handle(), rhs.handle());
                 self.dynamic(self.b.append(Expression::Binary { op, left, right }))

@@ -199,7 +199,9 @@ fn eval_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
     let count = arguments.len() as u32;
     b.begin_function(&format!("{}_eval", material.name), arguments, Some(result));
     let handles: Vec<_> = (0..count).map(|i| b.argument(i)).collect();
-    let f = b.vector(b.call(brdf, handles.clone()));
+    let f = b.call(brdf, handles.clone());
+    b.name(f, "f");
+    let f = b.vector(f);
     let n = b.vector(handles[0]);
     let l = b.vector(handles[2]);
     let cosine = n.dot(l).at_least(0.0);
@@ -293,6 +295,7 @@ fn eval_pairs_entry(b: &ModuleBuilder, brdf: Handle<Function>, params_var: Optio
         arguments.push(b.append(Expression::Load { pointer: ptr }));
     }
     let f = b.call(brdf, arguments);
+    b.name(f, "f");
     let zero = b.constant(0.0).handle();
     let value = b.append(Expression::Compose { ty: b.types.vec4, components: vec![f, zero] });
     let values_ptr = b.append(Expression::GlobalVariable(values));
@@ -404,7 +407,9 @@ fn preview_entries(b: &ModuleBuilder, material: &Material, params_var: Option<Ha
         let ptr = b.append(Expression::GlobalVariable(var));
         arguments.push(b.append(Expression::Load { pointer: ptr }));
     }
-    let radiance = b.vector(b.call(eval, arguments)) * PREVIEW_LIGHT_RADIANCE;
+    let reflected = b.call(eval, arguments);
+    b.name(reflected, "reflected");
+    let radiance = b.vector(reflected) * PREVIEW_LIGHT_RADIANCE;
     let inside = r2.lt(c(1.0));
     let color = <builder::ExprVec as Vector>::select(inside, radiance, c(PREVIEW_BACKGROUND).splat());
     let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), c(1.0).handle()] });

@@ -138,8 +138,10 @@ struct Geometry<F: Real> {
     half: OnceCell<(F, F)>,
 }
 
+/// The name of a value at one level of the stack in generated code: `v` at the top, `layer1_v`
+/// under the first coat, and so on (no trailing digits, which naga would suffix with `_`).
 fn level_name(base: &str, level: usize) -> String {
-    if level == 0 { base.to_string() } else { format!("{base}{level}") }
+    if level == 0 { base.to_string() } else { format!("layer{level}_{base}") }
 }
 
 impl<F: Real> Geometry<F> {
@@ -152,8 +154,8 @@ impl<F: Real> Geometry<F> {
             l,
             raw_n_dot_v,
             raw_n_dot_l,
-            n_dot_v: raw_n_dot_v.at_least(COS_EPSILON),
-            n_dot_l: raw_n_dot_l.at_least(COS_EPSILON),
+            n_dot_v: raw_n_dot_v.at_least(COS_EPSILON).named(&level_name("cos_v", level)),
+            n_dot_l: raw_n_dot_l.at_least(COS_EPSILON).named(&level_name("cos_l", level)),
             level,
             half: OnceCell::new(),
         }
@@ -199,6 +201,7 @@ struct SeedLobe<F: Real> {
 
 /// The seed's Cook–Torrance coat lobe (seed 000 §3.0.1–3.0.2), `None` for a smooth coat.
 fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedLobe<F>> {
+    let name = |base| level_name(base, g.level);
     let (roughness, distribution) = match lobe {
         Lobe::Smooth => return None,
         Lobe::Ggx { roughness } => {
@@ -210,9 +213,10 @@ fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) 
             (inputs.lit(GTR1_SMITH_ROUGHNESS), d_gtr1(g.half().0, r * r))
         }
     };
-    let shadowing = g_smith_schlick_ggx(g.n_dot_v, g.n_dot_l, roughness);
-    let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().1);
-    let specular = f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l);
+    let distribution = distribution.named(&name("d"));
+    let shadowing = g_smith_schlick_ggx(g.n_dot_v, g.n_dot_l, roughness).named(&name("g"));
+    let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().1).named(&name("fresnel"));
+    let specular = f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l).named(&name("specular"));
     Some(SeedLobe { specular, fresnel, shadowing })
 }
 
@@ -233,18 +237,20 @@ fn weidlich_wilkie<F: Real>(
         // A smooth interface: its mirror lobe is a delta (zero for point lights), h = n, G = 1.
         None => (inputs.zero(), f_schlick(f0_dielectric(eta).splat(), g.n_dot_v), inputs.lit(1.0)),
     };
-    let t12 = fresnel.one_minus().named(&level_name("t12_", k));
+    let name = |base| level_name(base, k);
+    let t12 = fresnel.one_minus().named(&name("transmission"));
     let below = g.refracted(eta);
     let absorption = absorption_ww(
         inputs.color(coat.absorption),
         inputs.scalar(coat.thickness),
         below.n_dot_l,
         below.n_dot_v,
-    );
-    let inner = ww_inner_reflection(shadowing, t12);
+    )
+    .named(&name("absorption"));
+    let inner = ww_inner_reflection(shadowing, t12).named(&name("inner"));
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));
     let f_below = weidlich_wilkie(coats, body, inputs, &below, k + 1, n_below);
-    ww_layer::<F>(f_top, t12, absorption, inner, f_below).named(&level_name("f", k))
+    ww_layer::<F>(f_top, t12, absorption, inner, f_below).named(&name("f"))
 }
 
 /// Returns (f, mean albedo); the albedo is computed only when the layer above needs it.
@@ -259,26 +265,27 @@ fn interfaced<F: Real>(
 ) -> (F::Vec, Option<F::Vec>) {
     let Some(coat) = coats.get(k) else {
         let f = base_brdf(body, inputs, g, n_medium).named(&level_name("f_base", g.level));
-        let albedo = want_albedo.then(|| base_mean_albedo(body, inputs, n_medium));
+        let albedo = want_albedo.then(|| base_mean_albedo(body, inputs, n_medium).named(&level_name("rho", g.level)));
         return (f, albedo);
     };
+    let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
-    let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));
-    let f_top = interfaced_lobe(&coat.lobe, eta, inputs, g);
-    let t_i = fr_dielectric(g.raw_n_dot_l, eta).one_minus();
-    let t_o = fr_dielectric(g.raw_n_dot_v, eta).one_minus();
+    let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&name("tau"));
+    let f_top = interfaced_lobe(&coat.lobe, eta, inputs, g).named(&name("specular"));
+    let t_i = fr_dielectric(g.raw_n_dot_l, eta).named(&name("fresnel_l")).one_minus().named(&name("transmit_l"));
+    let t_o = fr_dielectric(g.raw_n_dot_v, eta).named(&name("fresnel_v")).one_minus().named(&name("transmit_v"));
     let below = g.refracted(eta);
-    let a_i = slab_transmittance(tau, below.n_dot_l);
-    let a_o = slab_transmittance(tau, below.n_dot_v);
+    let a_i = slab_transmittance(tau, below.n_dot_l).named(&name("absorb_l"));
+    let a_o = slab_transmittance(tau, below.n_dot_v).named(&name("absorb_v"));
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));
     let (f_below, rho_below) = interfaced(coats, body, inputs, &below, k + 1, n_below, true);
     let rho_below = rho_below.unwrap_or_else(|| inputs.zero());
-    let r_return = slab_return(eta, tau).named(&level_name("r_return", k));
-    let f = interfaced_layer(f_top, t_i, t_o, a_i, a_o, f_below, rho_below, r_return, eta).named(&level_name("f", k));
+    let r_return = slab_return(eta, tau).named(&name("r_return"));
+    let f = interfaced_layer(f_top, t_i, t_o, a_i, a_o, f_below, rho_below, r_return, eta).named(&name("f"));
     let albedo = want_albedo.then(|| {
         let e_escape = slab_escape(eta, tau);
         let e_escape_clear = slab_escape(eta, inputs.zero()).x();
-        interfaced_albedo(eta, e_escape_clear, e_escape, r_return, rho_below).named(&level_name("rho", k))
+        interfaced_albedo(eta, e_escape_clear, e_escape, r_return, rho_below).named(&name("rho"))
     });
     (f, albedo)
 }
@@ -298,9 +305,11 @@ fn interfaced_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometr
             (d_gtr1(g.half().0, r * r), inputs.lit(GTR1_SMITH_ROUGHNESS))
         }
     };
-    let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g);
-    let fresnel = fr_dielectric(g.half().1, eta).splat();
-    f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l)
+    let name = |base| level_name(base, g.level);
+    let distribution = distribution.named(&name("d"));
+    let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g).named(&name("g"));
+    let fresnel = fr_dielectric(g.half().1, eta).named(&name("fresnel"));
+    f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
 }
 
 /// The base's own BRDF at the directions of its level. `n_medium` is the absolute IOR of the
@@ -381,7 +390,8 @@ const GAUSS_LEGENDRE_12: [(f32, f32); 12] = [
 ];
 
 /// The hemispherical integrals of a coat's slab seen from inside (research/accuracy.md §1.4),
-/// by Gauss–Legendre quadrature in two pieces, each with a substitution that makes its
+/// by Gauss–Legendre quadrature in two pieces (one node per call of [`slab_tir_node`],
+/// [`slab_return_node`] or [`slab_escape_node`]), each with a substitution that makes its
 /// integrand smooth:
 ///
 /// * the TIR cone μ ∈ [0, μc] (μc = √(1 − 1/η²), where F_int = 1), with μ = μc t²: it clusters
@@ -392,29 +402,21 @@ const GAUSS_LEGENDRE_12: [(f32, f32); 12] = [
 /// 12 + 12 nodes give an absolute error below 10⁻⁶ for η ∈ (1, 3] and all τ ≥ 0 (measured
 /// against adaptive quadrature in the tests). For η ≤ 1 there is no TIR cone (μc = 0).
 pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Vec {
-    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt();
-    let inv_eta = eta.recip();
-    let (tau_scale, mut sum) = match which {
-        SlabIntegral::Return => (2.0, eta.lit(0.0).splat()),
-        SlabIntegral::Escape => (1.0, eta.lit(0.0).splat()),
-    };
+    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt().named("mu_c");
+    let inv_eta = eta.recip().named("inv_eta");
+    let mut sum = eta.lit(0.0).splat();
     if which == SlabIntegral::Return {
         for (t, w) in GAUSS_LEGENDRE_12 {
-            // Guard: μ ≥ 10⁻²⁰ so that τ/μ stays defined when μc = 0 (then the weight is 0).
-            let mu = (mu_c * (t * t)).at_least(1e-20);
-            let jacobian = mu_c * (2.0 * t);
-            sum = sum + (-(tau * tau_scale / mu)).exp() * (mu * jacobian * (2.0 * w));
+            sum = sum + slab_tir_node(mu_c, tau, mu_c.lit(t), mu_c.lit(w)).named("node");
         }
     }
     for (s, w) in GAUSS_LEGENDRE_12 {
-        let mu = mu_c + mu_c.one_minus() * (s * s);
-        let jacobian = mu_c.one_minus() * (2.0 * s);
-        let f_int = fr_dielectric(mu, inv_eta);
-        let weight = match which {
-            SlabIntegral::Return => f_int,
-            SlabIntegral::Escape => f_int.one_minus(),
+        let (s, w) = (mu_c.lit(s), mu_c.lit(w));
+        let node = match which {
+            SlabIntegral::Return => slab_return_node(mu_c, inv_eta, tau, s, w),
+            SlabIntegral::Escape => slab_escape_node(mu_c, inv_eta, tau, s, w),
         };
-        sum = sum + (-(tau * tau_scale / mu)).exp() * (mu * jacobian * weight * (2.0 * w));
+        sum = sum + node.named("node");
     }
     sum
 }

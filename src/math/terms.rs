@@ -319,6 +319,36 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
+    /// the substitution μ = μc t² (dμ = 2μc t dt): 2μ e^{−2τ/μ} · 2μc t · w.
+    /// Guard: μ ≥ 10⁻²⁰ keeps τ/μ defined when μc = 0 (no TIR cone; the weight is then 0).
+    pub fn slab_tir_node(mu_c: S, tau: V, t: S, weight: S) -> V {
+        let mu = (mu_c * t * t).at_least(1e-20);
+        (-(tau * 2.0 / mu)).exp() * (mu * mu_c * t * weight * 4.0)
+    }
+}
+
+shading_fn! {
+    /// One Gauss–Legendre node of R(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²
+    /// (dμ = 2(1 − μc) s ds): 2μ e^{−2τ/μ} F_int(μ) · 2(1 − μc) s · w.
+    pub fn slab_return_node(mu_c: S, inv_eta: S, tau: V, s: S, weight: S) -> V {
+        let mu = mu_c + mu_c.one_minus() * s * s;
+        let fresnel = fr_dielectric(mu, inv_eta);
+        (-(tau * 2.0 / mu)).exp() * (mu * mu_c.one_minus() * s * fresnel * weight * 4.0)
+    }
+}
+
+shading_fn! {
+    /// One Gauss–Legendre node of E_esc(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²:
+    /// 2μ e^{−τ/μ} (1 − F_int(μ)) · 2(1 − μc) s · w.
+    pub fn slab_escape_node(mu_c: S, inv_eta: S, tau: V, s: S, weight: S) -> V {
+        let mu = mu_c + mu_c.one_minus() * s * s;
+        let fresnel = fr_dielectric(mu, inv_eta);
+        (-(tau / mu)).exp() * (mu * mu_c.one_minus() * s * fresnel.one_minus() * weight * 4.0)
+    }
+}
+
+shading_fn! {
     /// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
     /// diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
     /// absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
