@@ -22,6 +22,15 @@ layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+vec3 half_vector(vec3 v, vec3 l) {
+    vec3 sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -105,22 +114,22 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-vec3 car_paint_brdf(vec3 n_1, vec3 v, vec3 l) {
-    float n_dot_v_2 = dot(n_1, v);
-    float n_dot_l_2 = dot(n_1, l);
+vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
+    float n_dot_v_2 = dot(n_1, v_1);
+    float n_dot_l_2 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    vec3 h = normalize((v + l));
+    vec3 h = half_vector(v_1, l_1);
     float d = d_ggx(dot(n_1, h), 0.0016);
     float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
-    float fresnel = fr_dielectric(dot(v, h), 1.5);
+    float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
     float transmit_l = (1.0 - fresnel_l);
     float fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
     float transmit_v = (1.0 - fresnel_v);
-    vec3 layer1_v = refract_down(v, n_1, 1.5);
-    vec3 layer1_l = refract_down(l, n_1, 1.5);
+    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -139,20 +148,20 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v, vec3 l) {
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
     vec3 layer1_absorb_l = slab_transmittance(vec3(0.048, 0.96000004, 1.32), layer2_cos_l);
     vec3 layer1_absorb_v = slab_transmittance(vec3(0.048, 0.96000004, 1.32), layer2_cos_v);
-    vec3 layer2_h = normalize((layer2_v + layer2_l));
-    float _e78 = d_ggx(dot(n_1, layer2_h), 0.09);
-    float _e80 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    vec3 _e85 = f_schlick(vec3(0.86560106, 0.88020647, 0.88020647), dot(layer2_v, layer2_h));
-    vec3 layer2_f_base = f_cook_torrance(_e78, _e80, _e85, layer2_cos_v, layer2_cos_l);
+    vec3 layer2_h = half_vector(layer2_v, layer2_l);
+    float _e76 = d_ggx(dot(n_1, layer2_h), 0.09);
+    float _e78 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    vec3 _e83 = f_schlick(vec3(0.86560106, 0.88020647, 0.88020647), dot(layer2_v, layer2_h));
+    vec3 layer2_f_base = f_cook_torrance(_e76, _e78, _e83, layer2_cos_v, layer2_cos_l);
     vec3 layer1_f = interfaced_layer(vec3(0.0), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, vec3(0.872001, 0.8859109, 0.8859109), vec3(0.021435311, 1.7043712e-5, 4.9238797e-6), 1.02);
     vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3(0.72676456, 0.055396274, 0.024973331), vec3(0.5963458), 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
-vec3 car_paint_eval(vec3 n_2, vec3 v_1, vec3 l_1) {
-    vec3 f = car_paint_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+vec3 car_paint_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
+    vec3 f = car_paint_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

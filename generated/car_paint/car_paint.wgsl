@@ -20,6 +20,15 @@ var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(3) 
 var<uniform> dispatch: EvalDispatch;
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -103,22 +112,22 @@ fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: v
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn car_paint_brdf(n_1: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_1, v);
-    let n_dot_l_2 = dot(n_1, l);
+fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_1, v_1);
+    let n_dot_l_2 = dot(n_1, l_1);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let h = normalize((v + l));
+    let h = half_vector(v_1, l_1);
     let d = d_ggx(dot(n_1, h), 0.0016f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016f);
-    let fresnel = fr_dielectric(dot(v, h), 1.5f);
+    let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
     let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
     let transmit_l = (1f - fresnel_l);
     let fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
     let transmit_v = (1f - fresnel_v);
-    let layer1_v = refract_down(v, n_1, 1.5f);
-    let layer1_l = refract_down(l, n_1, 1.5f);
+    let layer1_v = refract_down(v_1, n_1, 1.5f);
+    let layer1_l = refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
@@ -137,20 +146,20 @@ fn car_paint_brdf(n_1: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
     let layer1_absorb_l = slab_transmittance(vec3<f32>(0.048f, 0.96000004f, 1.32f), layer2_cos_l);
     let layer1_absorb_v = slab_transmittance(vec3<f32>(0.048f, 0.96000004f, 1.32f), layer2_cos_v);
-    let layer2_h = normalize((layer2_v + layer2_l));
-    let _e78 = d_ggx(dot(n_1, layer2_h), 0.09f);
-    let _e80 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
-    let _e85 = f_schlick(vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f), dot(layer2_v, layer2_h));
-    let layer2_f_base = f_cook_torrance(_e78, _e80, _e85, layer2_cos_v, layer2_cos_l);
+    let layer2_h = half_vector(layer2_v, layer2_l);
+    let _e76 = d_ggx(dot(n_1, layer2_h), 0.09f);
+    let _e78 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
+    let _e83 = f_schlick(vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f), dot(layer2_v, layer2_h));
+    let layer2_f_base = f_cook_torrance(_e76, _e78, _e83, layer2_cos_v, layer2_cos_l);
     let layer1_f = interfaced_layer(vec3(0f), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, vec3<f32>(0.872001f, 0.8859109f, 0.8859109f), vec3<f32>(0.021435311f, 0.000017043712f, 0.0000049238797f), 1.02f);
     let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3<f32>(0.72676456f, 0.055396274f, 0.024973331f), vec3(0.5963458f), 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
-fn car_paint_eval(n_2: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let f = car_paint_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0f));
+fn car_paint_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
+    let f = car_paint_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0f));
 }
 
 @compute @workgroup_size(64, 1, 1) 

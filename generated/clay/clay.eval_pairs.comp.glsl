@@ -22,6 +22,15 @@ layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+vec3 half_vector(vec3 v, vec3 l) {
+    vec3 sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -104,19 +113,19 @@ vec3 ww_layer(vec3 f_top, vec3 t12_, vec3 absorption, vec3 inner, vec3 f_below) 
 }
 
 // The BRDF f(l, v) of material `clay` (WeidlichWilkie layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-vec3 clay_brdf(vec3 n_1, vec3 v, vec3 l) {
-    float n_dot_v_3 = dot(n_1, v);
-    float n_dot_l_3 = dot(n_1, l);
+vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
+    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 h = normalize((v + l));
+    vec3 h = half_vector(v_1, l_1);
     float d = d_ggx(dot(n_1, h), 0.122499995);
     float g = g_smith_schlick_ggx(cos_v, cos_l, 0.35);
-    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v, h));
+    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
     vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     vec3 transmission = (vec3(1.0) - fresnel);
-    vec3 layer1_v = refract_down(v, n_1, 1.5);
-    vec3 layer1_l = refract_down(l, n_1, 1.5);
+    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -129,9 +138,9 @@ vec3 clay_brdf(vec3 n_1, vec3 v, vec3 l) {
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
-vec3 clay_eval(vec3 n_2, vec3 v_1, vec3 l_1) {
-    vec3 f = clay_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+vec3 clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
+    vec3 f = clay_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

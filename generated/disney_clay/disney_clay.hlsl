@@ -44,6 +44,16 @@ float3 fd_oren_nayar(float3 albedo, float sigma, float n_dot_v, float n_dot_l, f
     return (albedo * (((b * s_over_t) + a) / 3.1415927));
 }
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+float3 half_vector(float3 v, float3 l)
+{
+    float3 sum = (v + l);
+    return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
+}
+
 float d_gtr1_(float n_dot_h, float alpha)
 {
     float _e5 = min(max(alpha, 0.001), 0.9999);
@@ -87,27 +97,27 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_2, float 
 }
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-float3 disney_clay_brdf(float3 n, float3 v, float3 l)
+float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n, v);
-    float n_dot_l_3 = dot(n, l);
+    float n_dot_v_3 = dot(n, v_1);
+    float n_dot_l_3 = dot(n, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    const float3 f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v, l));
-    float3 h = normalize((v + l));
+    const float3 f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
+    const float3 h = half_vector(v_1, l_1);
     const float d = d_gtr1_(dot(n, h), 0.09);
     const float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
-    const float3 fresnel = f_schlick((0.040000003).xxx, dot(v, h));
+    const float3 fresnel = f_schlick((0.040000003).xxx, dot(v_1, h));
     const float3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     float3 f = (f_base + specular);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
-float3 disney_clay_eval(float3 n_1, float3 v_1, float3 l_1)
+float3 disney_clay_eval(float3 n_1, float3 v_2, float3 l_2)
 {
-    const float3 f = disney_clay_brdf(n_1, v_1, l_1);
-    return (f * max(dot(n_1, l_1), 0.0));
+    const float3 f = disney_clay_brdf(n_1, v_2, l_2);
+    return (f * max(dot(n_1, l_2), 0.0));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {

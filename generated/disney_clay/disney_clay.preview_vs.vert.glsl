@@ -28,6 +28,15 @@ vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v, float n_dot_l, float
     return (albedo * (((b * s_over_t) + a) / 3.1415927));
 }
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+vec3 half_vector(vec3 v, vec3 l) {
+    vec3 sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
+}
+
 float d_gtr1_(float n_dot_h, float alpha) {
     float _e5 = min(max(alpha, 0.001), 0.9999);
     float a2_ = (_e5 * _e5);
@@ -66,25 +75,25 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_2, float n_do
 }
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-vec3 disney_clay_brdf(vec3 n, vec3 v, vec3 l) {
-    float n_dot_v_3 = dot(n, v);
-    float n_dot_l_3 = dot(n, l);
+vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
+    float n_dot_v_3 = dot(n, v_1);
+    float n_dot_l_3 = dot(n, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v, l));
-    vec3 h = normalize((v + l));
+    vec3 f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
+    vec3 h = half_vector(v_1, l_1);
     float d = d_gtr1_(dot(n, h), 0.09);
     float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
-    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v, h));
+    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
     vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     vec3 f = (f_base + specular);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
-vec3 disney_clay_eval(vec3 n_1, vec3 v_1, vec3 l_1) {
-    vec3 f = disney_clay_brdf(n_1, v_1, l_1);
-    return (f * max(dot(n_1, l_1), 0.0));
+vec3 disney_clay_eval(vec3 n_1, vec3 v_2, vec3 l_2) {
+    vec3 f = disney_clay_brdf(n_1, v_2, l_2);
+    return (f * max(dot(n_1, l_2), 0.0));
 }
 
 void main() {

@@ -34,6 +34,15 @@ fn fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v: f32, n_dot_l: f32, v_do
     return (albedo * (((b * s_over_t) + a) / 3.1415927f));
 }
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
+}
+
 fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
     let _e5 = min(max(alpha, 0.001f), 0.9999f);
     let a2_ = (_e5 * _e5);
@@ -72,25 +81,25 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_2: f32, n_dot_l_2
 }
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn disney_clay_brdf(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n, v);
-    let n_dot_l_3 = dot(n, l);
+fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_3 = dot(n, v_1);
+    let n_dot_l_3 = dot(n, l_1);
     let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
-    let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v, l));
-    let h = normalize((v + l));
+    let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
+    let h = half_vector(v_1, l_1);
     let d = d_gtr1_(dot(n, h), 0.09f);
     let g = g_smith_schlick_ggx(cos_v, cos_l, 0.25f);
-    let fresnel = f_schlick(vec3(0.040000003f), dot(v, h));
+    let fresnel = f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     let f = (f_base + specular);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
-fn disney_clay_eval(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let f = disney_clay_brdf(n_1, v_1, l_1);
-    return (f * max(dot(n_1, l_1), 0f));
+fn disney_clay_eval(n_1: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
+    let f = disney_clay_brdf(n_1, v_2, l_2);
+    return (f * max(dot(n_1, l_2), 0f));
 }
 
 @compute @workgroup_size(64, 1, 1) 

@@ -29,6 +29,16 @@ struct FragmentInput_preview_fs {
     float2 p_2 : LOC0;
 };
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+float3 half_vector(float3 v, float3 l)
+{
+    float3 sum = (v + l);
+    return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
+}
+
 float d_gtr1_(float n_dot_h, float alpha)
 {
     float _e5 = min(max(alpha, 0.001), 0.9999);
@@ -148,23 +158,23 @@ float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-float3 four_layer_brdf(float3 n_1, float3 v, float3 l)
+float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n_1, v);
-    float n_dot_l_3 = dot(n_1, l);
+    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    float3 h = normalize((v + l));
+    const float3 h = half_vector(v_1, l_1);
     const float d = d_gtr1_(dot(n_1, h), 0.040000003);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.25);
-    const float fresnel = fr_dielectric(dot(v, h), 1.5);
+    const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
     float transmit_l = (1.0 - fresnel_l);
     const float fresnel_v = fr_dielectric(n_dot_v_3, 1.5);
     float transmit_v = (1.0 - fresnel_v);
-    const float3 layer1_v = refract_down(v, n_1, 1.5);
-    const float3 layer1_l = refract_down(l, n_1, 1.5);
+    const float3 layer1_v = refract_down(v_1, n_1, 1.5);
+    const float3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -183,7 +193,7 @@ float3 four_layer_brdf(float3 n_1, float3 v, float3 l)
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
     const float3 layer1_absorb_l = slab_transmittance((0.02).xxx, layer2_cos_l);
     const float3 layer1_absorb_v = slab_transmittance((0.02).xxx, layer2_cos_v);
-    float3 layer2_h = normalize((layer2_v + layer2_l));
+    const float3 layer2_h = half_vector(layer2_v, layer2_l);
     const float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
     const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1);
@@ -200,7 +210,7 @@ float3 four_layer_brdf(float3 n_1, float3 v, float3 l)
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
     const float3 layer2_absorb_l = slab_transmittance(float3(0.35999998, 0.2, 0.040000003), layer3_cos_l);
     const float3 layer2_absorb_v = slab_transmittance(float3(0.35999998, 0.2, 0.040000003), layer3_cos_v);
-    float3 layer3_h = normalize((layer3_v + layer3_l));
+    const float3 layer3_h = half_vector(layer3_v, layer3_l);
     const float layer3_d = d_ggx(dot(n_1, layer3_h), 0.25);
     const float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     const float layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2);
@@ -226,10 +236,10 @@ float3 four_layer_brdf(float3 n_1, float3 v, float3 l)
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
-float3 four_layer_eval(float3 n_2, float3 v_1, float3 l_1)
+float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
 {
-    const float3 f = four_layer_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+    const float3 f = four_layer_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {

@@ -14,6 +14,15 @@ struct PreviewVarying {
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+vec3 half_vector(vec3 v, vec3 l) {
+    vec3 sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
+}
+
 float d_gtr1_(float n_dot_h, float alpha) {
     float _e5 = min(max(alpha, 0.001), 0.9999);
     float a2_ = (_e5 * _e5);
@@ -122,22 +131,22 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-vec3 four_layer_brdf(vec3 n_1, vec3 v, vec3 l) {
-    float n_dot_v_3 = dot(n_1, v);
-    float n_dot_l_3 = dot(n_1, l);
+vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
+    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 h = normalize((v + l));
+    vec3 h = half_vector(v_1, l_1);
     float d = d_gtr1_(dot(n_1, h), 0.040000003);
     float g = g_smith_ggx_correlated(cos_v, cos_l, 0.25);
-    float fresnel = fr_dielectric(dot(v, h), 1.5);
+    float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
     float transmit_l = (1.0 - fresnel_l);
     float fresnel_v = fr_dielectric(n_dot_v_3, 1.5);
     float transmit_v = (1.0 - fresnel_v);
-    vec3 layer1_v = refract_down(v, n_1, 1.5);
-    vec3 layer1_l = refract_down(l, n_1, 1.5);
+    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -156,7 +165,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v, vec3 l) {
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
     vec3 layer1_absorb_l = slab_transmittance(vec3(0.02), layer2_cos_l);
     vec3 layer1_absorb_v = slab_transmittance(vec3(0.02), layer2_cos_v);
-    vec3 layer2_h = normalize((layer2_v + layer2_l));
+    vec3 layer2_h = half_vector(layer2_v, layer2_l);
     float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
     float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     float layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1);
@@ -173,7 +182,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v, vec3 l) {
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
     vec3 layer2_absorb_l = slab_transmittance(vec3(0.35999998, 0.2, 0.040000003), layer3_cos_l);
     vec3 layer2_absorb_v = slab_transmittance(vec3(0.35999998, 0.2, 0.040000003), layer3_cos_v);
-    vec3 layer3_h = normalize((layer3_v + layer3_l));
+    vec3 layer3_h = half_vector(layer3_v, layer3_l);
     float layer3_d = d_ggx(dot(n_1, layer3_h), 0.25);
     float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     float layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2);
@@ -199,9 +208,9 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v, vec3 l) {
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
-vec3 four_layer_eval(vec3 n_2, vec3 v_1, vec3 l_1) {
-    vec3 f = four_layer_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+vec3 four_layer_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
+    vec3 f = four_layer_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

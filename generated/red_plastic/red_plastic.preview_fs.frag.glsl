@@ -14,6 +14,15 @@ struct PreviewVarying {
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+vec3 half_vector(vec3 v, vec3 l) {
+    vec3 sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -89,22 +98,22 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 }
 
 // The BRDF f(l, v) of material `red_plastic` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-vec3 red_plastic_brdf(vec3 n_1, vec3 v, vec3 l) {
-    float n_dot_v_2 = dot(n_1, v);
-    float n_dot_l_2 = dot(n_1, l);
+vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
+    float n_dot_v_2 = dot(n_1, v_1);
+    float n_dot_l_2 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    vec3 h = normalize((v + l));
+    vec3 h = half_vector(v_1, l_1);
     float d = d_ggx(dot(n_1, h), 0.122499995);
     float g = g_smith_ggx_correlated(cos_v, cos_l, 0.122499995);
-    float fresnel = fr_dielectric(dot(v, h), 1.49);
+    float fresnel = fr_dielectric(dot(v_1, h), 1.49);
     vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float fresnel_l = fr_dielectric(n_dot_l_2, 1.49);
     float transmit_l = (1.0 - fresnel_l);
     float fresnel_v = fr_dielectric(n_dot_v_2, 1.49);
     float transmit_v = (1.0 - fresnel_v);
-    vec3 layer1_v = refract_down(v, n_1, 1.49);
-    vec3 layer1_l = refract_down(l, n_1, 1.49);
+    vec3 layer1_v = refract_down(v_1, n_1, 1.49);
+    vec3 layer1_l = refract_down(l_1, n_1, 1.49);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -116,9 +125,9 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v, vec3 l) {
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `red_plastic`: multiply by a light's radiance.
-vec3 red_plastic_eval(vec3 n_2, vec3 v_1, vec3 l_1) {
-    vec3 f = red_plastic_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+vec3 red_plastic_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
+    vec3 f = red_plastic_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

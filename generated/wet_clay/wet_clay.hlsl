@@ -29,6 +29,16 @@ struct FragmentInput_preview_fs {
     float2 p_2 : LOC0;
 };
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+float3 half_vector(float3 v, float3 l)
+{
+    float3 sum = (v + l);
+    return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -140,23 +150,23 @@ float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a
 }
 
 // The BRDF f(l, v) of material `wet_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-float3 wet_clay_brdf(float3 n_1, float3 v, float3 l)
+float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n_1, v);
-    float n_dot_l_3 = dot(n_1, l);
+    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    float3 h = normalize((v + l));
+    const float3 h = half_vector(v_1, l_1);
     const float d = d_ggx(dot(n_1, h), 0.0144);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0144);
-    const float fresnel = fr_dielectric(dot(v, h), 1.33);
+    const float fresnel = fr_dielectric(dot(v_1, h), 1.33);
     const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float fresnel_l = fr_dielectric(n_dot_l_3, 1.33);
     float transmit_l = (1.0 - fresnel_l);
     const float fresnel_v = fr_dielectric(n_dot_v_3, 1.33);
     float transmit_v = (1.0 - fresnel_v);
-    const float3 layer1_v = refract_down(v, n_1, 1.33);
-    const float3 layer1_l = refract_down(l, n_1, 1.33);
+    const float3 layer1_v = refract_down(v_1, n_1, 1.33);
+    const float3 layer1_l = refract_down(l_1, n_1, 1.33);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
@@ -169,10 +179,10 @@ float3 wet_clay_brdf(float3 n_1, float3 v, float3 l)
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `wet_clay`: multiply by a light's radiance.
-float3 wet_clay_eval(float3 n_2, float3 v_1, float3 l_1)
+float3 wet_clay_eval(float3 n_2, float3 v_2, float3 l_2)
 {
-    const float3 f = wet_clay_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0.0));
+    const float3 f = wet_clay_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {

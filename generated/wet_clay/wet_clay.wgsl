@@ -20,6 +20,15 @@ var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(3) 
 var<uniform> dispatch: EvalDispatch;
 
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
+}
+
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
 // Guard: α ≥ ALPHA_MIN keeps the peak finite.
@@ -121,22 +130,22 @@ fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: v
 }
 
 // The BRDF f(l, v) of material `wet_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn wet_clay_brdf(n_1: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v);
-    let n_dot_l_3 = dot(n_1, l);
+fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_l_3 = dot(n_1, l_1);
     let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
-    let h = normalize((v + l));
+    let h = half_vector(v_1, l_1);
     let d = d_ggx(dot(n_1, h), 0.0144f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.0144f);
-    let fresnel = fr_dielectric(dot(v, h), 1.33f);
+    let fresnel = fr_dielectric(dot(v_1, h), 1.33f);
     let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let fresnel_l = fr_dielectric(n_dot_l_3, 1.33f);
     let transmit_l = (1f - fresnel_l);
     let fresnel_v = fr_dielectric(n_dot_v_3, 1.33f);
     let transmit_v = (1f - fresnel_v);
-    let layer1_v = refract_down(v, n_1, 1.33f);
-    let layer1_l = refract_down(l, n_1, 1.33f);
+    let layer1_v = refract_down(v_1, n_1, 1.33f);
+    let layer1_l = refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
@@ -149,9 +158,9 @@ fn wet_clay_brdf(n_1: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `wet_clay`: multiply by a light's radiance.
-fn wet_clay_eval(n_2: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let f = wet_clay_brdf(n_2, v_1, l_1);
-    return (f * max(dot(n_2, l_1), 0f));
+fn wet_clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
+    let f = wet_clay_brdf(n_2, v_2, l_2);
+    return (f * max(dot(n_2, l_2), 0f));
 }
 
 @compute @workgroup_size(64, 1, 1) 

@@ -168,7 +168,7 @@ impl<F: Real> Geometry<F> {
     /// (n·h, v·h) for the half vector h = normalize(v + l), computed once per level.
     fn half(&self) -> (F, F) {
         *self.half.get_or_init(|| {
-            let h = (self.v + self.l).normalize().named(&level_name("h", self.level));
+            let h = half_vector::<F>(self.v, self.l).named(&level_name("h", self.level));
             (self.n.dot(h), self.v.dot(h))
         })
     }

@@ -262,6 +262,17 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+    /// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+    /// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+    /// transmission anyway).
+    pub fn half_vector(v: V, l: V) -> V {
+        let sum = v + l;
+        sum / sum.dot(sum).at_least(TINY).sqrt()
+    }
+}
+
+shading_fn! {
     /// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
     /// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
     pub fn slab_transmittance(tau: V, mu: S) -> V {
