@@ -90,13 +90,17 @@ enum Rule {
     Extinction,
     /// A reflectance in [0, 1].
     Albedo,
+    /// A conductor's normal-incidence reflectance F0 in [0, 1].
+    Reflectance,
+    /// The real part η of a conductor's complex IOR (relative to vacuum), > 0.
+    ConductorEta,
 }
 
 impl Rule {
     fn accepts(self, x: f64) -> bool {
         match self {
-            Rule::Roughness | Rule::Sigma | Rule::Albedo => (0.0..=1.0).contains(&x),
-            Rule::Ior => x > 0.0,
+            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => (0.0..=1.0).contains(&x),
+            Rule::Ior | Rule::ConductorEta => x > 0.0,
             Rule::Absorption | Rule::Thickness | Rule::Extinction => x >= 0.0,
         }
     }
@@ -104,9 +108,9 @@ impl Rule {
     fn code(self) -> Code {
         match self {
             Rule::Roughness | Rule::Sigma => Code::RoughnessRange,
-            Rule::Ior => Code::IorRange,
+            Rule::Ior | Rule::ConductorEta => Code::IorRange,
             Rule::Absorption | Rule::Thickness | Rule::Extinction => Code::NegativeMedium,
-            Rule::Albedo => Code::AlbedoRange,
+            Rule::Albedo | Rule::Reflectance => Code::AlbedoRange,
         }
     }
 
@@ -119,13 +123,15 @@ impl Rule {
             Rule::Thickness => "thickness",
             Rule::Extinction => "extinction coefficient",
             Rule::Albedo => "albedo",
+            Rule::Reflectance => "reflectance F0",
+            Rule::ConductorEta => "conductor IOR η",
         }
     }
 
     fn label(self) -> &'static str {
         match self {
-            Rule::Roughness | Rule::Sigma | Rule::Albedo => "must lie in [0, 1]",
-            Rule::Ior => "must be greater than 0",
+            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => "must lie in [0, 1]",
+            Rule::Ior | Rule::ConductorEta => "must be greater than 0",
             Rule::Absorption | Rule::Thickness | Rule::Extinction => "must not be negative",
         }
     }
@@ -140,6 +146,10 @@ impl Rule {
             Rule::Thickness => "thickness is a length (the seed's density d); 0 means an interface with no slab",
             Rule::Extinction => "the imaginary part κ of a conductor's IOR is 0 or more (gold: (0.2, 0.92, 1.1) + i(3.9, 2.45, 2.14))",
             Rule::Albedo => "albedo is a reflectance in [0, 1]; a value above 1 creates energy",
+            Rule::Reflectance => "F0 is the conductor's reflectance at normal incidence, in [0, 1] \
+                                  (silver (0.97, 0.96, 0.91), gold (1.0, 0.78, 0.34))",
+            Rule::ConductorEta => "η is the real part of the conductor's complex IOR relative to vacuum, above 0 \
+                                   (gold: η = (0.17, 0.43, 1.44), κ = (3.5, 2.46, 1.8))",
         }
     }
 }
@@ -183,6 +193,11 @@ fn one_of(names: &[&str]) -> String {
         Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
         None => String::new(),
     }
+}
+
+/// A number as a message shows it: plain for everyday magnitudes, scientific otherwise.
+fn show_number(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
 }
 
 /// Reserved words of GLSL and HLSL that naga would rename if used as a struct member; a
@@ -257,6 +272,8 @@ impl Checker {
     ) -> Fields<'v> {
         let mut values: Vec<Option<&'v Spanned<Value>>> = vec![None; spec.len()];
         let mut first_span: Vec<Option<Span>> = vec![None; spec.len()];
+        // Fields already named in a "did you mean" help are not reported missing a second time.
+        let mut suggested: Vec<&str> = Vec::new();
         let args = args.unwrap_or(&[]);
         let named = args.iter().any(|a| a.name.is_some());
         let positional = args.iter().any(|a| a.name.is_none());
@@ -301,6 +318,7 @@ impl Checker {
                         );
                         if let Some(s) = suggest(&name.node, &names) {
                             d = d.with_help(format!("did you mean `{s}`?"));
+                            suggested.push(s);
                         }
                         d = d.with_help(format!("`{}` has the fields {}", ctor.node, one_of(&names)));
                         self.error(d);
@@ -325,8 +343,12 @@ impl Checker {
             first_span[index] = Some(this_span);
             values[index] = Some(&arg.value);
         }
-        let missing: Vec<&FieldSpec> =
-            spec.iter().zip(&values).filter(|(f, v)| f.required && v.is_none()).map(|(f, _)| f).collect();
+        let missing: Vec<&FieldSpec> = spec
+            .iter()
+            .zip(&values)
+            .filter(|(f, v)| f.required && v.is_none() && !suggested.contains(&f.name))
+            .map(|(f, _)| f)
+            .collect();
         for f in missing {
             self.error(
                 Diagnostic::error(
@@ -490,8 +512,8 @@ impl Checker {
                 Diagnostic::error(
                     Code::TooManyLayers,
                     format!("{} coat layers; at most {MAX_COATS} are supported", checked_coats.len()),
-                    v.span,
-                    "too many layers",
+                    coats[MAX_COATS].span,
+                    format!("coat {} is one too many", MAX_COATS + 1),
                 )
                 .with_help("merge layers with identical interfaces, or drop the ones that cannot be seen"),
             );
@@ -565,23 +587,50 @@ impl Checker {
         let f = self.fields(name, args, whole, CONDUCTOR_FIELDS);
         let roughness = self.scalar(f.get(0), Rule::Roughness);
         let fresnel = match (f.get(1), f.get(2), f.get(3)) {
-            (Some(f0), None, None) => self.color(Some(f0), Rule::Albedo).map(ConductorFresnel::F0),
+            (Some(f0), None, None) => self.color(Some(f0), Rule::Reflectance).map(ConductorFresnel::F0),
             (None, Some(eta), Some(k)) => {
-                let eta = self.color(Some(eta), Rule::Ior);
+                let eta = self.color(Some(eta), Rule::ConductorEta);
                 let k = self.color(Some(k), Rule::Extinction);
                 Some(ConductorFresnel::Complex { eta: eta?, k: k? })
             }
             (f0, eta, k) => {
-                let span = [f0, eta, k].into_iter().flatten().map(|v| v.span).reduce(Span::to).unwrap_or(name.span);
-                let message = if f0.is_some() {
-                    "a conductor takes either `f0` or `eta` and `k`, not both"
-                } else {
-                    "a conductor needs its Fresnel reflectance: `f0`, or `eta` and `k`"
+                const HELP: &str = "write `f0: (1.0, 0.78, 0.34)` (Schlick's approximation) or \
+                                    `eta: (0.17, 0.43, 1.44), k: (3.5, 2.46, 1.8)` (the exact conductor Fresnel)";
+                let d = match (f0, eta, k) {
+                    (Some(f0), ..) => {
+                        let mut d = Diagnostic::error(
+                            Code::ConductorFresnel,
+                            "a conductor takes either `f0` or `eta` and `k`, not both",
+                            f0.span,
+                            "`f0` given here",
+                        );
+                        for (other, what) in [(eta, "`eta`"), (k, "`k`")] {
+                            if let Some(other) = other {
+                                d = d.with_secondary(other.span, format!("and {what} here"));
+                            }
+                        }
+                        d
+                    }
+                    (None, Some(eta), None) => Diagnostic::error(
+                        Code::ConductorFresnel,
+                        "a conductor given `eta` also needs `k`",
+                        eta.span,
+                        "the real part of the complex IOR; the imaginary part `k` is missing",
+                    ),
+                    (None, None, Some(k)) => Diagnostic::error(
+                        Code::ConductorFresnel,
+                        "a conductor given `k` also needs `eta`",
+                        k.span,
+                        "the imaginary part of the complex IOR; the real part `eta` is missing",
+                    ),
+                    _ => Diagnostic::error(
+                        Code::ConductorFresnel,
+                        "a conductor needs its Fresnel reflectance: `f0`, or `eta` and `k`",
+                        name.span,
+                        "no `f0`, `eta` or `k`",
+                    ),
                 };
-                self.error(
-                    Diagnostic::error(Code::ConductorFresnel, message, span, "conductor Fresnel")
-                        .with_help("write `f0: (0.95, 0.64, 0.54)` (Schlick) or `eta: (0.2, 0.92, 1.1), k: (3.9, 2.45, 2.14)` (exact)"),
-                );
+                self.error(d.with_help(HELP));
                 None
             }
         };
@@ -606,9 +655,21 @@ impl Checker {
             );
             return None;
         }
-        if !rule.accepts(x) || !(x as f32).is_finite() {
+        if !(x as f32).is_finite() {
             self.error(
-                Diagnostic::error(rule.code(), format!("{} {x} is out of range", rule.what()), v.span, rule.label())
+                Diagnostic::error(
+                    Code::NotFinite,
+                    format!("the {} {} does not fit in a 32-bit float", rule.what(), show_number(x)),
+                    v.span,
+                    "too large for f32 (about ±3.4e38)",
+                )
+                .with_help(rule.help()),
+            );
+            return None;
+        }
+        if !rule.accepts(x) {
+            self.error(
+                Diagnostic::error(rule.code(), format!("{} {} is out of range", rule.what(), show_number(x)), v.span, rule.label())
                     .with_help(rule.help()),
             );
             return None;
@@ -625,7 +686,11 @@ impl Checker {
                 Some([c[0]? as f32, c[1]? as f32, c[2]? as f32])
             }
             _ => {
-                self.wrong_type(v, "an RGB triple `(r, g, b)` or a number", Some(rule.help()));
+                self.wrong_type(
+                    v,
+                    "an RGB triple `(r, g, b)` or a number",
+                    Some("write a colour as three numbers `(0.8, 0.5, 0.3)`, or one number for grey"),
+                );
                 None
             }
         }
@@ -663,7 +728,6 @@ impl Checker {
             _ => self.rgb(v, rule).map(ParamValue::Rgb),
         });
         let (name, default) = (name?, default?);
-        let name_span = f.get(0).map_or(whole, |v| v.span);
         if let Some(&id) = self.param_ids.get(&name) {
             let first = self.params[id.0 as usize].default;
             let first_span = self.param_spans[id.0 as usize];
@@ -696,7 +760,6 @@ impl Checker {
             return Some((id, first));
         }
         let id = ParamId(self.params.len() as u16);
-        let _ = name_span;
         self.param_ids.insert(name.clone(), id);
         self.params.push(Param { name, default });
         self.param_spans.push(whole);

@@ -82,6 +82,8 @@ codes! {
     BadNumber = "E0105",
     /// Text after the material's closing parenthesis.
     TrailingInput = "E0106",
+    /// Values nested deeper than the parser allows.
+    TooDeep = "E0107",
     /// A field name that the constructor does not have.
     UnknownField = "E0201",
     /// A required field is absent.
@@ -94,9 +96,9 @@ codes! {
     UnknownVariant = "E0205",
     /// A roughness outside `[0, 1]`.
     RoughnessRange = "E0206",
-    /// An index of refraction that is not a finite number above zero.
+    /// An index of refraction (or a conductor's η) that is not above zero.
     IorRange = "E0207",
-    /// A negative (or non-finite) absorption or thickness.
+    /// A negative absorption, thickness or extinction coefficient.
     NegativeMedium = "E0208",
     /// A layer stack with no layers.
     EmptyStack = "E0209",
@@ -106,7 +108,7 @@ codes! {
     ParamConflict = "E0211",
     /// A material or parameter name that is not a valid identifier and file name.
     BadName = "E0212",
-    /// An albedo or reflectance outside `[0, 1]`.
+    /// An albedo or reflectance (F0) outside `[0, 1]`.
     AlbedoRange = "E0213",
     /// Positional and named arguments mixed, or too many positional arguments.
     BadArguments = "E0214",
@@ -114,7 +116,7 @@ codes! {
     ConductorFresnel = "E0215",
     /// More coat layers than the compiler supports.
     TooManyLayers = "E0216",
-    /// A number that is NaN or infinite where a finite value is required.
+    /// A number that is NaN, infinite, or too large for 32-bit floats.
     NotFinite = "E0217",
     /// Two input files declare materials with the same name (their outputs would collide).
     DuplicateMaterial = "E0218",

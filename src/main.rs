@@ -180,11 +180,11 @@ fn print_diagnostics(source: Source<'_>, diagnostics: &[Diagnostic], format: Mes
 
 /// Compiles every input, printing all diagnostics. Fails if any input has errors.
 fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>, Failure> {
-    let mut compiled = Vec::new();
+    let mut compiled: Vec<(&Input, Compiled)> = Vec::new();
     let mut failed = false;
     for input in inputs {
         match glazec::compile(&input.text) {
-            Ok(c) => compiled.push(c),
+            Ok(c) => compiled.push((input, c)),
             Err(CompileError::Diagnostics(diagnostics)) => {
                 print_diagnostics(input.source(), &diagnostics, format);
                 failed = true;
@@ -194,7 +194,7 @@ fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>,
     }
     // Two files declaring one name would overwrite each other's outputs.
     let mut first_by_name: BTreeMap<&str, &Input> = BTreeMap::new();
-    for (input, c) in inputs.iter().zip(&compiled) {
+    for (input, c) in &compiled {
         if let Some(first) = first_by_name.insert(&c.material.name, input) {
             let span = c.source_map.name.unwrap_or_default();
             let d = Diagnostic::error(
@@ -208,7 +208,7 @@ fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>,
             failed = true;
         }
     }
-    if failed { Err(Failure::Diagnostics) } else { Ok(compiled) }
+    if failed { Err(Failure::Diagnostics) } else { Ok(compiled.into_iter().map(|(_, c)| c).collect()) }
 }
 
 fn compile(inputs: &[PathBuf], out: &Path, targets: &[TargetArg], check: bool, format: MessageFormat) -> Result<(), Failure> {

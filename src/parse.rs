@@ -76,12 +76,14 @@ impl Value {
 /// # Errors
 /// The first syntax error, as a diagnostic with a span and an `E01xx` code.
 pub fn parse(text: &str) -> Result<Spanned<Value>, Diagnostic> {
-    let mut parser = Parser { text, pos: 0 };
+    // A UTF-8 byte-order mark is not part of the document.
+    let start = if text.starts_with('\u{feff}') { '\u{feff}'.len_utf8() } else { 0 };
+    let mut parser = Parser { text, pos: start, open: Vec::new() };
     parser.skip_trivia()?;
     let value = parser.value()?;
     parser.skip_trivia()?;
     if parser.pos < text.len() {
-        let span = Span::new(parser.pos, text.len());
+        let span = parser.token_span();
         return Err(Diagnostic::error(
             Code::TrailingInput,
             "unexpected text after the material",
@@ -93,9 +95,24 @@ pub fn parse(text: &str) -> Result<Spanned<Value>, Diagnostic> {
     Ok(value)
 }
 
+/// Deepest nesting of `(`, `[` and `{` accepted. Materials nest about five deep; the limit keeps
+/// hostile input from exhausting the stack.
+pub const MAX_DEPTH: usize = 64;
+
 struct Parser<'a> {
     text: &'a str,
     pos: usize,
+    /// The delimiters opened and not yet closed (innermost last), for "never closed" errors.
+    open: Vec<(char, Span)>,
+}
+
+/// How a character is shown in a message: itself, or its code point if it is invisible.
+fn show_char(c: char) -> String {
+    if c.is_control() || c.is_whitespace() || matches!(c, '\u{200b}'..='\u{200f}' | '\u{feff}' | '\u{2060}') {
+        format!("U+{:04X}", c as u32)
+    } else {
+        c.to_string()
+    }
 }
 
 fn is_ident_start(c: char) -> bool {
@@ -127,25 +144,88 @@ impl<'a> Parser<'a> {
     }
 
     fn eof_error(&self, expected: &str) -> Diagnostic {
-        let end = self.text.len();
+        // Point just after the last visible character, not at trailing blank lines.
+        let end = self.text.trim_end().len();
+        let Some(&(open, open_span)) = self.open.last() else {
+            return Diagnostic::error(
+                Code::UnexpectedEof,
+                format!("unexpected end of file, expected {expected}"),
+                Span::new(end, end),
+                "the file ends here",
+            );
+        };
+        let close = match open {
+            '(' => ')',
+            '[' => ']',
+            _ => '}',
+        };
         Diagnostic::error(
             Code::UnexpectedEof,
-            format!("unexpected end of file, expected {expected}"),
+            format!("unexpected end of file: `{open}` is never closed"),
             Span::new(end, end),
-            "the file ends here",
+            format!("expected {expected} or `{close}`"),
         )
+        .with_secondary(open_span, "opened here")
+        .with_help(format!("close it with `{close}`"))
+    }
+
+    /// The span of the token starting here: a whole identifier or number, or one character.
+    fn token_span(&self) -> Span {
+        let rest = &self.text[self.pos..];
+        let len = match rest.chars().next() {
+            Some(c) if is_ident_continue(c) || c == '.' => {
+                rest.find(|c: char| !(is_ident_continue(c) || c == '.')).unwrap_or(rest.len())
+            }
+            Some(c) => c.len_utf8(),
+            None => 0,
+        };
+        Span::new(self.pos, self.pos + len)
     }
 
     fn unexpected(&self, expected: &str) -> Diagnostic {
         match self.peek() {
             None => self.eof_error(expected),
-            Some(c) => Diagnostic::error(
-                Code::UnexpectedToken,
-                format!("expected {expected}, found `{c}`"),
-                self.here(),
-                format!("expected {expected}"),
-            ),
+            Some(c) => {
+                let span = self.token_span();
+                let found = if span.end as usize - span.start as usize > c.len_utf8() {
+                    self.text[span.range()].to_string()
+                } else {
+                    show_char(c)
+                };
+                let mut d = Diagnostic::error(
+                    Code::UnexpectedToken,
+                    format!("expected {expected}, found `{found}`"),
+                    span,
+                    format!("expected {expected}"),
+                );
+                if expected.contains("`,`") && (is_ident_continue(c) || matches!(c, '"' | '(' | '[' | '-' | '+')) {
+                    d = d.with_help("is a `,` missing before this?");
+                }
+                d
+            }
         }
+    }
+
+    /// Opens a delimiter at the current position, enforcing [`MAX_DEPTH`].
+    fn open(&mut self, c: char) -> Result<(), Diagnostic> {
+        let span = self.here();
+        if self.open.len() >= MAX_DEPTH {
+            return Err(Diagnostic::error(
+                Code::TooDeep,
+                format!("values are nested more than {MAX_DEPTH} levels deep"),
+                span,
+                "too deep",
+            )
+            .with_help("a material nests about five levels; check for unbalanced brackets"));
+        }
+        self.open.push((c, span));
+        self.bump();
+        Ok(())
+    }
+
+    fn close(&mut self) {
+        self.open.pop();
+        self.bump();
     }
 
     /// Skips whitespace and comments (block comments nest, as in RON).
@@ -224,7 +304,7 @@ impl<'a> Parser<'a> {
             c if is_ident_start(c) => self.ident_led(),
             _ => Err(Diagnostic::error(
                 Code::UnexpectedChar,
-                format!("unexpected character `{c}`"),
+                format!("unexpected character `{}`", show_char(c)),
                 self.here(),
                 "this cannot start a value",
             )
@@ -266,12 +346,16 @@ impl<'a> Parser<'a> {
 
     /// `( args )`, the opening parenthesis being next.
     fn args(&mut self) -> Result<Vec<Arg>, Diagnostic> {
-        self.expect('(', "`(`")?;
+        self.skip_trivia()?;
+        if self.peek() != Some('(') {
+            return Err(self.unexpected("`(`"));
+        }
+        self.open('(')?;
         let mut args = Vec::new();
         loop {
             self.skip_trivia()?;
             if self.peek() == Some(')') {
-                self.bump();
+                self.close();
                 return Ok(args);
             }
             args.push(self.arg()?);
@@ -281,7 +365,7 @@ impl<'a> Parser<'a> {
                     self.bump();
                 }
                 Some(')') => {
-                    self.bump();
+                    self.close();
                     return Ok(args);
                 }
                 _ => return Err(self.unexpected("`,` or `)`")),
@@ -307,12 +391,12 @@ impl<'a> Parser<'a> {
 
     fn list(&mut self) -> Result<Spanned<Value>, Diagnostic> {
         let start = self.pos;
-        self.bump(); // '['
+        self.open('[')?;
         let mut items = Vec::new();
         loop {
             self.skip_trivia()?;
             if self.peek() == Some(']') {
-                self.bump();
+                self.close();
                 break;
             }
             items.push(self.value()?);
@@ -322,7 +406,7 @@ impl<'a> Parser<'a> {
                     self.bump();
                 }
                 Some(']') => {
-                    self.bump();
+                    self.close();
                     break;
                 }
                 _ => return Err(self.unexpected("`,` or `]`")),
@@ -333,12 +417,12 @@ impl<'a> Parser<'a> {
 
     fn map(&mut self) -> Result<Spanned<Value>, Diagnostic> {
         let start = self.pos;
-        self.bump(); // '{'
+        self.open('{')?;
         let mut entries = Vec::new();
         loop {
             self.skip_trivia()?;
             if self.peek() == Some('}') {
-                self.bump();
+                self.close();
                 break;
             }
             let key = self.value()?;
@@ -351,7 +435,7 @@ impl<'a> Parser<'a> {
                     self.bump();
                 }
                 Some('}') => {
-                    self.bump();
+                    self.close();
                     break;
                 }
                 _ => return Err(self.unexpected("`,` or `}`")),
@@ -561,12 +645,45 @@ mod tests {
         let text = "Material(name: \"x\" layers: [])";
         let d = parse(text).unwrap_err();
         assert_eq!(d.code, Code::UnexpectedToken);
-        assert_eq!(&text[d.primary_span().range()], "l");
+        assert_eq!(&text[d.primary_span().range()], "layers");
         let d = parse("Material(name: \"x\"").unwrap_err();
         assert_eq!(d.code, Code::UnexpectedEof);
         let d = parse("Lambert(0.5) extra").unwrap_err();
         assert_eq!(d.code, Code::TrailingInput);
         let d = parse("/* open").unwrap_err();
         assert_eq!(d.code, Code::UnexpectedEof);
+    }
+
+    #[test]
+    fn eof_names_the_unclosed_delimiter() {
+        let text = "Material(name: \"x\", layers: [Lambert(0.5)\n\n";
+        let d = parse(text).unwrap_err();
+        assert_eq!(d.code, Code::UnexpectedEof);
+        assert!(d.message.contains("`[` is never closed"), "{}", d.message);
+        let secondary = d.labels.iter().find(|l| !l.primary).expect("points at the opening bracket");
+        assert_eq!(&text[secondary.span.range()], "[");
+        assert_eq!(d.primary_span().start as usize, text.trim_end().len());
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_crash() {
+        let text = "[".repeat(200_000);
+        assert_eq!(parse(&text).unwrap_err().code, Code::TooDeep);
+        let ok = format!("{}1{}", "[".repeat(MAX_DEPTH), "]".repeat(MAX_DEPTH));
+        assert!(parse(&ok).is_ok());
+    }
+
+    #[test]
+    fn byte_order_mark_is_skipped() {
+        assert_eq!(parse("\u{feff}true").map(|v| v.node), Ok(Value::Bool(true)));
+        let d = parse("\u{200b}").unwrap_err();
+        assert!(d.message.contains("U+200B"), "{}", d.message);
+    }
+
+    #[test]
+    fn found_token_is_the_whole_word() {
+        let d = parse("Material(name: \"x\" layers: [])").unwrap_err();
+        assert!(d.message.ends_with("found `layers`"), "{}", d.message);
+        assert!(d.notes.iter().any(|n| n.contains("`,` missing")));
     }
 }

@@ -1,0 +1,138 @@
+//! The `glazec` binary: what it writes, its exit codes, and its determinism.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn glazec(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glazec"))
+        .args(args)
+        .current_dir(common::root())
+        .output()
+        .expect("runs glazec")
+}
+
+fn code(out: &Output) -> i32 {
+    out.status.code().expect("exited normally")
+}
+
+/// Every file under `dir`, by path relative to it.
+fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("readable dir").flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let rel = path.strip_prefix(dir).expect("inside").display().to_string();
+                files.insert(rel, std::fs::read(&path).expect("readable file"));
+            }
+        }
+    }
+    files
+}
+
+#[test]
+fn compile_writes_every_target_for_every_material_identically_twice() {
+    let (a, b) = (tempfile::tempdir().expect("tmp"), tempfile::tempdir().expect("tmp"));
+    for dir in [&a, &b] {
+        let out = glazec(&["compile", "materials/", "-o", dir.path().to_str().expect("utf-8")]);
+        assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let (first, second) = (tree(a.path()), tree(b.path()));
+    assert_eq!(first, second, "two runs differ");
+    assert_eq!(first, tree(&common::root().join("generated")), "the CLI's output differs from generated/");
+    let materials = common::material_files().len();
+    for ext in [".wgsl", ".hlsl", ".comp.glsl", ".vert.glsl", ".frag.glsl"] {
+        assert_eq!(first.keys().filter(|k| k.ends_with(ext)).count(), materials, "{ext}");
+    }
+}
+
+#[test]
+fn spirv_on_request() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let out = glazec(&["compile", "materials/clay.ron", "--target", "spv,wgsl", "-o", dir.path().to_str().expect("utf-8")]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let files = tree(dir.path());
+    assert_eq!(files.keys().cloned().collect::<Vec<_>>(), ["clay/clay.spv", "clay/clay.wgsl"]);
+    let spv = &files["clay/clay.spv"];
+    assert_eq!(&spv[..4], &0x0723_0203_u32.to_le_bytes(), "SPIR-V magic number");
+}
+
+#[test]
+fn check_mode_reports_drift_and_writes_nothing() {
+    let out = glazec(&["compile", "--check", "materials/", "-o", "generated"]);
+    assert_eq!(code(&out), 0, "generated/ is current: {}", String::from_utf8_lossy(&out.stderr));
+    let dir = tempfile::tempdir().expect("tmp");
+    let target = dir.path().to_str().expect("utf-8");
+    let out = glazec(&["compile", "--check", "materials/clay.ron", "-o", target]);
+    assert_eq!(code(&out), 1);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing:"));
+    assert!(tree(dir.path()).is_empty(), "--check wrote files");
+}
+
+#[test]
+fn one_bad_file_means_nothing_is_written() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let bad = dir.path().join("bad.ron");
+    std::fs::write(&bad, "Material(name: \"bad\", layers: [Lambert(albedo: 7)])").expect("writes");
+    let out_dir = dir.path().join("out");
+    let out = glazec(&[
+        "compile",
+        "materials/clay.ron",
+        bad.to_str().expect("utf-8"),
+        "-o",
+        out_dir.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(code(&out), 1);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("E0213"));
+    assert!(!out_dir.exists(), "outputs were written despite an error");
+}
+
+#[test]
+fn usage_errors_exit_with_2() {
+    assert_eq!(code(&glazec(&[])), 2);
+    assert_eq!(code(&glazec(&["compile"])), 2);
+    assert_eq!(code(&glazec(&["compile", "--target", "msl", "materials/"])), 2);
+    let out = glazec(&["check", "does/not/exist.ron"]);
+    assert_eq!(code(&out), 2);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
+}
+
+#[test]
+fn check_accepts_every_shipped_material() {
+    let out = glazec(&["check", "materials/"]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn eval_prints_one_line_per_pair_and_honours_overrides() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let pairs = dir.path().join("pairs.csv");
+    std::fs::write(&pairs, "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n0,0,-1,0,0,1\n").expect("writes");
+    let pairs = pairs.to_str().expect("utf-8");
+    let out = glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let lines: Vec<Vec<f32>> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect())
+        .collect();
+    assert_eq!(lines.len(), 3);
+    assert!(lines[0].iter().all(|&x| x > 0.0));
+    assert_eq!(lines[2], [0.0, 0.0, 0.0], "below the horizon");
+
+    let darker = glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", "body_albedo=0.1"]);
+    assert_eq!(code(&darker), 0, "{}", String::from_utf8_lossy(&darker.stderr));
+    let first: f32 = String::from_utf8_lossy(&darker.stdout).split(',').next().expect("value").parse().expect("number");
+    assert!(first < lines[0][0], "a darker body gives a darker BRDF");
+
+    assert_eq!(code(&glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", "nope=1"])), 2);
+    assert_eq!(code(&glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", "glaze_ior=1,2"])), 2);
+    let bad_pairs = dir.path().join("bad.csv");
+    std::fs::write(&bad_pairs, "0,0,1,0,0\n").expect("writes");
+    assert_eq!(code(&glazec(&["eval", "materials/clay.ron", "--pairs", bad_pairs.to_str().expect("utf-8")])), 2);
+}
