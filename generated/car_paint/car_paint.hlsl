@@ -16,6 +16,14 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 layer1_tau = float3(0.048, 0.96000004, 1.32);
+static const float3 f0_under_coat = float3(0.86560106, 0.88020647, 0.88020647);
+static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
+static const float3 layer2_rho = float3(0.872001, 0.8859109, 0.8859109);
+static const float3 layer1_r_return = float3(0.021435311, 1.7043712e-5, 4.9238797e-6);
+static const float3 layer1_rho = float3(0.72676456, 0.055396274, 0.024973331);
+static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
+
 ByteAddressBuffer pairs : register(t1);
 RWByteAddressBuffer values : register(u2);
 cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
@@ -152,8 +160,6 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance((0.0).xxx, layer1_cos_l);
-    const float3 absorb_v = slab_transmittance((0.0).xxx, layer1_cos_v);
     const float layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
     float layer1_transmit_l = (1.0 - layer1_fresnel_l);
     const float layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
@@ -164,15 +170,15 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    const float3 layer1_absorb_l = slab_transmittance(float3(0.048, 0.96000004, 1.32), layer2_cos_l);
-    const float3 layer1_absorb_v = slab_transmittance(float3(0.048, 0.96000004, 1.32), layer2_cos_v);
+    const float3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    const float3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     const float3 layer2_h = half_vector(layer2_v, layer2_l);
-    const float _e76 = d_ggx(dot(n_1, layer2_h), 0.09);
-    const float _e78 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    const float3 _e83 = f_schlick(float3(0.86560106, 0.88020647, 0.88020647), dot(layer2_v, layer2_h));
-    const float3 layer2_f_base = f_cook_torrance(_e76, _e78, _e83, layer2_cos_v, layer2_cos_l);
-    const float3 layer1_f = interfaced_layer((0.0).xxx, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, float3(0.872001, 0.8859109, 0.8859109), float3(0.021435311, 1.7043712e-5, 4.9238797e-6), 1.02);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, float3(0.72676456, 0.055396274, 0.024973331), (0.5963458).xxx, 1.5);
+    const float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
+    const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    const float3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
+    const float3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    const float3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, layer2_rho, layer1_r_return, 1.02);
+    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

@@ -11,6 +11,14 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
+const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
+const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 layer2_rho = vec3(0.872001, 0.8859109, 0.8859109);
+const vec3 layer1_r_return = vec3(0.021435311, 1.7043712e-5, 4.9238797e-6);
+const vec3 layer1_rho = vec3(0.72676456, 0.055396274, 0.024973331);
+const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
+
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;
 
@@ -126,8 +134,6 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.0), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.0), layer1_cos_v);
     float layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
     float layer1_transmit_l = (1.0 - layer1_fresnel_l);
     float layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
@@ -138,15 +144,15 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    vec3 layer1_absorb_l = slab_transmittance(vec3(0.048, 0.96000004, 1.32), layer2_cos_l);
-    vec3 layer1_absorb_v = slab_transmittance(vec3(0.048, 0.96000004, 1.32), layer2_cos_v);
+    vec3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    vec3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     vec3 layer2_h = half_vector(layer2_v, layer2_l);
-    float _e76 = d_ggx(dot(n_1, layer2_h), 0.09);
-    float _e78 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    vec3 _e83 = f_schlick(vec3(0.86560106, 0.88020647, 0.88020647), dot(layer2_v, layer2_h));
-    vec3 layer2_f_base = f_cook_torrance(_e76, _e78, _e83, layer2_cos_v, layer2_cos_l);
-    vec3 layer1_f = interfaced_layer(vec3(0.0), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, vec3(0.872001, 0.8859109, 0.8859109), vec3(0.021435311, 1.7043712e-5, 4.9238797e-6), 1.02);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3(0.72676456, 0.055396274, 0.024973331), vec3(0.5963458), 1.5);
+    float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
+    float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    vec3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
+    vec3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    vec3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, layer2_rho, layer1_r_return, 1.02);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -13,6 +13,14 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const layer1_tau: vec3<f32> = vec3<f32>(0.048f, 0.96000004f, 1.32f);
+const f0_under_coat: vec3<f32> = vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f);
+const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.872001f, 0.8859109f, 0.8859109f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.021435311f, 0.000017043712f, 0.0000049238797f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.72676456f, 0.055396274f, 0.024973331f);
+const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -132,8 +140,6 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3(0f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3(0f), layer1_cos_v);
     let layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02f);
     let layer1_transmit_l = (1f - layer1_fresnel_l);
     let layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02f);
@@ -144,15 +150,15 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let layer1_absorb_l = slab_transmittance(vec3<f32>(0.048f, 0.96000004f, 1.32f), layer2_cos_l);
-    let layer1_absorb_v = slab_transmittance(vec3<f32>(0.048f, 0.96000004f, 1.32f), layer2_cos_v);
+    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    let layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     let layer2_h = half_vector(layer2_v, layer2_l);
-    let _e76 = d_ggx(dot(n_1, layer2_h), 0.09f);
-    let _e78 = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
-    let _e83 = f_schlick(vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f), dot(layer2_v, layer2_h));
-    let layer2_f_base = f_cook_torrance(_e76, _e78, _e83, layer2_cos_v, layer2_cos_l);
-    let layer1_f = interfaced_layer(vec3(0f), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, vec3<f32>(0.872001f, 0.8859109f, 0.8859109f), vec3<f32>(0.021435311f, 0.000017043712f, 0.0000049238797f), 1.02f);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3<f32>(0.72676456f, 0.055396274f, 0.024973331f), vec3(0.5963458f), 1.5f);
+    let layer2_d = d_ggx(dot(n_1, layer2_h), 0.09f);
+    let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
+    let layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
+    let layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    let layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, layer2_rho, layer1_r_return, 1.02f);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f, layer1_rho, r_return_1, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

@@ -16,6 +16,9 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 layer1_rho = float3(0.9354059, 0.7486685, 0.3075691);
+static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
+
 ByteAddressBuffer pairs : register(t1);
 RWByteAddressBuffer values : register(u2);
 cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
@@ -101,13 +104,6 @@ float3 refract_down(float3 w, float3 n, float eta_1)
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-float3 slab_transmittance(float3 tau, float mu)
-{
-    return exp(-((tau / (mu).xxx)));
-}
-
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
@@ -165,14 +161,12 @@ float3 coated_gold_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance((0.0).xxx, layer1_cos_l);
-    const float3 absorb_v = slab_transmittance((0.0).xxx, layer1_cos_v);
     const float3 layer1_h = half_vector(layer1_v, layer1_l);
-    const float _e48 = d_ggx(dot(n_1, layer1_h), 0.0625);
-    const float _e50 = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625);
-    const float3 _e59 = fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float3 layer1_f_base = f_cook_torrance(_e48, _e50, _e59, layer1_cos_v, layer1_cos_l);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, float3(0.9354059, 0.7486685, 0.3075691), (0.5963458).xxx, 1.5);
+    const float layer1_d = d_ggx(dot(n_1, layer1_h), 0.0625);
+    const float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625);
+    const float3 layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    const float3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f_base, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

@@ -11,6 +11,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 layer1_rho = vec3(0.9354059, 0.7486685, 0.3075691);
+const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
@@ -79,12 +82,6 @@ vec3 refract_down(vec3 w, vec3 n, float eta_1) {
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
-    return exp(-((tau / vec3(mu))));
-}
-
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
@@ -139,14 +136,12 @@ vec3 coated_gold_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.0), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.0), layer1_cos_v);
     vec3 layer1_h = half_vector(layer1_v, layer1_l);
-    float _e48 = d_ggx(dot(n_1, layer1_h), 0.0625);
-    float _e50 = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625);
-    vec3 _e59 = fr_conductor(dot(layer1_v, layer1_h), vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
-    vec3 layer1_f_base = f_cook_torrance(_e48, _e50, _e59, layer1_cos_v, layer1_cos_l);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, vec3(0.9354059, 0.7486685, 0.3075691), vec3(0.5963458), 1.5);
+    float layer1_d = d_ggx(dot(n_1, layer1_h), 0.0625);
+    float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625);
+    vec3 layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
+    vec3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f_base, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -13,6 +13,9 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const layer1_rho: vec3<f32> = vec3<f32>(0.9354059f, 0.7486685f, 0.3075691f);
+const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -85,12 +88,6 @@ fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
-    return exp(-((tau / vec3(mu))));
-}
-
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
@@ -145,14 +142,12 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3(0f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3(0f), layer1_cos_v);
     let layer1_h = half_vector(layer1_v, layer1_l);
-    let _e48 = d_ggx(dot(n_1, layer1_h), 0.0625f);
-    let _e50 = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625f);
-    let _e59 = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_f_base = f_cook_torrance(_e48, _e50, _e59, layer1_cos_v, layer1_cos_l);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, vec3<f32>(0.9354059f, 0.7486685f, 0.3075691f), vec3(0.5963458f), 1.5f);
+    let layer1_d = d_ggx(dot(n_1, layer1_h), 0.0625f);
+    let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625f);
+    let layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f_base, layer1_rho, r_return_1, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

@@ -15,6 +15,18 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
+const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
+const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
+const vec3 layer3_r_return = vec3(0.33630583, 0.33630583, 0.33630583);
+const vec3 layer3_rho = vec3(0.85323554, 0.85323554, 0.7862152);
+const vec3 layer2_r_return = vec3(0.019546367, 0.04935332, 0.14138521);
+const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 layer2_rho = vec3(0.27838734, 0.4273978, 0.6466284);
+const vec3 layer1_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
+const vec3 layer1_rho = vec3(0.2575977, 0.39548016, 0.5983388);
+const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
+
 layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
 layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
@@ -159,8 +171,6 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.0), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.0), layer1_cos_v);
     float layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.0);
     float layer1_transmit_l = (1.0 - layer1_fresnel_l);
     float layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.0);
@@ -171,8 +181,8 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    vec3 layer1_absorb_l = slab_transmittance(vec3(0.02), layer2_cos_l);
-    vec3 layer1_absorb_v = slab_transmittance(vec3(0.02), layer2_cos_v);
+    vec3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    vec3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     vec3 layer2_h = half_vector(layer2_v, layer2_l);
     float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
     float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
@@ -188,8 +198,8 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    vec3 layer2_absorb_l = slab_transmittance(vec3(0.35999998, 0.2, 0.040000003), layer3_cos_l);
-    vec3 layer2_absorb_v = slab_transmittance(vec3(0.35999998, 0.2, 0.040000003), layer3_cos_v);
+    vec3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
+    vec3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
     vec3 layer3_h = half_vector(layer3_v, layer3_l);
     float layer3_d = d_ggx(dot(n_1, layer3_h), 0.25);
     float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
@@ -205,13 +215,11 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer4_n_dot_l = dot(n_1, layer4_l);
     float layer4_cos_v = max(layer4_n_dot_v, 0.0001);
     float layer4_cos_l = max(layer4_n_dot_l, 0.0001);
-    vec3 layer3_absorb_l = slab_transmittance(vec3(0.0), layer4_cos_l);
-    vec3 layer3_absorb_v = slab_transmittance(vec3(0.0), layer4_cos_v);
     vec3 layer4_f_base = fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
-    vec3 layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, layer3_absorb_l, layer3_absorb_v, layer4_f_base, vec3(0.89252996, 0.89252996, 0.8394612), vec3(0.33630583), 1.2);
-    vec3 layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, vec3(0.85323554, 0.85323554, 0.7862152), vec3(0.019546367, 0.04935332, 0.14138521), 1.1);
-    vec3 layer1_f = interfaced_layer(vec3(0.0), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, vec3(0.27838734, 0.4273978, 0.6466284), vec3(2.327917e-14), 1.0);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3(0.2575977, 0.39548016, 0.5983388), vec3(0.5963458), 1.5);
+    vec3 layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, vec3(1.0), vec3(1.0), layer4_f_base, layer4_rho, layer3_r_return, 1.2);
+    vec3 layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, layer3_rho, layer2_r_return, 1.1);
+    vec3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, layer2_rho, layer1_r_return, 1.0);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 

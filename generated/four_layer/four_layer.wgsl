@@ -13,6 +13,18 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const layer1_tau: vec3<f32> = vec3<f32>(0.02f, 0.02f, 0.02f);
+const layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
+const layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
+const layer3_r_return: vec3<f32> = vec3<f32>(0.33630583f, 0.33630583f, 0.33630583f);
+const layer3_rho: vec3<f32> = vec3<f32>(0.85323554f, 0.85323554f, 0.7862152f);
+const layer2_r_return: vec3<f32> = vec3<f32>(0.019546367f, 0.04935332f, 0.14138521f);
+const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.27838734f, 0.4273978f, 0.6466284f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.2575977f, 0.39548016f, 0.5983388f);
+const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -157,8 +169,6 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3(0f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3(0f), layer1_cos_v);
     let layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1f);
     let layer1_transmit_l = (1f - layer1_fresnel_l);
     let layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1f);
@@ -169,8 +179,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let layer1_absorb_l = slab_transmittance(vec3(0.02f), layer2_cos_l);
-    let layer1_absorb_v = slab_transmittance(vec3(0.02f), layer2_cos_v);
+    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    let layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     let layer2_h = half_vector(layer2_v, layer2_l);
     let layer2_d = d_ggx(dot(n_1, layer2_h), 0.09f);
     let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
@@ -186,8 +196,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let layer2_absorb_l = slab_transmittance(vec3<f32>(0.35999998f, 0.2f, 0.040000003f), layer3_cos_l);
-    let layer2_absorb_v = slab_transmittance(vec3<f32>(0.35999998f, 0.2f, 0.040000003f), layer3_cos_v);
+    let layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
+    let layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
     let layer3_h = half_vector(layer3_v, layer3_l);
     let layer3_d = d_ggx(dot(n_1, layer3_h), 0.25f);
     let layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
@@ -203,13 +213,11 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_n_dot_l = dot(n_1, layer4_l);
     let layer4_cos_v = max(layer4_n_dot_v, 0.0001f);
     let layer4_cos_l = max(layer4_n_dot_l, 0.0001f);
-    let layer3_absorb_l = slab_transmittance(vec3(0f), layer4_cos_l);
-    let layer3_absorb_v = slab_transmittance(vec3(0f), layer4_cos_v);
     let layer4_f_base = fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
-    let layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, layer3_absorb_l, layer3_absorb_v, layer4_f_base, vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f), vec3(0.33630583f), 1.2f);
-    let layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, vec3<f32>(0.85323554f, 0.85323554f, 0.7862152f), vec3<f32>(0.019546367f, 0.04935332f, 0.14138521f), 1.1f);
-    let layer1_f = interfaced_layer(vec3(0f), layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, vec3<f32>(0.27838734f, 0.4273978f, 0.6466284f), vec3(0.00000000000002327917f), 1f);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f, vec3<f32>(0.2575977f, 0.39548016f, 0.5983388f), vec3(0.5963458f), 1.5f);
+    let layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, vec3(1f), vec3(1f), layer4_f_base, layer4_rho, layer3_r_return, 1.2f);
+    let layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, layer3_rho, layer2_r_return, 1.1f);
+    let layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, layer2_rho, layer1_r_return, 1f);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f, layer1_rho, r_return_1, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 

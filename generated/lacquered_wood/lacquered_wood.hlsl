@@ -16,6 +16,11 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 tau_1 = float3(0.04, 0.12, 0.35);
+static const float3 layer1_f_base = float3(0.14642255, 0.082760565, 0.038197182);
+static const float3 layer1_rho = float3(0.46, 0.26, 0.12);
+static const float3 r_return_1 = float3(0.4936982, 0.35256588, 0.14974132);
+
 ByteAddressBuffer pairs : register(t1);
 RWByteAddressBuffer values : register(u2);
 cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
@@ -143,9 +148,9 @@ float3 lacquered_wood_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance(float3(0.04, 0.12, 0.35), layer1_cos_l);
-    const float3 absorb_v = slab_transmittance(float3(0.04, 0.12, 0.35), layer1_cos_v);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, float3(0.14642255, 0.082760565, 0.038197182), float3(0.46, 0.26, 0.12), float3(0.4936982, 0.35256588, 0.14974132), 1.5);
+    const float3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    const float3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
+    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

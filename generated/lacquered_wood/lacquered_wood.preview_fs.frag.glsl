@@ -11,6 +11,11 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
+const vec3 layer1_f_base = vec3(0.14642255, 0.082760565, 0.038197182);
+const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
+const vec3 r_return_1 = vec3(0.4936982, 0.35256588, 0.14974132);
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
@@ -118,9 +123,9 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.04, 0.12, 0.35), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.04, 0.12, 0.35), layer1_cos_v);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, vec3(0.14642255, 0.082760565, 0.038197182), vec3(0.46, 0.26, 0.12), vec3(0.4936982, 0.35256588, 0.14974132), 1.5);
+    vec3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    vec3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

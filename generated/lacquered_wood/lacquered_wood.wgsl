@@ -13,6 +13,11 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const tau_1: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
+const layer1_f_base: vec3<f32> = vec3<f32>(0.14642255f, 0.082760565f, 0.038197182f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
+const r_return_1: vec3<f32> = vec3<f32>(0.4936982f, 0.35256588f, 0.14974132f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -124,9 +129,9 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3<f32>(0.04f, 0.12f, 0.35f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3<f32>(0.04f, 0.12f, 0.35f), layer1_cos_v);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, vec3<f32>(0.14642255f, 0.082760565f, 0.038197182f), vec3<f32>(0.46f, 0.26f, 0.12f), vec3<f32>(0.4936982f, 0.35256588f, 0.14974132f), 1.5f);
+    let absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    let absorb_v = slab_transmittance(tau_1, layer1_cos_v);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

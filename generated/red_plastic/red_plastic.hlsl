@@ -16,6 +16,10 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 layer1_f_base = float3(0.19098593, 0.015915494, 0.012732395);
+static const float3 layer1_rho = float3(0.6, 0.05, 0.04);
+static const float3 r_return_1 = float3(0.59024656, 0.59024656, 0.59024656);
+
 ByteAddressBuffer pairs : register(t1);
 RWByteAddressBuffer values : register(u2);
 cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
@@ -101,13 +105,6 @@ float3 refract_down(float3 w, float3 n, float eta_1)
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-float3 slab_transmittance(float3 tau, float mu)
-{
-    return exp(-((tau / (mu).xxx)));
-}
-
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
@@ -143,9 +140,7 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance((0.0).xxx, layer1_cos_l);
-    const float3 absorb_v = slab_transmittance((0.0).xxx, layer1_cos_v);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, float3(0.19098593, 0.015915494, 0.012732395), float3(0.6, 0.05, 0.04), (0.59024656).xxx, 1.49);
+    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f_base, layer1_rho, r_return_1, 1.49);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

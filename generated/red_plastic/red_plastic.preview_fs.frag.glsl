@@ -11,6 +11,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 layer1_f_base = vec3(0.19098593, 0.015915494, 0.012732395);
+const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
+const vec3 r_return_1 = vec3(0.59024656, 0.59024656, 0.59024656);
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
@@ -79,12 +83,6 @@ vec3 refract_down(vec3 w, vec3 n, float eta_1) {
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
-    return exp(-((tau / vec3(mu))));
-}
-
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
@@ -118,9 +116,7 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.0), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.0), layer1_cos_v);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, vec3(0.19098593, 0.015915494, 0.012732395), vec3(0.6, 0.05, 0.04), vec3(0.59024656), 1.49);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f_base, layer1_rho, r_return_1, 1.49);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -13,6 +13,10 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const layer1_f_base: vec3<f32> = vec3<f32>(0.19098593f, 0.015915494f, 0.012732395f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
+const r_return_1: vec3<f32> = vec3<f32>(0.59024656f, 0.59024656f, 0.59024656f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -85,12 +89,6 @@ fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
-// with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
-    return exp(-((tau / vec3(mu))));
-}
-
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
@@ -124,9 +122,7 @@ fn red_plastic_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3(0f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3(0f), layer1_cos_v);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, vec3<f32>(0.19098593f, 0.015915494f, 0.012732395f), vec3<f32>(0.6f, 0.05f, 0.04f), vec3(0.59024656f), 1.49f);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f_base, layer1_rho, r_return_1, 1.49f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

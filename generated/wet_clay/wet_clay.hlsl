@@ -16,6 +16,10 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 tau_1 = float3(0.010000001, 0.008, 0.006);
+static const float3 layer1_rho = float3(0.69219995, 0.3877427, 0.27262694);
+static const float3 r_return_1 = float3(0.44634795, 0.45123896, 0.45623288);
+
 ByteAddressBuffer pairs : register(t1);
 RWByteAddressBuffer values : register(u2);
 cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
@@ -171,10 +175,10 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance(float3(0.010000001, 0.008, 0.006), layer1_cos_l);
-    const float3 absorb_v = slab_transmittance(float3(0.010000001, 0.008, 0.006), layer1_cos_v);
+    const float3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    const float3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
     const float3 layer1_f_base = fd_eon(float3(0.72, 0.42, 0.3), 0.7, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, float3(0.69219995, 0.3877427, 0.27262694), float3(0.44634795, 0.45123896, 0.45623288), 1.33);
+    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 

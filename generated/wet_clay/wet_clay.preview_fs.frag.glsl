@@ -11,6 +11,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const vec3 tau_1 = vec3(0.010000001, 0.008, 0.006);
+const vec3 layer1_rho = vec3(0.69219995, 0.3877427, 0.27262694);
+const vec3 r_return_1 = vec3(0.44634795, 0.45123896, 0.45623288);
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
@@ -144,10 +148,10 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(vec3(0.010000001, 0.008, 0.006), layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(vec3(0.010000001, 0.008, 0.006), layer1_cos_v);
+    vec3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    vec3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
     vec3 layer1_f_base = fd_eon(vec3(0.72, 0.42, 0.3), 0.7, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, vec3(0.69219995, 0.3877427, 0.27262694), vec3(0.44634795, 0.45123896, 0.45623288), 1.33);
+    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -13,6 +13,10 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+const tau_1: vec3<f32> = vec3<f32>(0.010000001f, 0.008f, 0.006f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.69219995f, 0.3877427f, 0.27262694f);
+const r_return_1: vec3<f32> = vec3<f32>(0.44634795f, 0.45123896f, 0.45623288f);
+
 @group(0) @binding(1) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(2) 
@@ -150,10 +154,10 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(vec3<f32>(0.010000001f, 0.008f, 0.006f), layer1_cos_l);
-    let absorb_v = slab_transmittance(vec3<f32>(0.010000001f, 0.008f, 0.006f), layer1_cos_v);
+    let absorb_l = slab_transmittance(tau_1, layer1_cos_l);
+    let absorb_v = slab_transmittance(tau_1, layer1_cos_v);
     let layer1_f_base = fd_eon(vec3<f32>(0.72f, 0.42f, 0.3f), 0.7f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, vec3<f32>(0.69219995f, 0.3877427f, 0.27262694f), vec3<f32>(0.44634795f, 0.45123896f, 0.45623288f), 1.33f);
+    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 

@@ -56,6 +56,9 @@ struct State {
     stack: Vec<FnState>,
     terms: HashMap<&'static str, Handle<Function>>,
     next_id: u32,
+    const_names: Vec<String>,
+    /// Named module constants already created, by (name, value bits).
+    constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
 }
 
 /// Builds one `naga::Module`; see the module docs.
@@ -88,7 +91,14 @@ impl ModuleBuilder {
             uvec3: insert_type(&mut module, None, vector(VectorSize::Tri, NagaScalar::U32)),
         };
         ModuleBuilder {
-            state: RefCell::new(State { module, stack: Vec::new(), terms: HashMap::new(), next_id: 0 }),
+            state: RefCell::new(State {
+                module,
+                stack: Vec::new(),
+                terms: HashMap::new(),
+                next_id: 0,
+                const_names: Vec::new(),
+                constants: HashMap::new(),
+            }),
             types,
         }
     }
@@ -209,15 +219,15 @@ impl ModuleBuilder {
     // ----- values ----------------------------------------------------------------------------
 
     pub fn scalar(&self, handle: Handle<Expression>) -> Expr<'_> {
-        Expr { b: self, v: Val::Dyn(handle, self.current_id()) }
+        Expr { b: self, v: Val::Dyn(handle, self.current_id()), name: None }
     }
 
     pub fn vector(&self, handle: Handle<Expression>) -> ExprVec<'_> {
-        ExprVec { b: self, v: VVal::Dyn(handle, self.current_id()) }
+        ExprVec { b: self, v: VVal::Dyn(handle, self.current_id()), name: None }
     }
 
     pub fn constant(&self, x: f32) -> Expr<'_> {
-        Expr { b: self, v: Val::Const(x) }
+        Expr { b: self, v: Val::Const(x), name: None }
     }
 
     fn literal(&self, x: f32) -> Handle<Expression> {
@@ -228,9 +238,45 @@ impl ModuleBuilder {
         debug_assert_eq!(id, self.current_id(), "expression used outside the function that built it");
     }
 
-    fn scalar_handle(&self, v: Val) -> Handle<Expression> {
+    fn const_name(&self, name: &str) -> ConstName {
+        let mut state = self.state.borrow_mut();
+        state.const_names.push(name.to_string());
+        ConstName(state.const_names.len() as u32 - 1)
+    }
+
+    /// A named module constant holding `value` (a scalar, or a vec3 when `vector`).
+    fn named_constant(&self, name: ConstName, value: [f32; 3], vector: bool) -> Handle<Expression> {
+        let constant = {
+            let mut state = self.state.borrow_mut();
+            let name = state.const_names[name.0 as usize].clone();
+            let key = (name.clone(), value.map(f32::to_bits), vector);
+            match state.constants.get(&key) {
+                Some(&h) => h,
+                None => {
+                    let module = &mut state.module;
+                    let literal = |m: &mut Module, x: f32| m.global_expressions.append(Expression::Literal(Literal::F32(x)), Span::UNDEFINED);
+                    let (ty, init) = if vector {
+                        let components = value.iter().map(|&x| literal(module, x)).collect();
+                        let ty = self.types.vec3;
+                        (ty, module.global_expressions.append(Expression::Compose { ty, components }, Span::UNDEFINED))
+                    } else {
+                        (self.types.f32, literal(module, value[0]))
+                    };
+                    let h = module.constants.append(naga::Constant { name: Some(name), ty, init }, Span::UNDEFINED);
+                    state.constants.insert(key, h);
+                    h
+                }
+            }
+        };
+        self.append(Expression::Constant(constant))
+    }
+
+    fn scalar_handle(&self, v: Val, name: Option<ConstName>) -> Handle<Expression> {
         match v {
-            Val::Const(x) => self.literal(x),
+            Val::Const(x) => match name {
+                Some(name) => self.named_constant(name, [x, 0.0, 0.0], false),
+                None => self.literal(x),
+            },
             Val::Dyn(h, id) => {
                 self.check_owner(id);
                 h
@@ -238,7 +284,11 @@ impl ModuleBuilder {
         }
     }
 
-    fn vector_handle(&self, v: VVal) -> Handle<Expression> {
+    fn vector_handle(&self, v: VVal, name: Option<ConstName>) -> Handle<Expression> {
+        match (v, name) {
+            (VVal::Const(c), Some(name)) => return self.named_constant(name, c, true),
+            _ => {}
+        }
         match v {
             VVal::Const([x, y, z]) if x.to_bits() == y.to_bits() && y.to_bits() == z.to_bits() => {
                 let value = self.literal(x);
@@ -267,8 +317,8 @@ impl ModuleBuilder {
 
     fn slot_handle(&self, slot: Slot<Expr<'_>>) -> Handle<Expression> {
         match slot {
-            Slot::S(x) => self.scalar_handle(x.v),
-            Slot::V(v) => self.vector_handle(v.v),
+            Slot::S(x) => self.scalar_handle(x.v, x.name),
+            Slot::V(v) => self.vector_handle(v.v, v.name),
         }
     }
 
@@ -350,6 +400,9 @@ enum BVal {
 pub struct Expr<'a> {
     b: &'a ModuleBuilder,
     v: Val,
+    /// A constant given a name with `named` becomes a named module constant (instead of a bare
+    /// literal) where it meets runtime values; folding is unaffected.
+    name: Option<ConstName>,
 }
 
 /// A `vec3<f32>` value.
@@ -357,7 +410,12 @@ pub struct Expr<'a> {
 pub struct ExprVec<'a> {
     b: &'a ModuleBuilder,
     v: VVal,
+    name: Option<ConstName>,
 }
+
+/// Index into the builder's table of constant names.
+#[derive(Clone, Copy, Debug)]
+struct ConstName(u32);
 
 /// A `bool` value.
 #[derive(Clone, Copy)]
@@ -369,7 +427,7 @@ pub struct ExprBool<'a> {
 impl<'a> Expr<'a> {
     /// The IR handle of this value (materialising a constant as a literal).
     pub fn handle(self) -> Handle<Expression> {
-        self.b.scalar_handle(self.v)
+        self.b.scalar_handle(self.v, self.name)
     }
 
     /// The constant value, if this is one.
@@ -381,13 +439,13 @@ impl<'a> Expr<'a> {
     }
 
     fn dynamic(self, h: Handle<Expression>) -> Expr<'a> {
-        Expr { b: self.b, v: Val::Dyn(h, self.b.current_id()) }
+        Expr { b: self.b, v: Val::Dyn(h, self.b.current_id()), name: None }
     }
 
     fn binary(self, op: BinaryOperator, rhs: Expr<'a>) -> Expr<'a> {
         use BinaryOperator as B;
         match (self.v, rhs.v, op) {
-            (Val::Const(a), Val::Const(b), _) => Expr { b: self.b, v: Val::Const(fold_binary(op, a, b)) },
+            (Val::Const(a), Val::Const(b), _) => Expr { b: self.b, v: Val::Const(fold_binary(op, a, b)), name: None },
             (_, Val::Const(c), B::Multiply | B::Divide) if c == 1.0 => self,
             (Val::Const(c), _, B::Multiply) if c == 1.0 => rhs,
             (_, Val::Const(c), B::Add | B::Subtract) if c == 0.0 => self,
@@ -475,10 +533,13 @@ impl<'a> Neg for Expr<'a> {
 
 impl Named for Expr<'_> {
     fn named(self, name: &str) -> Self {
-        if let Val::Dyn(h, _) = self.v {
-            self.b.name(h, name);
+        match self.v {
+            Val::Dyn(h, _) => {
+                self.b.name(h, name);
+                self
+            }
+            Val::Const(_) => Expr { name: Some(self.b.const_name(name)), ..self },
         }
-        self
     }
 }
 
@@ -539,7 +600,7 @@ impl<'a> Real for Expr<'a> {
     }
     fn splat(self) -> ExprVec<'a> {
         match self.v {
-            Val::Const(x) => ExprVec { b: self.b, v: VVal::Const([x; 3]) },
+            Val::Const(x) => ExprVec { b: self.b, v: VVal::Const([x; 3]), name: None },
             Val::Dyn(..) => {
                 let value = self.handle();
                 self.b.vector(self.b.append(Expression::Splat { size: VectorSize::Tri, value }))
@@ -549,7 +610,7 @@ impl<'a> Real for Expr<'a> {
     fn vec3(x: Self, y: Self, z: Self) -> ExprVec<'a> {
         let b = x.b;
         match (x.v, y.v, z.v) {
-            (Val::Const(x), Val::Const(y), Val::Const(z)) => ExprVec { b, v: VVal::Const([x, y, z]) },
+            (Val::Const(x), Val::Const(y), Val::Const(z)) => ExprVec { b, v: VVal::Const([x, y, z]), name: None },
             _ => {
                 let components = vec![x.handle(), y.handle(), z.handle()];
                 b.vector(b.append(Expression::Compose { ty: b.types.vec3, components }))
@@ -582,7 +643,7 @@ impl<'a> Real for Expr<'a> {
 
 impl<'a> ExprVec<'a> {
     pub fn handle(self) -> Handle<Expression> {
-        self.b.vector_handle(self.v)
+        self.b.vector_handle(self.v, self.name)
     }
 
     fn dynamic(self, h: Handle<Expression>) -> ExprVec<'a> {
@@ -594,13 +655,13 @@ impl<'a> ExprVec<'a> {
         let is = |v: VVal, c: f32| matches!(v, VVal::Const(k) if k == [c; 3]);
         match (self.v, rhs.v, op) {
             (VVal::Const(a), VVal::Const(b), _) => {
-                ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold_binary(op, a[i], b[i]))) }
+                ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold_binary(op, a[i], b[i]))), name: None }
             }
             (_, r, B::Multiply | B::Divide) if is(r, 1.0) => self,
             (l, _, B::Multiply) if is(l, 1.0) => rhs,
             (_, r, B::Add | B::Subtract) if is(r, 0.0) => self,
             (l, _, B::Add) if is(l, 0.0) => rhs,
-            (l, r, B::Multiply) if is(l, 0.0) || is(r, 0.0) => ExprVec { b: self.b, v: VVal::Const([0.0; 3]) },
+            (l, r, B::Multiply) if is(l, 0.0) || is(r, 0.0) => ExprVec { b: self.b, v: VVal::Const([0.0; 3]), name: None },
             _ => {
                 let (left, right) = (self.handle(), rhs.handle());
                 self.dynamic(self.b.append(Expression::Binary { op, left, right }))
@@ -612,7 +673,7 @@ impl<'a> ExprVec<'a> {
     /// for division the scalar is splatted first.
     fn binary_scalar(self, op: BinaryOperator, rhs: Expr<'a>) -> ExprVec<'a> {
         match (self.v, rhs.v) {
-            (_, Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]) }),
+            (_, Val::Const(c)) => self.binary(op, ExprVec { b: self.b, v: VVal::Const([c; 3]), name: None }),
             _ if op != BinaryOperator::Multiply => self.binary(op, rhs.splat()),
             _ => {
                 let (left, right) = (self.handle(), rhs.handle());
@@ -623,14 +684,14 @@ impl<'a> ExprVec<'a> {
 
     fn map(self, fun: MathFunction, fold: fn(f32) -> f32) -> ExprVec<'a> {
         match self.v {
-            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(fold)) },
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(fold)), name: None },
             VVal::Dyn(..) => self.dynamic(self.b.math(fun, &[self.handle()])),
         }
     }
 
     fn zip(self, fun: MathFunction, other: ExprVec<'a>, fold: fn(f32, f32) -> f32) -> ExprVec<'a> {
         match (self.v, other.v) {
-            (VVal::Const(a), VVal::Const(b)) => ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold(a[i], b[i]))) },
+            (VVal::Const(a), VVal::Const(b)) => ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold(a[i], b[i]))), name: None },
             _ => {
                 let args = [self.handle(), other.handle()];
                 self.dynamic(self.b.math(fun, &args))
@@ -696,7 +757,7 @@ impl<'a> Neg for ExprVec<'a> {
     type Output = ExprVec<'a>;
     fn neg(self) -> ExprVec<'a> {
         match self.v {
-            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(|x| -x)) },
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(c.map(|x| -x)), name: None },
             VVal::Dyn(..) => {
                 let expr = self.handle();
                 self.dynamic(self.b.append(Expression::Unary { op: UnaryOperator::Negate, expr }))
@@ -707,10 +768,13 @@ impl<'a> Neg for ExprVec<'a> {
 
 impl Named for ExprVec<'_> {
     fn named(self, name: &str) -> Self {
-        if let VVal::Dyn(h, _) = self.v {
-            self.b.name(h, name);
+        match self.v {
+            VVal::Dyn(h, _) => {
+                self.b.name(h, name);
+                self
+            }
+            VVal::Const(_) => ExprVec { name: Some(self.b.const_name(name)), ..self },
         }
-        self
     }
 }
 
@@ -728,7 +792,7 @@ impl<'a> Vector for ExprVec<'a> {
     }
     fn normalize(self) -> Self {
         match self.v {
-            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(Vector::normalize(Self::to_glam(c)).to_array()) },
+            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(Vector::normalize(Self::to_glam(c)).to_array()), name: None },
             VVal::Dyn(..) => self.dynamic(self.b.math(MathFunction::Normalize, &[self.handle()])),
         }
     }
@@ -769,11 +833,14 @@ impl<'a> Vector for ExprVec<'a> {
             }
         }
     }
+    fn is_known_zero(self) -> bool {
+        matches!(self.v, VVal::Const(c) if c == [0.0; 3])
+    }
     fn refract(self, normal: Self, eta: Expr<'a>) -> Self {
         match (self.v, normal.v, eta.v) {
             (VVal::Const(i), VVal::Const(n), Val::Const(e)) => {
                 let r = Self::to_glam(i).refract(Self::to_glam(n), e);
-                ExprVec { b: self.b, v: VVal::Const(r.to_array()) }
+                ExprVec { b: self.b, v: VVal::Const(r.to_array()), name: None }
             }
             _ => {
                 let args = [self.handle(), normal.handle(), eta.handle()];

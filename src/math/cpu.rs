@@ -111,6 +111,9 @@ impl Vector for Vec3 {
     fn select(condition: bool, accept: Vec3, reject: Vec3) -> Vec3 {
         if condition { accept } else { reject }
     }
+    fn is_known_zero(self) -> bool {
+        self == Vec3::ZERO
+    }
     fn refract(self, normal: Vec3, eta: f32) -> Vec3 {
         // WGSL §17.5 refract(e1, e2, e3): k = 1 − e3²(1 − dot(e2, e1)²);
         // 0 if k < 0, else e3·e1 − (e3·dot(e2, e1) + √k)·e2.

@@ -240,13 +240,14 @@ fn weidlich_wilkie<F: Real>(
     let name = |base| level_name(base, k);
     let t12 = fresnel.one_minus().named(&name("transmission"));
     let below = g.refracted(eta);
-    let absorption = absorption_ww(
-        inputs.color(coat.absorption),
-        inputs.scalar(coat.thickness),
-        below.n_dot_l,
-        below.n_dot_v,
-    )
-    .named(&name("absorption"));
+    let sigma_a = inputs.color(coat.absorption);
+    let thickness = inputs.scalar(coat.thickness);
+    // No absorption (σa = 0 or d = 0) is e^0 = 1: skip the call.
+    let absorption = if sigma_a.is_known_zero() || thickness.splat().is_known_zero() {
+        inputs.lit(1.0).splat()
+    } else {
+        absorption_ww(sigma_a, thickness, below.n_dot_l, below.n_dot_v).named(&name("absorption"))
+    };
     let inner = ww_inner_reflection(shadowing, t12).named(&name("inner"));
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));
     let f_below = weidlich_wilkie(coats, body, inputs, &below, k + 1, n_below);
@@ -275,8 +276,15 @@ fn interfaced<F: Real>(
     let t_i = fr_dielectric(g.raw_n_dot_l, eta).named(&name("fresnel_l")).one_minus().named(&name("transmit_l"));
     let t_o = fr_dielectric(g.raw_n_dot_v, eta).named(&name("fresnel_v")).one_minus().named(&name("transmit_v"));
     let below = g.refracted(eta);
-    let a_i = slab_transmittance(tau, below.n_dot_l).named(&name("absorb_l"));
-    let a_o = slab_transmittance(tau, below.n_dot_v).named(&name("absorb_v"));
+    // A clear slab (τ = 0) transmits everything: e^0 = 1, so the calls are skipped.
+    let (a_i, a_o) = if tau.is_known_zero() {
+        (inputs.lit(1.0).splat(), inputs.lit(1.0).splat())
+    } else {
+        (
+            slab_transmittance(tau, below.n_dot_l).named(&name("absorb_l")),
+            slab_transmittance(tau, below.n_dot_v).named(&name("absorb_v")),
+        )
+    };
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));
     let (f_below, rho_below) = interfaced(coats, body, inputs, &below, k + 1, n_below, true);
     let rho_below = rho_below.unwrap_or_else(|| inputs.zero());
@@ -324,10 +332,11 @@ fn base_brdf<F: Real>(body: &Body<'_>, inputs: &Inputs<F>, g: &Geometry<F>, n_me
         Body::Conductor(roughness, fresnel) => {
             let r = inputs.scalar(*roughness);
             let alpha = r * r;
+            let name = |base| level_name(base, g.level);
             let (n_dot_h, v_dot_h) = g.half();
-            let distribution = d_ggx(n_dot_h, alpha);
-            let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha);
-            let f = conductor_fresnel(fresnel, inputs, v_dot_h, n_medium);
+            let distribution = d_ggx(n_dot_h, alpha).named(&name("d"));
+            let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha).named(&name("g"));
+            let f = conductor_fresnel(fresnel, inputs, v_dot_h, n_medium).named(&name("fresnel"));
             f_cook_torrance(distribution, shadowing, f, g.n_dot_v, g.n_dot_l)
         }
     }
@@ -337,7 +346,7 @@ fn conductor_fresnel<F: Real>(fresnel: &ConductorFresnel, inputs: &Inputs<F>, co
     match fresnel {
         ConductorFresnel::F0(f0) => {
             let f0 = inputs.color(*f0);
-            let f0 = n_medium.map_or(f0, |n| f0_under_medium(f0, n));
+            let f0 = n_medium.map_or(f0, |n| f0_under_medium(f0, n).named("f0_under_coat"));
             f_schlick(f0, cos)
         }
         ConductorFresnel::Complex { eta, k } => {

@@ -160,6 +160,11 @@ pub trait Vector:
     /// (pointing *towards* the surface), or the zero vector on total internal reflection.
     fn refract(self, normal: Self, eta: Self::Real) -> Self;
 
+    /// Whether the value is known to be exactly zero when the code is generated (on the CPU:
+    /// whether it is zero). Lets a method skip work that would multiply by one, e.g. the
+    /// absorption of a clear coat; the result is the same either way.
+    fn is_known_zero(self) -> bool;
+
     /// `1 − self`, component-wise.
     fn one_minus(self) -> Self {
         self.x().lit(1.0).splat() - self
