@@ -44,7 +44,9 @@ fn stages(c: &mut Criterion) {
     let (material, _) = glazec::load(CLAY).expect("valid");
     group.bench_function("lower", |b| b.iter(|| glazec::lower::lower(black_box(&material))));
     let module = glazec::lower::lower(&material);
-    group.bench_function("validate", |b| b.iter(|| glazec::validate::validate("clay", black_box(&module)).expect("valid")));
+    group.bench_function("validate", |b| {
+        b.iter(|| glazec::validate::validate("clay", black_box(&module)).expect("valid"))
+    });
     let info = glazec::validate::validate("clay", &module).expect("valid");
     for target in Target::TEXT {
         group.bench_function(format!("emit_{}", target.name()), |b| {
@@ -58,7 +60,8 @@ criterion_group!(benches, stages);
 
 /// Mean time in nanoseconds of a finished benchmark, from criterion's report.
 fn mean_ns(id: &str) -> Option<f64> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("target/criterion/{GROUP}/{id}/new/estimates.json"));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("target/criterion/{GROUP}/{id}/new/estimates.json"));
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
     json["mean"]["point_estimate"].as_f64()
 }

@@ -140,16 +140,24 @@ impl Rule {
         match self {
             Rule::Roughness => "roughness is perceptual (α = roughness²): 0 is a mirror, 1 is fully rough",
             Rule::Sigma => "Oren–Nayar roughness is the facet-slope deviation σ in radians, from 0 (Lambert) to 1",
-            Rule::Ior => "an index of refraction relative to the medium above is a finite number above 0 \
-                          (water 1.33, glass 1.5, diamond 2.42)",
+            Rule::Ior => {
+                "an index of refraction relative to the medium above is a finite number above 0 \
+                          (water 1.33, glass 1.5, diamond 2.42)"
+            }
             Rule::Absorption => "absorption σa is per unit length; 0 means a clear coat",
             Rule::Thickness => "thickness is a length (the seed's density d); 0 means an interface with no slab",
-            Rule::Extinction => "the imaginary part κ of a conductor's IOR is 0 or more (gold: (0.2, 0.92, 1.1) + i(3.9, 2.45, 2.14))",
+            Rule::Extinction => {
+                "the imaginary part κ of a conductor's IOR is 0 or more (gold: (0.2, 0.92, 1.1) + i(3.9, 2.45, 2.14))"
+            }
             Rule::Albedo => "albedo is a reflectance in [0, 1]; a value above 1 creates energy",
-            Rule::Reflectance => "F0 is the conductor's reflectance at normal incidence, in [0, 1] \
-                                  (silver (0.97, 0.96, 0.91), gold (1.0, 0.78, 0.34))",
-            Rule::ConductorEta => "η is the real part of the conductor's complex IOR relative to vacuum, above 0 \
-                                   (gold: η = (0.17, 0.43, 1.44), κ = (3.5, 2.46, 1.8))",
+            Rule::Reflectance => {
+                "F0 is the conductor's reflectance at normal incidence, in [0, 1] \
+                                  (silver (0.97, 0.96, 0.91), gold (1.0, 0.78, 0.34))"
+            }
+            Rule::ConductorEta => {
+                "η is the real part of the conductor's complex IOR relative to vacuum, above 0 \
+                                   (gold: η = (0.17, 0.43, 1.44), κ = (3.5, 2.46, 1.8))"
+            }
         }
     }
 }
@@ -203,16 +211,109 @@ fn show_number(x: f64) -> String {
 /// Reserved words of GLSL and HLSL that naga would rename if used as a struct member; a
 /// parameter's name must survive unchanged in every backend (naga's WGSL list is checked too).
 const RESERVED_NAMES: &[&str] = &[
-    "active", "asm", "attribute", "bool", "break", "buffer", "case", "cast", "centroid", "cbuffer", "class",
-    "coherent", "column_major", "common", "compile", "const", "continue", "default", "discard", "do", "double",
-    "else", "enum", "export", "extern", "external", "false", "filter", "fixed", "flat", "float", "for", "goto",
-    "groupshared", "half", "highp", "if", "in", "inline", "inout", "input", "int", "interface", "invariant",
-    "layout", "line", "linear", "long", "lowp", "matrix", "mediump", "namespace", "noinline", "nointerpolation",
-    "noperspective", "out", "output", "packed", "packoffset", "partition", "pass", "patch", "point", "precise",
-    "precision", "readonly", "register", "resource", "restrict", "return", "row_major", "sample", "sampler",
-    "shared", "short", "signed", "sizeof", "smooth", "static", "string", "struct", "subroutine", "superp",
-    "switch", "technique", "template", "texture", "this", "triangle", "true", "typedef", "uint", "uniform",
-    "union", "unsigned", "using", "vector", "void", "volatile", "while", "writeonly", "main", "params",
+    "active",
+    "asm",
+    "attribute",
+    "bool",
+    "break",
+    "buffer",
+    "case",
+    "cast",
+    "centroid",
+    "cbuffer",
+    "class",
+    "coherent",
+    "column_major",
+    "common",
+    "compile",
+    "const",
+    "continue",
+    "default",
+    "discard",
+    "do",
+    "double",
+    "else",
+    "enum",
+    "export",
+    "extern",
+    "external",
+    "false",
+    "filter",
+    "fixed",
+    "flat",
+    "float",
+    "for",
+    "goto",
+    "groupshared",
+    "half",
+    "highp",
+    "if",
+    "in",
+    "inline",
+    "inout",
+    "input",
+    "int",
+    "interface",
+    "invariant",
+    "layout",
+    "line",
+    "linear",
+    "long",
+    "lowp",
+    "matrix",
+    "mediump",
+    "namespace",
+    "noinline",
+    "nointerpolation",
+    "noperspective",
+    "out",
+    "output",
+    "packed",
+    "packoffset",
+    "partition",
+    "pass",
+    "patch",
+    "point",
+    "precise",
+    "precision",
+    "readonly",
+    "register",
+    "resource",
+    "restrict",
+    "return",
+    "row_major",
+    "sample",
+    "sampler",
+    "shared",
+    "short",
+    "signed",
+    "sizeof",
+    "smooth",
+    "static",
+    "string",
+    "struct",
+    "subroutine",
+    "superp",
+    "switch",
+    "technique",
+    "template",
+    "texture",
+    "this",
+    "triangle",
+    "true",
+    "typedef",
+    "uint",
+    "uniform",
+    "union",
+    "unsigned",
+    "using",
+    "vector",
+    "void",
+    "volatile",
+    "while",
+    "writeonly",
+    "main",
+    "params",
 ];
 
 /// Whether `word` is reserved in one of the target languages (or by glazec's generated code).
@@ -388,7 +489,11 @@ impl Checker {
                 None
             }
             _ => {
-                self.wrong_type(v, &format!("a {expected}"), Some(&format!("a {expected} is one of {}", one_of(names))));
+                self.wrong_type(
+                    v,
+                    &format!("a {expected}"),
+                    Some(&format!("a {expected} is one of {}", one_of(names))),
+                );
                 None
             }
         }
@@ -421,8 +526,9 @@ impl Checker {
         let s = self.string(v)?;
         if let Some(problem) = name_problem(s) {
             self.error(
-                Diagnostic::error(Code::BadName, format!("`{s}` cannot be a {what} name"), v.span, problem)
-                    .with_help("use a lowercase snake_case identifier such as `wet_clay`; it names files and shader symbols"),
+                Diagnostic::error(Code::BadName, format!("`{s}` cannot be a {what} name"), v.span, problem).with_help(
+                    "use a lowercase snake_case identifier such as `wet_clay`; it names files and shader symbols",
+                ),
             );
             return None;
         }
@@ -460,7 +566,11 @@ impl Checker {
 
     fn layers(&mut self, v: &Spanned<Value>) -> Option<(Vec<Coat>, Base)> {
         let Value::List(items) = &v.node else {
-            self.wrong_type(v, "a list of layers", Some("write the stack top to bottom: `layers: [Coat(…), Lambert(…)]`"));
+            self.wrong_type(
+                v,
+                "a list of layers",
+                Some("write the stack top to bottom: `layers: [Coat(…), Lambert(…)]`"),
+            );
             return None;
         };
         let Some((last, coats)) = items.split_last() else {
@@ -669,8 +779,13 @@ impl Checker {
         }
         if !rule.accepts(x) {
             self.error(
-                Diagnostic::error(rule.code(), format!("{} {} is out of range", rule.what(), show_number(x)), v.span, rule.label())
-                    .with_help(rule.help()),
+                Diagnostic::error(
+                    rule.code(),
+                    format!("{} {} is out of range", rule.what(), show_number(x)),
+                    v.span,
+                    rule.label(),
+                )
+                .with_help(rule.help()),
             );
             return None;
         }
@@ -681,7 +796,9 @@ impl Checker {
     fn rgb(&mut self, v: &Spanned<Value>, rule: Rule) -> Option<[f32; 3]> {
         match &v.node {
             Value::Number(_) => self.number(v, rule).map(|x| [x as f32; 3]),
-            Value::Call { name: None, args: Some(items) } if items.len() == 3 && items.iter().all(|a| a.name.is_none()) => {
+            Value::Call { name: None, args: Some(items) }
+                if items.len() == 3 && items.iter().all(|a| a.name.is_none()) =>
+            {
                 let c: Vec<Option<f64>> = items.iter().map(|a| self.number(&a.value, rule)).collect();
                 Some([c[0]? as f32, c[1]? as f32, c[2]? as f32])
             }
@@ -703,7 +820,11 @@ impl Checker {
             return match default {
                 ParamValue::Scalar(_) => Some(Scalar::Param(id)),
                 ParamValue::Rgb(_) => {
-                    self.wrong_type(v, "a scalar parameter", Some("this slot takes one number; give the parameter a number as default"));
+                    self.wrong_type(
+                        v,
+                        "a scalar parameter",
+                        Some("this slot takes one number; give the parameter a number as default"),
+                    );
                     None
                 }
             };
@@ -720,7 +841,13 @@ impl Checker {
     }
 
     /// Declares (or re-uses) a runtime parameter `Param("name", default)`.
-    fn param(&mut self, ctor: &Spanned<String>, args: Option<&[Arg]>, whole: Span, rule: Rule) -> Option<(ParamId, ParamValue)> {
+    fn param(
+        &mut self,
+        ctor: &Spanned<String>,
+        args: Option<&[Arg]>,
+        whole: Span,
+        rule: Rule,
+    ) -> Option<(ParamId, ParamValue)> {
         let f = self.fields(ctor, args, whole, PARAM_FIELDS);
         let name = f.get(0).and_then(|v| self.identifier(v, "parameter"));
         let default = f.get(1).and_then(|v| match &v.node {
@@ -820,7 +947,10 @@ mod tests {
         )
         .unwrap_err();
         let codes: Vec<Code> = errors.iter().map(|d| d.code).collect();
-        assert_eq!(codes, [Code::BadName, Code::RoughnessRange, Code::IorRange, Code::NegativeMedium, Code::AlbedoRange]);
+        assert_eq!(
+            codes,
+            [Code::BadName, Code::RoughnessRange, Code::IorRange, Code::NegativeMedium, Code::AlbedoRange]
+        );
     }
 
     #[test]

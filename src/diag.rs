@@ -280,8 +280,7 @@ pub fn emit(
             let file = SimpleFile::new(source.name, source.text);
             let config = term::Config::default();
             for d in diagnostics {
-                term::emit_to_write_style(out, &config, &file, &d.to_codespan())
-                    .map_err(std::io::Error::other)?;
+                term::emit_to_write_style(out, &config, &file, &d.to_codespan()).map_err(std::io::Error::other)?;
             }
         }
     }

@@ -73,7 +73,10 @@ pub fn parse_pairs(text: &str) -> Result<Vec<Pair>, PairsError> {
             if len.is_finite() && len > 0.0 {
                 Ok(v / len)
             } else {
-                Err(PairsError { line: line_no, message: format!("{what} is not a direction (zero length or not finite)") })
+                Err(PairsError {
+                    line: line_no,
+                    message: format!("{what} is not a direction (zero length or not finite)"),
+                })
             }
         };
         let wi = unit(Vec3::new(numbers[0], numbers[1], numbers[2]), "wi")?;
@@ -95,7 +98,8 @@ mod tests {
 
     #[test]
     fn pairs_with_header_and_blank_lines() {
-        let pairs = parse_pairs("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,2, 0,0,1\n\n0.6,0,0.8,-0.6,0,0.8\n").expect("parses");
+        let pairs =
+            parse_pairs("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,2, 0,0,1\n\n0.6,0,0.8,-0.6,0,0.8\n").expect("parses");
         assert_eq!(pairs.len(), 2);
         assert_eq!(pairs[0].wi, Vec3::Z);
         assert_eq!(parse_pairs("0,0,1,0,0\n").unwrap_err().line, 1);

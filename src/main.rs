@@ -110,7 +110,9 @@ fn main() -> ExitCode {
             compile(&inputs, &out, &target, check, message_format)
         }
         Command::Check { files, message_format } => check(&files, message_format),
-        Command::Eval { file, pairs, backend, set, message_format } => eval(&file, &pairs, backend, &set, message_format),
+        Command::Eval { file, pairs, backend, set, message_format } => {
+            eval(&file, &pairs, backend, &set, message_format)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -211,7 +213,13 @@ fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>,
     if failed { Err(Failure::Diagnostics) } else { Ok(compiled.into_iter().map(|(_, c)| c).collect()) }
 }
 
-fn compile(inputs: &[PathBuf], out: &Path, targets: &[TargetArg], check: bool, format: MessageFormat) -> Result<(), Failure> {
+fn compile(
+    inputs: &[PathBuf],
+    out: &Path,
+    targets: &[TargetArg],
+    check: bool,
+    format: MessageFormat,
+) -> Result<(), Failure> {
     let inputs = read_inputs(inputs)?;
     let compiled = compile_all(&inputs, format)?;
     let targets: Vec<Target> = targets
@@ -234,7 +242,11 @@ fn compile(inputs: &[PathBuf], out: &Path, targets: &[TargetArg], check: bool, f
             eprintln!("{d}");
         }
         if !drift.is_empty() {
-            eprintln!("{} of {} files differ; run `glazec compile` without --check to update them", drift.len(), files.len());
+            eprintln!(
+                "{} of {} files differ; run `glazec compile` without --check to update them",
+                drift.len(),
+                files.len()
+            );
             return Err(Failure::Diagnostics);
         }
         eprintln!("{} files up to date in {}", files.len(), out.display());

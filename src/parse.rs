@@ -468,10 +468,7 @@ impl<'a> Parser<'a> {
             };
             return Ok(Spanned::new(Value::Number(value), Span::new(start, self.pos)));
         }
-        while self
-            .peek()
-            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '.' || c == '_' || c == '+' || c == '-')
-        {
+        while self.peek().is_some_and(|c| c.is_ascii_alphanumeric() || c == '.' || c == '_' || c == '+' || c == '-') {
             // A sign continues a number only right after an exponent marker.
             let c = self.peek().unwrap_or(' ');
             if (c == '+' || c == '-') && !matches!(self.text[..self.pos].chars().last(), Some('e') | Some('E')) {

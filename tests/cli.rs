@@ -7,11 +7,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 fn glazec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glazec"))
-        .args(args)
-        .current_dir(common::root())
-        .output()
-        .expect("runs glazec")
+    Command::new(env!("CARGO_BIN_EXE_glazec")).args(args).current_dir(common::root()).output().expect("runs glazec")
 }
 
 fn code(out: &Output) -> i32 {
@@ -55,7 +51,8 @@ fn compile_writes_every_target_for_every_material_identically_twice() {
 #[test]
 fn spirv_on_request() {
     let dir = tempfile::tempdir().expect("tmp");
-    let out = glazec(&["compile", "materials/clay.ron", "--target", "spv,wgsl", "-o", dir.path().to_str().expect("utf-8")]);
+    let out =
+        glazec(&["compile", "materials/clay.ron", "--target", "spv,wgsl", "-o", dir.path().to_str().expect("utf-8")]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let files = tree(dir.path());
     assert_eq!(files.keys().cloned().collect::<Vec<_>>(), ["clay/clay.spv", "clay/clay.wgsl"]);
@@ -113,7 +110,8 @@ fn check_accepts_every_shipped_material() {
 fn eval_prints_one_line_per_pair_and_honours_overrides() {
     let dir = tempfile::tempdir().expect("tmp");
     let pairs = dir.path().join("pairs.csv");
-    std::fs::write(&pairs, "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n0,0,-1,0,0,1\n").expect("writes");
+    std::fs::write(&pairs, "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n0,0,-1,0,0,1\n")
+        .expect("writes");
     let pairs = pairs.to_str().expect("utf-8");
     let out = glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));

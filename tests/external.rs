@@ -49,11 +49,12 @@ fn wgsl_round_trips_through_naga() {
         let compiled = common::compile_file(&path);
         let wgsl = compiled.emit(&[Target::Wgsl]).expect("emits").remove(0);
         let text = String::from_utf8(wgsl.contents).expect("utf-8");
-        let module = naga::front::wgsl::parse_str(&text)
-            .unwrap_or_else(|e| panic!("{}: naga cannot re-parse its WGSL:\n{}", path.display(), e.emit_to_string(&text)));
-        Validator::new(ValidationFlags::all(), Capabilities::default())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{}: re-parsed WGSL does not validate:\n{}", path.display(), e.emit_to_string(&text)));
+        let module = naga::front::wgsl::parse_str(&text).unwrap_or_else(|e| {
+            panic!("{}: naga cannot re-parse its WGSL:\n{}", path.display(), e.emit_to_string(&text))
+        });
+        Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).unwrap_or_else(|e| {
+            panic!("{}: re-parsed WGSL does not validate:\n{}", path.display(), e.emit_to_string(&text))
+        });
         // The round trip keeps every entry point and function.
         assert_eq!(module.entry_points.len(), compiled.module.entry_points.len());
         assert_eq!(module.functions.len(), compiled.module.functions.len());

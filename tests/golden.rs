@@ -85,8 +85,18 @@ fn every_material_produces_every_text_target() {
 #[test]
 fn compiling_twice_is_byte_identical() {
     for path in common::material_files() {
-        let first = common::compile_file(&path).emit(&[glazec::Target::Wgsl, glazec::Target::Glsl, glazec::Target::Hlsl, glazec::Target::Spv]);
-        let second = common::compile_file(&path).emit(&[glazec::Target::Wgsl, glazec::Target::Glsl, glazec::Target::Hlsl, glazec::Target::Spv]);
+        let first = common::compile_file(&path).emit(&[
+            glazec::Target::Wgsl,
+            glazec::Target::Glsl,
+            glazec::Target::Hlsl,
+            glazec::Target::Spv,
+        ]);
+        let second = common::compile_file(&path).emit(&[
+            glazec::Target::Wgsl,
+            glazec::Target::Glsl,
+            glazec::Target::Hlsl,
+            glazec::Target::Spv,
+        ]);
         assert_eq!(first.expect("emits"), second.expect("emits"), "{}", path.display());
     }
 }

@@ -39,9 +39,7 @@ const QUAD_MAX_DEPTH: u32 = 40;
 /// Polar angles (degrees) used for both θi and θo: normal incidence, the bulk, near-grazing
 /// 85°–88°; every η in `ETAS` has its critical angle asin(1/η) ≤ 65.4°, so 65°–88° (and more
 /// for larger η) lie beyond it.
-const THETAS_DEG: [f64; 14] = [
-    0.0, 5.0, 15.0, 25.0, 35.0, 45.0, 55.0, 65.0, 75.0, 80.0, 85.0, 86.0, 87.0, 88.0,
-];
+const THETAS_DEG: [f64; 14] = [0.0, 5.0, 15.0, 25.0, 35.0, 45.0, 55.0, 65.0, 75.0, 80.0, 85.0, 86.0, 87.0, 88.0];
 /// Number of relative azimuths Δφ = φo − φi, evenly spaced over [0°, 360°).
 const N_DPHI: usize = 8;
 /// Azimuth φi (degrees) of the incident direction is `PHI_I_STEP_DEG · (index of θi)`, so the
@@ -186,12 +184,7 @@ struct Channel {
 
 impl Channel {
     fn new(eta: f64, rho: f64, tau: f64) -> Self {
-        Channel {
-            eta,
-            rho,
-            tau,
-            r_ret: r_ret(tau, eta),
-        }
+        Channel { eta, rho, tau, r_ret: r_ret(tau, eta) }
     }
 
     /// f(ωi, ωo) without the cosine; `wi`, `wo` need not be normalised.
@@ -205,8 +198,7 @@ impl Channel {
         let mu_t = |mu: f64| (1.0 - (1.0 - mu * mu) / (eta * eta)).sqrt();
         let trans = (1.0 - fresnel(mi, eta)) * (1.0 - fresnel(mo, eta));
         let atten = (-self.tau * (1.0 / mu_t(mi) + 1.0 / mu_t(mo))).exp();
-        self.rho * trans * atten
-            / (std::f64::consts::PI * eta * eta * (1.0 - self.rho * self.r_ret))
+        self.rho * trans * atten / (std::f64::consts::PI * eta * eta * (1.0 - self.rho * self.r_ret))
     }
 }
 
@@ -286,11 +278,7 @@ fn write_pairs_csv(path: &Path, pairs: &[PairSpec]) {
     let mut text = String::from("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n");
     for p in pairs {
         // f32 Display is the shortest text reading back as the same f32: exactly `p.wi`, `p.wo`.
-        let c: Vec<String> =
-            p.wi.iter()
-                .chain(&p.wo)
-                .map(|&x| format!("{}", x as f32))
-                .collect();
+        let c: Vec<String> = p.wi.iter().chain(&p.wo).map(|&x| format!("{}", x as f32)).collect();
         writeln!(text, "{}", c.join(",")).unwrap();
     }
     std::fs::write(path, text).expect("write pairs csv");
@@ -321,14 +309,8 @@ fn run_eval(material: &Path, pairs: &Path) -> Vec<[f64; 3]> {
         .lines()
         .filter(|l| !l.trim().is_empty())
         .map(|l| {
-            let v: Vec<f64> = l
-                .split(',')
-                .map(|x| {
-                    x.trim()
-                        .parse::<f64>()
-                        .unwrap_or_else(|_| panic!("bad line `{l}`"))
-                })
-                .collect();
+            let v: Vec<f64> =
+                l.split(',').map(|x| x.trim().parse::<f64>().unwrap_or_else(|_| panic!("bad line `{l}`"))).collect();
             assert_eq!(v.len(), 3, "bad line `{l}`");
             [v[0], v[1], v[2]]
         })
@@ -350,11 +332,7 @@ struct Sample {
 impl Sample {
     fn rel_err(&self) -> f64 {
         let d = (self.glazec - self.reference).abs();
-        if self.reference == 0.0 {
-            if d == 0.0 { 0.0 } else { f64::INFINITY }
-        } else {
-            d / self.reference.abs()
-        }
+        if self.reference == 0.0 { if d == 0.0 { 0.0 } else { f64::INFINITY } } else { d / self.reference.abs() }
     }
     fn ok(&self) -> bool {
         (self.glazec - self.reference).abs() <= REL_TOL * self.reference.abs() + ABS_FLOOR
@@ -410,13 +388,7 @@ fn interfaced_smooth_coat_over_lambert_matches_closed_form() {
                 // The reference at the f32 inputs glazec reads.
                 let f32v = |x: f64| x as f32 as f64;
                 let channels: Vec<Channel> = (0..3)
-                    .map(|c| {
-                        Channel::new(
-                            f32v(eta),
-                            f32v(albedo[c]),
-                            f32v(sigma[c]) * f32v(*thickness),
-                        )
-                    })
+                    .map(|c| Channel::new(f32v(eta), f32v(albedo[c]), f32v(sigma[c]) * f32v(*thickness)))
                     .collect();
                 for (p, v) in pairs.iter().zip(&values) {
                     for (c, ch) in channels.iter().enumerate() {
@@ -435,10 +407,7 @@ fn interfaced_smooth_coat_over_lambert_matches_closed_form() {
         }
     }
 
-    let worst = samples
-        .iter()
-        .max_by(|a, b| a.rel_err().total_cmp(&b.rel_err()))
-        .expect("samples");
+    let worst = samples.iter().max_by(|a, b| a.rel_err().total_cmp(&b.rel_err())).expect("samples");
     let failures: Vec<&Sample> = samples.iter().filter(|s| !s.ok()).collect();
     eprintln!(
         "oracle: {} comparisons ({} pairs × {} materials × 3 channels); worst relative error {:e}",
@@ -449,10 +418,7 @@ fn interfaced_smooth_coat_over_lambert_matches_closed_form() {
     );
     eprintln!("oracle: worst case: {}", worst.describe());
     if !failures.is_empty() {
-        let worst_fail = failures
-            .iter()
-            .max_by(|a, b| a.rel_err().total_cmp(&b.rel_err()))
-            .unwrap();
+        let worst_fail = failures.iter().max_by(|a, b| a.rel_err().total_cmp(&b.rel_err())).unwrap();
         panic!(
             "{} of {} values exceed REL_TOL = {:e}; worst: {}",
             failures.len(),
@@ -494,27 +460,17 @@ fn reference_is_sane() {
         let f_bar = integrate(&|mu: f64| 2.0 * mu * fresnel(mu, eta), 0.0, 1.0, QUAD_TOL);
         let lhs = 1.0 - r_ret(0.0, eta);
         let rhs = (1.0 - f_bar) / (eta * eta);
-        assert!(
-            (lhs - rhs).abs() < 1e-12,
-            "η = {eta}: 1 − R_ret(0) = {lhs}, (1 − F̄)/η² = {rhs}"
-        );
+        assert!((lhs - rhs).abs() < 1e-12, "η = {eta}: 1 − R_ret(0) = {lhs}, (1 − F̄)/η² = {rhs}");
 
         // R_ret(τ) computed the plain way (F_int through `fresnel`, split at μc) agrees.
         for tau in [0.01, 0.3, 3.0] {
             let mu_c = (1.0 - 1.0 / (eta * eta)).sqrt();
             let g = |mu: f64| {
-                if mu <= 0.0 {
-                    0.0
-                } else {
-                    2.0 * mu * (-2.0 * tau / mu).exp() * fresnel(mu, 1.0 / eta)
-                }
+                if mu <= 0.0 { 0.0 } else { 2.0 * mu * (-2.0 * tau / mu).exp() * fresnel(mu, 1.0 / eta) }
             };
             let plain = integrate(&g, 0.0, mu_c, 1e-15) + integrate(&g, mu_c, 1.0, 1e-15);
             let r = r_ret(tau, eta);
-            assert!(
-                (plain - r).abs() < 1e-10,
-                "η = {eta}, τ = {tau}: {plain} vs {r}"
-            );
+            assert!((plain - r).abs() < 1e-10, "η = {eta}, τ = {tau}: {plain} vs {r}");
         }
 
         // Energy: with τ = 0 and ρ = 1 nothing is absorbed, so the directional albedo
@@ -525,17 +481,9 @@ fn reference_is_sane() {
             // f does not depend on φ here: ∫ f μi dωi = 2π ∫₀¹ f(μi) μi dμi.
             let diffuse = 2.0
                 * std::f64::consts::PI
-                * integrate(
-                    &|mi: f64| ch.f([(1.0 - mi * mi).sqrt(), 0.0, mi], wo) * mi,
-                    0.0,
-                    1.0,
-                    QUAD_TOL,
-                );
+                * integrate(&|mi: f64| ch.f([(1.0 - mi * mi).sqrt(), 0.0, mi], wo) * mi, 0.0, 1.0, QUAD_TOL);
             let total = diffuse + fresnel(mo, eta);
-            assert!(
-                (total - 1.0).abs() < 1e-10,
-                "η = {eta}, μo = {mo}: albedo {total}"
-            );
+            assert!((total - 1.0).abs() < 1e-10, "η = {eta}, μo = {mo}: albedo {total}");
         }
     }
 }

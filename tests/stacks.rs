@@ -55,9 +55,8 @@ fn coat() -> impl Strategy<Value = Coat> {
 }
 
 fn stack() -> impl Strategy<Value = Stack> {
-    (0u8..4, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5)).prop_map(
-        |(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior },
-    )
+    (0u8..4, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
+        .prop_map(|(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior })
 }
 
 /// Writes a stack as material text; runtime parameters get unique names.
@@ -108,7 +107,12 @@ impl Writer {
             2 => format!("Eon(albedo: {}, roughness: {})", self.rgb(&s.albedo), self.num(&s.roughness)),
             3 => format!("Conductor(roughness: {}, f0: {})", self.num(&s.roughness), self.rgb(&s.albedo)),
             4 => format!("Conductor(roughness: {}, eta: (0.2, 0.9, 1.1), k: (3.9, 2.4, 2.1))", self.num(&s.roughness)),
-            _ => format!("Plastic(albedo: {}, roughness: {}, ior: {})", self.rgb(&s.albedo), self.num(&s.roughness), self.num(&s.ior)),
+            _ => format!(
+                "Plastic(albedo: {}, roughness: {}, ior: {})",
+                self.rgb(&s.albedo),
+                self.num(&s.roughness),
+                self.num(&s.ior)
+            ),
         };
         layers.push(base);
         format!("Material(name: \"random\", {method} layers: [\n    {}\n])", layers.join(",\n    "))
@@ -163,7 +167,7 @@ proptest! {
 #[test]
 fn eight_coats_compile() {
     let coat = "Coat(lobe: Ggx(0.3), ior: 1.2, absorption: 0.1, thickness: 0.5)";
-    let text = format!("Material(name: \"eight\", layers: [{}, Lambert(0.5)])", vec![coat; 8].join(", "));
+    let text = format!("Material(name: \"eight\", layers: [{}, Lambert(0.5)])", [coat; 8].join(", "));
     let compiled = glazec::compile(&text).unwrap_or_else(|e| panic!("{e:?}"));
     assert_eq!(compiled.material.coats.len(), 8);
     compiled.emit(&glazec::Target::TEXT).expect("emits");

@@ -39,21 +39,21 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
-    let _e3 = max(alpha, 0.001f);
-    let a2_ = (_e3 * _e3);
-    let d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1f)) + 1f);
-    return (a2_ / ((d_1 * d_1) * 3.1415927f));
+    let a = max(alpha, 0.001f);
+    let a_sq = (a * a);
+    let denom = (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f);
+    return (a_sq / ((denom * denom) * 3.1415927f));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
-    let mu2_ = max((n_dot_x * n_dot_x), 0.000000000001f);
-    let tan2_ = ((1f - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1f)) - 1f) * 0.5f);
+    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
+    let tan_sq = ((1f - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -103,8 +103,8 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 fn f_schlick(f0_: vec3<f32>, cos_theta: f32) -> vec3<f32> {
     let m = (1f - min(max(cos_theta, 0f), 1f));
-    let m2_ = (m * m);
-    return (f0_ + ((vec3(1f) - f0_) * ((m2_ * m2_) * m)));
+    let m_sq = (m * m);
+    return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a

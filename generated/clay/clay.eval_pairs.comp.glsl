@@ -11,13 +11,9 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-struct PreviewVarying {
-    vec4 position;
-    vec2 p;
-};
-layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
-layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
 
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
@@ -33,12 +29,12 @@ vec3 half_vector(vec3 v, vec3 l) {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha) {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
@@ -61,8 +57,8 @@ float g_smith_schlick_ggx(float n_dot_v, float n_dot_l, float roughness) {
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 vec3 f_schlick(vec3 f0_, float cos_theta) {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
-    float m2_ = (m * m);
-    return (f0_ + ((vec3(1.0) - f0_) * ((m2_ * m2_) * m)));
+    float m_sq = (m * m);
+    return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -98,12 +94,12 @@ vec3 ww_inner_reflection(float g_1, vec3 t21_) {
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
-    float sigma2_ = (sigma * sigma);
-    float a = (1.0 - ((sigma2_ / (sigma2_ + 0.33)) * 0.5));
-    float b = ((sigma2_ / (sigma2_ + 0.09)) * 0.45);
+    float sigma_sq = (sigma * sigma);
+    float a_1 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = (max(s, 0.0) / max(n_dot_v_2, n_dot_l_2));
-    return (albedo * (((b * s_over_t) + a) / 3.1415927));
+    return (albedo * (((b * s_over_t) + a_1) / 3.1415927));
 }
 
 // Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,
@@ -135,12 +131,6 @@ vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 f = ww_layer(specular, transmission, absorption, inner, layer1_f_base);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
-}
-
-// The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
-vec3 clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
-    vec3 f = clay_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

@@ -41,13 +41,13 @@ float3 half_vector(float3 v, float3 l)
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha)
 {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
@@ -73,8 +73,8 @@ float g_smith_schlick_ggx(float n_dot_v, float n_dot_l, float roughness)
 float3 f_schlick(float3 f0_, float cos_theta)
 {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
-    float m2_ = (m * m);
-    return (f0_ + (((1.0).xxx - f0_) * ((m2_ * m2_) * m)));
+    float m_sq = (m * m);
+    return (f0_ + (((1.0).xxx - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -115,12 +115,12 @@ float3 ww_inner_reflection(float g_1, float3 t21_)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 float3 fd_oren_nayar(float3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
 {
-    float sigma2_ = (sigma * sigma);
-    float a = (1.0 - ((sigma2_ / (sigma2_ + 0.33)) * 0.5));
-    float b = ((sigma2_ / (sigma2_ + 0.09)) * 0.45);
+    float sigma_sq = (sigma * sigma);
+    float a_1 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = (max(s, 0.0) / max(n_dot_v_2, n_dot_l_2));
-    return (albedo * (((b * s_over_t) + a) / 3.1415927));
+    return (albedo * (((b * s_over_t) + a_1) / 3.1415927));
 }
 
 // Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,

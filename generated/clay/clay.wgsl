@@ -31,12 +31,12 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
-    let _e3 = max(alpha, 0.001f);
-    let a2_ = (_e3 * _e3);
-    let d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1f)) + 1f);
-    return (a2_ / ((d_1 * d_1) * 3.1415927f));
+    let a = max(alpha, 0.001f);
+    let a_sq = (a * a);
+    let denom = (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f);
+    return (a_sq / ((denom * denom) * 3.1415927f));
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
@@ -59,8 +59,8 @@ fn g_smith_schlick_ggx(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 fn f_schlick(f0_: vec3<f32>, cos_theta: f32) -> vec3<f32> {
     let m = (1f - min(max(cos_theta, 0f), 1f));
-    let m2_ = (m * m);
-    return (f0_ + ((vec3(1f) - f0_) * ((m2_ * m2_) * m)));
+    let m_sq = (m * m);
+    return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -96,12 +96,12 @@ fn ww_inner_reflection(g_1: f32, t21_: vec3<f32>) -> vec3<f32> {
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 fn fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
-    let sigma2_ = (sigma * sigma);
-    let a = (1f - ((sigma2_ / (sigma2_ + 0.33f)) * 0.5f));
-    let b = ((sigma2_ / (sigma2_ + 0.09f)) * 0.45f);
+    let sigma_sq = (sigma * sigma);
+    let a_1 = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
+    let b = ((sigma_sq / (sigma_sq + 0.09f)) * 0.45f);
     let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     let s_over_t = (max(s, 0f) / max(n_dot_v_2, n_dot_l_2));
-    return (albedo * (((b * s_over_t) + a) / 3.1415927f));
+    return (albedo * (((b * s_over_t) + a_1) / 3.1415927f));
 }
 
 // Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,

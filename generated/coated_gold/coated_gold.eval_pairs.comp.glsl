@@ -11,16 +11,12 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-struct PreviewVarying {
-    vec4 position;
-    vec2 p;
-};
 const vec3 layer1_rho = vec3(0.9354059, 0.7486685, 0.3075691);
 const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
 
-layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
-layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
 
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
@@ -36,21 +32,21 @@ vec3 half_vector(vec3 v, vec3 l) {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha) {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 float lambda_ggx(float n_dot_x, float alpha_1) {
-    float mu2_ = max((n_dot_x * n_dot_x), 1e-12);
-    float tan2_ = ((1.0 - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1.0)) - 1.0) * 0.5);
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -102,8 +98,8 @@ vec3 fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
     vec3 t0_ = ((eta2_ - k2_) - vec3(sin2_));
     vec3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4.0))));
     vec3 t1_ = (a2_plus_b2_ + vec3(cos2_));
-    vec3 a = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5)));
-    vec3 t2_ = (a * (sqrt(cos2_) * 2.0));
+    vec3 a_1 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5)));
+    vec3 t2_ = (a_1 * (sqrt(cos2_) * 2.0));
     vec3 r_s = ((t1_ - t2_) / (t1_ + t2_));
     vec3 t3_ = ((a2_plus_b2_ * cos2_) + vec3((sin2_ * sin2_)));
     vec3 t4_ = (t2_ * sin2_);
@@ -118,8 +114,7 @@ vec3 fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
 // 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
 // Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_below, vec3 rho_below, vec3 r_return, float eta_3) {
-    vec3 _e9 = (rho_below * r_return);
-    vec3 bounces = (vec3(1.0) - _e9);
+    vec3 bounces = (vec3(1.0) - (rho_below * r_return));
     return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))) / bounces));
 }
 
@@ -151,12 +146,6 @@ vec3 coated_gold_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
     vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f_base, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
-}
-
-// The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
-vec3 coated_gold_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
-    vec3 f = coated_gold_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

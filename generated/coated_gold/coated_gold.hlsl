@@ -44,13 +44,13 @@ float3 half_vector(float3 v, float3 l)
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha)
 {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
@@ -58,9 +58,9 @@ float d_ggx(float n_dot_h, float alpha)
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 float lambda_ggx(float n_dot_x, float alpha_1)
 {
-    float mu2_ = max((n_dot_x * n_dot_x), 1e-12);
-    float tan2_ = ((1.0 - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1.0)) - 1.0) * 0.5);
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -117,8 +117,8 @@ float3 fr_conductor(float cos_i_1, float3 eta_2, float3 k)
     float3 t0_ = ((eta2_ - k2_) - (sin2_).xxx);
     float3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * (4.0).xxx)));
     float3 t1_ = (a2_plus_b2_ + (cos2_).xxx);
-    float3 a = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
-    float3 t2_ = (a * (sqrt(cos2_) * 2.0));
+    float3 a_1 = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
+    float3 t2_ = (a_1 * (sqrt(cos2_) * 2.0));
     float3 r_s = ((t1_ - t2_) / (t1_ + t2_));
     float3 t3_ = ((a2_plus_b2_ * cos2_) + ((sin2_ * sin2_)).xxx);
     float3 t4_ = (t2_ * sin2_);

@@ -34,21 +34,21 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
-    let _e3 = max(alpha, 0.001f);
-    let a2_ = (_e3 * _e3);
-    let d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1f)) + 1f);
-    return (a2_ / ((d_1 * d_1) * 3.1415927f));
+    let a = max(alpha, 0.001f);
+    let a_sq = (a * a);
+    let denom = (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f);
+    return (a_sq / ((denom * denom) * 3.1415927f));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
-    let mu2_ = max((n_dot_x * n_dot_x), 0.000000000001f);
-    let tan2_ = ((1f - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1f)) - 1f) * 0.5f);
+    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
+    let tan_sq = ((1f - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -100,8 +100,8 @@ fn fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
     let t0_ = ((eta2_ - k2_) - vec3(sin2_));
     let a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4f))));
     let t1_ = (a2_plus_b2_ + vec3(cos2_));
-    let a = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5f)));
-    let t2_ = (a * (sqrt(cos2_) * 2f));
+    let a_1 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5f)));
+    let t2_ = (a_1 * (sqrt(cos2_) * 2f));
     let r_s = ((t1_ - t2_) / (t1_ + t2_));
     let t3_ = ((a2_plus_b2_ * cos2_) + vec3((sin2_ * sin2_)));
     let t4_ = (t2_ * sin2_);

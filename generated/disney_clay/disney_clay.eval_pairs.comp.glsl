@@ -11,13 +11,9 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-struct PreviewVarying {
-    vec4 position;
-    vec2 p;
-};
-layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
-layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
 
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
@@ -28,9 +24,9 @@ layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v, float n_dot_l, float v_dot_l) {
-    float sigma2_ = (sigma * sigma);
-    float a = (1.0 - ((sigma2_ / (sigma2_ + 0.33)) * 0.5));
-    float b = ((sigma2_ / (sigma2_ + 0.09)) * 0.45);
+    float sigma_sq = (sigma * sigma);
+    float a = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v * n_dot_l));
     float s_over_t = (max(s, 0.0) / max(n_dot_v, n_dot_l));
     return (albedo * (((b * s_over_t) + a) / 3.1415927));
@@ -46,9 +42,9 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 float d_gtr1_(float n_dot_h, float alpha) {
-    float _e5 = min(max(alpha, 0.001), 0.9999);
-    float a2_ = (_e5 * _e5);
-    float d_1 = ((a2_ - 1.0) / ((log(a2_) * (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0)) * 3.1415927));
+    float a_1 = min(max(alpha, 0.001), 0.9999);
+    float a_sq = (a_1 * a_1);
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -72,8 +68,8 @@ float g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float roughness) {
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 vec3 f_schlick(vec3 f0_, float cos_theta) {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
-    float m2_ = (m * m);
-    return (f0_ + ((vec3(1.0) - f0_) * ((m2_ * m2_) * m)));
+    float m_sq = (m * m);
+    return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -96,12 +92,6 @@ vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
     vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     vec3 f = (f_base + specular);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
-}
-
-// The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
-vec3 disney_clay_eval(vec3 n_1, vec3 v_2, vec3 l_2) {
-    vec3 f = disney_clay_brdf(n_1, v_2, l_2);
-    return (f * max(dot(n_1, l_2), 0.0));
 }
 
 void main() {

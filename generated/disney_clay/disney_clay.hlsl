@@ -36,9 +36,9 @@ struct FragmentInput_preview_fs {
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 float3 fd_oren_nayar(float3 albedo, float sigma, float n_dot_v, float n_dot_l, float v_dot_l)
 {
-    float sigma2_ = (sigma * sigma);
-    float a = (1.0 - ((sigma2_ / (sigma2_ + 0.33)) * 0.5));
-    float b = ((sigma2_ / (sigma2_ + 0.09)) * 0.45);
+    float sigma_sq = (sigma * sigma);
+    float a = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v * n_dot_l));
     float s_over_t = (max(s, 0.0) / max(n_dot_v, n_dot_l));
     return (albedo * (((b * s_over_t) + a) / 3.1415927));
@@ -56,9 +56,9 @@ float3 half_vector(float3 v, float3 l)
 
 float d_gtr1_(float n_dot_h, float alpha)
 {
-    float _e5 = min(max(alpha, 0.001), 0.9999);
-    float a2_ = (_e5 * _e5);
-    float d_1 = ((a2_ - 1.0) / ((log(a2_) * (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0)) * 3.1415927));
+    float a_1 = min(max(alpha, 0.001), 0.9999);
+    float a_sq = (a_1 * a_1);
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -85,8 +85,8 @@ float g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float roughness)
 float3 f_schlick(float3 f0_, float cos_theta)
 {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
-    float m2_ = (m * m);
-    return (f0_ + (((1.0).xxx - f0_) * ((m2_ * m2_) * m)));
+    float m_sq = (m * m);
+    return (f0_ + (((1.0).xxx - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).

@@ -26,9 +26,9 @@ var<uniform> dispatch: EvalDispatch;
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 fn fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v: f32, n_dot_l: f32, v_dot_l: f32) -> vec3<f32> {
-    let sigma2_ = (sigma * sigma);
-    let a = (1f - ((sigma2_ / (sigma2_ + 0.33f)) * 0.5f));
-    let b = ((sigma2_ / (sigma2_ + 0.09f)) * 0.45f);
+    let sigma_sq = (sigma * sigma);
+    let a = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
+    let b = ((sigma_sq / (sigma_sq + 0.09f)) * 0.45f);
     let s = (v_dot_l - (n_dot_v * n_dot_l));
     let s_over_t = (max(s, 0f) / max(n_dot_v, n_dot_l));
     return (albedo * (((b * s_over_t) + a) / 3.1415927f));
@@ -44,9 +44,9 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
-    let _e5 = min(max(alpha, 0.001f), 0.9999f);
-    let a2_ = (_e5 * _e5);
-    let d_1 = ((a2_ - 1f) / ((log(a2_) * (((n_dot_h * n_dot_h) * (a2_ - 1f)) + 1f)) * 3.1415927f));
+    let a_1 = min(max(alpha, 0.001f), 0.9999f);
+    let a_sq = (a_1 * a_1);
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
@@ -70,8 +70,8 @@ fn g_smith_schlick_ggx(n_dot_v_1: f32, n_dot_l_1: f32, roughness: f32) -> f32 {
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 fn f_schlick(f0_: vec3<f32>, cos_theta: f32) -> vec3<f32> {
     let m = (1f - min(max(cos_theta, 0f), 1f));
-    let m2_ = (m * m);
-    return (f0_ + ((vec3(1f) - f0_) * ((m2_ * m2_) * m)));
+    let m_sq = (m * m);
+    return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).

@@ -11,10 +11,6 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-struct PreviewVarying {
-    vec4 position;
-    vec2 p;
-};
 const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
@@ -27,9 +23,9 @@ const vec3 layer1_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 layer1_rho = vec3(0.2575977, 0.39548016, 0.5983388);
 const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
 
-layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
-layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
 
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
@@ -44,9 +40,9 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 float d_gtr1_(float n_dot_h, float alpha) {
-    float _e5 = min(max(alpha, 0.001), 0.9999);
-    float a2_ = (_e5 * _e5);
-    float d_1 = ((a2_ - 1.0) / ((log(a2_) * (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0)) * 3.1415927));
+    float a = min(max(alpha, 0.001), 0.9999);
+    float a_sq = (a * a);
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -54,9 +50,9 @@ float d_gtr1_(float n_dot_h, float alpha) {
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 float lambda_ggx(float n_dot_x, float alpha_1) {
-    float mu2_ = max((n_dot_x * n_dot_x), 1e-12);
-    float tan2_ = ((1.0 - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1.0)) - 1.0) * 0.5);
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -104,12 +100,12 @@ vec3 slab_transmittance(vec3 tau, float mu) {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h_1, float alpha_3) {
-    float _e3 = max(alpha_3, 0.001);
-    float a2_1 = (_e3 * _e3);
-    float d_2 = (((n_dot_h_1 * n_dot_h_1) * (a2_1 - 1.0)) + 1.0);
-    return (a2_1 / ((d_2 * d_2) * 3.1415927));
+    float a_1 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_1 * a_1);
+    float denom = (((n_dot_h_1 * n_dot_h_1) * (a_sq_1 - 1.0)) + 1.0);
+    return (a_sq_1 / ((denom * denom) * 3.1415927));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -132,8 +128,7 @@ vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_do
     float e_o = e_fon(n_dot_v_2, r_1);
     float e_i = e_fon(n_dot_l_2, r_1);
     float e_avg = (a_f * ((r_1 * 0.07248825) + 1.0));
-    vec3 _e36 = (albedo * (1.0 - e_avg));
-    vec3 rho_ms = (((albedo * albedo) * e_avg) / (vec3(1.0) - _e36));
+    vec3 rho_ms = (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
     vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
@@ -145,8 +140,7 @@ vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_do
 // 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
 // Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_below, vec3 rho_below, vec3 r_return, float eta_2) {
-    vec3 _e9 = (rho_below * r_return);
-    vec3 bounces = (vec3(1.0) - _e9);
+    vec3 bounces = (vec3(1.0) - (rho_below * r_return));
     return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
 }
 
@@ -221,12 +215,6 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, layer2_rho, layer1_r_return, 1.0);
     vec3 f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1.0), vec3(1.0), layer1_f, layer1_rho, r_return_1, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
-}
-
-// The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
-vec3 four_layer_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
-    vec3 f = four_layer_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

@@ -42,9 +42,9 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
-    let _e5 = min(max(alpha, 0.001f), 0.9999f);
-    let a2_ = (_e5 * _e5);
-    let d_1 = ((a2_ - 1f) / ((log(a2_) * (((n_dot_h * n_dot_h) * (a2_ - 1f)) + 1f)) * 3.1415927f));
+    let a = min(max(alpha, 0.001f), 0.9999f);
+    let a_sq = (a * a);
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
@@ -52,9 +52,9 @@ fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
-    let mu2_ = max((n_dot_x * n_dot_x), 0.000000000001f);
-    let tan2_ = ((1f - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1f)) - 1f) * 0.5f);
+    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
+    let tan_sq = ((1f - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -102,12 +102,12 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 fn d_ggx(n_dot_h_1: f32, alpha_3: f32) -> f32 {
-    let _e3 = max(alpha_3, 0.001f);
-    let a2_1 = (_e3 * _e3);
-    let d_2 = (((n_dot_h_1 * n_dot_h_1) * (a2_1 - 1f)) + 1f);
-    return (a2_1 / ((d_2 * d_2) * 3.1415927f));
+    let a_1 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_1 * a_1);
+    let denom = (((n_dot_h_1 * n_dot_h_1) * (a_sq_1 - 1f)) + 1f);
+    return (a_sq_1 / ((denom * denom) * 3.1415927f));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"

@@ -11,17 +11,13 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-struct PreviewVarying {
-    vec4 position;
-    vec2 p;
-};
 const vec3 tau_1 = vec3(0.010000001, 0.008, 0.006);
 const vec3 layer1_rho = vec3(0.69219995, 0.3877427, 0.27262694);
 const vec3 r_return_1 = vec3(0.44634795, 0.45123896, 0.45623288);
 
-layout(std430, binding = 1) readonly buffer type_7_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
 
-layout(std430, binding = 2) buffer type_8_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
 
 layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
 
@@ -37,21 +33,21 @@ vec3 half_vector(vec3 v, vec3 l) {
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha) {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 float lambda_ggx(float n_dot_x, float alpha_1) {
-    float mu2_ = max((n_dot_x * n_dot_x), 1e-12);
-    float tan2_ = ((1.0 - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1.0)) - 1.0) * 0.5);
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
@@ -117,8 +113,7 @@ vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_do
     float e_o = e_fon(n_dot_v_2, r_1);
     float e_i = e_fon(n_dot_l_2, r_1);
     float e_avg = (a_f * ((r_1 * 0.07248825) + 1.0));
-    vec3 _e36 = (albedo * (1.0 - e_avg));
-    vec3 rho_ms = (((albedo * albedo) * e_avg) / (vec3(1.0) - _e36));
+    vec3 rho_ms = (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
     vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
@@ -130,8 +125,7 @@ vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_do
 // 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
 // Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_below, vec3 rho_below, vec3 r_return, float eta_2) {
-    vec3 _e9 = (rho_below * r_return);
-    vec3 bounces = (vec3(1.0) - _e9);
+    vec3 bounces = (vec3(1.0) - (rho_below * r_return));
     return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
 }
 
@@ -161,12 +155,6 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f_base = fd_eon(vec3(0.72, 0.42, 0.3), 0.7, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
-}
-
-// The reflected radiance factor f(l, v) · max(n·l, 0) of material `wet_clay`: multiply by a light's radiance.
-vec3 wet_clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
-    vec3 f = wet_clay_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0.0));
 }
 
 void main() {

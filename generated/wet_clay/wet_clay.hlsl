@@ -45,13 +45,13 @@ float3 half_vector(float3 v, float3 l)
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
 // (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
 float d_ggx(float n_dot_h, float alpha)
 {
-    float _e3 = max(alpha, 0.001);
-    float a2_ = (_e3 * _e3);
-    float d_1 = (((n_dot_h * n_dot_h) * (a2_ - 1.0)) + 1.0);
-    return (a2_ / ((d_1 * d_1) * 3.1415927));
+    float a = max(alpha, 0.001);
+    float a_sq = (a * a);
+    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    return (a_sq / ((denom * denom) * 3.1415927));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
@@ -59,9 +59,9 @@ float d_ggx(float n_dot_h, float alpha)
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
 float lambda_ggx(float n_dot_x, float alpha_1)
 {
-    float mu2_ = max((n_dot_x * n_dot_x), 1e-12);
-    float tan2_ = ((1.0 - mu2_) / mu2_);
-    return ((sqrt((((alpha_1 * alpha_1) * tan2_) + 1.0)) - 1.0) * 0.5);
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,

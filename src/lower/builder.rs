@@ -254,7 +254,9 @@ impl ModuleBuilder {
                 Some(&h) => h,
                 None => {
                     let module = &mut state.module;
-                    let literal = |m: &mut Module, x: f32| m.global_expressions.append(Expression::Literal(Literal::F32(x)), Span::UNDEFINED);
+                    let literal = |m: &mut Module, x: f32| {
+                        m.global_expressions.append(Expression::Literal(Literal::F32(x)), Span::UNDEFINED)
+                    };
                     let (ty, init) = if vector {
                         let components = value.iter().map(|&x| literal(module, x)).collect();
                         let ty = self.types.vec3;
@@ -285,9 +287,8 @@ impl ModuleBuilder {
     }
 
     fn vector_handle(&self, v: VVal, name: Option<ConstName>) -> Handle<Expression> {
-        match (v, name) {
-            (VVal::Const(c), Some(name)) => return self.named_constant(name, c, true),
-            _ => {}
+        if let (VVal::Const(c), Some(name)) = (v, name) {
+            return self.named_constant(name, c, true);
         }
         match v {
             VVal::Const([x, y, z]) if x.to_bits() == y.to_bits() && y.to_bits() == z.to_bits() => {
@@ -333,14 +334,22 @@ impl ModuleBuilder {
     }
 
     /// The function that implements `def`, building it on first use.
-    fn term_function<'a>(&'a self, def: &'static TermDef, body: &dyn Fn(&[Slot<Expr<'a>>]) -> Slot<Expr<'a>>) -> Handle<Function> {
+    fn term_function<'a>(
+        &'a self,
+        def: &'static TermDef,
+        body: &dyn Fn(&[Slot<Expr<'a>>]) -> Slot<Expr<'a>>,
+    ) -> Handle<Function> {
         if let Some(&f) = self.state.borrow().terms.get(def.name) {
             return f;
         }
         let arguments = def
             .params
             .iter()
-            .map(|&(name, kind)| FunctionArgument { name: Some(name.to_string()), ty: self.kind_type(kind), binding: None })
+            .map(|&(name, kind)| FunctionArgument {
+                name: Some(name.to_string()),
+                ty: self.kind_type(kind),
+                binding: None,
+            })
             .collect();
         let result = FunctionResult { ty: self.kind_type(def.ret), binding: None };
         self.begin_function(def.name, arguments, Some(result));
@@ -446,10 +455,10 @@ impl<'a> Expr<'a> {
         use BinaryOperator as B;
         match (self.v, rhs.v, op) {
             (Val::Const(a), Val::Const(b), _) => Expr { b: self.b, v: Val::Const(fold_binary(op, a, b)), name: None },
-            (_, Val::Const(c), B::Multiply | B::Divide) if c == 1.0 => self,
-            (Val::Const(c), _, B::Multiply) if c == 1.0 => rhs,
-            (_, Val::Const(c), B::Add | B::Subtract) if c == 0.0 => self,
-            (Val::Const(c), _, B::Add) if c == 0.0 => rhs,
+            (_, Val::Const(1.0), B::Multiply | B::Divide) => self,
+            (Val::Const(1.0), _, B::Multiply) => rhs,
+            (_, Val::Const(0.0), B::Add | B::Subtract) => self,
+            (Val::Const(0.0), _, B::Add) => rhs,
             (Val::Const(c), _, B::Multiply) | (_, Val::Const(c), B::Multiply) if c == 0.0 => self.b.constant(0.0),
             _ => {
                 let (left, right) = (self.handle(), rhs.handle());
@@ -526,7 +535,9 @@ impl<'a> Neg for Expr<'a> {
     fn neg(self) -> Expr<'a> {
         match self.v {
             Val::Const(x) => self.b.constant(-x),
-            Val::Dyn(..) => self.dynamic(self.b.append(Expression::Unary { op: UnaryOperator::Negate, expr: self.handle() })),
+            Val::Dyn(..) => {
+                self.dynamic(self.b.append(Expression::Unary { op: UnaryOperator::Negate, expr: self.handle() }))
+            }
         }
     }
 }
@@ -661,7 +672,9 @@ impl<'a> ExprVec<'a> {
             (l, _, B::Multiply) if is(l, 1.0) => rhs,
             (_, r, B::Add | B::Subtract) if is(r, 0.0) => self,
             (l, _, B::Add) if is(l, 0.0) => rhs,
-            (l, r, B::Multiply) if is(l, 0.0) || is(r, 0.0) => ExprVec { b: self.b, v: VVal::Const([0.0; 3]), name: None },
+            (l, r, B::Multiply) if is(l, 0.0) || is(r, 0.0) => {
+                ExprVec { b: self.b, v: VVal::Const([0.0; 3]), name: None }
+            }
             _ => {
                 let (left, right) = (self.handle(), rhs.handle());
                 self.dynamic(self.b.append(Expression::Binary { op, left, right }))
@@ -691,7 +704,9 @@ impl<'a> ExprVec<'a> {
 
     fn zip(self, fun: MathFunction, other: ExprVec<'a>, fold: fn(f32, f32) -> f32) -> ExprVec<'a> {
         match (self.v, other.v) {
-            (VVal::Const(a), VVal::Const(b)) => ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold(a[i], b[i]))), name: None },
+            (VVal::Const(a), VVal::Const(b)) => {
+                ExprVec { b: self.b, v: VVal::Const([0, 1, 2].map(|i| fold(a[i], b[i]))), name: None }
+            }
             _ => {
                 let args = [self.handle(), other.handle()];
                 self.dynamic(self.b.math(fun, &args))
@@ -792,7 +807,9 @@ impl<'a> Vector for ExprVec<'a> {
     }
     fn normalize(self) -> Self {
         match self.v {
-            VVal::Const(c) => ExprVec { b: self.b, v: VVal::Const(Vector::normalize(Self::to_glam(c)).to_array()), name: None },
+            VVal::Const(c) => {
+                ExprVec { b: self.b, v: VVal::Const(Vector::normalize(Self::to_glam(c)).to_array()), name: None }
+            }
             VVal::Dyn(..) => self.dynamic(self.b.math(MathFunction::Normalize, &[self.handle()])),
         }
     }

@@ -24,9 +24,9 @@
 pub mod builder;
 
 use naga::{
-    AddressSpace, Binding, BuiltIn, EntryPoint, Expression, Function, FunctionArgument, FunctionResult,
-    GlobalVariable, Handle, MemoryDecorations, Module, ResourceBinding, ShaderStage, Span, Statement,
-    StorageAccess, StructMember, SwizzleComponent, Type, TypeInner, VectorSize,
+    AddressSpace, Binding, BuiltIn, EntryPoint, Expression, Function, FunctionArgument, FunctionResult, GlobalVariable,
+    Handle, MemoryDecorations, Module, ResourceBinding, ShaderStage, Span, Statement, StorageAccess, StructMember,
+    SwizzleComponent, Type, TypeInner, VectorSize,
 };
 
 use crate::math::layering::{self, Inputs};
@@ -102,9 +102,7 @@ pub fn lower(material: &Material) -> Module {
     let params_ty = params_type(&b, material);
     let brdf = brdf_function(&b, material, params_ty);
     eval_function(&b, material, params_ty, brdf);
-    let params_var = params_ty.map(|ty| {
-        global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty)
-    });
+    let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     eval_pairs_entry(&b, brdf, params_var);
     preview_entries(&b, material, params_var);
     b.finish()
@@ -125,10 +123,18 @@ fn params_type(b: &ModuleBuilder, material: &Material) -> Option<Handle<Type>> {
         })
         .collect();
     let name = material.params_struct_name();
-    Some(b.with_module(|m| m.types.insert(Type { name: Some(name), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)))
+    Some(b.with_module(|m| {
+        m.types.insert(Type { name: Some(name), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
+    }))
 }
 
-fn global(b: &ModuleBuilder, name: &str, space: AddressSpace, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
+fn global(
+    b: &ModuleBuilder,
+    name: &str,
+    space: AddressSpace,
+    binding: u32,
+    ty: Handle<Type>,
+) -> Handle<GlobalVariable> {
     b.with_module(|m| {
         m.global_variables.append(
             GlobalVariable {
@@ -150,7 +156,8 @@ fn argument(name: &str, ty: Handle<Type>, binding: Option<Binding>) -> FunctionA
 
 /// The `n`, `v`, `l` (and `params`) arguments shared by `<material>_brdf` and `<material>_eval`.
 fn direction_arguments(b: &ModuleBuilder, params_ty: Option<Handle<Type>>) -> Vec<FunctionArgument> {
-    let mut arguments = vec![argument("n", b.types.vec3, None), argument("v", b.types.vec3, None), argument("l", b.types.vec3, None)];
+    let mut arguments =
+        vec![argument("n", b.types.vec3, None), argument("v", b.types.vec3, None), argument("l", b.types.vec3, None)];
     if let Some(ty) = params_ty {
         arguments.push(argument("params", ty, None));
     }
@@ -185,7 +192,7 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
     } else {
         Vec::new()
     };
-    let inputs = Inputs::new(&*b, params);
+    let inputs = Inputs::new(b, params);
     let f = layering::brdf(material, &inputs, n, v, l);
     let value = f.handle();
     b.statement(Statement::Return { value: Some(value) });
@@ -222,7 +229,12 @@ fn eval_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
     });
 }
 
-fn struct_type(b: &ModuleBuilder, name: &str, members: &[(&str, Handle<Type>, u32, Option<Binding>)], span: u32) -> Handle<Type> {
+fn struct_type(
+    b: &ModuleBuilder,
+    name: &str,
+    members: &[(&str, Handle<Type>, u32, Option<Binding>)],
+    span: u32,
+) -> Handle<Type> {
     let members = members
         .iter()
         .map(|(name, ty, offset, binding)| StructMember {
@@ -233,7 +245,8 @@ fn struct_type(b: &ModuleBuilder, name: &str, members: &[(&str, Handle<Type>, u3
         })
         .collect();
     b.with_module(|m| {
-        m.types.insert(Type { name: Some(name.to_string()), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
+        m.types
+            .insert(Type { name: Some(name.to_string()), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
     })
 }
 
@@ -248,7 +261,8 @@ fn runtime_array(b: &ModuleBuilder, base: Handle<Type>, stride: u32) -> Handle<T
 
 /// `eval_pairs`: values[i] = f(pairs[i].wi, pairs[i].wo) for i < dispatch.pair_count.
 fn eval_pairs_entry(b: &ModuleBuilder, brdf: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
-    let pair_ty = struct_type(b, "DirectionPair", &[("wi", b.types.vec4, 0, None), ("wo", b.types.vec4, 16, None)], PAIR_STRIDE);
+    let pair_ty =
+        struct_type(b, "DirectionPair", &[("wi", b.types.vec4, 0, None), ("wo", b.types.vec4, 16, None)], PAIR_STRIDE);
     let pairs_ty = runtime_array(b, pair_ty, PAIR_STRIDE);
     let values_ty = runtime_array(b, b.types.vec4, 16);
     let dispatch_ty = struct_type(b, "EvalDispatch", &[("pair_count", b.types.u32, 0, None)], 16);
@@ -357,12 +371,7 @@ fn preview_entries(b: &ModuleBuilder, material: &Material, params_var: Option<Ha
         "PreviewVarying",
         &[
             ("position", b.types.vec4, 0, Some(Binding::BuiltIn(BuiltIn::Position { invariant: false }))),
-            (
-                "p",
-                b.types.vec2,
-                16,
-                Some(varying(0)),
-            ),
+            ("p", b.types.vec2, 16, Some(varying(0))),
         ],
         24,
     );

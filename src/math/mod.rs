@@ -140,7 +140,14 @@ pub trait Real:
 
 /// A three-component vector of a [`Real`] family: a direction or an RGB colour.
 pub trait Vector:
-    Copy + Named + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self> + Mul<f32, Output = Self>
+    Copy
+    + Named
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Mul<f32, Output = Self>
 {
     type Real: Real<Vec = Self>;
 

@@ -28,21 +28,23 @@ const TINY: f32 = 1e-12;
 shading_fn! {
     /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
     /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
-    /// Guard: α ≥ ALPHA_MIN keeps the peak finite.
+    /// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
     pub fn d_ggx(n_dot_h: S, alpha: S) -> S {
-        let a2 = alpha.at_least(ALPHA_MIN).sq();
-        let d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
-        a2 / (d * d * PI)
+        let a = alpha.at_least(ALPHA_MIN);
+        let a_sq = a * a;
+        let denom = n_dot_h * n_dot_h * (a_sq - 1.0) + 1.0;
+        a_sq / (denom * denom * PI)
     }
 }
 
 shading_fn! {
     /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
     /// eq. 10): the clear-coat distribution D = (α²−1) / (π ln α² (1 + (α²−1) cos²θh)).
-    /// Guards: α ≥ ALPHA_MIN (ln 0); at α → 1 the 0/0 limit 1/π is taken directly.
+    /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly.
     pub fn d_gtr1(n_dot_h: S, alpha: S) -> S {
-        let a2 = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX).sq();
-        let d = (a2 - 1.0) / (a2.ln() * (n_dot_h * n_dot_h * (a2 - 1.0) + 1.0) * PI);
+        let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
+        let a_sq = a * a;
+        let d = (a_sq - 1.0) / (a_sq.ln() * (n_dot_h * n_dot_h * (a_sq - 1.0) + 1.0) * PI);
         F::select(alpha.gt_lit(GTR1_ALPHA_MAX), alpha.lit(1.0 / PI), d)
     }
 }
@@ -69,9 +71,9 @@ shading_fn! {
     /// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
     /// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
     pub fn lambda_ggx(n_dot_x: S, alpha: S) -> S {
-        let mu2 = (n_dot_x * n_dot_x).at_least(TINY);
-        let tan2 = mu2.one_minus() / mu2;
-        ((alpha * alpha * tan2 + 1.0).sqrt() - 1.0) * 0.5
+        let mu_sq = (n_dot_x * n_dot_x).at_least(TINY);
+        let tan_sq = mu_sq.one_minus() / mu_sq;
+        ((alpha * alpha * tan_sq + 1.0).sqrt() - 1.0) * 0.5
     }
 }
 
@@ -97,8 +99,8 @@ shading_fn! {
     /// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
     pub fn f_schlick(f0: V, cos_theta: S) -> V {
         let m = cos_theta.clamp(0.0, 1.0).one_minus();
-        let m2 = m * m;
-        f0 + f0.one_minus() * (m2 * m2 * m)
+        let m_sq = m * m;
+        f0 + f0.one_minus() * (m_sq * m_sq * m)
     }
 }
 
@@ -173,9 +175,9 @@ shading_fn! {
     /// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
     /// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
     pub fn fd_oren_nayar(albedo: V, sigma: S, n_dot_v: S, n_dot_l: S, v_dot_l: S) -> V {
-        let sigma2 = sigma * sigma;
-        let a = (sigma2 / (sigma2 + 0.33) * 0.5).one_minus();
-        let b = sigma2 / (sigma2 + 0.09) * 0.45;
+        let sigma_sq = sigma * sigma;
+        let a = (sigma_sq / (sigma_sq + 0.33) * 0.5).one_minus();
+        let b = sigma_sq / (sigma_sq + 0.09) * 0.45;
         let s = v_dot_l - n_dot_v * n_dot_l;
         let s_over_t = s.at_least(0.0) / n_dot_v.max(n_dot_l);
         albedo * ((b * s_over_t + a) / PI)
@@ -197,7 +199,7 @@ shading_fn! {
     /// Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
     pub fn e_fon(mu: S, r: S) -> S {
         let x = mu.clamp(0.0, 1.0).one_minus();
-        let g_over_pi = x * (x * (x * (x * 0.071_442_995 - 0.332_181_44) + 0.491_881_87) + 0.057_108_53);
+        let g_over_pi = x * (x * (x * (x * 0.071_442_99 - 0.332_181_44) + 0.491_881_87) + 0.057_108_53);
         (r * g_over_pi + 1.0) / (r * FON_C1 + 1.0)
     }
 }
@@ -225,9 +227,9 @@ shading_fn! {
     /// Hemispherical-average albedo ⟨E⟩ of the qualitative Oren–Nayar lobe (Oren & Nayar 1994):
     /// ρ (A + c B), c = 2/3 − 64/(45π), from integrating the B term over both hemispheres.
     pub fn albedo_avg_oren_nayar(albedo: V, sigma: S) -> V {
-        let sigma2 = sigma * sigma;
-        let a = (sigma2 / (sigma2 + 0.33) * 0.5).one_minus();
-        let b = sigma2 / (sigma2 + 0.09) * 0.45;
+        let sigma_sq = sigma * sigma;
+        let a = (sigma_sq / (sigma_sq + 0.33) * 0.5).one_minus();
+        let b = sigma_sq / (sigma_sq + 0.09) * 0.45;
         albedo * (b * QON_AVG_B + a)
     }
 }
@@ -323,9 +325,9 @@ shading_fn! {
     /// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
     /// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
     pub fn interfaced_albedo(eta: S, e_escape_clear: S, e_escape: V, r_return: V, rho_below: V) -> V {
-        let eta2 = eta * eta;
-        let e_fresnel = (eta2 * e_escape_clear).one_minus();
-        e_escape * e_escape * rho_below * eta2 / (rho_below * r_return).one_minus() + e_fresnel.splat()
+        let eta_sq = eta * eta;
+        let e_fresnel = (eta_sq * e_escape_clear).one_minus();
+        e_escape * e_escape * rho_below * eta_sq / (rho_below * r_return).one_minus() + e_fresnel.splat()
     }
 }
 
@@ -397,7 +399,8 @@ mod tests {
     fn ggx_d_is_normalised() {
         // ∫ D(h) (n·h) dω_h = 1 (Walter et al. 2007, eq. 4).
         for alpha in [0.05_f32, 0.2, 0.5, 1.0] {
-            let integral = simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            let integral =
+                simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
     }
@@ -405,7 +408,8 @@ mod tests {
     #[test]
     fn gtr1_is_normalised_and_continuous_at_one() {
         for alpha in [0.01_f32, 0.1, 0.5] {
-            let integral = simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            let integral =
+                simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
         assert!((d_gtr1(0.5, 1.0) - 1.0 / PI).abs() < 1e-6);
