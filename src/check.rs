@@ -318,7 +318,10 @@ const RESERVED_NAMES: &[&str] = &[
 
 /// Whether `word` is reserved in one of the target languages (or by glazec's generated code).
 pub fn is_reserved(word: &str) -> bool {
-    RESERVED_NAMES.contains(&word) || naga::keywords::wgsl::RESERVED.contains(&word)
+    static RESERVED: std::sync::OnceLock<std::collections::HashSet<&'static str>> = std::sync::OnceLock::new();
+    RESERVED
+        .get_or_init(|| RESERVED_NAMES.iter().chain(naga::keywords::wgsl::RESERVED).copied().collect())
+        .contains(word)
 }
 
 /// Whether `name` can name a material (files, shader functions) or a parameter (struct member).
