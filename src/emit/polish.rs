@@ -156,7 +156,8 @@ pub fn polish(module: &Module, text: &str, glsl_entry: bool, out: &mut String) {
             out.push('\n');
         }
         let end = lines[i..].iter().position(|l| *l == "}").map_or(lines.len(), |e| i + e + 1);
-        let renames = if edit.results.is_empty() { HashMap::new() } else { choose_names(&lines[i..end], &edit.results) };
+        let renames =
+            if edit.results.is_empty() { HashMap::new() } else { choose_names(&lines[i..end], &edit.results) };
         for line in &lines[i..end] {
             push_renamed(out, line, &renames);
             out.push('\n');

@@ -101,10 +101,10 @@ pub fn lower(material: &Material) -> Module {
     let b = ModuleBuilder::new();
     let params_ty = params_type(&b, material);
     let brdf = brdf_function(&b, material, params_ty);
-    eval_function(&b, material, params_ty, brdf);
+    let eval = eval_function(&b, material, params_ty, brdf);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     eval_pairs_entry(&b, brdf, params_var);
-    preview_entries(&b, material, params_var);
+    preview_entries(&b, eval, params_var);
     b.finish()
 }
 
@@ -200,7 +200,12 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
 }
 
 /// `<material>_eval(n, v, l[, params])` = brdf · max(n·l, 0).
-fn eval_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handle<Type>>, brdf: Handle<Function>) {
+fn eval_function(
+    b: &ModuleBuilder,
+    material: &Material,
+    params_ty: Option<Handle<Type>>,
+    brdf: Handle<Function>,
+) -> Handle<Function> {
     let result = FunctionResult { ty: b.types.vec3, binding: None };
     let arguments = direction_arguments(b, params_ty);
     let count = arguments.len() as u32;
@@ -227,6 +232,7 @@ fn eval_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
             material.method.name()
         )]);
     });
+    eval
 }
 
 fn struct_type(
@@ -365,7 +371,7 @@ fn varying(location: u32) -> Binding {
 
 /// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a unit sphere seen
 /// along −z, shaded by `<material>_eval` under one directional light).
-fn preview_entries(b: &ModuleBuilder, material: &Material, params_var: Option<Handle<GlobalVariable>>) {
+fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
     let varying_ty = struct_type(
         b,
         "PreviewVarying",
@@ -392,10 +398,6 @@ fn preview_entries(b: &ModuleBuilder, material: &Material, params_var: Option<Ha
     push_entry(b, entry_points::PREVIEW_VS, ShaderStage::Vertex, b.end_function());
 
     // Fragment: at clip-space position p, on the disk |p| ≤ 1, the normal is (p, √(1 − |p|²)).
-    let eval = b.with_module(|m| {
-        m.functions.iter().find(|(_, f)| f.name.as_deref() == Some(&format!("{}_eval", material.name))).map(|(h, _)| h)
-    });
-    let Some(eval) = eval else { unreachable!("eval_function runs first") };
     let p_arg = argument("p", b.types.vec2, Some(varying(0)));
     let output = FunctionResult { ty: b.types.vec4, binding: Some(location(0)) };
     b.begin_function(entry_points::PREVIEW_FS, vec![p_arg], Some(output));
