@@ -106,3 +106,82 @@ fn glsl_hlsl_and_spirv_pass_glslang_and_spirv_val() {
     assert!(failures.is_empty(), "{} of {checked} checks failed:\n{}", failures.len(), failures.join("\n"));
     eprintln!("{checked} external validations passed");
 }
+
+/// Member name → byte offset of every struct named `struct_name` that carries offsets in a
+/// SPIR-V module (as `spirv-dis` prints it).
+fn struct_offsets(spv: &Path, struct_name: &str) -> Vec<std::collections::BTreeMap<String, u32>> {
+    use std::collections::BTreeMap;
+    let out = Command::new("spirv-dis").arg(spv).output().expect("runs spirv-dis");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut ids = Vec::new();
+    let mut members: BTreeMap<(String, u32), String> = BTreeMap::new();
+    let mut offsets: BTreeMap<(String, u32), u32> = BTreeMap::new();
+    for line in text.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["OpName", id, name] if name.trim_matches('"') == struct_name => ids.push(id.to_string()),
+            ["OpMemberName", id, index, name] => {
+                members.insert((id.to_string(), index.parse().expect("index")), name.trim_matches('"').to_string());
+            }
+            ["OpMemberDecorate", id, index, "Offset", offset] => {
+                offsets.insert((id.to_string(), index.parse().expect("index")), offset.parse().expect("offset"));
+            }
+            _ => {}
+        }
+    }
+    ids.iter()
+        .map(|id| {
+            members
+                .iter()
+                .filter(|((owner, _), name)| owner == id && !name.starts_with("_pad"))
+                .filter_map(|(key, name)| offsets.get(key).map(|&o| (name.clone(), o)))
+                .collect::<BTreeMap<_, _>>()
+        })
+        .filter(|m| !m.is_empty())
+        .collect()
+}
+
+#[test]
+fn runtime_parameters_have_one_layout_in_every_backend() {
+    if !common::tool_available("glslangValidator") || !common::tool_available("spirv-dis") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut checked = 0;
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        if compiled.material.params.is_empty() {
+            continue;
+        }
+        let struct_name = compiled.material.params_struct_name();
+        let (layout, _) = glazec::lower::params_layout(&compiled.material);
+        let expected: std::collections::BTreeMap<String, u32> = layout.iter().map(|p| (p.name.clone(), p.offset)).collect();
+        let artifacts = compiled.emit(&[Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
+        let mut spirv_files = Vec::new();
+        for artifact in &artifacts {
+            let file = dir.path().join(&artifact.file_name);
+            std::fs::write(&file, &artifact.contents).expect("writes");
+            if artifact.file_name.ends_with(".spv") {
+                spirv_files.push(("naga SPIR-V", file));
+            } else if artifact.file_name.ends_with(".eval_pairs.comp.glsl") {
+                let spv = file.with_extension("spv");
+                check_with_glslang(&file, &["-V", "-S", "comp"], &spv).expect("GLSL compiles");
+                spirv_files.push(("GLSL via glslang", spv));
+            } else if artifact.file_name.ends_with(".hlsl") {
+                let spv = file.with_extension("spv");
+                check_with_glslang(&file, &["-D", "-V", "-S", "comp", "-e", "eval_pairs"], &spv).expect("HLSL compiles");
+                spirv_files.push(("HLSL via glslang", spv));
+            }
+        }
+        assert_eq!(spirv_files.len(), 3, "{}", path.display());
+        for (what, spv) in spirv_files {
+            let found = struct_offsets(&spv, &struct_name);
+            assert!(!found.is_empty(), "{}: no laid-out `{struct_name}` in the {what} module", path.display());
+            for layout in found {
+                assert_eq!(layout, expected, "{}: {what} lays out `{struct_name}` differently", path.display());
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 3, "at least one material with runtime parameters is checked in three backends");
+}

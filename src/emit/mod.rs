@@ -118,8 +118,11 @@ pub fn emit(name: &str, module: &Module, info: &ModuleInfo, targets: &[Target]) 
                 out.push(text_artifact(format!("{name}.hlsl"), name, module, &text, None));
             }
             Target::Spv => {
-                let options =
-                    spv::Options { lang_version: (1, 0), flags: spv::WriterFlags::empty(), ..Default::default() };
+                // Fixed flags (naga's default adds DEBUG only in debug builds, which would make
+                // the bytes depend on the build profile): debug names for tools and reflection,
+                // and WGSL's clip-space convention (no Y flip), as in the other outputs.
+                let flags = spv::WriterFlags::DEBUG | spv::WriterFlags::LABEL_VARYINGS;
+                let options = spv::Options { lang_version: (1, 0), flags, ..Default::default() };
                 let words = spv::write_vec(module, info, &options, None)?;
                 let contents = words.iter().flat_map(|w| w.to_le_bytes()).collect();
                 out.push(Artifact { file_name: format!("{name}.spv"), contents, stage: None });
