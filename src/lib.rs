@@ -30,6 +30,8 @@ pub mod math;
 pub mod model;
 pub mod output;
 pub mod parse;
+#[cfg(feature = "gpu")]
+pub mod run;
 pub mod validate;
 
 use diag::Diagnostic;

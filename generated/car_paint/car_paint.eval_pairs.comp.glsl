@@ -19,11 +19,11 @@ const vec3 layer1_r_return = vec3(0.021435311, 1.7043712e-5, 4.9238797e-6);
 const vec3 layer1_rho = vec3(0.72676456, 0.055396274, 0.024973331);
 const vec3 r_return_1 = vec3(0.5963458, 0.5963458, 0.5963458);
 
-layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 0) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_0_cs[]; };
 
-layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 1) buffer type_6_block_1Compute { vec4 _group_0_binding_1_cs[]; };
 
-layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
+layout(std140, binding = 2) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_2_cs; };
 
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -36,12 +36,15 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-float d_ggx(float n_dot_h, float alpha) {
+float d_ggx(float cos_h, float sin2_h, float alpha) {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
-    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    float denom = (((cos_h * cos_h) * a_sq) + sin2_h);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
 
@@ -123,7 +126,8 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     vec3 h = half_vector(v_1, l_1);
-    float d = d_ggx(dot(n_1, h), 0.0016);
+    vec3 n_cross_h = cross(n_1, h);
+    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
     float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
     float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
@@ -150,7 +154,8 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
     vec3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     vec3 layer2_h = half_vector(layer2_v, layer2_l);
-    float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
+    vec3 layer2_n_cross_h = cross(n_1, layer2_h);
+    float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     vec3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     vec3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
@@ -162,13 +167,13 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
 void main() {
     uvec3 id = gl_GlobalInvocationID;
     uint index = id.x;
-    uint _e4 = _group_0_binding_3_cs.pair_count;
+    uint _e4 = _group_0_binding_2_cs.pair_count;
     if ((index >= _e4)) {
         return;
     }
-    DirectionPair pair = _group_0_binding_1_cs[index];
+    DirectionPair pair = _group_0_binding_0_cs[index];
     vec3 f = car_paint_brdf(vec3(0.0, 0.0, 1.0), pair.wo.xyz, pair.wi.xyz);
-    _group_0_binding_2_cs[index] = vec4(f, 0.0);
+    _group_0_binding_1_cs[index] = vec4(f, 0.0);
     return;
 }
 

@@ -11,6 +11,11 @@ struct EvalDispatch {
     int _end_pad_2;
 };
 
+struct PreviewLight {
+    float4 direction;
+    float4 radiance;
+};
+
 struct PreviewVarying {
     float4 position : SV_Position;
     float2 p : LOC0;
@@ -24,9 +29,10 @@ static const float3 layer1_r_return = float3(0.021435311, 1.7043712e-5, 4.923879
 static const float3 layer1_rho = float3(0.72676456, 0.055396274, 0.024973331);
 static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
 
-ByteAddressBuffer pairs : register(t1);
-RWByteAddressBuffer values : register(u2);
-cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
+ByteAddressBuffer pairs : register(t0);
+RWByteAddressBuffer values : register(u1);
+cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_1 : LOC0;
@@ -48,13 +54,16 @@ float3 half_vector(float3 v, float3 l)
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-float d_ggx(float n_dot_h, float alpha)
+float d_ggx(float cos_h, float sin2_h, float alpha)
 {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
-    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    float denom = (((cos_h * cos_h) * a_sq) + sin2_h);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
 
@@ -146,7 +155,8 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     const float3 h = half_vector(v_1, l_1);
-    const float d = d_ggx(dot(n_1, h), 0.0016);
+    float3 n_cross_h = cross(n_1, h);
+    const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
     const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
@@ -173,7 +183,8 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
     const float3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     const float3 layer2_h = half_vector(layer2_v, layer2_l);
-    const float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
+    float3 layer2_n_cross_h = cross(n_1, layer2_h);
+    const float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     const float3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
@@ -229,6 +240,9 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float2 p = fragmentinput_preview_fs.p_2;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    const float3 reflected = car_paint_eval(n_3, float3(0.0, 0.0, 1.0), float3(-0.5014059, 0.60168713, 0.6217433));
-    return float4(((r2_ < 1.0) ? (reflected * (3.0).xxx) : (0.02).xxx), 1.0);
+    float4 _e14 = light.direction;
+    float3 l_3 = _e14.xyz;
+    float4 _e17 = light.radiance;
+    const float3 reflected = car_paint_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
 }

@@ -11,11 +11,11 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-layout(std430, binding = 1) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_1_cs[]; };
+layout(std430, binding = 0) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_0_cs[]; };
 
-layout(std430, binding = 2) buffer type_6_block_1Compute { vec4 _group_0_binding_2_cs[]; };
+layout(std430, binding = 1) buffer type_6_block_1Compute { vec4 _group_0_binding_1_cs[]; };
 
-layout(std140, binding = 3) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_3_cs; };
+layout(std140, binding = 2) uniform EvalDispatch_block_2Compute { EvalDispatch _group_0_binding_2_cs; };
 
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
@@ -41,10 +41,10 @@ vec3 half_vector(vec3 v, vec3 l) {
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
 
-float d_gtr1_(float n_dot_h, float alpha) {
+float d_gtr1_(float cos_h, float sin2_h, float alpha) {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -86,7 +86,8 @@ vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     vec3 h = half_vector(v_1, l_1);
-    float d = d_gtr1_(dot(n, h), 0.09);
+    vec3 n_cross_h = cross(n, h);
+    float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09);
     float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
     vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
     vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -97,13 +98,13 @@ vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
 void main() {
     uvec3 id = gl_GlobalInvocationID;
     uint index = id.x;
-    uint _e4 = _group_0_binding_3_cs.pair_count;
+    uint _e4 = _group_0_binding_2_cs.pair_count;
     if ((index >= _e4)) {
         return;
     }
-    DirectionPair pair = _group_0_binding_1_cs[index];
+    DirectionPair pair = _group_0_binding_0_cs[index];
     vec3 f = disney_clay_brdf(vec3(0.0, 0.0, 1.0), pair.wo.xyz, pair.wi.xyz);
-    _group_0_binding_2_cs[index] = vec4(f, 0.0);
+    _group_0_binding_1_cs[index] = vec4(f, 0.0);
     return;
 }
 

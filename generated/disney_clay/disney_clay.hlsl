@@ -11,14 +11,20 @@ struct EvalDispatch {
     int _end_pad_2;
 };
 
+struct PreviewLight {
+    float4 direction;
+    float4 radiance;
+};
+
 struct PreviewVarying {
     float4 position : SV_Position;
     float2 p : LOC0;
 };
 
-ByteAddressBuffer pairs : register(t1);
-RWByteAddressBuffer values : register(u2);
-cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
+ByteAddressBuffer pairs : register(t0);
+RWByteAddressBuffer values : register(u1);
+cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_1 : LOC0;
@@ -54,11 +60,11 @@ float3 half_vector(float3 v, float3 l)
     return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
 }
 
-float d_gtr1_(float n_dot_h, float alpha)
+float d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -105,7 +111,8 @@ float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     const float3 h = half_vector(v_1, l_1);
-    const float d = d_gtr1_(dot(n, h), 0.09);
+    float3 n_cross_h = cross(n, h);
+    const float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09);
     const float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
     const float3 fresnel = f_schlick((0.040000003).xxx, dot(v_1, h));
     const float3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -160,6 +167,9 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float2 p = fragmentinput_preview_fs.p_2;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     float3 n_2 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    const float3 reflected = disney_clay_eval(n_2, float3(0.0, 0.0, 1.0), float3(-0.5014059, 0.60168713, 0.6217433));
-    return float4(((r2_ < 1.0) ? (reflected * (3.0).xxx) : (0.02).xxx), 1.0);
+    float4 _e14 = light.direction;
+    float3 l_3 = _e14.xyz;
+    float4 _e17 = light.radiance;
+    const float3 reflected = disney_clay_eval(n_2, float3(0.0, 0.0, 1.0), l_3);
+    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
 }

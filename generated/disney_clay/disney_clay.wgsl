@@ -8,17 +8,24 @@ struct EvalDispatch {
     pair_count: u32,
 }
 
+struct PreviewLight {
+    direction: vec4<f32>,
+    radiance: vec4<f32>,
+}
+
 struct PreviewVarying {
     @builtin(position) position: vec4<f32>,
     @location(0) p: vec2<f32>,
 }
 
-@group(0) @binding(1) 
+@group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
-@group(0) @binding(2) 
+@group(0) @binding(1) 
 var<storage, read_write> values: array<vec4<f32>>;
-@group(0) @binding(3) 
+@group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
+@group(0) @binding(4) 
+var<uniform> light: PreviewLight;
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
 // (seed 000 eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
@@ -43,10 +50,10 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
 }
 
-fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
+fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f)) * 3.1415927f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
@@ -88,7 +95,8 @@ fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let cos_l = max(n_dot_l_3, 0.0001f);
     let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
     let h = half_vector(v_1, l_1);
-    let d = d_gtr1_(dot(n, h), 0.09f);
+    let n_cross_h = cross(n, h);
+    let d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09f);
     let g = g_smith_schlick_ggx(cos_v, cos_l, 0.25f);
     let fresnel = f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -124,6 +132,9 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
     let n_2 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
-    let reflected = disney_clay_eval(n_2, vec3<f32>(0f, 0f, 1f), vec3<f32>(-0.5014059f, 0.60168713f, 0.6217433f));
-    return vec4<f32>(select(vec3(0.02f), (reflected * vec3(3f)), (r2_ < 1f)), 1f);
+    let _e14 = light.direction;
+    let l_3 = _e14.xyz;
+    let _e17 = light.radiance;
+    let reflected = disney_clay_eval(n_2, vec3<f32>(0f, 0f, 1f), l_3);
+    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
 }

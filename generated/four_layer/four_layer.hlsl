@@ -11,6 +11,11 @@ struct EvalDispatch {
     int _end_pad_2;
 };
 
+struct PreviewLight {
+    float4 direction;
+    float4 radiance;
+};
+
 struct PreviewVarying {
     float4 position : SV_Position;
     float2 p : LOC0;
@@ -28,9 +33,10 @@ static const float3 layer1_r_return = float3(2.327917e-14, 2.327917e-14, 2.32791
 static const float3 layer1_rho = float3(0.2575977, 0.39548016, 0.5983388);
 static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
 
-ByteAddressBuffer pairs : register(t1);
-RWByteAddressBuffer values : register(u2);
-cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
+ByteAddressBuffer pairs : register(t0);
+RWByteAddressBuffer values : register(u1);
+cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_1 : LOC0;
@@ -51,11 +57,11 @@ float3 half_vector(float3 v, float3 l)
     return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
 }
 
-float d_gtr1_(float n_dot_h, float alpha)
+float d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a * a);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0)) * 3.1415927));
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -118,13 +124,16 @@ float3 slab_transmittance(float3 tau, float mu)
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-float d_ggx(float n_dot_h_1, float alpha_3)
+float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
 {
     float a_1 = max(alpha_3, 0.001);
     float a_sq_1 = (a_1 * a_1);
-    float denom = (((n_dot_h_1 * n_dot_h_1) * (a_sq_1 - 1.0)) + 1.0);
+    float denom = (((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1);
     return (a_sq_1 / ((denom * denom) * 3.1415927));
 }
 
@@ -177,7 +186,8 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 h = half_vector(v_1, l_1);
-    const float d = d_gtr1_(dot(n_1, h), 0.040000003);
+    float3 n_cross_h = cross(n_1, h);
+    const float d = d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.25);
     const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
     const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
@@ -204,7 +214,8 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
     const float3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     const float3 layer2_h = half_vector(layer2_v, layer2_l);
-    const float layer2_d = d_ggx(dot(n_1, layer2_h), 0.09);
+    float3 layer2_n_cross_h = cross(n_1, layer2_h);
+    const float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1);
     const float3 layer2_specular = f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
@@ -221,7 +232,8 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
     const float3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
     const float3 layer3_h = half_vector(layer3_v, layer3_l);
-    const float layer3_d = d_ggx(dot(n_1, layer3_h), 0.25);
+    float3 layer3_n_cross_h = cross(n_1, layer3_h);
+    const float layer3_d = d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     const float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     const float layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2);
     const float3 layer3_specular = f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
@@ -290,6 +302,9 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float2 p = fragmentinput_preview_fs.p_2;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    const float3 reflected = four_layer_eval(n_3, float3(0.0, 0.0, 1.0), float3(-0.5014059, 0.60168713, 0.6217433));
-    return float4(((r2_ < 1.0) ? (reflected * (3.0).xxx) : (0.02).xxx), 1.0);
+    float4 _e14 = light.direction;
+    float3 l_3 = _e14.xyz;
+    float4 _e17 = light.radiance;
+    const float3 reflected = four_layer_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
 }

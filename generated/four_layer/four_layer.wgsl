@@ -8,6 +8,11 @@ struct EvalDispatch {
     pair_count: u32,
 }
 
+struct PreviewLight {
+    direction: vec4<f32>,
+    radiance: vec4<f32>,
+}
+
 struct PreviewVarying {
     @builtin(position) position: vec4<f32>,
     @location(0) p: vec2<f32>,
@@ -25,12 +30,14 @@ const layer1_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000
 const layer1_rho: vec3<f32> = vec3<f32>(0.2575977f, 0.39548016f, 0.5983388f);
 const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
 
-@group(0) @binding(1) 
+@group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
-@group(0) @binding(2) 
+@group(0) @binding(1) 
 var<storage, read_write> values: array<vec4<f32>>;
-@group(0) @binding(3) 
+@group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
+@group(0) @binding(4) 
+var<uniform> light: PreviewLight;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
@@ -41,10 +48,10 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
 }
 
-fn d_gtr1_(n_dot_h: f32, alpha: f32) -> f32 {
+fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a * a);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f)) * 3.1415927f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
@@ -101,12 +108,15 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-fn d_ggx(n_dot_h_1: f32, alpha_3: f32) -> f32 {
+fn d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
     let a_1 = max(alpha_3, 0.001f);
     let a_sq_1 = (a_1 * a_1);
-    let denom = (((n_dot_h_1 * n_dot_h_1) * (a_sq_1 - 1f)) + 1f);
+    let denom = (((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1);
     return (a_sq_1 / ((denom * denom) * 3.1415927f));
 }
 
@@ -155,7 +165,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let h = half_vector(v_1, l_1);
-    let d = d_gtr1_(dot(n_1, h), 0.040000003f);
+    let n_cross_h = cross(n_1, h);
+    let d = d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.25f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
     let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
@@ -182,7 +193,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
     let layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     let layer2_h = half_vector(layer2_v, layer2_l);
-    let layer2_d = d_ggx(dot(n_1, layer2_h), 0.09f);
+    let layer2_n_cross_h = cross(n_1, layer2_h);
+    let layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
     let layer2_specular = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
@@ -199,7 +211,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
     let layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
     let layer3_h = half_vector(layer3_v, layer3_l);
-    let layer3_d = d_ggx(dot(n_1, layer3_h), 0.25f);
+    let layer3_n_cross_h = cross(n_1, layer3_h);
+    let layer3_d = d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
     let layer3_specular = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
@@ -249,6 +262,9 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
     let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
-    let reflected = four_layer_eval(n_3, vec3<f32>(0f, 0f, 1f), vec3<f32>(-0.5014059f, 0.60168713f, 0.6217433f));
-    return vec4<f32>(select(vec3(0.02f), (reflected * vec3(3f)), (r2_ < 1f)), 1f);
+    let _e14 = light.direction;
+    let l_3 = _e14.xyz;
+    let _e17 = light.radiance;
+    let reflected = four_layer_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
+    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
 }

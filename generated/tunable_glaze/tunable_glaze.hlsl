@@ -22,15 +22,21 @@ struct EvalDispatch {
     int _end_pad_2;
 };
 
+struct PreviewLight {
+    float4 direction;
+    float4 radiance;
+};
+
 struct PreviewVarying {
     float4 position : SV_Position;
     float2 p : LOC0;
 };
 
-cbuffer params_2 : register(b0) { TunableGlazeParams params_2; }
-ByteAddressBuffer pairs : register(t1);
-RWByteAddressBuffer values : register(u2);
-cbuffer dispatch : register(b3) { EvalDispatch dispatch; }
+cbuffer params_2 : register(b3) { TunableGlazeParams params_2; }
+ByteAddressBuffer pairs : register(t0);
+RWByteAddressBuffer values : register(u1);
+cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_1 : LOC0;
@@ -52,13 +58,16 @@ float3 half_vector(float3 v, float3 l)
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-float d_ggx(float n_dot_h, float alpha)
+float d_ggx(float cos_h, float sin2_h, float alpha)
 {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
-    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    float denom = (((cos_h * cos_h) * a_sq) + sin2_h);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
 
@@ -233,7 +242,8 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float cos_l = max(n_dot_l_3, 0.0001);
     float3 tau_4 = (params.glaze_absorption * params.glaze_thickness);
     const float3 h = half_vector(v_1, l_1);
-    const float d = d_ggx(dot(n_1, h), (params.glaze_roughness * params.glaze_roughness));
+    float3 n_cross_h = cross(n_1, h);
+    const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     const float g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     const float fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
     const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
@@ -304,7 +314,10 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float2 p = fragmentinput_preview_fs.p_2;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    TunableGlazeParams _e21 = params_2;
-    const float3 reflected = tunable_glaze_eval(n_3, float3(0.0, 0.0, 1.0), float3(-0.5014059, 0.60168713, 0.6217433), _e21);
-    return float4(((r2_ < 1.0) ? (reflected * (3.0).xxx) : (0.02).xxx), 1.0);
+    float4 _e14 = light.direction;
+    float3 l_3 = _e14.xyz;
+    float4 _e17 = light.radiance;
+    TunableGlazeParams _e24 = params_2;
+    const float3 reflected = tunable_glaze_eval(n_3, float3(0.0, 0.0, 1.0), l_3, _e24);
+    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
 }

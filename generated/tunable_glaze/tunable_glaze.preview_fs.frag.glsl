@@ -8,7 +8,13 @@ struct TunableGlazeParams {
     vec3 body_albedo;
     float body_roughness;
 };
-layout(std140, binding = 0) uniform TunableGlazeParams_block_0Fragment { TunableGlazeParams _group_0_binding_0_fs; };
+struct PreviewLight {
+    vec4 direction;
+    vec4 radiance;
+};
+layout(std140, binding = 3) uniform TunableGlazeParams_block_0Fragment { TunableGlazeParams _group_0_binding_3_fs; };
+
+layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
@@ -23,12 +29,15 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-float d_ggx(float n_dot_h, float alpha) {
+float d_ggx(float cos_h, float sin2_h, float alpha) {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
-    float denom = (((n_dot_h * n_dot_h) * (a_sq - 1.0)) + 1.0);
+    float denom = (((cos_h * cos_h) * a_sq) + sin2_h);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
 
@@ -186,7 +195,8 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 tau_4 = (params.glaze_absorption * params.glaze_thickness);
     vec3 h = half_vector(v_1, l_1);
-    float d = d_ggx(dot(n_1, h), (params.glaze_roughness * params.glaze_roughness));
+    vec3 n_cross_h = cross(n_1, h);
+    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     float g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     float fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
     vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
@@ -219,9 +229,12 @@ void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     vec3 n_3 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    TunableGlazeParams _e21 = _group_0_binding_0_fs;
-    vec3 reflected = tunable_glaze_eval(n_3, vec3(0.0, 0.0, 1.0), vec3(-0.5014059, 0.60168713, 0.6217433), _e21);
-    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * vec3(3.0)) : vec3(0.02)), 1.0);
+    vec4 _e14 = _group_0_binding_4_fs.direction;
+    vec3 l_3 = _e14.xyz;
+    vec4 _e17 = _group_0_binding_4_fs.radiance;
+    TunableGlazeParams _e24 = _group_0_binding_3_fs;
+    vec3 reflected = tunable_glaze_eval(n_3, vec3(0.0, 0.0, 1.0), l_3, _e24);
+    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * _e17.xyz) : vec3(0.02)), 1.0);
     return;
 }
 

@@ -17,19 +17,26 @@ struct EvalDispatch {
     pair_count: u32,
 }
 
+struct PreviewLight {
+    direction: vec4<f32>,
+    radiance: vec4<f32>,
+}
+
 struct PreviewVarying {
     @builtin(position) position: vec4<f32>,
     @location(0) p: vec2<f32>,
 }
 
-@group(0) @binding(0) 
-var<uniform> params_2: TunableGlazeParams;
-@group(0) @binding(1) 
-var<storage> pairs: array<DirectionPair>;
-@group(0) @binding(2) 
-var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(3) 
+var<uniform> params_2: TunableGlazeParams;
+@group(0) @binding(0) 
+var<storage> pairs: array<DirectionPair>;
+@group(0) @binding(1) 
+var<storage, read_write> values: array<vec4<f32>>;
+@group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
+@group(0) @binding(4) 
+var<uniform> light: PreviewLight;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
@@ -41,12 +48,15 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
 // Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
+fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a = max(alpha, 0.001f);
     let a_sq = (a * a);
-    let denom = (((n_dot_h * n_dot_h) * (a_sq - 1f)) + 1f);
+    let denom = (((cos_h * cos_h) * a_sq) + sin2_h);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
 
@@ -207,7 +217,8 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let cos_l = max(n_dot_l_3, 0.0001f);
     let tau_4 = (params.glaze_absorption * params.glaze_thickness);
     let h = half_vector(v_1, l_1);
-    let d = d_ggx(dot(n_1, h), (params.glaze_roughness * params.glaze_roughness));
+    let n_cross_h = cross(n_1, h);
+    let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     let g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     let fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
     let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
@@ -259,7 +270,10 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
     let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
-    let _e21 = params_2;
-    let reflected = tunable_glaze_eval(n_3, vec3<f32>(0f, 0f, 1f), vec3<f32>(-0.5014059f, 0.60168713f, 0.6217433f), _e21);
-    return vec4<f32>(select(vec3(0.02f), (reflected * vec3(3f)), (r2_ < 1f)), 1f);
+    let _e14 = light.direction;
+    let l_3 = _e14.xyz;
+    let _e17 = light.radiance;
+    let _e24 = params_2;
+    let reflected = tunable_glaze_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3, _e24);
+    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
 }

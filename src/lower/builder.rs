@@ -805,6 +805,17 @@ impl<'a> Vector for ExprVec<'a> {
             }
         }
     }
+    fn cross(self, other: Self) -> Self {
+        match (self.v, other.v) {
+            (VVal::Const(a), VVal::Const(b)) => {
+                ExprVec { b: self.b, v: VVal::Const(Self::to_glam(a).cross(Self::to_glam(b)).to_array()), name: None }
+            }
+            _ => {
+                let args = [self.handle(), other.handle()];
+                self.dynamic(self.b.math(MathFunction::Cross, &args))
+            }
+        }
+    }
     fn normalize(self) -> Self {
         match self.v {
             VVal::Const(c) => {

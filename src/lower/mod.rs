@@ -10,7 +10,8 @@
 //!   order, `f32` or `vec3<f32>`), when the material has any;
 //! * the entry points `eval_pairs` (compute: f(wi, wo) for a buffer of direction pairs, used by
 //!   the tests, `eval` and benchmarks) and `preview_vs`/`preview_fs` (a full-screen triangle
-//!   that shades a sphere under one directional light).
+//!   that shades a sphere under one directional light, given by the `light` uniform; the
+//!   preview renderer adds several such passes to light the sphere by an environment).
 //!
 //! The binding layout is fixed and the same in every backend (group 0): see [`bindings`]. The
 //! kernel reads its element count from a uniform rather than from `arrayLength`, because
@@ -35,16 +36,22 @@ use crate::model::{Material, ParamValue};
 use builder::{Expr, ModuleBuilder};
 
 /// The resource bindings of generated modules (all in bind group 0).
+///
+/// They are numbered contiguously from 0 in the order a kernel's layout lists them: wgpu's
+/// Vulkan backend renumbers a bind group's entries 0, 1, 2, … in that order, and passthrough
+/// SPIR-V (the HLSL path) keeps the numbers glslang gave it, so the two must coincide.
 pub mod bindings {
     pub const GROUP: u32 = 0;
-    /// `var<uniform> params: <Material>Params` (only when the material has runtime parameters).
-    pub const PARAMS: u32 = 0;
     /// `var<storage, read> pairs: array<DirectionPair>`: `wi` then `wo`, each a `vec4<f32>` (w unused).
-    pub const PAIRS: u32 = 1;
+    pub const PAIRS: u32 = 0;
     /// `var<storage, read_write> values: array<vec4<f32>>`: f(wi, wo) in `xyz`, `w` = 0.
-    pub const VALUES: u32 = 2;
+    pub const VALUES: u32 = 1;
     /// `var<uniform> dispatch: EvalDispatch`: `pair_count: u32` (padded to 16 bytes).
-    pub const DISPATCH: u32 = 3;
+    pub const DISPATCH: u32 = 2;
+    /// `var<uniform> params: <Material>Params` (only when the material has runtime parameters).
+    pub const PARAMS: u32 = 3;
+    /// `var<uniform> light: PreviewLight` (the preview's directional light).
+    pub const PREVIEW_LIGHT: u32 = 4;
 }
 
 /// Entry point names.
@@ -60,11 +67,7 @@ pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 /// Byte size of one direction pair in the `pairs` buffer.
 pub const PAIR_STRIDE: u32 = 32;
 
-/// The preview's light: direction towards the light in view space (x right, y up, z towards the
-/// viewer), not normalised here, and its radiance. Chosen to light the sphere from the upper left.
-pub const PREVIEW_LIGHT_DIRECTION: [f32; 3] = [-0.5, 0.6, 0.62];
-pub const PREVIEW_LIGHT_RADIANCE: f32 = 3.0;
-/// Linear grey behind the sphere.
+/// Linear grey behind the preview sphere.
 pub const PREVIEW_BACKGROUND: f32 = 0.02;
 
 /// The layout of one runtime parameter inside the uniform struct.
@@ -372,6 +375,13 @@ fn varying(location: u32) -> Binding {
 /// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a unit sphere seen
 /// along −z, shaded by `<material>_eval` under one directional light).
 fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
+    let light_ty = struct_type(
+        b,
+        "PreviewLight",
+        &[("direction", b.types.vec4, 0, None), ("radiance", b.types.vec4, 16, None)],
+        32,
+    );
+    let light = global(b, "light", AddressSpace::Uniform, bindings::PREVIEW_LIGHT, light_ty);
     let varying_ty = struct_type(
         b,
         "PreviewVarying",
@@ -411,8 +421,18 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
     let n = Expr::vec3(px, py, nz).named("n");
     let c = |x: f32| b.constant(x);
     let v = Expr::vec3(c(0.0), c(0.0), c(1.0));
-    let [lx, ly, lz] = PREVIEW_LIGHT_DIRECTION;
-    let l = Expr::vec3(c(lx), c(ly), c(lz)).normalize();
+    let light_ptr = b.append(Expression::GlobalVariable(light));
+    let member = |index: u32| {
+        let ptr = b.append(Expression::AccessIndex { base: light_ptr, index });
+        let v4 = b.append(Expression::Load { pointer: ptr });
+        b.vector(b.append(Expression::Swizzle {
+            size: VectorSize::Tri,
+            vector: v4,
+            pattern: [SwizzleComponent::X, SwizzleComponent::Y, SwizzleComponent::Z, SwizzleComponent::X],
+        }))
+    };
+    let l = member(0).named("l");
+    let light_radiance = member(1);
     let mut arguments = vec![n.handle(), v.handle(), l.handle()];
     if let Some(var) = params_var {
         let ptr = b.append(Expression::GlobalVariable(var));
@@ -420,7 +440,7 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
     }
     let reflected = b.call(eval, arguments);
     b.name(reflected, "reflected");
-    let radiance = b.vector(reflected) * PREVIEW_LIGHT_RADIANCE;
+    let radiance = b.vector(reflected) * light_radiance;
     let inside = r2.lt(c(1.0));
     let color = <builder::ExprVec as Vector>::select(inside, radiance, c(PREVIEW_BACKGROUND).splat());
     let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), c(1.0).handle()] });

@@ -84,6 +84,9 @@ impl Vector for Vec3 {
     fn dot(self, other: Vec3) -> f32 {
         Vec3::dot(self, other)
     }
+    fn cross(self, other: Vec3) -> Vec3 {
+        Vec3::cross(self, other)
+    }
     fn normalize(self) -> Vec3 {
         self / self.length()
     }

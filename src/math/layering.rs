@@ -135,7 +135,19 @@ struct Geometry<F: Real> {
     n_dot_v: F,
     n_dot_l: F,
     level: usize,
-    half: OnceCell<(F, F)>,
+    half: OnceCell<Half<F>>,
+}
+
+/// The half vector h = (v + l)/|v + l| at one level, through the quantities the lobes use.
+#[derive(Clone, Copy)]
+struct Half<F: Real> {
+    /// cos θh = n·h.
+    n_dot_h: F,
+    /// sin²θh = |n × h|², computed directly rather than as 1 − (n·h)², which cancels
+    /// catastrophically in f32 at the specular peak (n·h → 1) of a sharp lobe.
+    sin2_h: F,
+    /// v·h (= l·h).
+    v_dot_h: F,
 }
 
 /// The name of a value at one level of the stack in generated code: `v` at the top, `layer1_v`
@@ -165,11 +177,12 @@ impl<F: Real> Geometry<F> {
         self.v.dot(self.l)
     }
 
-    /// (n·h, v·h) for the half vector h = normalize(v + l), computed once per level.
-    fn half(&self) -> (F, F) {
+    /// The half vector's cosines, computed once per level.
+    fn half(&self) -> Half<F> {
         *self.half.get_or_init(|| {
             let h = half_vector::<F>(self.v, self.l).named(&level_name("h", self.level));
-            (self.n.dot(h), self.v.dot(h))
+            let n_cross_h = self.n.cross(h).named(&level_name("n_cross_h", self.level));
+            Half { n_dot_h: self.n.dot(h), sin2_h: n_cross_h.dot(n_cross_h), v_dot_h: self.v.dot(h) }
         })
     }
 
@@ -206,16 +219,16 @@ fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) 
         Lobe::Smooth => return None,
         Lobe::Ggx { roughness } => {
             let r = inputs.scalar(*roughness);
-            (r, d_ggx(g.half().0, r * r))
+            (r, d_ggx(g.half().n_dot_h, g.half().sin2_h, r * r))
         }
         Lobe::Gtr1 { roughness } => {
             let r = inputs.scalar(*roughness);
-            (inputs.lit(GTR1_SMITH_ROUGHNESS), d_gtr1(g.half().0, r * r))
+            (inputs.lit(GTR1_SMITH_ROUGHNESS), d_gtr1(g.half().n_dot_h, g.half().sin2_h, r * r))
         }
     };
     let distribution = distribution.named(&name("d"));
     let shadowing = g_smith_schlick_ggx(g.n_dot_v, g.n_dot_l, roughness).named(&name("g"));
-    let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().1).named(&name("fresnel"));
+    let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().v_dot_h).named(&name("fresnel"));
     let specular = f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l).named(&name("specular"));
     Some(SeedLobe { specular, fresnel, shadowing })
 }
@@ -306,17 +319,17 @@ fn interfaced_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometr
         Lobe::Smooth => return inputs.zero(),
         Lobe::Ggx { roughness } => {
             let r = inputs.scalar(*roughness);
-            (d_ggx(g.half().0, r * r), r * r)
+            (d_ggx(g.half().n_dot_h, g.half().sin2_h, r * r), r * r)
         }
         Lobe::Gtr1 { roughness } => {
             let r = inputs.scalar(*roughness);
-            (d_gtr1(g.half().0, r * r), inputs.lit(GTR1_SMITH_ROUGHNESS))
+            (d_gtr1(g.half().n_dot_h, g.half().sin2_h, r * r), inputs.lit(GTR1_SMITH_ROUGHNESS))
         }
     };
     let name = |base| level_name(base, g.level);
     let distribution = distribution.named(&name("d"));
     let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g).named(&name("g"));
-    let fresnel = fr_dielectric(g.half().1, eta).named(&name("fresnel"));
+    let fresnel = fr_dielectric(g.half().v_dot_h, eta).named(&name("fresnel"));
     f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
 }
 
@@ -333,10 +346,10 @@ fn base_brdf<F: Real>(body: &Body<'_>, inputs: &Inputs<F>, g: &Geometry<F>, n_me
             let r = inputs.scalar(*roughness);
             let alpha = r * r;
             let name = |base| level_name(base, g.level);
-            let (n_dot_h, v_dot_h) = g.half();
-            let distribution = d_ggx(n_dot_h, alpha).named(&name("d"));
+            let half = g.half();
+            let distribution = d_ggx(half.n_dot_h, half.sin2_h, alpha).named(&name("d"));
             let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha).named(&name("g"));
-            let f = conductor_fresnel(fresnel, inputs, v_dot_h, n_medium).named(&name("fresnel"));
+            let f = conductor_fresnel(fresnel, inputs, half.v_dot_h, n_medium).named(&name("fresnel"));
             f_cook_torrance(distribution, shadowing, f, g.n_dot_v, g.n_dot_l)
         }
     }

@@ -152,6 +152,7 @@ pub trait Vector:
     type Real: Real<Vec = Self>;
 
     fn dot(self, other: Self) -> Self::Real;
+    fn cross(self, other: Self) -> Self;
     fn normalize(self) -> Self;
     fn x(self) -> Self::Real;
     fn y(self) -> Self::Real;

@@ -27,24 +27,28 @@ const TINY: f32 = 1e-12;
 
 shading_fn! {
     /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-    /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution D(h).
+    /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+    /// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+    /// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+    /// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
     /// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
-    pub fn d_ggx(n_dot_h: S, alpha: S) -> S {
+    pub fn d_ggx(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.at_least(ALPHA_MIN);
         let a_sq = a * a;
-        let denom = n_dot_h * n_dot_h * (a_sq - 1.0) + 1.0;
+        let denom = cos_h * cos_h * a_sq + sin2_h;
         a_sq / (denom * denom * PI)
     }
 }
 
 shading_fn! {
     /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
-    /// eq. 10): the clear-coat distribution D = (α²−1) / (π ln α² (1 + (α²−1) cos²θh)).
+    /// eq. 10): the clear-coat distribution D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with
+    /// 1 + (α² − 1) cos²θh written as α² cos²θh + sin²θh (as in `d_ggx`).
     /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly.
-    pub fn d_gtr1(n_dot_h: S, alpha: S) -> S {
+    pub fn d_gtr1(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
         let a_sq = a * a;
-        let d = (a_sq - 1.0) / (a_sq.ln() * (n_dot_h * n_dot_h * (a_sq - 1.0) + 1.0) * PI);
+        let d = (a_sq - 1.0) / (a_sq.ln() * (cos_h * cos_h * a_sq + sin2_h) * PI);
         F::select(alpha.gt_lit(GTR1_ALPHA_MAX), alpha.lit(1.0 / PI), d)
     }
 }
@@ -400,7 +404,7 @@ mod tests {
         // ∫ D(h) (n·h) dω_h = 1 (Walter et al. 2007, eq. 4).
         for alpha in [0.05_f32, 0.2, 0.5, 1.0] {
             let integral =
-                simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+                simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
     }
@@ -409,11 +413,11 @@ mod tests {
     fn gtr1_is_normalised_and_continuous_at_one() {
         for alpha in [0.01_f32, 0.1, 0.5] {
             let integral =
-                simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+                simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
-        assert!((d_gtr1(0.5, 1.0) - 1.0 / PI).abs() < 1e-6);
-        assert!((d_gtr1(0.5, 0.9998) - 1.0 / PI).abs() < 1e-3);
+        assert!((d_gtr1(0.5, 0.75, 1.0) - 1.0 / PI).abs() < 1e-6);
+        assert!((d_gtr1(0.5, 0.75, 0.9998) - 1.0 / PI).abs() < 1e-3);
     }
 
     #[test]

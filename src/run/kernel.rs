@@ -1,0 +1,202 @@
+//! The `eval_pairs` compute kernel on the device: f(wi, wo) for a buffer of direction pairs.
+
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use super::shader::{self, ShaderPath};
+use super::{Gpu, RunError};
+use crate::eval::Pair;
+use crate::lower::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, bindings, entry_points, params_layout};
+use crate::model::{Material, ParamValue};
+use crate::Compiled;
+
+/// Most pairs one dispatch covers (65,535 workgroups of 64 invocations).
+const MAX_PAIRS_PER_DISPATCH: usize = 65_535 * EVAL_WORKGROUP_SIZE as usize;
+
+/// A material's `eval_pairs` kernel, loaded by one [`ShaderPath`].
+pub struct EvalKernel {
+    pub path: ShaderPath,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    material: Material,
+}
+
+/// The uniform block of a material's runtime parameters, laid out as `lower` declares it.
+///
+/// # Errors
+/// [`RunError::ParamCount`] if `values` does not hold one value per parameter.
+pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Result<Vec<u8>, RunError> {
+    if values.len() != material.params.len() {
+        return Err(RunError::ParamCount { expected: material.params.len(), got: values.len() });
+    }
+    let (layout, size) = params_layout(material);
+    let mut bytes = vec![0u8; size as usize];
+    for (slot, value) in layout.iter().zip(values) {
+        let components: Vec<f32> = match *value {
+            ParamValue::Scalar(x) => vec![x],
+            ParamValue::Rgb(c) => c.to_vec(),
+        };
+        for (i, x) in components.iter().enumerate() {
+            let at = slot.offset as usize + 4 * i;
+            bytes[at..at + 4].copy_from_slice(&x.to_le_bytes());
+        }
+    }
+    Ok(bytes)
+}
+
+/// The `pairs` buffer: per pair `wi.xyz, 0, wo.xyz, 0` as little-endian f32.
+pub fn pairs_bytes(pairs: &[Pair]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(pairs.len() * PAIR_STRIDE as usize);
+    for p in pairs {
+        for x in [p.wi.x, p.wi.y, p.wi.z, 0.0, p.wo.x, p.wo.y, p.wo.z, 0.0] {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// The bind-group layout of `eval_pairs` (and, for binding 0, of the preview).
+pub(crate) fn kernel_layout(gpu: &Gpu, material: &Material) -> wgpu::BindGroupLayout {
+    // In binding order: wgpu's Vulkan backend numbers descriptors by position (see
+    // `lower::bindings`), which passthrough SPIR-V must match.
+    let mut entries = vec![
+        layout_entry(bindings::PAIRS, wgpu::BufferBindingType::Storage { read_only: true }),
+        layout_entry(bindings::VALUES, wgpu::BufferBindingType::Storage { read_only: false }),
+        layout_entry(bindings::DISPATCH, wgpu::BufferBindingType::Uniform),
+    ];
+    if !material.params.is_empty() {
+        entries.push(layout_entry(bindings::PARAMS, wgpu::BufferBindingType::Uniform));
+    }
+    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
+}
+
+/// Buffers and bind group for one dispatch.
+struct Batch {
+    bind_group: wgpu::BindGroup,
+    values: wgpu::Buffer,
+    count: usize,
+}
+
+impl EvalKernel {
+    /// Loads the material's kernel by `path` and builds its pipeline.
+    ///
+    /// # Errors
+    /// A [`RunError`] if the shader cannot be produced, compiled or accepted by the device.
+    pub fn new(gpu: &Gpu, compiled: &Compiled, path: ShaderPath) -> Result<EvalKernel, RunError> {
+        let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
+        let layout = kernel_layout(gpu, &compiled.material);
+        let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("eval_pairs"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
+        let pipeline = gpu.checked(&what, || {
+            gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&what),
+                layout: Some(&pipeline_layout),
+                module: &loaded.module,
+                entry_point: Some(&loaded.entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })?;
+        Ok(EvalKernel { path, pipeline, layout, material: compiled.material.clone() })
+    }
+
+    fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8]) -> Batch {
+        let init = |label, contents: &[u8], usage| {
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        let pairs_buffer = init("pairs", &pairs_bytes(pairs), wgpu::BufferUsages::STORAGE);
+        let mut dispatch = [0u8; 16];
+        dispatch[..4].copy_from_slice(&(pairs.len() as u32).to_le_bytes());
+        let dispatch_buffer = init("dispatch", &dispatch, wgpu::BufferUsages::UNIFORM);
+        let values = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("values"),
+            size: (pairs.len().max(1) * 16) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let params_buffer = (!params.is_empty()).then(|| init("params", params, wgpu::BufferUsages::UNIFORM));
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: bindings::PAIRS, resource: pairs_buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::VALUES, resource: values.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::DISPATCH, resource: dispatch_buffer.as_entire_binding() },
+        ];
+        if let Some(b) = &params_buffer {
+            entries.push(wgpu::BindGroupEntry { binding: bindings::PARAMS, resource: b.as_entire_binding() });
+        }
+        let bind_group =
+            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &self.layout, entries: &entries });
+        Batch { bind_group, values, count: pairs.len() }
+    }
+
+    fn dispatch(&self, gpu: &Gpu, batch: &Batch) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &batch.bind_group, &[]);
+            pass.dispatch_workgroups((batch.count as u32).div_ceil(EVAL_WORKGROUP_SIZE), 1, 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// f(wi, wo) for every pair, with the given parameter values (one per material parameter).
+    ///
+    /// # Errors
+    /// A wrong number of parameter values, or a failure to read the results back.
+    pub fn eval(&self, gpu: &Gpu, pairs: &[Pair], params: &[ParamValue]) -> Result<Vec<Vec3>, RunError> {
+        let params = params_bytes(&self.material, params)?;
+        let mut out = Vec::with_capacity(pairs.len());
+        for chunk in pairs.chunks(MAX_PAIRS_PER_DISPATCH) {
+            let batch = self.batch(gpu, chunk, &params);
+            self.dispatch(gpu, &batch);
+            let bytes = gpu.read_buffer(&batch.values, (chunk.len() * 16) as u64)?;
+            out.extend(bytes.chunks_exact(16).map(|v| {
+                let f = |i: usize| f32::from_le_bytes([v[i], v[i + 1], v[i + 2], v[i + 3]]);
+                Vec3::new(f(0), f(4), f(8))
+            }));
+        }
+        Ok(out)
+    }
+
+    /// Wall-clock time of `repeats` dispatches over `pairs` (at most one dispatch's worth), each
+    /// measured from submission until the device is idle, after one warm-up dispatch.
+    ///
+    /// # Errors
+    /// A wrong number of parameter values, or a device failure.
+    pub fn time_dispatches(
+        &self,
+        gpu: &Gpu,
+        pairs: &[Pair],
+        params: &[ParamValue],
+        repeats: usize,
+    ) -> Result<Vec<Duration>, RunError> {
+        let params = params_bytes(&self.material, params)?;
+        let pairs = &pairs[..pairs.len().min(MAX_PAIRS_PER_DISPATCH)];
+        let batch = self.batch(gpu, pairs, &params);
+        self.dispatch(gpu, &batch);
+        gpu.wait()?;
+        let mut times = Vec::with_capacity(repeats);
+        for _ in 0..repeats {
+            let start = Instant::now();
+            self.dispatch(gpu, &batch);
+            gpu.wait()?;
+            times.push(start.elapsed());
+        }
+        Ok(times)
+    }
+}

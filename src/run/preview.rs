@@ -1,0 +1,1 @@
+//! Sphere previews (filled in below).
