@@ -50,12 +50,14 @@ float3 half_vector(float3 v, float3 l)
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
+// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+// zero half vector (two zero directions under total internal reflection), where it would
+// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha)
 {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
-    float denom = (((cos_h * cos_h) * a_sq) + sin2_h);
+    float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
 

@@ -64,7 +64,7 @@ float d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927));
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 

@@ -53,7 +53,7 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 

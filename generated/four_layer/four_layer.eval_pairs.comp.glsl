@@ -42,7 +42,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 float d_gtr1_(float cos_h, float sin2_h, float alpha) {
     float a = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a * a);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927));
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
@@ -103,11 +103,13 @@ vec3 slab_transmittance(vec3 tau, float mu) {
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
+// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+// zero half vector (two zero directions under total internal reflection), where it would
+// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
     float a_1 = max(alpha_3, 0.001);
     float a_sq_1 = (a_1 * a_1);
-    float denom = (((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1);
+    float denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 1e-12);
     return (a_sq_1 / ((denom * denom) * 3.1415927));
 }
 

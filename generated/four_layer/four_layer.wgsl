@@ -51,7 +51,7 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a * a);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * (((cos_h * cos_h) * a_sq) + sin2_h)) * 3.1415927f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
@@ -112,11 +112,13 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
+// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+// zero half vector (two zero directions under total internal reflection), where it would
+// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
     let a_1 = max(alpha_3, 0.001f);
     let a_sq_1 = (a_1 * a_1);
-    let denom = (((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1);
+    let denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 0.000000000001f);
     return (a_sq_1 / ((denom * denom) * 3.1415927f));
 }
 

@@ -31,11 +31,13 @@ shading_fn! {
     /// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
     /// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
     /// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-    /// Guard: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite.
+    /// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+    /// zero half vector (two zero directions under total internal reflection), where it would
+    /// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
     pub fn d_ggx(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.at_least(ALPHA_MIN);
         let a_sq = a * a;
-        let denom = cos_h * cos_h * a_sq + sin2_h;
+        let denom = (cos_h * cos_h * a_sq + sin2_h).at_least(TINY);
         a_sq / (denom * denom * PI)
     }
 }
@@ -44,11 +46,12 @@ shading_fn! {
     /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
     /// eq. 10): the clear-coat distribution D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with
     /// 1 + (α² − 1) cos²θh written as α² cos²θh + sin²θh (as in `d_ggx`).
-    /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly.
+    /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly; the
+    /// bracket ≥ TINY for a zero half vector, as in `d_ggx`.
     pub fn d_gtr1(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
         let a_sq = a * a;
-        let d = (a_sq - 1.0) / (a_sq.ln() * (cos_h * cos_h * a_sq + sin2_h) * PI);
+        let d = (a_sq - 1.0) / (a_sq.ln() * (cos_h * cos_h * a_sq + sin2_h).at_least(TINY) * PI);
         F::select(alpha.gt_lit(GTR1_ALPHA_MAX), alpha.lit(1.0 / PI), d)
     }
 }
