@@ -155,7 +155,8 @@ fn runtime_parameters_have_one_layout_in_every_backend() {
         }
         let struct_name = compiled.material.params_struct_name();
         let (layout, _) = glazec::lower::params_layout(&compiled.material);
-        let expected: std::collections::BTreeMap<String, u32> = layout.iter().map(|p| (p.name.clone(), p.offset)).collect();
+        let expected: std::collections::BTreeMap<String, u32> =
+            layout.iter().map(|p| (p.name.clone(), p.offset)).collect();
         let artifacts = compiled.emit(&[Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
         let mut spirv_files = Vec::new();
         for artifact in &artifacts {
@@ -169,7 +170,8 @@ fn runtime_parameters_have_one_layout_in_every_backend() {
                 spirv_files.push(("GLSL via glslang", spv));
             } else if artifact.file_name.ends_with(".hlsl") {
                 let spv = file.with_extension("spv");
-                check_with_glslang(&file, &["-D", "-V", "-S", "comp", "-e", "eval_pairs"], &spv).expect("HLSL compiles");
+                check_with_glslang(&file, &["-D", "-V", "-S", "comp", "-e", "eval_pairs"], &spv)
+                    .expect("HLSL compiles");
                 spirv_files.push(("HLSL via glslang", spv));
             }
         }

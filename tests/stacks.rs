@@ -3,6 +3,9 @@
 //! validates with all of naga's checks, every backend emits, and the CPU evaluation of the same
 //! math is finite, non-negative and reciprocal.
 
+mod common;
+
+use common::stacks::{WEIDLICH_WILKIE, Writer, stack};
 use glam::Vec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -15,109 +18,6 @@ const PAIRS: usize = 48;
 /// Reciprocity tolerance: f32 rounding of a symmetric formula evaluated in two orders.
 const RECIPROCITY_REL: f32 = 2e-4;
 const RECIPROCITY_ABS: f32 = 1e-6;
-
-#[derive(Debug, Clone)]
-enum Num {
-    Lit(f32),
-    Param(f32),
-}
-
-fn num(range: std::ops::RangeInclusive<f32>) -> impl Strategy<Value = Num> {
-    prop_oneof![4 => range.clone().prop_map(Num::Lit), 1 => range.prop_map(Num::Param)]
-}
-
-fn rgb(range: std::ops::RangeInclusive<f32>) -> impl Strategy<Value = (Num, [f32; 3])> {
-    (num(range.clone()), prop::array::uniform3(range))
-}
-
-#[derive(Debug, Clone)]
-struct Coat {
-    lobe: u8,
-    roughness: Num,
-    ior: Num,
-    absorption: (Num, [f32; 3]),
-    thickness: Num,
-}
-
-#[derive(Debug, Clone)]
-struct Stack {
-    method: u8,
-    coats: Vec<Coat>,
-    base: u8,
-    albedo: (Num, [f32; 3]),
-    roughness: Num,
-    ior: Num,
-}
-
-fn coat() -> impl Strategy<Value = Coat> {
-    (0u8..3, num(0.0..=1.0), num(0.7..=3.0), rgb(0.0..=5.0), num(0.0..=2.0))
-        .prop_map(|(lobe, roughness, ior, absorption, thickness)| Coat { lobe, roughness, ior, absorption, thickness })
-}
-
-fn stack() -> impl Strategy<Value = Stack> {
-    (0u8..4, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
-        .prop_map(|(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior })
-}
-
-/// Writes a stack as material text; runtime parameters get unique names.
-struct Writer {
-    next_param: usize,
-}
-
-impl Writer {
-    fn num(&mut self, n: &Num) -> String {
-        match n {
-            Num::Lit(x) => format!("{x:?}"),
-            Num::Param(x) => {
-                self.next_param += 1;
-                format!("Param(\"p{}\", {x:?})", self.next_param)
-            }
-        }
-    }
-
-    fn rgb(&mut self, (n, c): &(Num, [f32; 3])) -> String {
-        match n {
-            Num::Lit(_) => format!("({:?}, {:?}, {:?})", c[0], c[1], c[2]),
-            Num::Param(_) => {
-                self.next_param += 1;
-                format!("Param(\"p{}\", ({:?}, {:?}, {:?}))", self.next_param, c[0], c[1], c[2])
-            }
-        }
-    }
-
-    fn material(&mut self, s: &Stack) -> String {
-        let method = ["", "method: Additive,", "method: WeidlichWilkie,", "method: Interfaced,"][s.method as usize];
-        let mut layers = Vec::new();
-        for c in &s.coats {
-            let lobe = match c.lobe {
-                0 => "Smooth".to_string(),
-                1 => format!("Ggx(roughness: {})", self.num(&c.roughness)),
-                _ => format!("Gtr1({})", self.num(&c.roughness)),
-            };
-            layers.push(format!(
-                "Coat(lobe: {lobe}, ior: {}, absorption: {}, thickness: {})",
-                self.num(&c.ior),
-                self.rgb(&c.absorption),
-                self.num(&c.thickness)
-            ));
-        }
-        let base = match s.base {
-            0 => format!("Lambert({})", self.rgb(&s.albedo)),
-            1 => format!("OrenNayar(albedo: {}, roughness: {})", self.rgb(&s.albedo), self.num(&s.roughness)),
-            2 => format!("Eon(albedo: {}, roughness: {})", self.rgb(&s.albedo), self.num(&s.roughness)),
-            3 => format!("Conductor(roughness: {}, f0: {})", self.num(&s.roughness), self.rgb(&s.albedo)),
-            4 => format!("Conductor(roughness: {}, eta: (0.2, 0.9, 1.1), k: (3.9, 2.4, 2.1))", self.num(&s.roughness)),
-            _ => format!(
-                "Plastic(albedo: {}, roughness: {}, ior: {})",
-                self.rgb(&s.albedo),
-                self.num(&s.roughness),
-                self.num(&s.ior)
-            ),
-        };
-        layers.push(base);
-        format!("Material(name: \"random\", {method} layers: [\n    {}\n])", layers.join(",\n    "))
-    }
-}
 
 /// Deterministic directions on the upper hemisphere, grazing ones included.
 fn directions() -> Vec<(Vec3, Vec3)> {
@@ -150,7 +50,7 @@ proptest! {
 
         // Every method is reciprocal except the seed's Weidlich–Wilkie over a smooth coat, whose
         // T12 = 1 − F(n·v) depends on the view direction only (seed 000 eq. 5; README).
-        let reciprocal = s.method != 2 || s.coats.iter().all(|c| c.lobe != 0);
+        let reciprocal = s.method != WEIDLICH_WILKIE || s.coats.iter().all(|c| c.lobe != 0);
         let values = compiled.material.default_values();
         for (wi, wo) in directions() {
             let f = glazec::eval::brdf(&compiled.material, &values, wi, wo);

@@ -406,8 +406,12 @@ mod tests {
     fn ggx_d_is_normalised() {
         // ∫ D(h) (n·h) dω_h = 1 (Walter et al. 2007, eq. 4).
         for alpha in [0.05_f32, 0.2, 0.5, 1.0] {
-            let integral =
-                simpson(|mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            let integral = simpson(
+                |mu| 2.0 * std::f64::consts::PI * d_ggx(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu,
+                0.0,
+                1.0,
+                20_000,
+            );
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
     }
@@ -415,8 +419,12 @@ mod tests {
     #[test]
     fn gtr1_is_normalised_and_continuous_at_one() {
         for alpha in [0.01_f32, 0.1, 0.5] {
-            let integral =
-                simpson(|mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu, 0.0, 1.0, 20_000);
+            let integral = simpson(
+                |mu| 2.0 * std::f64::consts::PI * d_gtr1(mu as f32, (1.0 - mu * mu) as f32, alpha) as f64 * mu,
+                0.0,
+                1.0,
+                20_000,
+            );
             assert!((integral - 1.0).abs() < 2e-3, "alpha {alpha}: {integral}");
         }
         assert!((d_gtr1(0.5, 0.75, 1.0) - 1.0 / PI).abs() < 1e-6);

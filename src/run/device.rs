@@ -49,8 +49,7 @@ impl Gpu {
         };
         let info = adapter.get_info();
         let passthrough = adapter.features().contains(wgpu::Features::PASSTHROUGH_SHADERS);
-        let required_features =
-            if passthrough { wgpu::Features::PASSTHROUGH_SHADERS } else { wgpu::Features::empty() };
+        let required_features = if passthrough { wgpu::Features::PASSTHROUGH_SHADERS } else { wgpu::Features::empty() };
         let mut required_limits = wgpu::Limits::default();
         required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
         required_limits.max_buffer_size = adapter.limits().max_buffer_size;

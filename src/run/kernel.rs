@@ -7,10 +7,10 @@ use wgpu::util::DeviceExt;
 
 use super::shader::{self, ShaderPath};
 use super::{Gpu, RunError};
+use crate::Compiled;
 use crate::eval::Pair;
 use crate::lower::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, bindings, entry_points, params_layout};
 use crate::model::{Material, ParamValue};
-use crate::Compiled;
 
 /// Most pairs one dispatch covers (65,535 workgroups of 64 invocations).
 const MAX_PAIRS_PER_DISPATCH: usize = 65_535 * EVAL_WORKGROUP_SIZE as usize;
@@ -78,7 +78,8 @@ pub(crate) fn kernel_layout(gpu: &Gpu, material: &Material) -> wgpu::BindGroupLa
     if !material.params.is_empty() {
         entries.push(layout_entry(bindings::PARAMS, wgpu::BufferBindingType::Uniform));
     }
-    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
 }
 
 /// Buffers and bind group for one dispatch.
@@ -138,8 +139,11 @@ impl EvalKernel {
         if let Some(b) = &params_buffer {
             entries.push(wgpu::BindGroupEntry { binding: bindings::PARAMS, resource: b.as_entire_binding() });
         }
-        let bind_group =
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &self.layout, entries: &entries });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.layout,
+            entries: &entries,
+        });
         Batch { bind_group, values, count: pairs.len() }
     }
 

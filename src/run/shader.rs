@@ -80,7 +80,11 @@ pub(crate) fn load(
                 .find(|a| a.stage.as_ref().is_some_and(|(s, e)| *s == stage && e == entry))
                 .ok_or_else(|| RunError::Rejected { what: what.clone(), message: format!("no GLSL for `{entry}`") })?;
             let stage_name = crate::emit::stage_suffix(stage);
-            let words = glslang(&artifact.contents, &artifact.file_name, &["-V", "--target-env", "vulkan1.0", "-S", stage_name])?;
+            let words = glslang(
+                &artifact.contents,
+                &artifact.file_name,
+                &["-V", "--target-env", "vulkan1.0", "-S", stage_name],
+            )?;
             let entry = spirv_entry_point(&words).unwrap_or_else(|| "main".to_string());
             let module = create(wgpu::ShaderSource::SpirV(Cow::Owned(words)))?;
             Ok(Loaded { module, entry })
@@ -126,7 +130,9 @@ fn glslang(source: &[u8], file_name: &str, args: &[&str]) -> Result<Vec<u32>, Ru
     let result = Command::new("glslangValidator").args(args).arg(&input).arg("-o").arg(&output).output();
     let result = match result {
         Ok(r) => r,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(RunError::ToolMissing { tool: "glslangValidator" }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(RunError::ToolMissing { tool: "glslangValidator" });
+        }
         Err(e) => return Err(e.into()),
     };
     if !result.status.success() {
@@ -155,7 +161,8 @@ fn spirv_entry_point(words: &[u32]) -> Option<String> {
             return None;
         }
         if opcode == OP_ENTRY_POINT && i + 3 < words.len() {
-            let bytes: Vec<u8> = words[i + 3..(i + count).min(words.len())].iter().flat_map(|w| w.to_le_bytes()).collect();
+            let bytes: Vec<u8> =
+                words[i + 3..(i + count).min(words.len())].iter().flat_map(|w| w.to_le_bytes()).collect();
             let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
             return String::from_utf8(bytes[..end].to_vec()).ok();
         }

@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod stacks;
+
 /// The project root (where `materials/` and `generated/` live).
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
