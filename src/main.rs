@@ -43,6 +43,29 @@ enum TargetArg {
 enum Backend {
     /// The CPU evaluation of the shared math (f32).
     Cpu,
+    /// The naga module itself, on the GPU (lavapipe).
+    #[cfg(feature = "gpu")]
+    NagaIr,
+    /// The emitted WGSL through wgpu's front end, on the GPU.
+    #[cfg(feature = "gpu")]
+    Wgsl,
+    /// The emitted GLSL compiled by glslangValidator, on the GPU.
+    #[cfg(feature = "gpu")]
+    Glsl,
+    /// The emitted HLSL compiled by glslang's HLSL front end, on the GPU (passthrough SPIR-V).
+    #[cfg(feature = "gpu")]
+    Hlsl,
+}
+
+#[cfg(feature = "gpu")]
+#[derive(Clone, Copy, ValueEnum)]
+enum EnvironmentArg {
+    /// No environment: the key light alone.
+    None,
+    /// A blue sky over a dark ground.
+    Sky,
+    /// A soft grey dome over a dark floor.
+    Studio,
 }
 
 #[derive(Subcommand)]
@@ -85,6 +108,35 @@ enum Command {
         #[arg(long, value_enum, default_value = "human")]
         message_format: MessageFormat,
     },
+    /// Render a sphere with the material on the GPU and write a PNG. Several inputs (or a
+    /// directory) give a labelled contact sheet.
+    #[cfg(feature = "gpu")]
+    Preview {
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// The PNG to write.
+        #[arg(short, long)]
+        out: PathBuf,
+        /// Image (or tile) size in pixels.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Direction towards the key light, `x,y,z` in view space (y up, z towards the viewer).
+        #[arg(long, value_name = "X,Y,Z", default_value = "-0.5,0.6,0.62")]
+        light: String,
+        /// Radiance of the key light.
+        #[arg(long, default_value_t = 2.5)]
+        light_radiance: f32,
+        #[arg(long, value_enum, default_value = "sky")]
+        env: EnvironmentArg,
+        /// Linear scale before sRGB encoding.
+        #[arg(long, default_value_t = 1.0)]
+        exposure: f32,
+        /// Tiles per row of a contact sheet.
+        #[arg(long, default_value_t = 3)]
+        columns: usize,
+        #[arg(long, value_enum, default_value = "human")]
+        message_format: MessageFormat,
+    },
 }
 
 /// How a run failed, and with which exit code.
@@ -112,6 +164,18 @@ fn main() -> ExitCode {
         Command::Check { files, message_format } => check(&files, message_format),
         Command::Eval { file, pairs, backend, set, message_format } => {
             eval(&file, &pairs, backend, &set, message_format)
+        }
+        #[cfg(feature = "gpu")]
+        Command::Preview { inputs, out, size, light, light_radiance, env, exposure, columns, message_format } => {
+            let environment = match env {
+                EnvironmentArg::None => glazec::run::preview::Environment::None,
+                EnvironmentArg::Sky => glazec::run::preview::Environment::Sky,
+                EnvironmentArg::Studio => glazec::run::preview::Environment::Studio,
+            };
+            parse_vec3(&light).map_err(Failure::Usage).and_then(|light| {
+                let options = glazec::run::preview::PreviewOptions { size, light, light_radiance, environment, exposure };
+                preview(&inputs, &out, &options, columns, message_format)
+            })
         }
     };
     match result {
@@ -303,15 +367,84 @@ fn eval(file: &Path, pairs: &Path, backend: Backend, set: &[String], format: Mes
     let values = parameter_values(&material, set)?;
     let text = std::fs::read_to_string(pairs).with_context(|| format!("cannot read {}", pairs.display()))?;
     let pairs = glazec::eval::parse_pairs(&text).with_context(|| format!("{}", pairs.display()))?;
+    let results: Vec<glam::Vec3> = match backend {
+        Backend::Cpu => pairs.iter().map(|p| glazec::eval::brdf(&material, &values, p.wi, p.wo)).collect(),
+        #[cfg(feature = "gpu")]
+        Backend::NagaIr => eval_on_gpu(material, &pairs, &values, glazec::run::ShaderPath::NagaIr)?,
+        #[cfg(feature = "gpu")]
+        Backend::Wgsl => eval_on_gpu(material, &pairs, &values, glazec::run::ShaderPath::Wgsl)?,
+        #[cfg(feature = "gpu")]
+        Backend::Glsl => eval_on_gpu(material, &pairs, &values, glazec::run::ShaderPath::Glsl)?,
+        #[cfg(feature = "gpu")]
+        Backend::Hlsl => eval_on_gpu(material, &pairs, &values, glazec::run::ShaderPath::Hlsl)?,
+    };
     let mut stdout = std::io::BufWriter::new(std::io::stdout().lock());
-    match backend {
-        Backend::Cpu => {
-            for pair in &pairs {
-                let f = glazec::eval::brdf(&material, &values, pair.wi, pair.wo);
-                writeln!(stdout, "{}", glazec::eval::format_rgb(f)).context("cannot write to stdout")?;
-            }
-        }
+    for f in results {
+        writeln!(stdout, "{}", glazec::eval::format_rgb(f)).context("cannot write to stdout")?;
     }
     stdout.flush().context("cannot write to stdout")?;
+    Ok(())
+}
+
+/// Maps a device failure to an exit code: no adapter or no compiler is a usage problem (2);
+/// anything the device rejects is a bug (3).
+#[cfg(feature = "gpu")]
+fn run_failure(e: glazec::run::RunError) -> Failure {
+    use glazec::run::RunError;
+    match e {
+        RunError::NoAdapter { .. } | RunError::ToolMissing { .. } | RunError::NoPassthrough { .. } | RunError::Io(_) => {
+            Failure::Usage(e.into())
+        }
+        _ => Failure::Internal(e.into()),
+    }
+}
+
+#[cfg(feature = "gpu")]
+fn eval_on_gpu(
+    material: Material,
+    pairs: &[glazec::eval::Pair],
+    values: &[ParamValue],
+    path: glazec::run::ShaderPath,
+) -> Result<Vec<glam::Vec3>, Failure> {
+    let compiled = glazec::compile_material(material, Default::default()).map_err(|e| Failure::Internal(e.into()))?;
+    let gpu = glazec::run::Gpu::new().map_err(run_failure)?;
+    let kernel = glazec::run::EvalKernel::new(&gpu, &compiled, path).map_err(run_failure)?;
+    kernel.eval(&gpu, pairs, values).map_err(run_failure)
+}
+
+#[cfg(feature = "gpu")]
+fn parse_vec3(text: &str) -> anyhow::Result<glam::Vec3> {
+    let numbers: Vec<f32> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f32>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .with_context(|| format!("`{text}` is not three numbers x,y,z"))?;
+    match numbers.as_slice() {
+        [x, y, z] if (x * x + y * y + z * z) > 0.0 => Ok(glam::Vec3::new(*x, *y, *z)),
+        _ => bail!("`{text}` is not a non-zero direction x,y,z"),
+    }
+}
+
+#[cfg(feature = "gpu")]
+fn preview(
+    inputs: &[PathBuf],
+    out: &Path,
+    options: &glazec::run::preview::PreviewOptions,
+    columns: usize,
+    format: MessageFormat,
+) -> Result<(), Failure> {
+    use glazec::run::preview;
+    let files = read_inputs(inputs)?;
+    let compiled = compile_all(&files, format)?;
+    let gpu = glazec::run::Gpu::new().map_err(run_failure)?;
+    let mut tiles = Vec::new();
+    for c in &compiled {
+        let linear = preview::render(&gpu, c, &c.material.default_values(), options).map_err(run_failure)?;
+        tiles.push((c.material.name.clone(), preview::encode(&linear, options.size, options.exposure)));
+    }
+    let single = inputs.len() == 1 && !inputs[0].is_dir();
+    let image = if single { tiles.remove(0).1 } else { preview::contact_sheet(&tiles, columns) };
+    preview::write_png(out, &image).map_err(run_failure)?;
+    eprintln!("wrote {} ({}×{}, {} on {})", out.display(), image.width, image.height, compiled.len(), gpu.describe());
     Ok(())
 }

@@ -38,7 +38,12 @@ pub fn write_all(files: &[OutputFile]) -> io::Result<()> {
 fn stage(file: &OutputFile) -> io::Result<tempfile::NamedTempFile> {
     let dir = file.path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     fs::create_dir_all(dir)?;
-    let mut temp = tempfile::Builder::new().prefix(".glazec-").tempfile_in(dir)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".glazec-");
+    // Temporary files are private (0600) by default; outputs are ordinary files.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut temp = builder.tempfile_in(dir)?;
     temp.write_all(&file.contents)?;
     temp.as_file().sync_all()?;
     Ok(temp)
@@ -96,6 +101,12 @@ mod tests {
         assert!(drift(&files).is_empty());
         let changed = vec![OutputFile { path: dir.path().join("a/x.txt"), contents: b"three".to_vec() }];
         assert_eq!(drift(&changed), vec![Drift::Different(dir.path().join("a/x.txt"))]);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = fs::metadata(dir.path().join("a/x.txt")).expect("written").permissions().mode();
+            assert_eq!(mode & 0o777, 0o644, "outputs are ordinary files, not private temporaries");
+        }
         // No temporary files are left behind.
         let leftovers: Vec<_> = fs::read_dir(dir.path().join("a")).expect("dir").collect();
         assert_eq!(leftovers.len(), 1);

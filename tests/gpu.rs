@@ -234,3 +234,93 @@ fn runtime_parameters_are_read_from_the_uniform_buffer() {
     let b = kernel.eval(gpu, &pairs[..64], &changed).expect("runs");
     assert!(a.iter().zip(&b).any(|(x, y)| (*x - *y).abs().max_element() > 1e-3), "parameters had no effect");
 }
+
+/// Size of the previews rendered by the tests.
+const PREVIEW_SIZE: u32 = 96;
+
+/// Mean and peak luminance over the sphere, and the share of sphere pixels brighter than half
+/// the peak (how wide the highlight is), of a preview under the key light alone.
+fn preview_stats(gpu: &Gpu, name: &str) -> (f32, f32, f32) {
+    use glazec::run::preview;
+    let compiled = common::compile_file(&common::root().join(format!("materials/{name}.ron")));
+    let options =
+        preview::PreviewOptions { size: PREVIEW_SIZE, environment: preview::Environment::None, ..Default::default() };
+    let pixels = preview::render(gpu, &compiled, &compiled.material.default_values(), &options).expect("renders");
+    let luminance: Vec<f32> =
+        pixels.iter().filter(|p| p[3] > 0.0).map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]).collect();
+    let mean = luminance.iter().sum::<f32>() / luminance.len() as f32;
+    let peak = luminance.iter().copied().fold(0.0, f32::max);
+    let bright = luminance.iter().filter(|&&l| l > 0.5 * peak).count() as f32 / luminance.len() as f32;
+    (mean, peak, bright)
+}
+
+#[test]
+fn previews_show_the_differences_seed_000_describes() {
+    let Some(gpu) = gpu() else { return };
+    let (clay_mean, clay_peak, clay_bright) = preview_stats(gpu, "clay");
+    let (wet_mean, wet_peak, _) = preview_stats(gpu, "wet_clay");
+    let (coat_mean, coat_peak, coat_bright) = preview_stats(gpu, "disney_clay");
+    eprintln!("clay: mean {clay_mean:.4}, peak {clay_peak:.3}, highlight share {clay_bright:.4}");
+    eprintln!("wet_clay: mean {wet_mean:.4}, peak {wet_peak:.3}");
+    eprintln!("disney_clay: mean {coat_mean:.4}, peak {coat_peak:.3}, highlight share {coat_bright:.4}");
+    // Wet clay is darker and glossier (seed 000 §2.4, Figure 3).
+    assert!(wet_mean < clay_mean, "wet clay is not darker");
+    assert!(wet_peak > clay_peak, "wet clay is not glossier");
+    // The clear coat's highlight is brighter and sharper, and nothing darkens its body (§4).
+    assert!(coat_peak > clay_peak, "the clear-coat highlight is not brighter");
+    assert!(coat_bright < clay_bright, "the clear-coat highlight is not sharper");
+    assert!(coat_mean > clay_mean, "the clear coat darkens the body although it only adds a lobe");
+}
+
+#[test]
+fn preview_covers_a_disk_and_writes_a_png() {
+    use glazec::run::preview;
+    let Some(gpu) = gpu() else { return };
+    let compiled = common::compile_file(&common::root().join("materials/tunable_glaze.ron"));
+    let options = preview::PreviewOptions { size: PREVIEW_SIZE, ..Default::default() };
+    let pixels = preview::render(gpu, &compiled, &compiled.material.default_values(), &options).expect("renders");
+    let at = |x: u32, y: u32| pixels[(y * PREVIEW_SIZE + x) as usize];
+    assert!(at(PREVIEW_SIZE / 2, PREVIEW_SIZE / 2)[3] > 0.0, "the centre is on the sphere");
+    assert_eq!(at(0, 0)[3], 0.0, "the corner is background");
+    assert!(at(PREVIEW_SIZE / 2, PREVIEW_SIZE / 2)[0] > 0.0, "the sphere is lit");
+    let covered = pixels.iter().filter(|p| p[3] > 0.0).count() as f32 / pixels.len() as f32;
+    assert!((covered - std::f32::consts::FRAC_PI_4).abs() < 0.03, "the sphere covers π/4 of the square: {covered}");
+    let image = preview::encode(&pixels, PREVIEW_SIZE, 1.0);
+    let dir = tempfile::tempdir().expect("tmp");
+    let path = dir.path().join("glaze.png");
+    preview::write_png(&path, &image).expect("writes");
+    let bytes = std::fs::read(&path).expect("written");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn eval_command_runs_every_backend() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tmp");
+    let csv = dir.path().join("pairs.csv");
+    let mut text = String::from("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n");
+    for p in pairs().iter().step_by(37) {
+        text.push_str(&format!("{},{},{},{},{},{}\n", p.wi.x, p.wi.y, p.wi.z, p.wo.x, p.wo.y, p.wo.z));
+    }
+    std::fs::write(&csv, text).expect("writes");
+    let run = |backend: &str| -> Vec<f32> {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_glazec"))
+            .args(["eval", "materials/tunable_glaze.ron", "--pairs", csv.to_str().expect("utf-8"), "--backend", backend])
+            .current_dir(common::root())
+            .output()
+            .expect("runs glazec");
+        assert!(out.status.success(), "{backend}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).split([',', '\n']).filter(|s| !s.is_empty()).map(|x| x.parse().expect("a number")).collect()
+    };
+    let cpu = run("cpu");
+    assert!(cpu.len() > 300);
+    for backend in ["naga-ir", "wgsl", "glsl", "hlsl"] {
+        let gpu = run(backend);
+        assert_eq!(gpu.len(), cpu.len(), "{backend}");
+        for (g, c) in gpu.iter().zip(&cpu) {
+            assert!((g - c).abs() <= REL_TOL * c.abs() + ABS_TOL, "{backend}: {g} vs cpu {c}");
+        }
+    }
+}

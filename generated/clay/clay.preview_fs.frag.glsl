@@ -144,7 +144,8 @@ void main() {
     vec3 l_3 = _e14.xyz;
     vec4 _e17 = _group_0_binding_4_fs.radiance;
     vec3 reflected = clay_eval(n_3, vec3(0.0, 0.0, 1.0), l_3);
-    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * _e17.xyz) : vec3(0.02)), 1.0);
+    bool _e26 = (r2_ < 1.0);
+    _fs2p_location0 = vec4((_e26 ? (reflected * _e17.xyz) : vec3(0.0)), (_e26 ? 1.0 : 0.0));
     return;
 }
 

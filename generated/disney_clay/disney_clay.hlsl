@@ -112,7 +112,7 @@ float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
     const float3 f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     const float3 h = half_vector(v_1, l_1);
     float3 n_cross_h = cross(n, h);
-    const float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09);
+    const float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.0196);
     const float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
     const float3 fresnel = f_schlick((0.040000003).xxx, dot(v_1, h));
     const float3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -171,5 +171,6 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
     const float3 reflected = disney_clay_eval(n_2, float3(0.0, 0.0, 1.0), l_3);
-    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
+    bool _e26 = (r2_ < 1.0);
+    return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
 }

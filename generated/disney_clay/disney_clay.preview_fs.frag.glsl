@@ -78,7 +78,7 @@ vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
     vec3 f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     vec3 h = half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n, h);
-    float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09);
+    float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.0196);
     float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
     vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
     vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -100,7 +100,8 @@ void main() {
     vec3 l_3 = _e14.xyz;
     vec4 _e17 = _group_0_binding_4_fs.radiance;
     vec3 reflected = disney_clay_eval(n_2, vec3(0.0, 0.0, 1.0), l_3);
-    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * _e17.xyz) : vec3(0.02)), 1.0);
+    bool _e26 = (r2_ < 1.0);
+    _fs2p_location0 = vec4((_e26 ? (reflected * _e17.xyz) : vec3(0.0)), (_e26 ? 1.0 : 0.0));
     return;
 }
 

@@ -96,7 +96,7 @@ fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
     let h = half_vector(v_1, l_1);
     let n_cross_h = cross(n, h);
-    let d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.09f);
+    let d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.0196f);
     let g = g_smith_schlick_ggx(cos_v, cos_l, 0.25f);
     let fresnel = f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
@@ -136,5 +136,6 @@ fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
     let reflected = disney_clay_eval(n_2, vec3<f32>(0f, 0f, 1f), l_3);
-    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
+    let _e26 = (r2_ < 1f);
+    return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
 }

@@ -217,5 +217,6 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
     const float3 reflected = lacquered_wood_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
-    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
+    bool _e26 = (r2_ < 1.0);
+    return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
 }

@@ -180,5 +180,6 @@ fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
     let reflected = lacquered_wood_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
-    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
+    let _e26 = (r2_ < 1f);
+    return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
 }

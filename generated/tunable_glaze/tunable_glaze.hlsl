@@ -321,5 +321,6 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
     float4 _e17 = light.radiance;
     TunableGlazeParams _e24 = params_2;
     const float3 reflected = tunable_glaze_eval(n_3, float3(0.0, 0.0, 1.0), l_3, _e24);
-    return float4(((r2_ < 1.0) ? (reflected * _e17.xyz) : (0.02).xxx), 1.0);
+    bool _e28 = (r2_ < 1.0);
+    return float4((_e28 ? (reflected * _e17.xyz) : (0.0).xxx), (_e28 ? 1.0 : 0.0));
 }

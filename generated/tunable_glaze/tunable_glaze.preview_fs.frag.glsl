@@ -236,7 +236,8 @@ void main() {
     vec4 _e17 = _group_0_binding_4_fs.radiance;
     TunableGlazeParams _e24 = _group_0_binding_3_fs;
     vec3 reflected = tunable_glaze_eval(n_3, vec3(0.0, 0.0, 1.0), l_3, _e24);
-    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * _e17.xyz) : vec3(0.02)), 1.0);
+    bool _e28 = (r2_ < 1.0);
+    _fs2p_location0 = vec4((_e28 ? (reflected * _e17.xyz) : vec3(0.0)), (_e28 ? 1.0 : 0.0));
     return;
 }
 

@@ -277,5 +277,6 @@ fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let _e17 = light.radiance;
     let _e24 = params_2;
     let reflected = tunable_glaze_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3, _e24);
-    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
+    let _e28 = (r2_ < 1f);
+    return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e28), select(0f, 1f, _e28));
 }

@@ -4,9 +4,9 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const vec3 tau_1 = vec3(0.010000001, 0.008, 0.006);
-const vec3 layer1_rho = vec3(0.69219995, 0.3877427, 0.27262694);
-const vec3 r_return_1 = vec3(0.44634795, 0.45123896, 0.45623288);
+const vec3 tau_1 = vec3(0.32000002, 0.32000002, 0.32000002);
+const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 r_return_1 = vec3(0.11489976, 0.11489976, 0.11489976);
 
 layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -89,29 +89,18 @@ vec3 slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
-// Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
-// (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
-// Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu_1, float r) {
-    float x = (1.0 - min(max(mu_1, 0.0), 1.0));
-    float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
-    return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
-}
-
-// Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
-// plus the analytic multiple-scattering compensation that makes it energy-preserving.
-// Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+// Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
+// (seed 000 eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
+// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
+// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
+// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
+vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+    float sigma_sq = (sigma * sigma);
+    float a_1 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    float s_over_t = ((s > 0.0) ? (s / max(n_dot_v_2, n_dot_l_2)) : s);
-    float a_f = (1.0 / ((r_1 * 0.2877934) + 1.0));
-    vec3 f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1.0)) / 3.1415927));
-    float e_o = e_fon(n_dot_v_2, r_1);
-    float e_i = e_fon(n_dot_l_2, r_1);
-    float e_avg = (a_f * ((r_1 * 0.07248825) + 1.0));
-    vec3 rho_ms = (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
-    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg), 1e-7) * 3.1415927)));
-    return (f_ss + f_ms);
+    float s_over_t = (max(s, 0.0) / max(n_dot_v_2, n_dot_l_2));
+    return (albedo * (((b * s_over_t) + a_1) / 3.1415927));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
@@ -149,7 +138,7 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     vec3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
     vec3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
-    vec3 layer1_f_base = fd_eon(vec3(0.72, 0.42, 0.3), 0.7, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
+    vec3 layer1_f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
@@ -168,7 +157,8 @@ void main() {
     vec3 l_3 = _e14.xyz;
     vec4 _e17 = _group_0_binding_4_fs.radiance;
     vec3 reflected = wet_clay_eval(n_3, vec3(0.0, 0.0, 1.0), l_3);
-    _fs2p_location0 = vec4(((r2_ < 1.0) ? (reflected * _e17.xyz) : vec3(0.02)), 1.0);
+    bool _e26 = (r2_ < 1.0);
+    _fs2p_location0 = vec4((_e26 ? (reflected * _e17.xyz) : vec3(0.0)), (_e26 ? 1.0 : 0.0));
     return;
 }
 

@@ -4,9 +4,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 tau = vec3(0.010000001, 0.008, 0.006);
-const vec3 layer1_rho = vec3(0.69219995, 0.3877427, 0.27262694);
-const vec3 r_return = vec3(0.44634795, 0.45123896, 0.45623288);
+const vec3 tau = vec3(0.32000002, 0.32000002, 0.32000002);
+const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 r_return = vec3(0.11489976, 0.11489976, 0.11489976);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -18,9 +18,9 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
-const tau_1: vec3<f32> = vec3<f32>(0.010000001f, 0.008f, 0.006f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.69219995f, 0.3877427f, 0.27262694f);
-const r_return_1: vec3<f32> = vec3<f32>(0.44634795f, 0.45123896f, 0.45623288f);
+const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
+const r_return_1: vec3<f32> = vec3<f32>(0.11489976f, 0.11489976f, 0.11489976f);
 
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
@@ -107,30 +107,18 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
     return exp(-((tau / vec3(mu))));
 }
 
-// Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
-// (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
-// Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-fn e_fon(mu_1: f32, r: f32) -> f32 {
-    let x = (1f - min(max(mu_1, 0f), 1f));
-    let g_over_pi = (x * ((x * ((x * ((x * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
-    return (((r * g_over_pi) + 1f) / ((r * 0.2877934f) + 1f));
-}
-
-// Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
-// plus the analytic multiple-scattering compensation that makes it energy-preserving.
-// Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-fn fd_eon(albedo: vec3<f32>, r_1: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
+// Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
+// (seed 000 eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
+// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
+// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
+// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
+fn fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
+    let sigma_sq = (sigma * sigma);
+    let a_1 = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
+    let b = ((sigma_sq / (sigma_sq + 0.09f)) * 0.45f);
     let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    let s_over_t = select(s, (s / max(n_dot_v_2, n_dot_l_2)), (s > 0f));
-    let a_f = (1f / ((r_1 * 0.2877934f) + 1f));
-    let f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1f)) / 3.1415927f));
-    let e_o = e_fon(n_dot_v_2, r_1);
-    let e_i = e_fon(n_dot_l_2, r_1);
-    let e_avg = (a_f * ((r_1 * 0.07248825f) + 1f));
-    let _e36 = (albedo * (1f - e_avg));
-    let rho_ms = (((albedo * albedo) * e_avg) / (vec3(1f) - _e36));
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg), 0.0000001f) * 3.1415927f)));
-    return (f_ss + f_ms);
+    let s_over_t = (max(s, 0f) / max(n_dot_v_2, n_dot_l_2));
+    return (albedo * (((b * s_over_t) + a_1) / 3.1415927f));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
@@ -169,7 +157,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let absorb_l = slab_transmittance(tau_1, layer1_cos_l);
     let absorb_v = slab_transmittance(tau_1, layer1_cos_v);
-    let layer1_f_base = fd_eon(vec3<f32>(0.72f, 0.42f, 0.3f), 0.7f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
+    let layer1_f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -206,5 +194,6 @@ fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
     let reflected = wet_clay_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
-    return vec4<f32>(select(vec3(0.02f), (reflected * _e17.xyz), (r2_ < 1f)), 1f);
+    let _e26 = (r2_ < 1f);
+    return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
 }

@@ -67,8 +67,6 @@ pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 /// Byte size of one direction pair in the `pairs` buffer.
 pub const PAIR_STRIDE: u32 = 32;
 
-/// Linear grey behind the preview sphere.
-pub const PREVIEW_BACKGROUND: f32 = 0.02;
 
 /// The layout of one runtime parameter inside the uniform struct.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -372,8 +370,9 @@ fn varying(location: u32) -> Binding {
     }
 }
 
-/// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a unit sphere seen
-/// along −z, shaded by `<material>_eval` under one directional light).
+/// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a
+/// unit sphere seen along −z, shaded by `<material>_eval` under the directional light in the
+/// `light` uniform; alpha is the sphere's coverage, and outside it the output is 0).
 fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
     let light_ty = struct_type(
         b,
@@ -441,9 +440,12 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
     let reflected = b.call(eval, arguments);
     b.name(reflected, "reflected");
     let radiance = b.vector(reflected) * light_radiance;
+    // Outside the disk: transparent black, so that light passes add up and the host can put a
+    // background behind the sphere.
     let inside = r2.lt(c(1.0));
-    let color = <builder::ExprVec as Vector>::select(inside, radiance, c(PREVIEW_BACKGROUND).splat());
-    let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), c(1.0).handle()] });
+    let color = <builder::ExprVec as Vector>::select(inside, radiance, c(0.0).splat());
+    let coverage = Expr::select(inside, c(1.0), c(0.0));
+    let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), coverage.handle()] });
     b.statement(Statement::Return { value: Some(color4) });
     push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
 }
