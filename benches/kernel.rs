@@ -27,7 +27,10 @@ fn pairs() -> Vec<Pair> {
             let v = (i as f32 * 0.754_877_7).fract();
             let w = (i as f32 * 0.569_840_3).fract();
             let (ti, to, phi) = (u.acos() * 0.99, v.acos() * 0.99, w * std::f32::consts::TAU);
-            Pair { wi: Vec3::new(ti.sin() * phi.cos(), ti.sin() * phi.sin(), ti.cos()), wo: Vec3::new(to.sin(), 0.0, to.cos()) }
+            Pair {
+                wi: Vec3::new(ti.sin() * phi.cos(), ti.sin() * phi.sin(), ti.cos()),
+                wo: Vec3::new(to.sin(), 0.0, to.cos()),
+            }
         })
         .collect()
 }

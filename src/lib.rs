@@ -30,6 +30,7 @@ pub mod math;
 pub mod model;
 pub mod output;
 pub mod parse;
+pub mod reference;
 #[cfg(feature = "gpu")]
 pub mod run;
 pub mod validate;

@@ -173,7 +173,8 @@ fn main() -> ExitCode {
                 EnvironmentArg::Studio => glazec::run::preview::Environment::Studio,
             };
             parse_vec3(&light).map_err(Failure::Usage).and_then(|light| {
-                let options = glazec::run::preview::PreviewOptions { size, light, light_radiance, environment, exposure };
+                let options =
+                    glazec::run::preview::PreviewOptions { size, light, light_radiance, environment, exposure };
                 preview(&inputs, &out, &options, columns, message_format)
             })
         }
@@ -392,9 +393,10 @@ fn eval(file: &Path, pairs: &Path, backend: Backend, set: &[String], format: Mes
 fn run_failure(e: glazec::run::RunError) -> Failure {
     use glazec::run::RunError;
     match e {
-        RunError::NoAdapter { .. } | RunError::ToolMissing { .. } | RunError::NoPassthrough { .. } | RunError::Io(_) => {
-            Failure::Usage(e.into())
-        }
+        RunError::NoAdapter { .. }
+        | RunError::ToolMissing { .. }
+        | RunError::NoPassthrough { .. }
+        | RunError::Io(_) => Failure::Usage(e.into()),
         _ => Failure::Internal(e.into()),
     }
 }

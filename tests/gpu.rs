@@ -307,12 +307,23 @@ fn eval_command_runs_every_backend() {
     std::fs::write(&csv, text).expect("writes");
     let run = |backend: &str| -> Vec<f32> {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_glazec"))
-            .args(["eval", "materials/tunable_glaze.ron", "--pairs", csv.to_str().expect("utf-8"), "--backend", backend])
+            .args([
+                "eval",
+                "materials/tunable_glaze.ron",
+                "--pairs",
+                csv.to_str().expect("utf-8"),
+                "--backend",
+                backend,
+            ])
             .current_dir(common::root())
             .output()
             .expect("runs glazec");
         assert!(out.status.success(), "{backend}: {}", String::from_utf8_lossy(&out.stderr));
-        String::from_utf8_lossy(&out.stdout).split([',', '\n']).filter(|s| !s.is_empty()).map(|x| x.parse().expect("a number")).collect()
+        String::from_utf8_lossy(&out.stdout)
+            .split([',', '\n'])
+            .filter(|s| !s.is_empty())
+            .map(|x| x.parse().expect("a number"))
+            .collect()
     };
     let cpu = run("cpu");
     assert!(cpu.len() > 300);

@@ -67,7 +67,6 @@ pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 /// Byte size of one direction pair in the `pairs` buffer.
 pub const PAIR_STRIDE: u32 = 32;
 
-
 /// The layout of one runtime parameter inside the uniform struct.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ParamLayout {
@@ -445,7 +444,8 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
     let inside = r2.lt(c(1.0));
     let color = <builder::ExprVec as Vector>::select(inside, radiance, c(0.0).splat());
     let coverage = Expr::select(inside, c(1.0), c(0.0));
-    let color4 = b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), coverage.handle()] });
+    let color4 =
+        b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), coverage.handle()] });
     b.statement(Statement::Return { value: Some(color4) });
     push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
 }

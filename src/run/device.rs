@@ -50,9 +50,11 @@ impl Gpu {
         let info = adapter.get_info();
         let passthrough = adapter.features().contains(wgpu::Features::PASSTHROUGH_SHADERS);
         let required_features = if passthrough { wgpu::Features::PASSTHROUGH_SHADERS } else { wgpu::Features::empty() };
-        let mut required_limits = wgpu::Limits::default();
-        required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
-        required_limits.max_buffer_size = adapter.limits().max_buffer_size;
+        let required_limits = wgpu::Limits {
+            max_storage_buffer_binding_size: adapter.limits().max_storage_buffer_binding_size,
+            max_buffer_size: adapter.limits().max_buffer_size,
+            ..wgpu::Limits::default()
+        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("glazec"),
             required_features,

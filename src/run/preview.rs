@@ -110,14 +110,24 @@ pub fn lights(options: &PreviewOptions) -> Vec<(Vec3, Vec3)> {
 ///
 /// # Errors
 /// A [`RunError`] if the shaders or pipeline are rejected or the image cannot be read back.
-pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &PreviewOptions) -> Result<Vec<[f32; 4]>, RunError> {
+pub fn render(
+    gpu: &Gpu,
+    compiled: &Compiled,
+    values: &[ParamValue],
+    options: &PreviewOptions,
+) -> Result<Vec<[f32; 4]>, RunError> {
     let name = &compiled.material.name;
     let vertex = shader::load(gpu, compiled, ShaderPath::NagaIr, naga::ShaderStage::Vertex, entry_points::PREVIEW_VS)?;
-    let fragment = shader::load(gpu, compiled, ShaderPath::NagaIr, naga::ShaderStage::Fragment, entry_points::PREVIEW_FS)?;
+    let fragment =
+        shader::load(gpu, compiled, ShaderPath::NagaIr, naga::ShaderStage::Fragment, entry_points::PREVIEW_FS)?;
     let uniform = |binding| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
         count: None,
     };
     let has_params = !compiled.material.params.is_empty();
@@ -126,15 +136,22 @@ pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &P
         entries.push(uniform(bindings::PARAMS));
     }
     entries.push(uniform(bindings::PREVIEW_LIGHT));
-    let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("preview"), entries: &entries });
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("preview"), entries: &entries });
     let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("preview"),
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
-    let add = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
     let corner = [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x2, offset: 0, shader_location: 0 }];
-    let vertex_layout = wgpu::VertexBufferLayout { array_stride: 8, step_mode: wgpu::VertexStepMode::Vertex, attributes: &corner };
+    let vertex_layout =
+        wgpu::VertexBufferLayout { array_stride: 8, step_mode: wgpu::VertexStepMode::Vertex, attributes: &corner };
     let targets = [Some(wgpu::ColorTargetState {
         format: TARGET_FORMAT,
         blend: Some(wgpu::BlendState { color: add, alpha: add }),
@@ -166,7 +183,9 @@ pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &P
     })?;
 
     let corners: [f32; 6] = [-1.0, -1.0, 3.0, -1.0, -1.0, 3.0];
-    let init = |label, contents: &[u8], usage| gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+    let init = |label, contents: &[u8], usage| {
+        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    };
     let corner_buffer = init("corners", bytemuck::cast_slice(&corners), wgpu::BufferUsages::VERTEX);
     let params = super::params_bytes(&compiled.material, values)?;
     let params_buffer = has_params.then(|| init("params", &params, wgpu::BufferUsages::UNIFORM));
@@ -179,7 +198,10 @@ pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &P
             if let Some(b) = &params_buffer {
                 entries.push(wgpu::BindGroupEntry { binding: bindings::PARAMS, resource: b.as_entire_binding() });
             }
-            entries.push(wgpu::BindGroupEntry { binding: bindings::PREVIEW_LIGHT, resource: light_buffer.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings::PREVIEW_LIGHT,
+                resource: light_buffer.as_entire_binding(),
+            });
             gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries: &entries })
         })
         .collect();
@@ -205,7 +227,10 @@ pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &P
                 view: &view,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
             })],
             ..Default::default()
         });
@@ -225,7 +250,12 @@ pub fn render(gpu: &Gpu, compiled: &Compiled, values: &[ParamValue], options: &P
         mapped_at_creation: false,
     });
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &readback,
             layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
@@ -256,11 +286,8 @@ pub fn encode(linear: &[[f32; 4]], size: u32, exposure: f32) -> Image {
     let mut rgb = Vec::with_capacity(linear.len() * 3);
     for (i, px) in linear.iter().enumerate() {
         let y = (i as u32 / size.max(1)) as f32 / size.max(1) as f32;
-        let color = if px[3] > 0.0 {
-            Vec3::new(px[0], px[1], px[2]) * exposure
-        } else {
-            Vec3::splat(0.02 + 0.03 * (1.0 - y))
-        };
+        let color =
+            if px[3] > 0.0 { Vec3::new(px[0], px[1], px[2]) * exposure } else { Vec3::splat(0.02 + 0.03 * (1.0 - y)) };
         for c in color.to_array() {
             rgb.push((srgb(c.clamp(0.0, 1.0)) * 255.0).round() as u8);
         }
