@@ -14,6 +14,16 @@ use crate::model::{Material, ParamValue};
 
 /// f(wi, wo) of `material` with the given parameter values (one per [`Material::params`]).
 pub fn brdf(material: &Material, values: &[ParamValue], wi: Vec3, wo: Vec3) -> Vec3 {
+    layering::brdf(material, &inputs(values), Vec3::Z, wo, wi)
+}
+
+/// The reflectance of the material's mirror (delta) lobe towards `wo` (see
+/// [`layering::mirror_reflectance`]).
+pub fn mirror_reflectance(material: &Material, values: &[ParamValue], wo: Vec3) -> Vec3 {
+    layering::mirror_reflectance(material, &inputs(values), Vec3::Z, wo)
+}
+
+fn inputs(values: &[ParamValue]) -> Inputs<f32> {
     let params = values
         .iter()
         .map(|v| match *v {
@@ -21,7 +31,7 @@ pub fn brdf(material: &Material, values: &[ParamValue], wi: Vec3, wo: Vec3) -> V
             ParamValue::Rgb(c) => Slot::V(Vec3::from_array(c)),
         })
         .collect();
-    layering::brdf(material, &Inputs::new((), params), Vec3::Z, wo, wi)
+    Inputs::new((), params)
 }
 
 /// A direction pair: the light direction `wi` and the view direction `wo`, both unit vectors.

@@ -21,6 +21,7 @@
 //! `build.rs` users depend on this crate with `default-features = false`: they get the whole
 //! compiler (naga, codespan-reporting) without the CLI.
 
+pub mod accuracy;
 pub mod check;
 pub mod diag;
 pub mod emit;
@@ -91,6 +92,12 @@ impl Compiled {
     ///
     /// # Errors
     /// Only for a backend bug; a validated module is expected to emit.
+    /// Whether the shaders read the table storage buffer `glazec_tables` (then bind
+    /// [`output::tables_file`]'s contents; see `lower::bindings`).
+    pub fn uses_tables(&self) -> bool {
+        lower::bindings::layout(&self.module).tables.is_some()
+    }
+
     pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
         emit::emit(&self.material.name, &self.module, &self.info, targets)
     }

@@ -43,6 +43,8 @@ enum TargetArg {
 enum Backend {
     /// The CPU evaluation of the shared math (f32).
     Cpu,
+    /// The stochastic ground truth (f64 Monte Carlo random walk; see `--samples`, `--interfaces`).
+    Reference,
     /// The naga module itself, on the GPU (lavapipe).
     #[cfg(feature = "gpu")]
     NagaIr,
@@ -55,6 +57,18 @@ enum Backend {
     /// The emitted HLSL compiled by glslang's HLSL front end, on the GPU (passthrough SPIR-V).
     #[cfg(feature = "gpu")]
     Hlsl,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SetArg {
+    /// 120 single-coat materials: IOR 1.33/1.5/2, roughness 0/0.05/0.2/0.5, five bases, τ 0/0.5.
+    Standard,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum InterfacesArg {
+    Single,
+    Multiple,
 }
 
 #[cfg(feature = "gpu")]
@@ -105,8 +119,56 @@ enum Command {
         /// Override a runtime parameter: `name=0.3` or `name=0.8,0.5,0.3`.
         #[arg(long = "set", value_name = "NAME=VALUE")]
         set: Vec<String>,
+        /// Reference backend: Monte Carlo samples per pair.
+        #[arg(long, default_value_t = 4096)]
+        samples: u32,
+        /// Reference backend: rough interfaces with single (pbrt-compatible) or multiple
+        /// (energy-conserving, Heitz et al. 2016) microfacet scattering.
+        #[arg(long, value_enum, default_value = "multiple")]
+        interfaces: InterfacesArg,
+        /// Reference backend: also print the standard error of each value (`r,g,b,se_r,se_g,se_b`).
+        #[arg(long)]
+        std_err: bool,
         #[arg(long, value_enum, default_value = "human")]
         message_format: MessageFormat,
+    },
+    /// Measure every layering method against the stochastic reference on an evaluation set and
+    /// check the BRDF laws; prints a Markdown table and writes it (Markdown and CSV).
+    Accuracy {
+        /// The evaluation set.
+        #[arg(long, value_enum, default_value = "standard")]
+        set: SetArg,
+        /// Rough interfaces of the reference.
+        #[arg(long, value_enum, default_value = "multiple")]
+        interfaces: InterfacesArg,
+        /// The stored reference values (computed by --regenerate-reference).
+        #[arg(long)]
+        data: Option<PathBuf>,
+        /// Recompute the reference and store it (minutes, in a release build).
+        #[arg(long)]
+        regenerate_reference: bool,
+        /// With --regenerate-reference: Monte Carlo samples per BRDF value.
+        #[arg(long, default_value_t = 4096)]
+        samples: u32,
+        /// With --regenerate-reference: analog walks per directional albedo.
+        #[arg(long, default_value_t = 200_000)]
+        walks: u32,
+        /// Where to write the Markdown table.
+        #[arg(long, default_value = "docs/accuracy.md")]
+        markdown: PathBuf,
+        /// Where to write the per-case CSV.
+        #[arg(long, default_value = "docs/accuracy.csv")]
+        csv: PathBuf,
+    },
+    /// Generate the tabulated terms of the default method (rough-coat transmission and internal
+    /// reflection, GGX albedo) from the reference's microsurface, into data/tables.bin.
+    Tables {
+        /// Microsurface random walks per rough-interface entry.
+        #[arg(long, default_value_t = 20_000)]
+        walks: u32,
+        /// Where to write the table file (it is compiled into glazec: rebuild afterwards).
+        #[arg(short, long, default_value = "data/tables.bin")]
+        out: PathBuf,
     },
     /// Render a sphere with the material on the GPU and write a PNG. Several inputs (or a
     /// directory) give a labelled contact sheet.
@@ -162,9 +224,22 @@ fn main() -> ExitCode {
             compile(&inputs, &out, &target, check, message_format)
         }
         Command::Check { files, message_format } => check(&files, message_format),
-        Command::Eval { file, pairs, backend, set, message_format } => {
-            eval(&file, &pairs, backend, &set, message_format)
+        Command::Eval { file, pairs, backend, set, samples, interfaces, std_err, message_format } => {
+            let mode = match interfaces {
+                InterfacesArg::Single => glazec::reference::InterfaceMode::Single,
+                InterfacesArg::Multiple => glazec::reference::InterfaceMode::Multiple,
+            };
+            let reference = glazec::reference::Options { mode, samples, ..Default::default() };
+            eval(&file, &pairs, backend, &set, &reference, std_err, message_format)
         }
+        Command::Accuracy { set: _, interfaces, data, regenerate_reference, samples, walks, markdown, csv } => {
+            let mode = match interfaces {
+                InterfacesArg::Single => glazec::reference::InterfaceMode::Single,
+                InterfacesArg::Multiple => glazec::reference::InterfaceMode::Multiple,
+            };
+            accuracy(mode, data, regenerate_reference, samples, walks, &markdown, &csv)
+        }
+        Command::Tables { walks, out } => tables(walks, &out),
         #[cfg(feature = "gpu")]
         Command::Preview { inputs, out, size, light, light_radiance, env, exposure, columns, message_format } => {
             let environment = match env {
@@ -301,6 +376,9 @@ fn compile(
         let artifacts = c.emit(&targets).map_err(|e| Failure::Internal(e.into()))?;
         files.extend(output::plan(out, &c.material.name, artifacts));
     }
+    if compiled.iter().any(glazec::Compiled::uses_tables) {
+        files.push(output::tables_file(out));
+    }
     if check {
         let drift = output::drift(&files);
         for d in &drift {
@@ -355,7 +433,15 @@ fn parameter_values(material: &Material, overrides: &[String]) -> anyhow::Result
     Ok(values)
 }
 
-fn eval(file: &Path, pairs: &Path, backend: Backend, set: &[String], format: MessageFormat) -> Result<(), Failure> {
+fn eval(
+    file: &Path,
+    pairs: &Path,
+    backend: Backend,
+    set: &[String],
+    reference: &glazec::reference::Options,
+    std_err: bool,
+    format: MessageFormat,
+) -> Result<(), Failure> {
     let inputs = read_inputs(&[file.to_path_buf()])?;
     let input = &inputs[0];
     let material = match glazec::load(&input.text) {
@@ -368,8 +454,27 @@ fn eval(file: &Path, pairs: &Path, backend: Backend, set: &[String], format: Mes
     let values = parameter_values(&material, set)?;
     let text = std::fs::read_to_string(pairs).with_context(|| format!("cannot read {}", pairs.display()))?;
     let pairs = glazec::eval::parse_pairs(&text).with_context(|| format!("{}", pairs.display()))?;
+    if std_err && !matches!(backend, Backend::Reference) {
+        return Err(Failure::Usage(anyhow::anyhow!("--std-err needs --backend reference")));
+    }
     let results: Vec<glam::Vec3> = match backend {
         Backend::Cpu => pairs.iter().map(|p| glazec::eval::brdf(&material, &values, p.wi, p.wo)).collect(),
+        Backend::Reference => {
+            let stack = glazec::reference::Stack::from_material(&material, &values);
+            let mut stdout = std::io::BufWriter::new(std::io::stdout().lock());
+            for p in &pairs {
+                let e = stack.f(p.wi.as_dvec3(), p.wo.as_dvec3(), reference);
+                let (m, s) = (e.mean, e.std_err);
+                if std_err {
+                    writeln!(stdout, "{},{},{},{},{},{}", m.x, m.y, m.z, s.x, s.y, s.z)
+                } else {
+                    writeln!(stdout, "{},{},{}", m.x, m.y, m.z)
+                }
+                .context("cannot write to stdout")?;
+            }
+            stdout.flush().context("cannot write to stdout")?;
+            return Ok(());
+        }
         #[cfg(feature = "gpu")]
         Backend::NagaIr => eval_on_gpu(material, &pairs, &values, glazec::run::ShaderPath::NagaIr)?,
         #[cfg(feature = "gpu")]
@@ -448,5 +553,75 @@ fn preview(
     let image = if single { tiles.remove(0).1 } else { preview::contact_sheet(&tiles, columns) };
     preview::write_png(out, &image).map_err(run_failure)?;
     eprintln!("wrote {} ({}×{}, {} on {})", out.display(), image.width, image.height, compiled.len(), gpu.describe());
+    Ok(())
+}
+
+/// The default location of the stored reference for an interface mode.
+fn reference_path(mode: glazec::reference::InterfaceMode) -> PathBuf {
+    match mode {
+        glazec::reference::InterfaceMode::Single => PathBuf::from("data/reference/standard-single.bin"),
+        glazec::reference::InterfaceMode::Multiple => PathBuf::from("data/reference/standard-multiple.bin"),
+    }
+}
+
+fn tables(walks: u32, out: &Path) -> Result<(), Failure> {
+    let start = std::time::Instant::now();
+    let progress = |done: usize, total: usize| eprint!("\rtables: {done}/{total} interface columns");
+    let (tables, report) = glazec::accuracy::tables::generate(walks, &progress);
+    eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
+    eprintln!(
+        "flux identity η²⟨T_int⟩ = ⟨T⟩: max error {:.2e}; single-event share vs quadrature: max {:.2} σ",
+        report.max_flux_identity_error, report.max_single_event_sigma
+    );
+    let bytes = glazec::math::tables::encode(&tables);
+    glazec::output::write_all(&[glazec::output::OutputFile { path: out.to_path_buf(), contents: bytes }])
+        .with_context(|| format!("cannot write {}", out.display()))?;
+    eprintln!("wrote {} ({} bytes); rebuild glazec to use it", out.display(), glazec::math::tables::total_bytes());
+    Ok(())
+}
+
+fn accuracy(
+    mode: glazec::reference::InterfaceMode,
+    data: Option<PathBuf>,
+    regenerate: bool,
+    samples: u32,
+    walks: u32,
+    markdown: &Path,
+    csv: &Path,
+) -> Result<(), Failure> {
+    use glazec::accuracy;
+    let cases = accuracy::standard_set();
+    let path = data.unwrap_or_else(|| reference_path(mode));
+    let reference = if regenerate {
+        let start = std::time::Instant::now();
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        let progress = |_| {
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            eprint!("\rreference: {n}/{} cases", cases.len());
+        };
+        let data = accuracy::ReferenceData::compute(&cases, mode, samples, walks, &progress);
+        eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
+        data.write(&path).with_context(|| format!("cannot write {}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+        data
+    } else {
+        accuracy::ReferenceData::read(&path, cases.len())
+            .context("cannot read the reference (run with --regenerate-reference to compute it)")?
+    };
+    let methods: Vec<_> =
+        [glazec::model::Method::Interfaced, glazec::model::Method::WeidlichWilkie, glazec::model::Method::Additive]
+            .into_iter()
+            .map(|method| {
+                let metrics = cases
+                    .iter()
+                    .enumerate()
+                    .map(|(i, case)| accuracy::measure(case, method, &reference.under[i], &reference.albedo[i]))
+                    .collect();
+                (method, metrics)
+            })
+            .collect();
+    let md =
+        accuracy::report(&cases, &methods, &reference, Some(markdown), Some(csv)).context("cannot write the report")?;
+    println!("{md}");
     Ok(())
 }

@@ -12,14 +12,15 @@ use glazec::output::{self, OutputFile};
 
 fn planned_outputs() -> Vec<OutputFile> {
     let out_dir = common::root().join("generated");
-    common::material_files()
+    let compiled: Vec<glazec::Compiled> = common::material_files().iter().map(|p| common::compile_file(p)).collect();
+    let mut files: Vec<OutputFile> = compiled
         .iter()
-        .flat_map(|path| {
-            let compiled = common::compile_file(path);
-            let artifacts = compiled.emit(&glazec::Target::TEXT).expect("emits");
-            output::plan(&out_dir, &compiled.material.name, artifacts)
-        })
-        .collect()
+        .flat_map(|c| output::plan(&out_dir, &c.material.name, c.emit(&glazec::Target::TEXT).expect("emits")))
+        .collect();
+    if compiled.iter().any(glazec::Compiled::uses_tables) {
+        files.push(output::tables_file(&out_dir));
+    }
+    files
 }
 
 fn files_on_disk() -> BTreeSet<PathBuf> {
@@ -49,9 +50,10 @@ fn generated_matches_materials() {
     }
     let mut report = String::new();
     for file in &planned {
-        let expected = std::fs::read_to_string(&file.path).unwrap_or_default();
-        let actual = String::from_utf8_lossy(&file.contents);
-        if expected != actual {
+        let expected_bytes = std::fs::read(&file.path).unwrap_or_default();
+        if expected_bytes != file.contents {
+            let expected = String::from_utf8_lossy(&expected_bytes);
+            let actual = String::from_utf8_lossy(&file.contents);
             report.push_str(&format!("\n=== {} ===\n{}", file.path.display(), common::diff(&expected, &actual)));
         }
     }

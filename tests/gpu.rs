@@ -4,6 +4,7 @@
 //!
 //! Without an adapter the tests skip with a visible message; with `GLAZEC_REQUIRE_GPU=1` (set by
 //! `.ci/run`) they fail instead. Each test prints how many GPU cases it executed.
+#![cfg(feature = "gpu")]
 
 mod common;
 
@@ -12,20 +13,12 @@ use std::sync::OnceLock;
 use glam::Vec3;
 use glazec::eval::Pair;
 use glazec::model::ParamValue;
-use glazec::run::{EvalKernel, Gpu, RunError, ShaderPath};
+use glazec::run::{EvalKernel, Gpu, ShaderPath};
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngSeed, TestRunner};
 
-/// Relative tolerance where |f| is significant.
-const REL_TOL: f32 = 2e-4;
-/// A value is significant when |f| > SIGNIFICANT · max|f| (over the material's pairs and channels).
-const SIGNIFICANT: f32 = 1e-4;
-/// Absolute tolerance for values that are not significant. Such a value also passes if it meets
-/// REL_TOL: for a material with a very sharp peak (car_paint: max|f| ≈ 4·10⁸ at a grazing mirror
-/// pair) "not significant" reaches values of 10⁴, where 10⁻⁶ is far below one f32 ulp, so the
-/// absolute bound alone would demand more than f32 can represent. Significant values get no
-/// such alternative.
-const ABS_TOL: f32 = 1e-6;
+use common::agreement::{ABS_TOL, REL_TOL, SIGNIFICANT};
+
 /// Random stacks checked (fixed seed).
 const RANDOM_STACKS: usize = 200;
 const RANDOM_SEED: u64 = 0x0bad_5eed;
@@ -36,21 +29,7 @@ const GRID: usize = 16;
 /// The device, opened once per test binary. `None` means "skip" (only without GLAZEC_REQUIRE_GPU).
 fn gpu() -> Option<&'static Gpu> {
     static GPU: OnceLock<Option<Gpu>> = OnceLock::new();
-    GPU.get_or_init(|| match Gpu::new() {
-        Ok(gpu) => {
-            eprintln!("GPU tests run on {}", gpu.describe());
-            Some(gpu)
-        }
-        Err(e @ RunError::NoAdapter { .. }) => {
-            if std::env::var("GLAZEC_REQUIRE_GPU").is_ok_and(|v| v == "1") {
-                panic!("GLAZEC_REQUIRE_GPU=1 but {e}");
-            }
-            eprintln!("SKIPPED: {e}");
-            None
-        }
-        Err(e) => panic!("{e}"),
-    })
-    .as_ref()
+    GPU.get_or_init(common::open_gpu).as_ref()
 }
 
 fn direction(theta_deg: f32, phi_deg: f32) -> Vec3 {
@@ -113,7 +92,7 @@ fn compare(
             let significant = c.abs() > SIGNIFICANT * max;
             let error = (g - c).abs();
             let within_relative = error <= REL_TOL * c.abs();
-            let ok = g.is_finite() && g >= 0.0 && (within_relative || (!significant && error <= ABS_TOL));
+            let ok = common::agreement::agrees(c, g, max);
             if !significant && error > ABS_TOL && within_relative {
                 worst.insignificant_by_relative += 1;
             }

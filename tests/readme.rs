@@ -34,3 +34,17 @@ fn quoted_shader_excerpt_is_real_output() {
     let wgsl = std::fs::read_to_string(common::root().join("generated/wet_clay/wet_clay.wgsl")).expect("generated");
     assert!(wgsl.contains(excerpt), "README's d_ggx excerpt differs from generated/wet_clay/wet_clay.wgsl:\n{excerpt}");
 }
+
+#[test]
+fn accuracy_table_in_the_readme_is_the_one_in_docs() {
+    let readme = readme();
+    let begin = "<!-- accuracy:begin -->\n";
+    let start = readme.find(begin).expect("the accuracy table's start marker") + begin.len();
+    let end = readme.find("<!-- accuracy:end -->").expect("the accuracy table's end marker");
+    let docs = std::fs::read_to_string(common::root().join("docs/accuracy.md")).expect("docs/accuracy.md");
+    assert_eq!(
+        &readme[start..end],
+        docs,
+        "README's accuracy table differs from docs/accuracy.md (glazec accuracy writes it)"
+    );
+}

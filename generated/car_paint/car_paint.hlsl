@@ -22,13 +22,15 @@ struct PreviewVarying {
 };
 
 static const float3 layer1_tau = float3(0.048, 0.96000004, 1.32);
+static const float layer2_alpha = 0.09026667;
 static const float3 f0_under_coat = float3(0.86560106, 0.88020647, 0.88020647);
+static const float layer2_mu_c = 0.19705611;
+static const float3 layer2_rho = float3(0.85031915, 0.8638832, 0.8638832);
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer2_rho = float3(0.872001, 0.8859109, 0.8859109);
-static const float3 layer1_r_return = float3(0.021435311, 1.7043712e-5, 4.9238797e-6);
-static const float3 layer1_rho = float3(0.72676456, 0.055396274, 0.024973331);
-static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
+static const float3 layer1_rho = float3(0.70851177, 0.054169346, 0.02450287);
+static const float3 layer1_r_return = float3(0.5963415, 0.5963415, 0.5963415);
 
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -63,8 +65,8 @@ float3 half_vector(float3 v, float3 l)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha)
 {
-    float a = max(alpha, 0.001);
-    float a_sq = (a * a);
+    float a_1 = max(alpha, 0.001);
+    float a_sq = (a_1 * a_1);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -83,9 +85,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_3 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_3);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_3);
+    float alpha_4 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -111,13 +113,101 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta, float roughness, float eta_1)
+{
+    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float node_cos_theta = (u_cos_theta * 15.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float node_eta = (u_eta * 7.0);
+    float cell_eta = min(floor(node_eta), 6.0);
+    float weight_eta = (node_eta - cell_eta);
+    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
+{
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
+{
+    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float node_eta_1 = (u_eta_1 * 7.0);
+    float cell_eta_1 = min(floor(node_eta_1), 6.0);
+    float weight_eta_1 = (node_eta_1 - cell_eta_1);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-float3 refract_down(float3 w, float3 n, float eta_1)
+float3 refract_down(float3 w, float3 n, float eta_3)
 {
-    return -(refract(-(w), n, (1.0 / eta_1)));
+    return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -129,24 +219,104 @@ float3 slab_transmittance(float3 tau, float mu)
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
-float3 f_schlick(float3 f0_, float cos_theta)
+float3 f_schlick(float3 f0_, float cos_theta_2)
 {
-    float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
+    float m = (1.0 - min(max(cos_theta_2, 0.0), 1.0));
     float m_sq = (m * m);
     return (f0_ + (((1.0).xxx - f0_) * ((m_sq * m_sq) * m)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+float ggx_albedo(float cos_theta_3, float roughness_2)
+{
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 15.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 14.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 15.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 14.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    uint _e35 = (naga_f2u32((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u);
+    float at_ll = glazec_tables[(_e35 >> 2u)][(_e35 & 3u)];
+    uint _e55 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u);
+    float at_ul = glazec_tables[(_e55 >> 2u)][(_e55 & 3u)];
+    uint _e76 = (naga_f2u32((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
+    float at_lu = glazec_tables[(_e76 >> 2u)][(_e76 & 3u)];
+    uint _e97 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
+    float at_uu = glazec_tables[(_e97 >> 2u)][(_e97 & 3u)];
+    return ((((at_ll * ((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1.0 - weight_roughness_2)))) + (at_lu * ((1.0 - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
+}
+
+// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+// symmetric in i and o.
+float3 interfaced_glossy_under(float3 f_below, float3 e_i_1, float3 k_i, float3 e_o_1, float3 k_o)
+{
+    float3 _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
+    return (f_below / ((1.0).xxx - _e8));
+}
+
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. In the plane of incidence the mirror direction moves by twice the facet
+// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
+// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
+// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+float trapped_share(float mu_1, float mu_c, float alpha_3)
+{
+    float sin_t = sqrt(max((1.0 - (mu_1 * mu_1)), 0.0));
+    float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
+    float cos_d = ((mu_c * mu_1) + (sin_c * sin_t));
+    float sin_d = ((sin_c * mu_1) - (mu_c * sin_t));
+    float x0_ = (sin_d / max((cos_d + 1.0), 1e-6));
+    return ((1.0 - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 1e-12)))) * 0.5);
+}
+
+// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
+// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
+// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
+// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
+// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
+// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
+float3 trapped_lobe(float3 e_i_2, float p_i, float3 e_o_2, float p_o, float mu_c_1, float3 round_trip, float3 rho, float stay)
+{
+    float3 _e19 = ((rho * round_trip) * stay);
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / ((1.0).xxx - _e19));
+}
+
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_below, float3 rho_below, float3 r_return, float eta_2)
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_4)
 {
-    float3 _e9 = (rho_below * r_return);
-    float3 bounces = ((1.0).xxx - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
+}
+
+// The directional albedo seen above a coat over a glossy body (same model as
+// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+float3 interfaced_albedo_glossy(float t, float3 a, float3 e_below)
+{
+    float3 k = ((a * a) * (1.0 - t));
+    float3 _e11 = (e_below * k);
+    return (((((a * a) * e_below) * (t * t)) / ((1.0).xxx - _e11)) + ((1.0 - t)).xxx);
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+float3 interfaced_diffuse_under(float3 f_below_1, float3 e_i_3, float3 e_o_3, float3 rho_below, float3 r_return)
+{
+    float3 _e7 = (rho_below * r_return);
+    return (f_below_1 + (((e_i_3 * e_o_3) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -161,21 +331,27 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
     const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
-    float transmit_l = (1.0 - fresnel_l);
-    const float fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
-    float transmit_v = (1.0 - fresnel_v);
+    const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float layer1_restored_l = coat_extra(n_dot_l_2, 0.04, 1.5);
+    const float layer1_restored_v = coat_extra(n_dot_v_2, 0.04, 1.5);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.3038534e-5);
+    float3 specular = (_e21 + (_e29).xxx);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
+    const float _e38 = coat_deficit(n_dot_l_2, 0.04, 1.5);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    const float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
+    const float _e51 = coat_deficit(n_dot_v_2, 0.04, 1.5);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
     const float3 layer1_v = refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
-    float layer1_transmit_l = (1.0 - layer1_fresnel_l);
-    const float layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
-    float layer1_transmit_v = (1.0 - layer1_fresnel_v);
+    const float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
+    float layer2_transmit_l = (1.0 - layer2_fresnel_l);
+    const float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
+    float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     const float3 layer2_v = refract_down(layer1_v, n_1, 1.02);
     const float3 layer2_l = refract_down(layer1_l, n_1, 1.02);
     float layer2_n_dot_v = dot(n_1, layer2_v);
@@ -186,12 +362,28 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     const float3 layer2_h = half_vector(layer2_v, layer2_l);
     float3 layer2_n_cross_h = cross(n_1, layer2_h);
-    const float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
-    const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    const float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), layer2_alpha);
+    const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     const float3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     const float3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    const float3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, layer2_rho, layer1_r_return, 1.02);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f, layer1_rho, r_return_1, 1.5);
+    const float _e103 = ggx_albedo(layer2_cos_l, 0.30044413);
+    const float3 _e105 = f_schlick(f0_under_coat, layer2_cos_l);
+    float3 layer2_albedo_l = (_e105 * _e103);
+    const float _e108 = ggx_albedo(layer2_cos_v, 0.30044413);
+    const float3 _e110 = f_schlick(f0_under_coat, layer2_cos_v);
+    float3 layer2_albedo_v = (_e110 * _e108);
+    float3 layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1.0 - layer2_transmit_l));
+    float3 layer1_inner_v = ((layer1_absorb_v * layer1_absorb_v) * (1.0 - layer2_transmit_v));
+    const float3 _e120 = interfaced_glossy_under(layer2_f_base, layer2_albedo_l, layer1_inner_l, layer2_albedo_v, layer1_inner_v);
+    const float layer2_trapped_l = trapped_share(layer2_cos_l, layer2_mu_c, layer2_alpha);
+    const float layer2_trapped_v = trapped_share(layer2_cos_v, layer2_mu_c, layer2_alpha);
+    const float3 layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, float3(0.48009053, 0.0003817311, 0.00011028103), layer2_rho, 0.8535534);
+    float3 layer1_under = (_e120 + layer1_trapped);
+    const float3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
+    const float3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
+    const float3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
+    const float3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

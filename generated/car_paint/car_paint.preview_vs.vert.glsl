@@ -5,12 +5,13 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
+const float layer2_alpha = 0.09026667;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
+const float layer2_mu_c = 0.19705611;
+const vec3 layer2_rho = vec3(0.85031915, 0.8638832, 0.8638832);
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer2_rho = vec3(0.872001, 0.8859109, 0.8859109);
-const vec3 layer1_r_return = vec3(0.021435311, 1.7043712e-5, 4.9238797e-6);
-const vec3 layer1_rho = vec3(0.72676456, 0.055396274, 0.024973331);
-const vec3 r_return = vec3(0.5963458, 0.5963458, 0.5963458);
+const vec3 layer1_rho = vec3(0.70851177, 0.054169346, 0.02450287);
+const vec3 layer1_r_return = vec3(0.5963415, 0.5963415, 0.5963415);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

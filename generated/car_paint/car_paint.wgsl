@@ -19,13 +19,16 @@ struct PreviewVarying {
 }
 
 const layer1_tau: vec3<f32> = vec3<f32>(0.048f, 0.96000004f, 1.32f);
+const layer2_alpha: f32 = 0.09026667f;
 const f0_under_coat: vec3<f32> = vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f);
+const layer2_mu_c: f32 = 0.19705611f;
+const layer2_rho: vec3<f32> = vec3<f32>(0.85031915f, 0.8638832f, 0.8638832f);
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer2_rho: vec3<f32> = vec3<f32>(0.872001f, 0.8859109f, 0.8859109f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.021435311f, 0.000017043712f, 0.0000049238797f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.72676456f, 0.055396274f, 0.024973331f);
-const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.70851177f, 0.054169346f, 0.02450287f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.5963415f, 0.5963415f, 0.5963415f);
 
+@group(0) @binding(3) 
+var<uniform> glazec_tables: array<vec4<f32>, 4052>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -53,8 +56,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a = max(alpha, 0.001f);
-    let a_sq = (a * a);
+    let a_1 = max(alpha, 0.001f);
+    let a_sq = (a_1 * a_1);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -71,9 +74,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_3 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_3);
-    let _e6 = lambda_ggx(n_dot_l, alpha_3);
+    let alpha_4 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_4);
+    let _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -97,12 +100,93 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
+    let node_roughness = (u_roughness * 15f);
+    let cell_roughness = min(floor(node_roughness), 14f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let node_eta = (u_eta * 7f);
+    let cell_eta = min(floor(node_eta), 6f);
+    let weight_eta = (node_eta - cell_eta);
+    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let node_eta_1 = (u_eta_1 * 7f);
+    let cell_eta_1 = min(floor(node_eta_1), 6f);
+    let weight_eta_1 = (node_eta_1 - cell_eta_1);
+    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_1)));
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -113,22 +197,96 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
 // F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
-fn f_schlick(f0_: vec3<f32>, cos_theta: f32) -> vec3<f32> {
-    let m = (1f - min(max(cos_theta, 0f), 1f));
+fn f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
+    let m = (1f - min(max(cos_theta_2, 0f), 1f));
     let m_sq = (m * m);
     return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+fn ggx_albedo(cos_theta_3: f32, roughness_2: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 15f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 14f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 15f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 14f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let _e35 = (u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ll = glazec_tables[(_e35 >> 2u)][(_e35 & 3u)];
+    let _e55 = (u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ul = glazec_tables[(_e55 >> 2u)][(_e55 & 3u)];
+    let _e76 = (u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_lu = glazec_tables[(_e76 >> 2u)][(_e76 & 3u)];
+    let _e97 = (u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_uu = glazec_tables[(_e97 >> 2u)][(_e97 & 3u)];
+    return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
+}
+
+// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+// symmetric in i and o.
+fn interfaced_glossy_under(f_below: vec3<f32>, e_i_1: vec3<f32>, k_i: vec3<f32>, e_o_1: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
+    let _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
+    return (f_below / (vec3(1f) - _e8));
+}
+
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. In the plane of incidence the mirror direction moves by twice the facet
+// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
+// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
+// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+fn trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
+    let sin_t = sqrt(max((1f - (mu_1 * mu_1)), 0f));
+    let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
+    let cos_d = ((mu_c * mu_1) + (sin_c * sin_t));
+    let sin_d = ((sin_c * mu_1) - (mu_c * sin_t));
+    let x0_ = (sin_d / max((cos_d + 1f), 0.000001f));
+    return ((1f - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 0.000000000001f)))) * 0.5f);
+}
+
+// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
+// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
+// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
+// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
+// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
+// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
+fn trapped_lobe(e_i_2: vec3<f32>, p_i: f32, e_o_2: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, stay: f32) -> vec3<f32> {
+    let _e19 = ((rho * round_trip) * stay);
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e19));
+}
+
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, eta_2: f32) -> vec3<f32> {
-    let _e9 = (rho_below * r_return);
-    let bounces = (vec3(1f) - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_4: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
+}
+
+// The directional albedo seen above a coat over a glossy body (same model as
+// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+fn interfaced_albedo_glossy(t: f32, a: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
+    let k = ((a * a) * (1f - t));
+    let _e11 = (e_below * k);
+    return (((((a * a) * e_below) * (t * t)) / (vec3(1f) - _e11)) + vec3((1f - t)));
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+fn interfaced_diffuse_under(f_below_1: vec3<f32>, e_i_3: vec3<f32>, e_o_3: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+    let _e7 = (rho_below * r_return);
+    return (f_below_1 + (((e_i_3 * e_o_3) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -142,21 +300,27 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
-    let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
-    let transmit_l = (1f - fresnel_l);
-    let fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
-    let transmit_v = (1f - fresnel_v);
+    let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = coat_extra(n_dot_l_2, 0.04f, 1.5f);
+    let layer1_restored_v = coat_extra(n_dot_v_2, 0.04f, 1.5f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.000013038534f);
+    let specular = (_e21 + vec3(_e29));
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
+    let _e38 = coat_deficit(n_dot_l_2, 0.04f, 1.5f);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e38) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
+    let _e51 = coat_deficit(n_dot_v_2, 0.04f, 1.5f);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = refract_down(v_1, n_1, 1.5f);
     let layer1_l = refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02f);
-    let layer1_transmit_l = (1f - layer1_fresnel_l);
-    let layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02f);
-    let layer1_transmit_v = (1f - layer1_fresnel_v);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02f);
+    let layer2_transmit_l = (1f - layer2_fresnel_l);
+    let layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02f);
+    let layer2_transmit_v = (1f - layer2_fresnel_v);
     let layer2_v = refract_down(layer1_v, n_1, 1.02f);
     let layer2_l = refract_down(layer1_l, n_1, 1.02f);
     let layer2_n_dot_v = dot(n_1, layer2_v);
@@ -167,12 +331,28 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
     let layer2_h = half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
-    let layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
-    let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
+    let layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), layer2_alpha);
+    let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     let layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     let layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    let layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f_base, layer2_rho, layer1_r_return, 1.02f);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f, layer1_rho, r_return_1, 1.5f);
+    let _e103 = ggx_albedo(layer2_cos_l, 0.30044413f);
+    let _e105 = f_schlick(f0_under_coat, layer2_cos_l);
+    let layer2_albedo_l = (_e105 * _e103);
+    let _e108 = ggx_albedo(layer2_cos_v, 0.30044413f);
+    let _e110 = f_schlick(f0_under_coat, layer2_cos_v);
+    let layer2_albedo_v = (_e110 * _e108);
+    let layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1f - layer2_transmit_l));
+    let layer1_inner_v = ((layer1_absorb_v * layer1_absorb_v) * (1f - layer2_transmit_v));
+    let _e120 = interfaced_glossy_under(layer2_f_base, layer2_albedo_l, layer1_inner_l, layer2_albedo_v, layer1_inner_v);
+    let layer2_trapped_l = trapped_share(layer2_cos_l, layer2_mu_c, layer2_alpha);
+    let layer2_trapped_v = trapped_share(layer2_cos_v, layer2_mu_c, layer2_alpha);
+    let layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, vec3<f32>(0.48009053f, 0.0003817311f, 0.00011028103f), layer2_rho, 0.8535534f);
+    let layer1_under = (_e120 + layer1_trapped);
+    let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02f);
+    let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
+    let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
+    let under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

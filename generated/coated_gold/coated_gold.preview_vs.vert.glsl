@@ -4,8 +4,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 layer1_rho = vec3(0.9354059, 0.7486685, 0.3075691);
-const vec3 r_return = vec3(0.5963458, 0.5963458, 0.5963458);
+const float layer1_alpha = 0.064166665;
+const float layer1_mu_c = 0.745356;
+const vec3 layer1_rho = vec3(0.9218583, 0.73782545, 0.30311453);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -18,9 +18,12 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
-const layer1_rho: vec3<f32> = vec3<f32>(0.9354059f, 0.7486685f, 0.3075691f);
-const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+const layer1_alpha: f32 = 0.064166665f;
+const layer1_mu_c: f32 = 0.745356f;
+const layer1_rho: vec3<f32> = vec3<f32>(0.9218583f, 0.73782545f, 0.30311453f);
 
+@group(0) @binding(3) 
+var<uniform> glazec_tables: array<vec4<f32>, 4052>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -66,9 +69,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_3 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_3);
-    let _e6 = lambda_ggx(n_dot_l, alpha_3);
+    let alpha_4 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_4);
+    let _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -92,22 +95,103 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
+    let node_roughness = (u_roughness * 15f);
+    let cell_roughness = min(floor(node_roughness), 14f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let node_eta = (u_eta * 7f);
+    let cell_eta = min(floor(node_eta), 6f);
+    let weight_eta = (node_eta - cell_eta);
+    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let node_eta_1 = (u_eta_1 * 7f);
+    let cell_eta_1 = min(floor(node_eta_1), 6f);
+    let weight_eta_1 = (node_eta_1 - cell_eta_1);
+    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_1)));
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_3)));
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
-fn fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
+fn fr_conductor(cos_i_1: f32, eta_4: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
     let _e6 = min(max(cos_i_1, 0f), 1f);
     let cos2_ = (_e6 * _e6);
     let sin2_ = (1f - cos2_);
-    let eta2_ = (eta_2 * eta_2);
+    let eta2_ = (eta_4 * eta_4);
     let k2_ = (k * k);
     let t0_ = ((eta2_ - k2_) - vec3(sin2_));
     let a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4f))));
@@ -121,16 +205,72 @@ fn fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
     return ((r_p + r_s) * vec3(0.5f));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+fn ggx_albedo(cos_theta_2: f32, roughness_2: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 15f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 14f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 15f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 14f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let _e35 = (u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ll = glazec_tables[(_e35 >> 2u)][(_e35 & 3u)];
+    let _e55 = (u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ul = glazec_tables[(_e55 >> 2u)][(_e55 & 3u)];
+    let _e76 = (u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_lu = glazec_tables[(_e76 >> 2u)][(_e76 & 3u)];
+    let _e97 = (u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_uu = glazec_tables[(_e97 >> 2u)][(_e97 & 3u)];
+    return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
+}
+
+// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+// symmetric in i and o.
+fn interfaced_glossy_under(f_below: vec3<f32>, e_i_1: vec3<f32>, k_i: vec3<f32>, e_o_1: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
+    let _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
+    return (f_below / (vec3(1f) - _e8));
+}
+
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. In the plane of incidence the mirror direction moves by twice the facet
+// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
+// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
+// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+fn trapped_share(mu: f32, mu_c: f32, alpha_3: f32) -> f32 {
+    let sin_t = sqrt(max((1f - (mu * mu)), 0f));
+    let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
+    let cos_d = ((mu_c * mu) + (sin_c * sin_t));
+    let sin_d = ((sin_c * mu) - (mu_c * sin_t));
+    let x0_ = (sin_d / max((cos_d + 1f), 0.000001f));
+    return ((1f - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 0.000000000001f)))) * 0.5f);
+}
+
+// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
+// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
+// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
+// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
+// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
+// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
+fn trapped_lobe(e_i_2: vec3<f32>, p_i: f32, e_o_2: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, stay: f32) -> vec3<f32> {
+    let _e19 = ((rho * round_trip) * stay);
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e19));
+}
+
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, eta_3: f32) -> vec3<f32> {
-    let _e9 = (rho_below * r_return);
-    let bounces = (vec3(1f) - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_5: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -144,11 +284,17 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
-    let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
-    let transmit_l = (1f - fresnel_l);
-    let fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
-    let transmit_v = (1f - fresnel_v);
+    let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = coat_extra(n_dot_l_2, 0.1f, 1.5f);
+    let layer1_restored_v = coat_extra(n_dot_v_2, 0.1f, 1.5f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00021147133f);
+    let specular = (_e21 + vec3(_e29));
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
+    let _e38 = coat_deficit(n_dot_l_2, 0.1f, 1.5f);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e38) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
+    let _e51 = coat_deficit(n_dot_v_2, 0.1f, 1.5f);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = refract_down(v_1, n_1, 1.5f);
     let layer1_l = refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -157,11 +303,24 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let layer1_h = half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_1, layer1_h);
-    let layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), 0.0625f);
-    let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, 0.0625f);
+    let layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha);
+    let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
     let layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f_base, layer1_rho, r_return_1, 1.5f);
+    let _e88 = ggx_albedo(layer1_cos_l, 0.2533114f);
+    let _e97 = fr_conductor(layer1_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_albedo_l = (_e97 * _e88);
+    let _e100 = ggx_albedo(layer1_cos_v, 0.2533114f);
+    let _e109 = fr_conductor(layer1_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_albedo_v = (_e109 * _e100);
+    let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
+    let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
+    let _e121 = interfaced_glossy_under(layer1_f_base, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer1_alpha);
+    let layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer1_alpha);
+    let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, 0.8535534f);
+    let under = (_e121 + trapped);
+    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 

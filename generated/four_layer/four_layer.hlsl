@@ -24,15 +24,16 @@ struct PreviewVarying {
 static const float3 layer1_tau = float3(0.02, 0.02, 0.02);
 static const float3 layer2_tau = float3(0.35999998, 0.2, 0.040000003);
 static const float3 layer4_rho = float3(0.89252996, 0.89252996, 0.8394612);
-static const float3 layer3_r_return = float3(0.33630583, 0.33630583, 0.33630583);
-static const float3 layer3_rho = float3(0.85323554, 0.85323554, 0.7862152);
-static const float3 layer2_r_return = float3(0.019546367, 0.04935332, 0.14138521);
+static const float3 layer4_r_return = float3(0.32180643, 0.32180643, 0.32180643);
+static const float3 layer3_rho = float3(0.8527521, 0.8527521, 0.7851878);
+static const float3 layer3_r_return = float3(0.020395279, 0.055905163, 0.14811933);
+static const float3 layer2_rho = float3(0.2631604, 0.41320744, 0.6438656);
+static const float3 layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer2_rho = float3(0.27838734, 0.4273978, 0.6466284);
-static const float3 layer1_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
-static const float3 layer1_rho = float3(0.2575977, 0.39548016, 0.5983388);
-static const float3 r_return_1 = float3(0.5963458, 0.5963458, 0.5963458);
+static const float3 layer1_rho = float3(0.24350794, 0.38234955, 0.5957823);
+static const float3 layer1_r_return = float3(0.59487253, 0.59487253, 0.59487253);
 
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -59,8 +60,8 @@ float3 half_vector(float3 v, float3 l)
 
 float d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
-    float a = min(max(alpha, 0.001), 0.9999);
-    float a_sq = (a * a);
+    float a_1 = min(max(alpha, 0.001), 0.9999);
+    float a_sq = (a_1 * a_1);
     float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
     return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
@@ -107,13 +108,101 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta, float roughness, float eta_1)
+{
+    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float node_cos_theta = (u_cos_theta * 15.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float node_eta = (u_eta * 7.0);
+    float cell_eta = min(floor(node_eta), 6.0);
+    float weight_eta = (node_eta - cell_eta);
+    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
+{
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
+{
+    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float node_eta_1 = (u_eta_1 * 7.0);
+    float cell_eta_1 = min(floor(node_eta_1), 6.0);
+    float weight_eta_1 = (node_eta_1 - cell_eta_1);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-float3 refract_down(float3 w, float3 n, float eta_1)
+float3 refract_down(float3 w, float3 n, float eta_3)
 {
-    return -(refract(-(w), n, (1.0 / eta_1)));
+    return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -133,10 +222,48 @@ float3 slab_transmittance(float3 tau, float mu)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
 {
-    float a_1 = max(alpha_3, 0.001);
-    float a_sq_1 = (a_1 * a_1);
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
     float denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 1e-12);
     return (a_sq_1 / ((denom * denom) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+float coat_path(float cos_theta_2, float roughness_2, float eta_4)
+{
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 11.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 7.0);
+    float cell_eta_2 = min(floor(node_eta_2), 6.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -160,24 +287,50 @@ float3 fd_eon(float3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float 
     float3 f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1.0)) / 3.1415927));
     const float e_o = e_fon(n_dot_v_2, r_1);
     const float e_i = e_fon(n_dot_l_2, r_1);
-    float e_avg = (a_f * ((r_1 * 0.07248825) + 1.0));
-    float3 _e36 = (albedo * (1.0 - e_avg));
-    float3 rho_ms = (((albedo * albedo) * e_avg) / ((1.0).xxx - _e36));
-    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg), 1e-7) * 3.1415927)));
+    float e_avg_1 = (a_f * ((r_1 * 0.07248825) + 1.0));
+    float3 _e36 = (albedo * (1.0 - e_avg_1));
+    float3 rho_ms = (((albedo * albedo) * e_avg_1) / ((1.0).xxx - _e36));
+    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
+}
+
+// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+float3 albedo_eon(float3 albedo_1, float r_2, float mu_2)
+{
+    const float e_f = e_fon(mu_2, r_2);
+    float e_avg_2 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
+    float3 _e17 = (albedo_1 * (1.0 - e_avg_2));
+    float3 rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / ((1.0).xxx - _e17));
+    return ((albedo_1 * e_f) + (rho_ms_1 * (1.0 - e_f)));
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+float3 interfaced_diffuse_under(float3 f_below, float3 e_i_1, float3 e_o_1, float3 rho_below, float3 r_return)
+{
+    float3 _e7 = (rho_below * r_return);
+    return (f_below + (((e_i_1 * e_o_1) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_below, float3 rho_below, float3 r_return, float eta_2)
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_5)
 {
-    float3 _e9 = (rho_below * r_return);
-    float3 bounces = ((1.0).xxx - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
+float3 interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape)
+{
+    float3 _e9 = (rho_below_1 * r_return_1);
+    return (((((a * e_below) * e_escape) * t) / ((1.0).xxx - _e9)) + ((1.0 - t)).xxx);
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -192,21 +345,27 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float d = d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.25);
     const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
-    float transmit_l = (1.0 - fresnel_l);
-    const float fresnel_v = fr_dielectric(n_dot_v_3, 1.5);
-    float transmit_v = (1.0 - fresnel_v);
+    const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float layer1_restored_l = coat_extra(n_dot_l_3, 0.2, 1.5);
+    const float layer1_restored_v = coat_extra(n_dot_v_3, 0.2, 1.5);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.001108249);
+    float3 specular = (_e21 + (_e29).xxx);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
+    const float _e38 = coat_deficit(n_dot_l_3, 0.2, 1.5);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    const float layer1_fresnel_v = fr_dielectric(n_dot_v_3, 1.5);
+    const float _e51 = coat_deficit(n_dot_v_3, 0.2, 1.5);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
     const float3 layer1_v = refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.0);
-    float layer1_transmit_l = (1.0 - layer1_fresnel_l);
-    const float layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.0);
-    float layer1_transmit_v = (1.0 - layer1_fresnel_v);
+    const float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.0);
+    float layer2_transmit_l = (1.0 - layer2_fresnel_l);
+    const float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.0);
+    float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     const float3 layer2_v = refract_down(layer1_v, n_1, 1.0);
     const float3 layer2_l = refract_down(layer1_l, n_1, 1.0);
     float layer2_n_dot_v = dot(n_1, layer2_v);
@@ -220,29 +379,45 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    const float3 layer2_specular = f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
-    const float layer2_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
-    float layer2_transmit_l = (1.0 - layer2_fresnel_l);
-    const float layer2_fresnel_v = fr_dielectric(layer2_n_dot_v, 1.1);
-    float layer2_transmit_v = (1.0 - layer2_fresnel_v);
+    const float3 _e102 = f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
+    const float layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3, 1.1);
+    const float layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3, 1.1);
+    const float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000701045);
+    float3 layer2_specular = (_e102 + (_e110).xxx);
+    const float layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
+    const float _e119 = coat_deficit(layer2_n_dot_l, 0.3, 1.1);
+    float layer3_transmit_l = min(max((((1.0 - layer3_fresnel_l) + _e119) - layer3_restored_l), 0.0), 1.0);
+    const float layer3_fresnel_v = fr_dielectric(layer2_n_dot_v, 1.1);
+    const float _e132 = coat_deficit(layer2_n_dot_v, 0.3, 1.1);
+    float layer3_transmit_v = min(max((((1.0 - layer3_fresnel_v) + _e132) - layer3_restored_v), 0.0), 1.0);
     const float3 layer3_v = refract_down(layer2_v, n_1, 1.1);
     const float3 layer3_l = refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    const float3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
-    const float3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
+    const float _e151 = coat_path(layer2_n_dot_l, 0.3, 1.1);
+    float layer3_path_cos_l = (layer3_cos_l / _e151);
+    const float _e155 = coat_path(layer2_n_dot_v, 0.3, 1.1);
+    float layer3_path_cos_v = (layer3_cos_v / _e155);
+    const float3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_path_cos_l);
+    const float3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_path_cos_v);
     const float3 layer3_h = half_vector(layer3_v, layer3_l);
     float3 layer3_n_cross_h = cross(n_1, layer3_h);
     const float layer3_d = d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     const float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     const float layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    const float3 layer3_specular = f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
-    const float layer3_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
-    float layer3_transmit_l = (1.0 - layer3_fresnel_l);
-    const float layer3_fresnel_v = fr_dielectric(layer3_n_dot_v, 1.2);
-    float layer3_transmit_v = (1.0 - layer3_fresnel_v);
+    const float3 _e173 = f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
+    const float layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5, 1.2);
+    const float layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5, 1.2);
+    const float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014132841);
+    float3 layer3_specular = (_e173 + (_e181).xxx);
+    const float layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
+    const float _e190 = coat_deficit(layer3_n_dot_l, 0.5, 1.2);
+    float layer4_transmit_l = min(max((((1.0 - layer4_fresnel_l) + _e190) - layer4_restored_l), 0.0), 1.0);
+    const float layer4_fresnel_v = fr_dielectric(layer3_n_dot_v, 1.2);
+    const float _e203 = coat_deficit(layer3_n_dot_v, 0.5, 1.2);
+    float layer4_transmit_v = min(max((((1.0 - layer4_fresnel_v) + _e203) - layer4_restored_v), 0.0), 1.0);
     const float3 layer4_v = refract_down(layer3_v, n_1, 1.2);
     const float3 layer4_l = refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -250,10 +425,22 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer4_cos_v = max(layer4_n_dot_v, 0.0001);
     float layer4_cos_l = max(layer4_n_dot_l, 0.0001);
     const float3 layer4_f_base = fd_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
-    const float3 layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, (1.0).xxx, (1.0).xxx, layer4_f_base, layer4_rho, layer3_r_return, 1.2);
-    const float3 layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, layer3_rho, layer2_r_return, 1.1);
-    const float3 layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, layer2_rho, layer1_r_return, 1.0);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f, layer1_rho, r_return_1, 1.5);
+    const float3 layer4_albedo_l = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
+    const float3 layer4_albedo_v = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
+    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
+    const float3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.67819357).xxx);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.67819357).xxx);
+    const float3 layer2_under = interfaced_diffuse_under(layer3_f, layer3_albedo_l, layer3_albedo_v, layer3_rho, layer3_r_return);
+    const float3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444));
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444));
+    const float3 layer1_under = interfaced_diffuse_under(layer2_f, layer2_albedo_l, layer2_albedo_v, layer2_rho, layer2_r_return);
+    const float3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
+    const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx);
+    const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 

@@ -7,14 +7,14 @@ struct PreviewVarying {
 const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
-const vec3 layer3_r_return = vec3(0.33630583, 0.33630583, 0.33630583);
-const vec3 layer3_rho = vec3(0.85323554, 0.85323554, 0.7862152);
-const vec3 layer2_r_return = vec3(0.019546367, 0.04935332, 0.14138521);
+const vec3 layer4_r_return = vec3(0.32180643, 0.32180643, 0.32180643);
+const vec3 layer3_rho = vec3(0.8527521, 0.8527521, 0.7851878);
+const vec3 layer3_r_return = vec3(0.020395279, 0.055905163, 0.14811933);
+const vec3 layer2_rho = vec3(0.2631604, 0.41320744, 0.6438656);
+const vec3 layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer2_rho = vec3(0.27838734, 0.4273978, 0.6466284);
-const vec3 layer1_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
-const vec3 layer1_rho = vec3(0.2575977, 0.39548016, 0.5983388);
-const vec3 r_return = vec3(0.5963458, 0.5963458, 0.5963458);
+const vec3 layer1_rho = vec3(0.24350794, 0.38234955, 0.5957823);
+const vec3 layer1_r_return = vec3(0.59487253, 0.59487253, 0.59487253);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

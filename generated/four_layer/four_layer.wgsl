@@ -21,15 +21,17 @@ struct PreviewVarying {
 const layer1_tau: vec3<f32> = vec3<f32>(0.02f, 0.02f, 0.02f);
 const layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
 const layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
-const layer3_r_return: vec3<f32> = vec3<f32>(0.33630583f, 0.33630583f, 0.33630583f);
-const layer3_rho: vec3<f32> = vec3<f32>(0.85323554f, 0.85323554f, 0.7862152f);
-const layer2_r_return: vec3<f32> = vec3<f32>(0.019546367f, 0.04935332f, 0.14138521f);
+const layer4_r_return: vec3<f32> = vec3<f32>(0.32180643f, 0.32180643f, 0.32180643f);
+const layer3_rho: vec3<f32> = vec3<f32>(0.8527521f, 0.8527521f, 0.7851878f);
+const layer3_r_return: vec3<f32> = vec3<f32>(0.020395279f, 0.055905163f, 0.14811933f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.2631604f, 0.41320744f, 0.6438656f);
+const layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer2_rho: vec3<f32> = vec3<f32>(0.27838734f, 0.4273978f, 0.6466284f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.2575977f, 0.39548016f, 0.5983388f);
-const r_return_1: vec3<f32> = vec3<f32>(0.5963458f, 0.5963458f, 0.5963458f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.24350794f, 0.38234955f, 0.5957823f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.59487253f, 0.59487253f, 0.59487253f);
 
+@group(0) @binding(3) 
+var<uniform> glazec_tables: array<vec4<f32>, 4052>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -49,8 +51,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a = min(max(alpha, 0.001f), 0.9999f);
-    let a_sq = (a * a);
+    let a_1 = min(max(alpha, 0.001f), 0.9999f);
+    let a_sq = (a_1 * a_1);
     let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
     return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
@@ -93,12 +95,93 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
+    let node_roughness = (u_roughness * 15f);
+    let cell_roughness = min(floor(node_roughness), 14f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let node_eta = (u_eta * 7f);
+    let cell_eta = min(floor(node_eta), 6f);
+    let weight_eta = (node_eta - cell_eta);
+    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let node_eta_1 = (u_eta_1 * 7f);
+    let cell_eta_1 = min(floor(node_eta_1), 6f);
+    let weight_eta_1 = (node_eta_1 - cell_eta_1);
+    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_1)));
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -116,10 +199,47 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
-    let a_1 = max(alpha_3, 0.001f);
-    let a_sq_1 = (a_1 * a_1);
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
     let denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 0.000000000001f);
     return (a_sq_1 / ((denom * denom) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 11f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 7f);
+    let cell_eta_2 = min(floor(node_eta_2), 6f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let _e59 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -141,23 +261,46 @@ fn fd_eon(albedo: vec3<f32>, r_1: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: 
     let f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = e_fon(n_dot_v_2, r_1);
     let e_i = e_fon(n_dot_l_2, r_1);
-    let e_avg = (a_f * ((r_1 * 0.07248825f) + 1f));
-    let _e36 = (albedo * (1f - e_avg));
-    let rho_ms = (((albedo * albedo) * e_avg) / (vec3(1f) - _e36));
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg), 0.0000001f) * 3.1415927f)));
+    let e_avg_1 = (a_f * ((r_1 * 0.07248825f) + 1f));
+    let _e36 = (albedo * (1f - e_avg_1));
+    let rho_ms = (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e36));
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
+}
+
+// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+fn albedo_eon(albedo_1: vec3<f32>, r_2: f32, mu_2: f32) -> vec3<f32> {
+    let e_f = e_fon(mu_2, r_2);
+    let e_avg_2 = (((r_2 * 0.07248825f) + 1f) / ((r_2 * 0.2877934f) + 1f));
+    let _e17 = (albedo_1 * (1f - e_avg_2));
+    let rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / (vec3(1f) - _e17));
+    return ((albedo_1 * e_f) + (rho_ms_1 * (1f - e_f)));
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+    let _e7 = (rho_below * r_return);
+    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, eta_2: f32) -> vec3<f32> {
-    let _e9 = (rho_below * r_return);
-    let bounces = (vec3(1f) - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_5: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
+fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>) -> vec3<f32> {
+    let _e9 = (rho_below_1 * r_return_1);
+    return (((((a * e_below) * e_escape) * t) / (vec3(1f) - _e9)) + vec3((1f - t)));
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -171,21 +314,27 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let d = d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.25f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
-    let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let fresnel_l = fr_dielectric(n_dot_l_3, 1.5f);
-    let transmit_l = (1f - fresnel_l);
-    let fresnel_v = fr_dielectric(n_dot_v_3, 1.5f);
-    let transmit_v = (1f - fresnel_v);
+    let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = coat_extra(n_dot_l_3, 0.2f, 1.5f);
+    let layer1_restored_v = coat_extra(n_dot_v_3, 0.2f, 1.5f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.001108249f);
+    let specular = (_e21 + vec3(_e29));
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5f);
+    let _e38 = coat_deficit(n_dot_l_3, 0.2f, 1.5f);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e38) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_3, 1.5f);
+    let _e51 = coat_deficit(n_dot_v_3, 0.2f, 1.5f);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = refract_down(v_1, n_1, 1.5f);
     let layer1_l = refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let layer1_fresnel_l = fr_dielectric(layer1_n_dot_l, 1f);
-    let layer1_transmit_l = (1f - layer1_fresnel_l);
-    let layer1_fresnel_v = fr_dielectric(layer1_n_dot_v, 1f);
-    let layer1_transmit_v = (1f - layer1_fresnel_v);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1f);
+    let layer2_transmit_l = (1f - layer2_fresnel_l);
+    let layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1f);
+    let layer2_transmit_v = (1f - layer2_fresnel_v);
     let layer2_v = refract_down(layer1_v, n_1, 1f);
     let layer2_l = refract_down(layer1_l, n_1, 1f);
     let layer2_n_dot_v = dot(n_1, layer2_v);
@@ -199,29 +348,45 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let layer2_specular = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    let layer2_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1f);
-    let layer2_transmit_l = (1f - layer2_fresnel_l);
-    let layer2_fresnel_v = fr_dielectric(layer2_n_dot_v, 1.1f);
-    let layer2_transmit_v = (1f - layer2_fresnel_v);
+    let _e102 = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3f, 1.1f);
+    let layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3f, 1.1f);
+    let _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000701045f);
+    let layer2_specular = (_e102 + vec3(_e110));
+    let layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1f);
+    let _e119 = coat_deficit(layer2_n_dot_l, 0.3f, 1.1f);
+    let layer3_transmit_l = min(max((((1f - layer3_fresnel_l) + _e119) - layer3_restored_l), 0f), 1f);
+    let layer3_fresnel_v = fr_dielectric(layer2_n_dot_v, 1.1f);
+    let _e132 = coat_deficit(layer2_n_dot_v, 0.3f, 1.1f);
+    let layer3_transmit_v = min(max((((1f - layer3_fresnel_v) + _e132) - layer3_restored_v), 0f), 1f);
     let layer3_v = refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let layer2_absorb_l = slab_transmittance(layer2_tau, layer3_cos_l);
-    let layer2_absorb_v = slab_transmittance(layer2_tau, layer3_cos_v);
+    let _e151 = coat_path(layer2_n_dot_l, 0.3f, 1.1f);
+    let layer3_path_cos_l = (layer3_cos_l / _e151);
+    let _e155 = coat_path(layer2_n_dot_v, 0.3f, 1.1f);
+    let layer3_path_cos_v = (layer3_cos_v / _e155);
+    let layer2_absorb_l = slab_transmittance(layer2_tau, layer3_path_cos_l);
+    let layer2_absorb_v = slab_transmittance(layer2_tau, layer3_path_cos_v);
     let layer3_h = half_vector(layer3_v, layer3_l);
     let layer3_n_cross_h = cross(n_1, layer3_h);
     let layer3_d = d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let layer3_specular = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    let layer3_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2f);
-    let layer3_transmit_l = (1f - layer3_fresnel_l);
-    let layer3_fresnel_v = fr_dielectric(layer3_n_dot_v, 1.2f);
-    let layer3_transmit_v = (1f - layer3_fresnel_v);
+    let _e173 = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5f, 1.2f);
+    let layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5f, 1.2f);
+    let _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014132841f);
+    let layer3_specular = (_e173 + vec3(_e181));
+    let layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2f);
+    let _e190 = coat_deficit(layer3_n_dot_l, 0.5f, 1.2f);
+    let layer4_transmit_l = min(max((((1f - layer4_fresnel_l) + _e190) - layer4_restored_l), 0f), 1f);
+    let layer4_fresnel_v = fr_dielectric(layer3_n_dot_v, 1.2f);
+    let _e203 = coat_deficit(layer3_n_dot_v, 0.5f, 1.2f);
+    let layer4_transmit_v = min(max((((1f - layer4_fresnel_v) + _e203) - layer4_restored_v), 0f), 1f);
     let layer4_v = refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -229,10 +394,22 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_cos_v = max(layer4_n_dot_v, 0.0001f);
     let layer4_cos_l = max(layer4_n_dot_l, 0.0001f);
     let layer4_f_base = fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
-    let layer3_f = interfaced_layer(layer3_specular, layer3_transmit_l, layer3_transmit_v, vec3(1f), vec3(1f), layer4_f_base, layer4_rho, layer3_r_return, 1.2f);
-    let layer2_f = interfaced_layer(layer2_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer3_f, layer3_rho, layer2_r_return, 1.1f);
-    let layer1_f = interfaced_layer(layer1_specular, layer1_transmit_l, layer1_transmit_v, layer1_absorb_l, layer1_absorb_v, layer2_f, layer2_rho, layer1_r_return, 1f);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, vec3(1f), vec3(1f), layer1_f, layer1_rho, r_return_1, 1.5f);
+    let layer4_albedo_l = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
+    let layer4_albedo_v = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
+    let layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
+    let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f));
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f));
+    let layer2_under = interfaced_diffuse_under(layer3_f, layer3_albedo_l, layer3_albedo_v, layer3_rho, layer3_r_return);
+    let layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f));
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f));
+    let layer1_under = interfaced_diffuse_under(layer2_f, layer2_albedo_l, layer2_albedo_v, layer2_rho, layer2_r_return);
+    let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
+    let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f));
+    let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f));
+    let under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 

@@ -5,11 +5,11 @@ struct PreviewLight {
     vec4 radiance;
 };
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
-const vec3 layer1_f_base = vec3(0.14642255, 0.082760565, 0.038197182);
-const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 r_return_1 = vec3(0.4936982, 0.35256588, 0.14974132);
+const vec3 under = vec3(0.1900987, 0.09112894, 0.03887011);
 
-layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
+layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4052]; };
+
+layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
@@ -76,12 +76,130 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta, float roughness, float eta_1) {
+    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float node_cos_theta = (u_cos_theta * 15.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float node_eta = (u_eta * 7.0);
+    float cell_eta = min(floor(node_eta), 6.0);
+    float weight_eta = (node_eta - cell_eta);
+    uint _e59 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float node_eta_1 = (u_eta_1 * 7.0);
+    float cell_eta_1 = min(floor(node_eta_1), 6.0);
+    float weight_eta_1 = (node_eta_1 - cell_eta_1);
+    uint _e59 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_1) {
-    return -(refract(-(w), n, (1.0 / eta_1)));
+vec3 refract_down(vec3 w, vec3 n, float eta_3) {
+    return -(refract(-(w), n, (1.0 / eta_3)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 11.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 7.0);
+    float cell_eta_2 = min(floor(node_eta_2), 6.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    uint _e59 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lll_2 = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_ull_2 = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lul_2 = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_uul_2 = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -92,13 +210,10 @@ vec3 slab_transmittance(vec3 tau, float mu) {
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_below, vec3 rho_below, vec3 r_return, float eta_2) {
-    vec3 bounces = (vec3(1.0) - (rho_below * r_return));
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
 }
 
 // The BRDF f(l, v) of material `lacquered_wood` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -112,20 +227,30 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0064);
     float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0064);
     float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    vec3 specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
-    float transmit_l = (1.0 - fresnel_l);
-    float fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
-    float transmit_v = (1.0 - fresnel_v);
+    vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    float layer1_restored_l = coat_extra(n_dot_l_2, 0.08, 1.5);
+    float layer1_restored_v = coat_extra(n_dot_v_2, 0.08, 1.5);
+    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00011824656);
+    vec3 specular = (_e21 + vec3(_e29));
+    float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
+    float _e38 = coat_deficit(n_dot_l_2, 0.08, 1.5);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
+    float _e51 = coat_deficit(n_dot_v_2, 0.08, 1.5);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
     vec3 layer1_v = refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorb_l = slab_transmittance(tau_1, layer1_cos_l);
-    vec3 absorb_v = slab_transmittance(tau_1, layer1_cos_v);
-    vec3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.5);
+    float _e70 = coat_path(n_dot_l_2, 0.08, 1.5);
+    float layer1_path_cos_l = (layer1_cos_l / _e70);
+    float _e74 = coat_path(n_dot_v_2, 0.08, 1.5);
+    float layer1_path_cos_v = (layer1_cos_v / _e74);
+    vec3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
+    vec3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
+    vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -5,9 +5,7 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 tau = vec3(0.04, 0.12, 0.35);
-const vec3 layer1_f_base = vec3(0.14642255, 0.082760565, 0.038197182);
-const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 r_return = vec3(0.4936982, 0.35256588, 0.14974132);
+const vec3 under = vec3(0.1900987, 0.09112894, 0.03887011);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -21,10 +21,9 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-static const float3 layer1_f_base = float3(0.19098593, 0.015915494, 0.012732395);
-static const float3 layer1_rho = float3(0.6, 0.05, 0.04);
-static const float3 r_return_1 = float3(0.59024656, 0.59024656, 0.59024656);
+static const float3 under = float3(0.29391992, 0.016393939, 0.01303677);
 
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -107,26 +106,110 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta, float roughness, float eta_1)
+{
+    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float node_cos_theta = (u_cos_theta * 15.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float node_eta = (u_eta * 7.0);
+    float cell_eta = min(floor(node_eta), 6.0);
+    float weight_eta = (node_eta - cell_eta);
+    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
+{
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
+{
+    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float node_eta_1 = (u_eta_1 * 7.0);
+    float cell_eta_1 = min(floor(node_eta_1), 6.0);
+    float weight_eta_1 = (node_eta_1 - cell_eta_1);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-float3 refract_down(float3 w, float3 n, float eta_1)
+float3 refract_down(float3 w, float3 n, float eta_3)
 {
-    return -(refract(-(w), n, (1.0 / eta_1)));
+    return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_below, float3 rho_below, float3 r_return, float eta_2)
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_4)
 {
-    float3 _e9 = (rho_below * r_return);
-    float3 bounces = ((1.0).xxx - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
 }
 
 // The BRDF f(l, v) of material `red_plastic` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -141,18 +224,24 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.122499995);
     const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.122499995);
     const float fresnel = fr_dielectric(dot(v_1, h), 1.49);
-    const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float fresnel_l = fr_dielectric(n_dot_l_2, 1.49);
-    float transmit_l = (1.0 - fresnel_l);
-    const float fresnel_v = fr_dielectric(n_dot_v_2, 1.49);
-    float transmit_v = (1.0 - fresnel_v);
+    const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float layer1_restored_l = coat_extra(n_dot_l_2, 0.35, 1.49);
+    const float layer1_restored_v = coat_extra(n_dot_v_2, 0.35, 1.49);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0024851137);
+    float3 specular = (_e21 + (_e29).xxx);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.49);
+    const float _e38 = coat_deficit(n_dot_l_2, 0.35, 1.49);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    const float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.49);
+    const float _e51 = coat_deficit(n_dot_v_2, 0.35, 1.49);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
     const float3 layer1_v = refract_down(v_1, n_1, 1.49);
     const float3 layer1_l = refract_down(l_1, n_1, 1.49);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, (1.0).xxx, (1.0).xxx, layer1_f_base, layer1_rho, r_return_1, 1.49);
+    const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.49);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 

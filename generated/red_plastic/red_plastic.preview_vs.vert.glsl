@@ -4,9 +4,7 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 layer1_f_base = vec3(0.19098593, 0.015915494, 0.012732395);
-const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
-const vec3 r_return = vec3(0.59024656, 0.59024656, 0.59024656);
+const vec3 under = vec3(0.29391992, 0.016393939, 0.01303677);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

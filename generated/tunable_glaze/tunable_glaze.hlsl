@@ -32,11 +32,12 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+cbuffer glazec_tables : register(b4) { float4 glazec_tables[4052]; }
 cbuffer params_2 : register(b3) { TunableGlazeParams params_2; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
-cbuffer light : register(b4) { PreviewLight light; }
+cbuffer light : register(b5) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_1 : LOC0;
@@ -115,13 +116,163 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta, float roughness, float eta_1)
+{
+    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float node_cos_theta = (u_cos_theta * 15.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float node_eta = (u_eta * 7.0);
+    float cell_eta = min(floor(node_eta), 6.0);
+    float weight_eta = (node_eta - cell_eta);
+    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
+float coat_extra_avg(float roughness_1, float eta_2)
+{
+    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 15.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float node_eta_1 = (u_eta_1 * 7.0);
+    float cell_eta_1 = min(floor(node_eta_1), 6.0);
+    float weight_eta_1 = (node_eta_1 - cell_eta_1);
+    uint _e41 = (naga_f2u32((cell_roughness_1 + (cell_eta_1 * 16.0))) + 11648u);
+    float at_ll = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
+    uint _e61 = (naga_f2u32(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 11648u);
+    float at_ul = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
+    uint _e82 = (naga_f2u32((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 11648u);
+    float at_lu = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
+    uint _e103 = (naga_f2u32(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 11648u);
+    float at_uu = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    return ((((at_ll * ((1.0 - weight_roughness_1) * (1.0 - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1.0 - weight_eta_1)))) + (at_lu * ((1.0 - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
+{
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta_1, float roughness_2, float eta_3)
+{
+    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 31.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 30.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_3 - 1.0) * 2.0) / (eta_3 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 7.0);
+    float cell_eta_2 = min(floor(node_eta_2), 6.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-float3 refract_down(float3 w, float3 n, float eta_1)
+float3 refract_down(float3 w, float3 n, float eta_4)
 {
-    return -(refract(-(w), n, (1.0 / eta_1)));
+    return -(refract(-(w), n, (1.0 / eta_4)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+float coat_path(float cos_theta_2, float roughness_3, float eta_5)
+{
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_3 = (u_roughness_3 * 11.0);
+    float cell_roughness_3 = min(floor(node_roughness_3), 10.0);
+    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    float u_eta_3 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
+    float node_eta_3 = (u_eta_3 * 7.0);
+    float cell_eta_3 = min(floor(node_eta_3), 6.0);
+    float weight_eta_3 = (node_eta_3 - cell_eta_3);
+    uint _e59 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -146,16 +297,16 @@ float e_fon(float mu_1, float r)
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
 float3 fd_eon(float3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
 {
-    float s_1 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    float s_over_t = ((s_1 > 0.0) ? (s_1 / max(n_dot_v_2, n_dot_l_2)) : s_1);
+    float s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    float s_over_t = ((s_2 > 0.0) ? (s_2 / max(n_dot_v_2, n_dot_l_2)) : s_2);
     float a_f = (1.0 / ((r_1 * 0.2877934) + 1.0));
     float3 f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1.0)) / 3.1415927));
     const float e_o = e_fon(n_dot_v_2, r_1);
     const float e_i = e_fon(n_dot_l_2, r_1);
-    float e_avg = (a_f * ((r_1 * 0.07248825) + 1.0));
-    float3 _e36 = (albedo * (1.0 - e_avg));
-    float3 rho_ms = (((albedo * albedo) * e_avg) / ((1.0).xxx - _e36));
-    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg), 1e-7) * 3.1415927)));
+    float e_avg_1 = (a_f * ((r_1 * 0.07248825) + 1.0));
+    float3 _e36 = (albedo * (1.0 - e_avg_1));
+    float3 rho_ms = (((albedo * albedo) * e_avg_1) / ((1.0).xxx - _e36));
+    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
@@ -163,76 +314,243 @@ float3 fd_eon(float3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float 
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
 float3 albedo_avg_eon(float3 albedo_1, float r_2)
 {
-    float e_avg_1 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
-    float3 _e15 = (albedo_1 * (1.0 - e_avg_1));
-    float3 rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_1) / ((1.0).xxx - _e15));
-    return ((albedo_1 * e_avg_1) + (rho_ms_1 * (1.0 - e_avg_1)));
+    float e_avg_2 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
+    float3 _e15 = (albedo_1 * (1.0 - e_avg_2));
+    float3 rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / ((1.0).xxx - _e15));
+    return ((albedo_1 * e_avg_2) + (rho_ms_1 * (1.0 - e_avg_2)));
+}
+
+// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+float3 albedo_eon(float3 albedo_2, float r_3, float mu_2)
+{
+    const float e_f = e_fon(mu_2, r_3);
+    float e_avg_3 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
+    float3 _e17 = (albedo_2 * (1.0 - e_avg_3));
+    float3 rho_ms_2 = (((albedo_2 * albedo_2) * e_avg_3) / ((1.0).xxx - _e17));
+    return ((albedo_2 * e_f) + (rho_ms_2 * (1.0 - e_f)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
+float fresnel_transmit_avg(float eta_6)
+{
+    float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
+    float node_eta_4 = (u_eta_4 * 63.0);
+    float cell_eta_4 = min(floor(node_eta_4), 62.0);
+    float weight_eta_4 = (node_eta_4 - cell_eta_4);
+    uint _e23 = (naga_f2u32(cell_eta_4) + 11776u);
+    float at_l = glazec_tables[(_e23 >> 2u)][(_e23 & 3u)];
+    uint _e37 = (naga_f2u32((cell_eta_4 + 1.0)) + 11776u);
+    float at_u = glazec_tables[(_e37 >> 2u)][(_e37 & 3u)];
+    return ((at_l * (1.0 - weight_eta_4)) + (at_u * weight_eta_4));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
+float coat_deficit_avg(float roughness_4, float eta_7)
+{
+    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
+    float node_roughness_4 = (u_roughness_4 * 31.0);
+    float cell_roughness_4 = min(floor(node_roughness_4), 30.0);
+    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    float u_eta_5 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
+    float node_eta_5 = (u_eta_5 * 7.0);
+    float cell_eta_5 = min(floor(node_eta_5), 6.0);
+    float weight_eta_5 = (node_eta_5 - cell_eta_5);
+    uint _e41 = (naga_f2u32((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11392u);
+    float at_ll_1 = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
+    uint _e61 = (naga_f2u32(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11392u);
+    float at_ul_1 = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
+    uint _e82 = (naga_f2u32((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11392u);
+    float at_lu_1 = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
+    uint _e103 = (naga_f2u32(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11392u);
+    float at_uu_1 = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    return ((((at_ll_1 * ((1.0 - weight_roughness_4) * (1.0 - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1.0 - weight_eta_5)))) + (at_lu_1 * ((1.0 - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// (1 − R(τ; r, η))/⟨T_int⟩, R(τ) = ∫ 2μ e^(−2τ/μ) R_int(μ) dμ: the share of diffuse light
+// going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
+// both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
+// own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
+float coat_return(float tau_1, float roughness_5, float eta_8)
+{
+    float _e4 = max(tau_1, 0.0);
+    float u_tau = (_e4 / (_e4 + 1.0));
+    float node_tau = (u_tau * 15.0);
+    float cell_tau = min(floor(node_tau), 14.0);
+    float weight_tau = (node_tau - cell_tau);
+    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
+    float node_roughness_5 = (u_roughness_5 * 15.0);
+    float cell_roughness_5 = min(floor(node_roughness_5), 14.0);
+    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    float u_eta_6 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
+    float node_eta_6 = (u_eta_6 * 7.0);
+    float cell_eta_6 = min(floor(node_eta_6), 6.0);
+    float weight_eta_6 = (node_eta_6 - cell_eta_6);
+    uint _e59 = (naga_f2u32(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
+    float at_lll_3 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
+    float at_ull_3 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
+    float at_lul_3 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
+    float at_uul_3 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
+    float at_llu_3 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
+    float at_ulu_3 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
+    float at_luu_3 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
+    float at_uuu_3 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6)))) + (at_lul_3 * (((1.0 - weight_tau) * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_llu_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1.0 - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
+// leaving the body that escapes through the coat (normalised like coat_return).
+float coat_escape(float tau_2, float roughness_6, float eta_9)
+{
+    float _e4 = max(tau_2, 0.0);
+    float u_tau_1 = (_e4 / (_e4 + 1.0));
+    float node_tau_1 = (u_tau_1 * 15.0);
+    float cell_tau_1 = min(floor(node_tau_1), 14.0);
+    float weight_tau_1 = (node_tau_1 - cell_tau_1);
+    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
+    float node_roughness_6 = (u_roughness_6 * 15.0);
+    float cell_roughness_6 = min(floor(node_roughness_6), 14.0);
+    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    float u_eta_7 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
+    float node_eta_7 = (u_eta_7 * 7.0);
+    float cell_eta_7 = min(floor(node_eta_7), 6.0);
+    float weight_eta_7 = (node_eta_7 - cell_eta_7);
+    uint _e59 = (naga_f2u32(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
+    float at_lll_4 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    uint _e85 = (naga_f2u32((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
+    float at_ull_4 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    uint _e112 = (naga_f2u32(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
+    float at_lul_4 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    uint _e139 = (naga_f2u32((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
+    float at_uul_4 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    uint _e166 = (naga_f2u32(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
+    float at_llu_4 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    uint _e193 = (naga_f2u32((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
+    float at_ulu_4 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    uint _e220 = (naga_f2u32(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
+    float at_luu_4 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    uint _e247 = (naga_f2u32((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
+    float at_uuu_4 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7)))) + (at_lul_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_llu_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
 
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
 // the substitution μ = μc t² (dμ = 2μc t dt): 2μ e^{−2τ/μ} · 2μc t · w.
 // Guard: μ ≥ 10⁻²⁰ keeps τ/μ defined when μc = 0 (no TIR cone; the weight is then 0).
-float3 slab_tir_node(float mu_c, float3 tau_1, float t, float weight)
+float3 slab_tir_node(float mu_c, float3 tau_3, float t, float weight)
 {
-    float mu_2 = max(((mu_c * t) * t), 1e-20);
-    return (exp(-(((tau_1 * (2.0).xxx) / (mu_2).xxx))) * ((((mu_2 * mu_c) * t) * weight) * 4.0));
+    float mu_3 = max(((mu_c * t) * t), 1e-20);
+    return (exp(-(((tau_3 * (2.0).xxx) / (mu_3).xxx))) * ((((mu_3 * mu_c) * t) * weight) * 4.0));
 }
 
 // One Gauss–Legendre node of R(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²
 // (dμ = 2(1 − μc) s ds): 2μ e^{−2τ/μ} F_int(μ) · 2(1 − μc) s · w.
-float3 slab_return_node(float mu_c_1, float inv_eta, float3 tau_2, float s, float weight_1)
+float3 slab_return_node(float mu_c_1, float inv_eta, float3 tau_4, float s, float weight_1)
 {
-    float mu_3 = (mu_c_1 + (((1.0 - mu_c_1) * s) * s));
-    const float fresnel = fr_dielectric(mu_3, inv_eta);
-    return (exp(-(((tau_2 * (2.0).xxx) / (mu_3).xxx))) * (((((mu_3 * (1.0 - mu_c_1)) * s) * fresnel) * weight_1) * 4.0));
+    float mu_4 = (mu_c_1 + (((1.0 - mu_c_1) * s) * s));
+    const float fresnel = fr_dielectric(mu_4, inv_eta);
+    return (exp(-(((tau_4 * (2.0).xxx) / (mu_4).xxx))) * (((((mu_4 * (1.0 - mu_c_1)) * s) * fresnel) * weight_1) * 4.0));
 }
 
 // The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
 // diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
 // absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
-float3 slab_return(float eta_2, float3 tau_3)
+float3 slab_return(float eta_10, float3 tau_5)
 {
-    float mu_c_2 = sqrt(max((1.0 - (1.0 / (eta_2 * eta_2))), 0.0));
-    float inv_eta_1 = (1.0 / eta_2);
-    const float3 node = slab_tir_node(mu_c_2, tau_3, 0.009219683, 0.023587668);
-    const float3 node_1 = slab_tir_node(mu_c_2, tau_3, 0.04794137, 0.05346966);
-    const float3 node_2 = slab_tir_node(mu_c_2, tau_3, 0.11504866, 0.080039166);
-    const float3 node_3 = slab_tir_node(mu_c_2, tau_3, 0.20634103, 0.10158371);
-    const float3 node_4 = slab_tir_node(mu_c_2, tau_3, 0.31608424, 0.11674627);
-    const float3 node_5 = slab_tir_node(mu_c_2, tau_3, 0.4373833, 0.12457352);
-    const float3 node_6 = slab_tir_node(mu_c_2, tau_3, 0.5626167, 0.12457352);
-    const float3 node_7 = slab_tir_node(mu_c_2, tau_3, 0.68391573, 0.11674627);
-    const float3 node_8 = slab_tir_node(mu_c_2, tau_3, 0.793659, 0.10158371);
-    const float3 node_9 = slab_tir_node(mu_c_2, tau_3, 0.88495135, 0.080039166);
-    const float3 node_10 = slab_tir_node(mu_c_2, tau_3, 0.9520586, 0.05346966);
-    const float3 node_11 = slab_tir_node(mu_c_2, tau_3, 0.9907803, 0.023587668);
-    const float3 node_12 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.009219683, 0.023587668);
-    const float3 node_13 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.04794137, 0.05346966);
-    const float3 node_14 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.11504866, 0.080039166);
-    const float3 node_15 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.20634103, 0.10158371);
-    const float3 node_16 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.31608424, 0.11674627);
-    const float3 node_17 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.4373833, 0.12457352);
-    const float3 node_18 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.5626167, 0.12457352);
-    const float3 node_19 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.68391573, 0.11674627);
-    const float3 node_20 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.793659, 0.10158371);
-    const float3 node_21 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.88495135, 0.080039166);
-    const float3 node_22 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.9520586, 0.05346966);
-    const float3 node_23 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.9907803, 0.023587668);
+    float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
+    float inv_eta_2 = (1.0 / eta_10);
+    const float3 node = slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
+    const float3 node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
+    const float3 node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
+    const float3 node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
+    const float3 node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
+    const float3 node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
+    const float3 node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
+    const float3 node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
+    const float3 node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
+    const float3 node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
+    const float3 node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
+    const float3 node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
+    const float3 node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
+    const float3 node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
+    const float3 node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
+    const float3 node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
+    const float3 node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
+    const float3 node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
+    const float3 node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
+    const float3 node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
+    const float3 node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
+    const float3 node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
+    const float3 node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
+    const float3 node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
+}
+
+// One Gauss–Legendre node of E_esc(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²:
+// 2μ e^{−τ/μ} (1 − F_int(μ)) · 2(1 − μc) s · w.
+float3 slab_escape_node(float mu_c_2, float inv_eta_1, float3 tau_6, float s_1, float weight_2)
+{
+    float mu_5 = (mu_c_2 + (((1.0 - mu_c_2) * s_1) * s_1));
+    const float fresnel = fr_dielectric(mu_5, inv_eta_1);
+    return (exp(-((tau_6 / (mu_5).xxx))) * (((((mu_5 * (1.0 - mu_c_2)) * s_1) * (1.0 - fresnel)) * weight_2) * 4.0));
+}
+
+// The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
+// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
+// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+float3 slab_escape(float eta_11, float3 tau_7)
+{
+    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
+    float inv_eta_3 = (1.0 / eta_11);
+    const float3 node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
+    const float3 node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
+    const float3 node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
+    const float3 node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
+    const float3 node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
+    const float3 node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
+    const float3 node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
+    const float3 node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
+    const float3 node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
+    const float3 node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
+    const float3 node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
+    const float3 node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
+    return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+float3 interfaced_diffuse_under(float3 f_below, float3 e_i_1, float3 e_o_1, float3 rho_below, float3 r_return)
+{
+    float3 _e7 = (rho_below * r_return);
+    return (f_below + (((e_i_1 * e_o_1) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_below, float3 rho_below, float3 r_return, float eta_3)
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_12)
 {
-    float3 _e9 = (rho_below * r_return);
-    float3 bounces = ((1.0).xxx - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))) / bounces));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -242,29 +560,60 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    float3 tau_4 = (params.glaze_absorption * params.glaze_thickness);
+    float3 tau_8 = (params.glaze_absorption * params.glaze_thickness);
     const float3 h = half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
     const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     const float g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     const float fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
-    const float3 specular = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
-    float transmit_l = (1.0 - fresnel_l);
-    const float fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
-    float transmit_v = (1.0 - fresnel_v);
+    const float3 _e28 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    const float layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    const float _e31 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    const float _e32 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e31);
+    float3 specular = (_e28 + (_e32).xxx);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
+    float _e37 = (1.0 - layer1_fresnel_l);
+    const float _e38 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e37 : min(max(((_e37 + _e38) - layer1_restored_l), 0.0), 1.0));
+    const float layer1_fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
+    float _e50 = (1.0 - layer1_fresnel_v);
+    const float _e51 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e50 : min(max(((_e50 + _e51) - layer1_restored_v), 0.0), 1.0));
     const float3 layer1_v = refract_down(v_1, n_1, params.glaze_ior);
     const float3 layer1_l = refract_down(l_1, n_1, params.glaze_ior);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 absorb_l = slab_transmittance(tau_4, layer1_cos_l);
-    const float3 absorb_v = slab_transmittance(tau_4, layer1_cos_v);
+    const float _e69 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e69));
+    const float _e74 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e74));
+    const float3 absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
+    const float3 absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
+    float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5);
     const float3 layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
-    const float3 r_return = slab_return(params.glaze_ior, tau_4);
-    const float3 f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return, params.glaze_ior);
+    const float3 layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
+    const float3 layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
+    const float _e95 = fresnel_transmit_avg(params.glaze_ior);
+    const float _e96 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_avg = ((_e95 + _e96) - _e31);
+    float _e100 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    const float _e102 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    const float _e104 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    const float _e106 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    float3 _e108 = (float3(_e102, _e104, _e106) * _e100);
+    const float _e117 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    const float _e119 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    const float _e121 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    bool _e125 = (params.glaze_ior < 1.0);
+    const float3 _e126 = slab_return(params.glaze_ior, tau_8);
+    const float3 _e127 = slab_escape(params.glaze_ior, tau_8);
+    float3 layer1_r_return = (_e125 ? _e126 : max(((1.0).xxx - _e108), (0.0).xxx));
+    const float3 under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 

@@ -27,6 +27,8 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+@group(0) @binding(4) 
+var<uniform> glazec_tables: array<vec4<f32>, 4052>;
 @group(0) @binding(3) 
 var<uniform> params_2: TunableGlazeParams;
 @group(0) @binding(0) 
@@ -35,7 +37,7 @@ var<storage> pairs: array<DirectionPair>;
 var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
-@group(0) @binding(4) 
+@group(0) @binding(5) 
 var<uniform> light: PreviewLight;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -100,12 +102,153 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
+    let node_roughness = (u_roughness * 15f);
+    let cell_roughness = min(floor(node_roughness), 14f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let node_eta = (u_eta * 7f);
+    let cell_eta = min(floor(node_eta), 6f);
+    let weight_eta = (node_eta - cell_eta);
+    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
+fn coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 15f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let node_eta_1 = (u_eta_1 * 7f);
+    let cell_eta_1 = min(floor(node_eta_1), 6f);
+    let weight_eta_1 = (node_eta_1 - cell_eta_1);
+    let _e41 = (u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 11648u);
+    let at_ll = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
+    let _e61 = (u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 11648u);
+    let at_ul = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
+    let _e82 = (u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 11648u);
+    let at_lu = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
+    let _e103 = (u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 11648u);
+    let at_uu = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    return ((((at_ll * ((1f - weight_roughness_1) * (1f - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1f - weight_eta_1)))) + (at_lu * ((1f - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
+    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 31f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 30f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_3 - 1f) * 2f) / (eta_3 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 7f);
+    let cell_eta_2 = min(floor(node_eta_2), 6f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_1)));
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_4)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+fn coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 11f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 10f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
+    let node_eta_3 = (u_eta_3 * 7f);
+    let cell_eta_3 = min(floor(node_eta_3), 6f);
+    let weight_eta_3 = (node_eta_3 - cell_eta_3);
+    let _e59 = (u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u);
+    let at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u);
+    let at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u);
+    let at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u);
+    let at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
+    let at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
+    let at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
+    let at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
+    let at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1f - weight_eta_3)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -127,88 +270,247 @@ fn e_fon(mu_1: f32, r: f32) -> f32 {
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
 fn fd_eon(albedo: vec3<f32>, r_1: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
-    let s_1 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    let s_over_t = select(s_1, (s_1 / max(n_dot_v_2, n_dot_l_2)), (s_1 > 0f));
+    let s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    let s_over_t = select(s_2, (s_2 / max(n_dot_v_2, n_dot_l_2)), (s_2 > 0f));
     let a_f = (1f / ((r_1 * 0.2877934f) + 1f));
     let f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = e_fon(n_dot_v_2, r_1);
     let e_i = e_fon(n_dot_l_2, r_1);
-    let e_avg = (a_f * ((r_1 * 0.07248825f) + 1f));
-    let _e36 = (albedo * (1f - e_avg));
-    let rho_ms = (((albedo * albedo) * e_avg) / (vec3(1f) - _e36));
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg), 0.0000001f) * 3.1415927f)));
+    let e_avg_1 = (a_f * ((r_1 * 0.07248825f) + 1f));
+    let _e36 = (albedo * (1f - e_avg_1));
+    let rho_ms = (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e36));
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
 fn albedo_avg_eon(albedo_1: vec3<f32>, r_2: f32) -> vec3<f32> {
-    let e_avg_1 = (((r_2 * 0.07248825f) + 1f) / ((r_2 * 0.2877934f) + 1f));
-    let _e15 = (albedo_1 * (1f - e_avg_1));
-    let rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_1) / (vec3(1f) - _e15));
-    return ((albedo_1 * e_avg_1) + (rho_ms_1 * (1f - e_avg_1)));
+    let e_avg_2 = (((r_2 * 0.07248825f) + 1f) / ((r_2 * 0.2877934f) + 1f));
+    let _e15 = (albedo_1 * (1f - e_avg_2));
+    let rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / (vec3(1f) - _e15));
+    return ((albedo_1 * e_avg_2) + (rho_ms_1 * (1f - e_avg_2)));
+}
+
+// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+fn albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_2: f32) -> vec3<f32> {
+    let e_f = e_fon(mu_2, r_3);
+    let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
+    let _e17 = (albedo_2 * (1f - e_avg_3));
+    let rho_ms_2 = (((albedo_2 * albedo_2) * e_avg_3) / (vec3(1f) - _e17));
+    return ((albedo_2 * e_f) + (rho_ms_2 * (1f - e_f)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
+fn fresnel_transmit_avg(eta_6: f32) -> f32 {
+    let u_eta_4 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
+    let node_eta_4 = (u_eta_4 * 63f);
+    let cell_eta_4 = min(floor(node_eta_4), 62f);
+    let weight_eta_4 = (node_eta_4 - cell_eta_4);
+    let _e23 = (u32(cell_eta_4) + 11776u);
+    let at_l = glazec_tables[(_e23 >> 2u)][(_e23 & 3u)];
+    let _e37 = (u32((cell_eta_4 + 1f)) + 11776u);
+    let at_u = glazec_tables[(_e37 >> 2u)][(_e37 & 3u)];
+    return ((at_l * (1f - weight_eta_4)) + (at_u * weight_eta_4));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
+fn coat_deficit_avg(roughness_4: f32, eta_7: f32) -> f32 {
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 31f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 30f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let u_eta_5 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
+    let node_eta_5 = (u_eta_5 * 7f);
+    let cell_eta_5 = min(floor(node_eta_5), 6f);
+    let weight_eta_5 = (node_eta_5 - cell_eta_5);
+    let _e41 = (u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11392u);
+    let at_ll_1 = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
+    let _e61 = (u32(((cell_roughness_4 + 1f) + (cell_eta_5 * 32f))) + 11392u);
+    let at_ul_1 = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
+    let _e82 = (u32((cell_roughness_4 + ((cell_eta_5 + 1f) * 32f))) + 11392u);
+    let at_lu_1 = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
+    let _e103 = (u32(((cell_roughness_4 + 1f) + ((cell_eta_5 + 1f) * 32f))) + 11392u);
+    let at_uu_1 = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    return ((((at_ll_1 * ((1f - weight_roughness_4) * (1f - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1f - weight_eta_5)))) + (at_lu_1 * ((1f - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// (1 − R(τ; r, η))/⟨T_int⟩, R(τ) = ∫ 2μ e^(−2τ/μ) R_int(μ) dμ: the share of diffuse light
+// going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
+// both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
+// own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
+fn coat_return(tau_1: f32, roughness_5: f32, eta_8: f32) -> f32 {
+    let _e4 = max(tau_1, 0f);
+    let u_tau = (_e4 / (_e4 + 1f));
+    let node_tau = (u_tau * 15f);
+    let cell_tau = min(floor(node_tau), 14f);
+    let weight_tau = (node_tau - cell_tau);
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 15f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 14f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let u_eta_6 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
+    let node_eta_6 = (u_eta_6 * 7f);
+    let cell_eta_6 = min(floor(node_eta_6), 6f);
+    let weight_eta_6 = (node_eta_6 - cell_eta_6);
+    let _e59 = (u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u);
+    let at_lll_3 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u);
+    let at_ull_3 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u);
+    let at_lul_3 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u);
+    let at_uul_3 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
+    let at_llu_3 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
+    let at_ulu_3 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
+    let at_luu_3 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
+    let at_uuu_3 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * (1f - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * (1f - weight_eta_6)))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * (1f - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1f - weight_eta_6)))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
+// leaving the body that escapes through the coat (normalised like coat_return).
+fn coat_escape(tau_2: f32, roughness_6: f32, eta_9: f32) -> f32 {
+    let _e4 = max(tau_2, 0f);
+    let u_tau_1 = (_e4 / (_e4 + 1f));
+    let node_tau_1 = (u_tau_1 * 15f);
+    let cell_tau_1 = min(floor(node_tau_1), 14f);
+    let weight_tau_1 = (node_tau_1 - cell_tau_1);
+    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
+    let node_roughness_6 = (u_roughness_6 * 15f);
+    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
+    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    let u_eta_7 = min(max((((eta_9 - 1f) * 2f) / (eta_9 + 1f)), 0f), 1f);
+    let node_eta_7 = (u_eta_7 * 7f);
+    let cell_eta_7 = min(floor(node_eta_7), 6f);
+    let weight_eta_7 = (node_eta_7 - cell_eta_7);
+    let _e59 = (u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u);
+    let at_lll_4 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u);
+    let at_ull_4 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u);
+    let at_lul_4 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u);
+    let at_uul_4 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
+    let at_llu_4 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
+    let at_ulu_4 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
+    let at_luu_4 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
+    let at_uuu_4 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * (1f - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * (1f - weight_eta_7)))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * (1f - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1f - weight_eta_7)))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
 
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
 // the substitution μ = μc t² (dμ = 2μc t dt): 2μ e^{−2τ/μ} · 2μc t · w.
 // Guard: μ ≥ 10⁻²⁰ keeps τ/μ defined when μc = 0 (no TIR cone; the weight is then 0).
-fn slab_tir_node(mu_c: f32, tau_1: vec3<f32>, t: f32, weight: f32) -> vec3<f32> {
-    let mu_2 = max(((mu_c * t) * t), 0.00000000000000000001f);
-    return (exp(-(((tau_1 * vec3(2f)) / vec3(mu_2)))) * ((((mu_2 * mu_c) * t) * weight) * 4f));
+fn slab_tir_node(mu_c: f32, tau_3: vec3<f32>, t: f32, weight: f32) -> vec3<f32> {
+    let mu_3 = max(((mu_c * t) * t), 0.00000000000000000001f);
+    return (exp(-(((tau_3 * vec3(2f)) / vec3(mu_3)))) * ((((mu_3 * mu_c) * t) * weight) * 4f));
 }
 
 // One Gauss–Legendre node of R(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²
 // (dμ = 2(1 − μc) s ds): 2μ e^{−2τ/μ} F_int(μ) · 2(1 − μc) s · w.
-fn slab_return_node(mu_c_1: f32, inv_eta: f32, tau_2: vec3<f32>, s: f32, weight_1: f32) -> vec3<f32> {
-    let mu_3 = (mu_c_1 + (((1f - mu_c_1) * s) * s));
-    let fresnel = fr_dielectric(mu_3, inv_eta);
-    return (exp(-(((tau_2 * vec3(2f)) / vec3(mu_3)))) * (((((mu_3 * (1f - mu_c_1)) * s) * fresnel) * weight_1) * 4f));
+fn slab_return_node(mu_c_1: f32, inv_eta: f32, tau_4: vec3<f32>, s: f32, weight_1: f32) -> vec3<f32> {
+    let mu_4 = (mu_c_1 + (((1f - mu_c_1) * s) * s));
+    let fresnel = fr_dielectric(mu_4, inv_eta);
+    return (exp(-(((tau_4 * vec3(2f)) / vec3(mu_4)))) * (((((mu_4 * (1f - mu_c_1)) * s) * fresnel) * weight_1) * 4f));
 }
 
 // The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
 // diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
 // absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
-fn slab_return(eta_2: f32, tau_3: vec3<f32>) -> vec3<f32> {
-    let mu_c_2 = sqrt(max((1f - (1f / (eta_2 * eta_2))), 0f));
-    let inv_eta_1 = (1f / eta_2);
-    let node = slab_tir_node(mu_c_2, tau_3, 0.009219683f, 0.023587668f);
-    let node_1 = slab_tir_node(mu_c_2, tau_3, 0.04794137f, 0.05346966f);
-    let node_2 = slab_tir_node(mu_c_2, tau_3, 0.11504866f, 0.080039166f);
-    let node_3 = slab_tir_node(mu_c_2, tau_3, 0.20634103f, 0.10158371f);
-    let node_4 = slab_tir_node(mu_c_2, tau_3, 0.31608424f, 0.11674627f);
-    let node_5 = slab_tir_node(mu_c_2, tau_3, 0.4373833f, 0.12457352f);
-    let node_6 = slab_tir_node(mu_c_2, tau_3, 0.5626167f, 0.12457352f);
-    let node_7 = slab_tir_node(mu_c_2, tau_3, 0.68391573f, 0.11674627f);
-    let node_8 = slab_tir_node(mu_c_2, tau_3, 0.793659f, 0.10158371f);
-    let node_9 = slab_tir_node(mu_c_2, tau_3, 0.88495135f, 0.080039166f);
-    let node_10 = slab_tir_node(mu_c_2, tau_3, 0.9520586f, 0.05346966f);
-    let node_11 = slab_tir_node(mu_c_2, tau_3, 0.9907803f, 0.023587668f);
-    let node_12 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.009219683f, 0.023587668f);
-    let node_13 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.04794137f, 0.05346966f);
-    let node_14 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.11504866f, 0.080039166f);
-    let node_15 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.20634103f, 0.10158371f);
-    let node_16 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.31608424f, 0.11674627f);
-    let node_17 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.4373833f, 0.12457352f);
-    let node_18 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.5626167f, 0.12457352f);
-    let node_19 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.68391573f, 0.11674627f);
-    let node_20 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.793659f, 0.10158371f);
-    let node_21 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.88495135f, 0.080039166f);
-    let node_22 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.9520586f, 0.05346966f);
-    let node_23 = slab_return_node(mu_c_2, inv_eta_1, tau_3, 0.9907803f, 0.023587668f);
+fn slab_return(eta_10: f32, tau_5: vec3<f32>) -> vec3<f32> {
+    let mu_c_3 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
+    let inv_eta_2 = (1f / eta_10);
+    let node = slab_tir_node(mu_c_3, tau_5, 0.009219683f, 0.023587668f);
+    let node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137f, 0.05346966f);
+    let node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866f, 0.080039166f);
+    let node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103f, 0.10158371f);
+    let node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424f, 0.11674627f);
+    let node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833f, 0.12457352f);
+    let node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167f, 0.12457352f);
+    let node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573f, 0.11674627f);
+    let node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659f, 0.10158371f);
+    let node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135f, 0.080039166f);
+    let node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586f, 0.05346966f);
+    let node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803f, 0.023587668f);
+    let node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683f, 0.023587668f);
+    let node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137f, 0.05346966f);
+    let node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866f, 0.080039166f);
+    let node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103f, 0.10158371f);
+    let node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424f, 0.11674627f);
+    let node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833f, 0.12457352f);
+    let node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167f, 0.12457352f);
+    let node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573f, 0.11674627f);
+    let node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659f, 0.10158371f);
+    let node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135f, 0.080039166f);
+    let node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586f, 0.05346966f);
+    let node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803f, 0.023587668f);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
+}
+
+// One Gauss–Legendre node of E_esc(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²:
+// 2μ e^{−τ/μ} (1 − F_int(μ)) · 2(1 − μc) s · w.
+fn slab_escape_node(mu_c_2: f32, inv_eta_1: f32, tau_6: vec3<f32>, s_1: f32, weight_2: f32) -> vec3<f32> {
+    let mu_5 = (mu_c_2 + (((1f - mu_c_2) * s_1) * s_1));
+    let fresnel = fr_dielectric(mu_5, inv_eta_1);
+    return (exp(-((tau_6 / vec3(mu_5)))) * (((((mu_5 * (1f - mu_c_2)) * s_1) * (1f - fresnel)) * weight_2) * 4f));
+}
+
+// The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
+// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
+// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+fn slab_escape(eta_11: f32, tau_7: vec3<f32>) -> vec3<f32> {
+    let mu_c_4 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
+    let inv_eta_3 = (1f / eta_11);
+    let node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683f, 0.023587668f);
+    let node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137f, 0.05346966f);
+    let node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866f, 0.080039166f);
+    let node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103f, 0.10158371f);
+    let node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424f, 0.11674627f);
+    let node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833f, 0.12457352f);
+    let node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167f, 0.12457352f);
+    let node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573f, 0.11674627f);
+    let node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659f, 0.10158371f);
+    let node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135f, 0.080039166f);
+    let node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586f, 0.05346966f);
+    let node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803f, 0.023587668f);
+    return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+}
+
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+    let _e7 = (rho_below * r_return);
+    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, eta_3: f32) -> vec3<f32> {
-    let _e9 = (rho_below * r_return);
-    let bounces = (vec3(1f) - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_12: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -217,29 +519,60 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let n_dot_l_3 = dot(n_1, l_1);
     let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
-    let tau_4 = (params.glaze_absorption * params.glaze_thickness);
+    let tau_8 = (params.glaze_absorption * params.glaze_thickness);
     let h = half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     let g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     let fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
-    let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
-    let transmit_l = (1f - fresnel_l);
-    let fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
-    let transmit_v = (1f - fresnel_v);
+    let _e28 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let _e31 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    let _e32 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e31);
+    let specular = (_e28 + vec3(_e32));
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
+    let _e37 = (1f - layer1_fresnel_l);
+    let _e38 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_l = select(min(max(((_e37 + _e38) - layer1_restored_l), 0f), 1f), _e37, (params.glaze_ior < 1f));
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
+    let _e50 = (1f - layer1_fresnel_v);
+    let _e51 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_v = select(min(max(((_e50 + _e51) - layer1_restored_v), 0f), 1f), _e50, (params.glaze_ior < 1f));
     let layer1_v = refract_down(v_1, n_1, params.glaze_ior);
     let layer1_l = refract_down(l_1, n_1, params.glaze_ior);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(tau_4, layer1_cos_l);
-    let absorb_v = slab_transmittance(tau_4, layer1_cos_v);
+    let _e69 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_l = select((layer1_cos_l / _e69), layer1_cos_l, (params.glaze_ior < 1f));
+    let _e74 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_v = select((layer1_cos_v / _e74), layer1_cos_v, (params.glaze_ior < 1f));
+    let absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
+    let absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
+    let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5f);
     let layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
-    let r_return = slab_return(params.glaze_ior, tau_4);
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return, params.glaze_ior);
+    let layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
+    let layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
+    let _e95 = fresnel_transmit_avg(params.glaze_ior);
+    let _e96 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_avg = ((_e95 + _e96) - _e31);
+    let _e100 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    let _e102 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e104 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e106 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e108 = (vec3<f32>(_e102, _e104, _e106) * _e100);
+    let _e117 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e119 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e121 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e125 = (params.glaze_ior < 1f);
+    let _e126 = slab_return(params.glaze_ior, tau_8);
+    let _e127 = slab_escape(params.glaze_ior, tau_8);
+    let layer1_r_return = select(max((vec3(1f) - _e108), vec3(0f)), _e126, _e125);
+    let under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 

@@ -19,9 +19,13 @@ struct PreviewVarying {
 }
 
 const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
+const layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
+const layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const r_return_1: vec3<f32> = vec3<f32>(0.11489976f, 0.11489976f, 0.11489976f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.116509795f, 0.116509795f, 0.116509795f);
 
+@group(0) @binding(3) 
+var<uniform> glazec_tables: array<vec4<f32>, 4052>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -93,12 +97,130 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
+    let node_roughness = (u_roughness * 15f);
+    let cell_roughness = min(floor(node_roughness), 14f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let node_eta = (u_eta * 7f);
+    let cell_eta = min(floor(node_eta), 6f);
+    let weight_eta = (node_eta - cell_eta);
+    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let node_eta_1 = (u_eta_1 * 7f);
+    let cell_eta_1 = min(floor(node_eta_1), 6f);
+    let weight_eta_1 = (node_eta_1 - cell_eta_1);
+    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+}
+
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_1)));
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_3)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 11f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 7f);
+    let cell_eta_2 = min(floor(node_eta_2), 6f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let _e59 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
+    let _e85 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
+    let _e112 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
+    let _e139 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
+    let _e166 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
+    let _e193 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
+    let _e220 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
+    let _e247 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -121,16 +243,22 @@ fn fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l_2: f32, 
     return (albedo * (((b * s_over_t) + a_1) / 3.1415927f));
 }
 
+// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+    let _e7 = (rho_below * r_return);
+    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+}
+
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, eta_2: f32) -> vec3<f32> {
-    let _e9 = (rho_below * r_return);
-    let bounces = (vec3(1f) - _e9);
-    return (f_top + ((((f_below * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))) / bounces));
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_5: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
 }
 
 // The BRDF f(l, v) of material `wet_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -144,21 +272,32 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0144f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.0144f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.33f);
-    let specular = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let fresnel_l = fr_dielectric(n_dot_l_3, 1.33f);
-    let transmit_l = (1f - fresnel_l);
-    let fresnel_v = fr_dielectric(n_dot_v_3, 1.33f);
-    let transmit_v = (1f - fresnel_v);
+    let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = coat_extra(n_dot_l_3, 0.12f, 1.33f);
+    let layer1_restored_v = coat_extra(n_dot_v_3, 0.12f, 1.33f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031316964f);
+    let specular = (_e21 + vec3(_e29));
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.33f);
+    let _e38 = coat_deficit(n_dot_l_3, 0.12f, 1.33f);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e38) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_3, 1.33f);
+    let _e51 = coat_deficit(n_dot_v_3, 0.12f, 1.33f);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = refract_down(v_1, n_1, 1.33f);
     let layer1_l = refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorb_l = slab_transmittance(tau_1, layer1_cos_l);
-    let absorb_v = slab_transmittance(tau_1, layer1_cos_v);
+    let _e70 = coat_path(n_dot_l_3, 0.12f, 1.33f);
+    let layer1_path_cos_l = (layer1_cos_l / _e70);
+    let _e74 = coat_path(n_dot_v_3, 0.12f, 1.33f);
+    let layer1_path_cos_v = (layer1_cos_v / _e74);
+    let absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
+    let absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
     let layer1_f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let f = interfaced_layer(specular, transmit_l, transmit_v, absorb_l, absorb_v, layer1_f_base, layer1_rho, r_return_1, 1.33f);
+    let under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 

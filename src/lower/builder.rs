@@ -30,6 +30,7 @@ use naga::{
     Module, Scalar as NagaScalar, Span, Statement, Type, TypeInner, UnaryOperator, VectorSize,
 };
 
+use crate::math::tables::TableId;
 use crate::math::{Kind, Logic, Named, Real, Slot, TermDef, Vector};
 
 /// Types the builder uses everywhere.
@@ -49,6 +50,20 @@ struct FnState {
     block: Block,
     emit_start: Option<usize>,
     id: u32,
+    /// Results of the term calls made so far, by term and arguments: terms are pure and the
+    /// functions straight-line, so a repeated call (the same table lookup for the three
+    /// channels of a grey absorption, say) reuses the first result instead of calling again.
+    calls: HashMap<CallKey, Handle<Expression>>,
+}
+
+/// A term call's identity: the term's name and each argument (a constant's bits or an
+/// expression handle).
+type CallKey = (&'static str, Vec<ArgKey>);
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum ArgKey {
+    Const([u32; 3]),
+    Dyn(Handle<Expression>),
 }
 
 struct State {
@@ -59,7 +74,12 @@ struct State {
     const_names: Vec<String>,
     /// Named module constants already created, by (name, value bits).
     constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
+    /// The table storage buffer, once used.
+    tables_buffer: Option<Handle<naga::GlobalVariable>>,
 }
+
+/// The name of the table storage buffer in generated code.
+pub const TABLES_BUFFER_NAME: &str = "glazec_tables";
 
 /// Builds one `naga::Module`; see the module docs.
 pub struct ModuleBuilder {
@@ -98,6 +118,7 @@ impl ModuleBuilder {
                 next_id: 0,
                 const_names: Vec::new(),
                 constants: HashMap::new(),
+                tables_buffer: None,
             }),
             types,
         }
@@ -127,7 +148,7 @@ impl ModuleBuilder {
         let id = state.next_id;
         state.next_id += 1;
         let function = Function { name: Some(name.to_string()), arguments, result, ..Function::default() };
-        state.stack.push(FnState { function, block: Block::new(), emit_start: None, id });
+        state.stack.push(FnState { function, block: Block::new(), emit_start: None, id, calls: HashMap::new() });
     }
 
     /// Finishes the current function (closing its last emit range) and returns it.
@@ -273,6 +294,44 @@ impl ModuleBuilder {
         self.append(Expression::Constant(constant))
     }
 
+    /// The table storage buffer `glazec_tables: array<f32>` (created on first use; its binding
+    /// is assigned by `lower` once the module is complete), as a pointer expression.
+    ///
+    /// Tables are read from a buffer rather than from constant arrays: naga's SPIR-V writer
+    /// spills a dynamically indexed array *value* into a local variable at every access and
+    /// lavapipe's compiler lowers that to a chain of selects. Even 16-entry curves folded from
+    /// the tables made a two-coat shader take 3 s to compile (0.1 s from the buffer), and an
+    /// 8,192-entry table took minutes.
+    fn tables_buffer(&self) -> Handle<Expression> {
+        let global = {
+            let mut state = self.state.borrow_mut();
+            match state.tables_buffer {
+                Some(h) => h,
+                None => {
+                    let module = &mut state.module;
+                    // A fixed size, so that a device's bounds checks clamp to a constant
+                    // instead of reading the buffer's length at every access.
+                    let entries = std::num::NonZeroU32::new(crate::math::tables::buffer_len().div_ceil(4) as u32)
+                        .unwrap_or_else(|| unreachable!("the tables are not empty"));
+                    let size = naga::ArraySize::Constant(entries);
+                    let ty = insert_type(module, None, TypeInner::Array { base: self.types.vec4, size, stride: 16 });
+                    let global = naga::GlobalVariable {
+                        name: Some(TABLES_BUFFER_NAME.to_string()),
+                        space: naga::AddressSpace::Uniform,
+                        binding: Some(naga::ResourceBinding { group: 0, binding: u32::MAX }),
+                        ty,
+                        init: None,
+                        memory_decorations: Default::default(),
+                    };
+                    let h = module.global_variables.append(global, Span::UNDEFINED);
+                    state.tables_buffer = Some(h);
+                    h
+                }
+            }
+        };
+        self.append(Expression::GlobalVariable(global))
+    }
+
     fn scalar_handle(&self, v: Val, name: Option<ConstName>) -> Handle<Expression> {
         match v {
             Val::Const(x) => match name {
@@ -320,6 +379,29 @@ impl ModuleBuilder {
         match slot {
             Slot::S(x) => self.scalar_handle(x.v, x.name),
             Slot::V(v) => self.vector_handle(v.v, v.name),
+        }
+    }
+
+    fn arg_key(&self, slot: Slot<Expr<'_>>) -> ArgKey {
+        match slot {
+            Slot::S(x) => match x.v {
+                Val::Const(c) => ArgKey::Const([c.to_bits(), 0, 0]),
+                Val::Dyn(..) => ArgKey::Dyn(self.scalar_handle(x.v, x.name)),
+            },
+            Slot::V(v) => match v.v {
+                VVal::Const(c) => ArgKey::Const(c.map(f32::to_bits)),
+                VVal::Dyn(..) => ArgKey::Dyn(self.vector_handle(v.v, v.name)),
+            },
+        }
+    }
+
+    fn earlier_call(&self, key: &CallKey) -> Option<Handle<Expression>> {
+        self.state.borrow().stack.last().and_then(|f| f.calls.get(key).copied())
+    }
+
+    fn remember_call(&self, key: CallKey, result: Handle<Expression>) {
+        if let Some(f) = self.state.borrow_mut().stack.last_mut() {
+            f.calls.insert(key, result);
         }
     }
 
@@ -580,6 +662,9 @@ impl<'a> Real for Expr<'a> {
     fn abs(self) -> Self {
         self.unary_math(MathFunction::Abs, f32::abs)
     }
+    fn floor(self) -> Self {
+        self.unary_math(MathFunction::Floor, f32::floor)
+    }
     fn min(self, other: Self) -> Self {
         self.binary_math(MathFunction::Min, other, f32::min)
     }
@@ -628,6 +713,28 @@ impl<'a> Real for Expr<'a> {
             }
         }
     }
+    fn known(self) -> Option<f32> {
+        self.as_const()
+    }
+    fn fetch(table: TableId, index: Self) -> Self {
+        let b = index.b;
+        if let Val::Const(i) = index.v {
+            let values = table.values();
+            return b.constant(values[(i as usize).min(values.len() - 1)]);
+        }
+        let expr = index.handle();
+        let base = b.tables_buffer();
+        let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
+        let offset = b.append(Expression::Literal(Literal::U32(table.buffer_offset())));
+        let position = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
+        let two = b.append(Expression::Literal(Literal::U32(2)));
+        let three = b.append(Expression::Literal(Literal::U32(3)));
+        let row = b.append(Expression::Binary { op: BinaryOperator::ShiftRight, left: position, right: two });
+        let lane = b.append(Expression::Binary { op: BinaryOperator::And, left: position, right: three });
+        let pointer = b.append(Expression::Access { base, index: row });
+        let pointer = b.append(Expression::Access { base: pointer, index: lane });
+        index.dynamic(b.append(Expression::Load { pointer }))
+    }
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self> {
         let all_const = args.iter().all(|a| match a {
             Slot::S(x) => matches!(x.v, Val::Const(_)),
@@ -642,9 +749,17 @@ impl<'a> Real for Expr<'a> {
         if all_const {
             return body(args);
         }
-        let function = b.term_function(def, body);
-        let arguments = args.iter().map(|&a| b.slot_handle(a)).collect();
-        let result = b.call(function, arguments);
+        let key: CallKey = (def.name, args.iter().map(|&a| b.arg_key(a)).collect());
+        let result = match b.earlier_call(&key) {
+            Some(result) => result,
+            None => {
+                let function = b.term_function(def, body);
+                let arguments = args.iter().map(|&a| b.slot_handle(a)).collect();
+                let result = b.call(function, arguments);
+                b.remember_call(key, result);
+                result
+            }
+        };
         match def.ret {
             Kind::Scalar => Slot::S(b.scalar(result)),
             Kind::Vec3 => Slot::V(b.vector(result)),

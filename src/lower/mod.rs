@@ -39,7 +39,10 @@ use builder::{Expr, ModuleBuilder};
 ///
 /// They are numbered contiguously from 0 in the order a kernel's layout lists them: wgpu's
 /// Vulkan backend renumbers a bind group's entries 0, 1, 2, … in that order, and passthrough
-/// SPIR-V (the HLSL path) keeps the numbers glslang gave it, so the two must coincide.
+/// SPIR-V (the HLSL path) keeps the numbers glslang gave it, so the two must coincide. The
+/// optional resources therefore take the next free number, in this order: `params` (3, when
+/// the material has runtime parameters), `glazec_tables` (when a runtime parameter needs whole
+/// tables), `light` (the preview's). [`layout`] reads them back from a module.
 pub mod bindings {
     pub const GROUP: u32 = 0;
     /// `var<storage, read> pairs: array<DirectionPair>`: `wi` then `wo`, each a `vec4<f32>` (w unused).
@@ -50,8 +53,52 @@ pub mod bindings {
     pub const DISPATCH: u32 = 2;
     /// `var<uniform> params: <Material>Params` (only when the material has runtime parameters).
     pub const PARAMS: u32 = 3;
-    /// `var<uniform> light: PreviewLight` (the preview's directional light).
-    pub const PREVIEW_LIGHT: u32 = 4;
+
+    /// Where a module's optional resources are bound.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct Layout {
+        /// `var<uniform> params: <Material>Params`.
+        pub params: Option<u32>,
+        /// `var<storage, read> glazec_tables: array<f32>`: the contents of
+        /// `glazec::math::tables::buffer()` (`glazec_tables.bin` beside the generated folders),
+        /// bound when a table lookup has an argument known only at run time (a cosine, or a
+        /// runtime parameter).
+        pub tables: Option<u32>,
+        /// `var<uniform> light: PreviewLight` (the preview's directional light).
+        pub light: Option<u32>,
+    }
+
+    /// The bindings of a module built by `lower`.
+    pub fn layout(module: &naga::Module) -> Layout {
+        let binding = |name: &str| {
+            module
+                .global_variables
+                .iter()
+                .find(|(_, v)| v.name.as_deref() == Some(name))
+                .and_then(|(_, v)| v.binding.as_ref().map(|b| b.binding))
+        };
+        Layout {
+            params: binding("params"),
+            tables: binding(super::builder::TABLES_BUFFER_NAME),
+            light: binding("light"),
+        }
+    }
+
+    /// Numbers the optional resources created without a binding number (`u32::MAX`): the table
+    /// buffer, then the light, after `params`.
+    pub(super) fn assign(module: &mut naga::Module) {
+        let mut next = if layout(module).params.is_some() { PARAMS + 1 } else { PARAMS };
+        for name in [super::builder::TABLES_BUFFER_NAME, "light"] {
+            for (_, var) in module.global_variables.iter_mut() {
+                if var.name.as_deref() == Some(name) {
+                    if let Some(b) = var.binding.as_mut() {
+                        b.binding = next;
+                        next += 1;
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// Entry point names.
@@ -105,7 +152,9 @@ pub fn lower(material: &Material) -> Module {
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     eval_pairs_entry(&b, brdf, params_var);
     preview_entries(&b, eval, params_var);
-    b.finish()
+    let mut module = b.finish();
+    bindings::assign(&mut module);
+    module
 }
 
 fn params_type(b: &ModuleBuilder, material: &Material) -> Option<Handle<Type>> {
@@ -379,7 +428,8 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
         &[("direction", b.types.vec4, 0, None), ("radiance", b.types.vec4, 16, None)],
         32,
     );
-    let light = global(b, "light", AddressSpace::Uniform, bindings::PREVIEW_LIGHT, light_ty);
+    // Numbered by `bindings::assign` once the module is complete.
+    let light = global(b, "light", AddressSpace::Uniform, u32::MAX, light_ty);
     let varying_ty = struct_type(
         b,
         "PreviewVarying",

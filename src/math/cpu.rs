@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 
+use super::tables::TableId;
 use super::{Logic, Named, Real, Slot, TermDef, Vector};
 
 impl Named for f32 {
@@ -52,6 +53,9 @@ impl Real for f32 {
     fn abs(self) -> f32 {
         f32::abs(self)
     }
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
     fn min(self, other: f32) -> f32 {
         f32::min(self, other)
     }
@@ -72,6 +76,14 @@ impl Real for f32 {
     }
     fn vec3(x: f32, y: f32, z: f32) -> Vec3 {
         Vec3::new(x, y, z)
+    }
+    fn known(self) -> Option<f32> {
+        Some(self)
+    }
+    fn fetch(table: TableId, index: f32) -> f32 {
+        // `as` saturates: a negative index reads entry 0.
+        let values = table.values();
+        values[(index as usize).min(values.len() - 1)]
     }
     fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {
         body(args)

@@ -24,6 +24,7 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 pub mod cpu;
 pub mod layering;
+pub mod tables;
 pub mod terms;
 
 /// The shape of a term argument or result.
@@ -94,6 +95,7 @@ pub trait Real:
     fn ln(self) -> Self;
     fn powf(self, exponent: Self) -> Self;
     fn abs(self) -> Self;
+    fn floor(self) -> Self;
     fn min(self, other: Self) -> Self;
     fn max(self, other: Self) -> Self;
     fn lt(self, other: Self) -> Self::Bool;
@@ -103,6 +105,12 @@ pub trait Real:
     fn select(condition: Self::Bool, accept: Self, reject: Self) -> Self;
     fn splat(self) -> Self::Vec;
     fn vec3(x: Self, y: Self, z: Self) -> Self::Vec;
+
+    /// The value, if it is known now (always on the CPU; a folded constant in naga).
+    fn known(self) -> Option<f32>;
+    /// Entry `index` of a table (in a shader: from the table storage buffer); `index` holds a
+    /// whole number in range (callers clamp).
+    fn fetch(table: tables::TableId, index: Self) -> Self;
 
     /// Calls (or, on the CPU, simply evaluates) a term. Use [`shading_fn!`] rather than this.
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self>;

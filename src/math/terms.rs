@@ -317,13 +317,100 @@ shading_fn! {
 shading_fn! {
     /// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
     /// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-    /// (aᵢ, aₒ), is reflected by the layer below (`f_below`, evaluated at refracted directions),
-    /// leaves with Tₒ, is compressed by 1/η², and bounces between the base and the coat
-    /// 1/(1 − ρ̄ R) times (ρ̄ the mean albedo below, R the slab's internal return reflectance).
-    /// Exact for a smooth coat over a Lambertian base; symmetric in i and o, so reciprocal.
-    pub fn interfaced_layer(f_top: V, t_i: S, t_o: S, a_i: V, a_o: V, f_below: V, rho_below: V, r_return: V, eta: S) -> V {
-        let bounces = (rho_below * r_return).one_minus();
-        f_top + f_below * a_i * a_o * (t_i * t_o / (eta * eta)) / bounces
+    /// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+    /// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+    pub fn interfaced_layer(f_top: V, t_i: S, t_o: S, a_i: V, a_o: V, f_under: V, eta: S) -> V {
+        f_top + f_under * a_i * a_o * (t_i * t_o / (eta * eta))
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+    /// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+    /// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+    /// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+    /// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+    pub fn interfaced_diffuse_under(f_below: V, e_i: V, e_o: V, rho_below: V, r_return: V) -> V {
+        f_below + e_i * e_o * r_return / ((rho_below * r_return).one_minus() * PI)
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+    /// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+    /// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+    /// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+    /// symmetric in i and o.
+    pub fn interfaced_glossy_under(f_below: V, e_i: V, k_i: V, e_o: V, k_o: V) -> V {
+        f_below / (e_i * k_i * e_o * k_o).sqrt().one_minus()
+    }
+}
+
+shading_fn! {
+    /// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+    /// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+    /// reflection. In the plane of incidence the mirror direction moves by twice the facet
+    /// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
+    /// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
+    /// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+    pub fn trapped_share(mu: S, mu_c: S, alpha: S) -> S {
+        let sin_t = mu.sq().one_minus().at_least(0.0).sqrt();
+        let sin_c = mu_c.sq().one_minus().at_least(0.0).sqrt();
+        let cos_d = mu_c * mu + sin_c * sin_t;
+        let sin_d = sin_c * mu - mu_c * sin_t;
+        let x0 = sin_d / (cos_d + 1.0).at_least(1e-6);
+        (x0 / (alpha.sq() + x0.sq()).at_least(1e-12).sqrt()).one_minus() * 0.5
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
+    /// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
+    /// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
+    /// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
+    /// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
+    /// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+    /// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
+    pub fn trapped_lobe(e_i: V, p_i: S, e_o: V, p_o: S, mu_c: S, round_trip: V, rho: V, stay: S) -> V {
+        e_i * e_o * round_trip * (p_i * p_o / (mu_c.sq().at_least(1e-4) * PI)) / (rho * round_trip * stay).one_minus()
+    }
+}
+
+shading_fn! {
+    /// The directional albedo seen above a coat over a diffusing layer (same model as
+    /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
+    pub fn interfaced_albedo_dir(t: S, a: V, e_below: V, rho_below: V, r_return: V, e_escape: V) -> V {
+        a * e_below * e_escape * t / (rho_below * r_return).one_minus() + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// The directional albedo seen above a coat over a glossy body (same model as
+    /// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+    pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V) -> V {
+        let k = a * a * t.one_minus();
+        a * a * e_below * (t * t) / (e_below * k).one_minus() + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+    /// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+    /// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+    /// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+    pub fn multiple_scattering_lobe(e_i: S, e_o: S, e_avg: S) -> S {
+        e_i * e_o / (e_avg.at_least(1e-6) * PI)
+    }
+}
+
+shading_fn! {
+    /// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+    /// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+    pub fn albedo_eon(albedo: V, r: S, mu: S) -> V {
+        let e_f = e_fon(mu, r);
+        let e_avg = (r * FON_C2 + 1.0) / (r * FON_C1 + 1.0);
+        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        albedo * e_f + rho_ms * e_f.one_minus()
     }
 }
 

@@ -238,15 +238,20 @@ impl RoughDielectric {
     /// One analog random walk from `wi` (pointing away from the surface, on either side):
     /// the direction it leaves in (pointing away). Weight 1: the walk conserves energy.
     pub fn sample_multiple(&self, wi: DVec3, rng: &mut Rng) -> DVec3 {
+        self.walk(wi, rng).0
+    }
+
+    /// [`Self::sample_multiple`], also returning the number of microfacet events of the walk.
+    pub fn walk(&self, wi: DVec3, rng: &mut Rng) -> (DVec3, u32) {
         let mut outside = wi.z > 0.0;
         // The ray arrives travelling along −wi.
         let mut wr = -wi;
         let mut h = if outside { 1.0 + height_inv_cdf(0.999) } else { -1.0 - height_inv_cdf(0.999) };
-        for _ in 0..MAX_MICROSURFACE_BOUNCES {
+        for events in 0..MAX_MICROSURFACE_BOUNCES {
             let (w_local, h_local) = if outside { (wr, h) } else { (flip(wr), -h) };
             match next_height(w_local, h_local, self.alpha, rng.uniform()) {
                 // The ray leaves the microsurface travelling along `wr`.
-                None => return wr,
+                None => return (wr, events),
                 Some(hn) => h = if outside { hn } else { -hn },
             }
             let eta = if outside { self.eta } else { 1.0 / self.eta };
@@ -260,7 +265,7 @@ impl RoughDielectric {
             wr = out;
         }
         // A walk this long is vanishingly rare; end it where it is.
-        wr
+        (wr, MAX_MICROSURFACE_BOUNCES)
     }
 
     /// Estimate of f(wi, wo)·|cos θo| (energy form) by next-event estimation along one walk.
@@ -298,7 +303,7 @@ impl RoughDielectric {
 }
 
 /// Longest walk on a microsurface; the probability of reaching it is negligible for α ≤ 1.
-const MAX_MICROSURFACE_BOUNCES: usize = 256;
+const MAX_MICROSURFACE_BOUNCES: u32 = 256;
 
 /// Conductor microsurface walk (Heitz et al. 2016) with a coloured Fresnel factor per event.
 #[derive(Clone, Copy, Debug)]

@@ -24,7 +24,7 @@
 //! microsurface); a conductor given by F0 is a dielectric of the IOR with that F0 (exact Fresnel),
 //! relative to the medium above it.
 
-mod microsurface;
+pub mod microsurface;
 
 use std::f64::consts::PI;
 
@@ -413,6 +413,17 @@ impl Stack {
         acc.estimate()
     }
 
+    /// The part of f(wi, wo) that comes from under the top coat: f minus the coat's own
+    /// reflection lobe (the "under-coat lobe" of the accuracy measurements).
+    pub fn f_under(&self, wi: DVec3, wo: DVec3, opts: &Options) -> Estimate {
+        let mut rng = Rng::seeded(seed_of(&[wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, 2.0], opts.seed));
+        let mut acc = Accumulator::new();
+        for _ in 0..opts.samples.max(1) {
+            acc.add(self.walk_under(wo, wi, opts, &mut rng));
+        }
+        acc.estimate()
+    }
+
     /// The directional albedo E(wo) = ∫ f(wi, wo) cos θi dωi, by analog walks from `wo`.
     pub fn albedo(&self, wo: DVec3, opts: &Options) -> Estimate {
         let mut rng = Rng::seeded(seed_of(&[wo.x, wo.y, wo.z, 1.0], opts.seed));
@@ -429,11 +440,22 @@ impl Stack {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return DVec3::ZERO;
         }
+        let Some((top, _)) = &self.coat else {
+            return self.below.f(wo, wi, opts, rng);
+        };
+        // The coat's own reflection, and what comes back from under it.
+        DVec3::splat(top.f_reflect(wo, wi, opts.mode, rng)) + self.walk_under(wo, wi, opts, rng)
+    }
+
+    /// One sample of the light that comes back from under the top coat.
+    fn walk_under(&self, wo: DVec3, wi: DVec3, opts: &Options, rng: &mut Rng) -> DVec3 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return DVec3::ZERO;
+        }
         let Some((top, medium)) = &self.coat else {
             return self.below.f(wo, wi, opts, rng);
         };
-        // The coat's own reflection.
-        let mut total = DVec3::splat(top.f_reflect(wo, wi, opts.mode, rng));
+        let mut total = DVec3::ZERO;
         // Enter from the view side (radiance carries 1/η² out of the denser slab) …
         let Some((w_view, weight_view, true)) = top.sample(wo, opts.mode, rng) else { return total };
         // … and presample the light's way in (importance mode).

@@ -20,7 +20,17 @@ pub struct EvalKernel {
     pub path: ShaderPath,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    bindings: bindings::Layout,
     material: Material,
+}
+
+/// The table storage buffer (`lower::bindings::Layout::tables`).
+pub(crate) fn tables_buffer(gpu: &Gpu) -> wgpu::Buffer {
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("glazec_tables"),
+        contents: bytemuck::cast_slice(&crate::math::tables::buffer()),
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
 }
 
 /// The uniform block of a material's runtime parameters, laid out as `lower` declares it.
@@ -66,8 +76,8 @@ fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-/// The bind-group layout of `eval_pairs` (and, for binding 0, of the preview).
-pub(crate) fn kernel_layout(gpu: &Gpu, material: &Material) -> wgpu::BindGroupLayout {
+/// The bind-group layout of `eval_pairs`.
+pub(crate) fn kernel_layout(gpu: &Gpu, optional: &bindings::Layout) -> wgpu::BindGroupLayout {
     // In binding order: wgpu's Vulkan backend numbers descriptors by position (see
     // `lower::bindings`), which passthrough SPIR-V must match.
     let mut entries = vec![
@@ -75,8 +85,11 @@ pub(crate) fn kernel_layout(gpu: &Gpu, material: &Material) -> wgpu::BindGroupLa
         layout_entry(bindings::VALUES, wgpu::BufferBindingType::Storage { read_only: false }),
         layout_entry(bindings::DISPATCH, wgpu::BufferBindingType::Uniform),
     ];
-    if !material.params.is_empty() {
-        entries.push(layout_entry(bindings::PARAMS, wgpu::BufferBindingType::Uniform));
+    if let Some(binding) = optional.params {
+        entries.push(layout_entry(binding, wgpu::BufferBindingType::Uniform));
+    }
+    if let Some(binding) = optional.tables {
+        entries.push(layout_entry(binding, wgpu::BufferBindingType::Uniform));
     }
     gpu.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
@@ -96,7 +109,8 @@ impl EvalKernel {
     /// A [`RunError`] if the shader cannot be produced, compiled or accepted by the device.
     pub fn new(gpu: &Gpu, compiled: &Compiled, path: ShaderPath) -> Result<EvalKernel, RunError> {
         let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
-        let layout = kernel_layout(gpu, &compiled.material);
+        let optional = bindings::layout(&compiled.module);
+        let layout = kernel_layout(gpu, &optional);
         let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("eval_pairs"),
             bind_group_layouts: &[Some(&layout)],
@@ -113,7 +127,7 @@ impl EvalKernel {
                 cache: None,
             })
         })?;
-        Ok(EvalKernel { path, pipeline, layout, material: compiled.material.clone() })
+        Ok(EvalKernel { path, pipeline, layout, bindings: optional, material: compiled.material.clone() })
     }
 
     fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8]) -> Batch {
@@ -136,8 +150,12 @@ impl EvalKernel {
             wgpu::BindGroupEntry { binding: bindings::VALUES, resource: values.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::DISPATCH, resource: dispatch_buffer.as_entire_binding() },
         ];
-        if let Some(b) = &params_buffer {
-            entries.push(wgpu::BindGroupEntry { binding: bindings::PARAMS, resource: b.as_entire_binding() });
+        if let (Some(b), Some(binding)) = (&params_buffer, self.bindings.params) {
+            entries.push(wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() });
+        }
+        let tables = self.bindings.tables.map(|binding| (binding, tables_buffer(gpu)));
+        if let Some((binding, buffer)) = &tables {
+            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: buffer.as_entire_binding() });
         }
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,

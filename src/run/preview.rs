@@ -120,22 +120,23 @@ pub fn render(
     let vertex = shader::load(gpu, compiled, ShaderPath::NagaIr, naga::ShaderStage::Vertex, entry_points::PREVIEW_VS)?;
     let fragment =
         shader::load(gpu, compiled, ShaderPath::NagaIr, naga::ShaderStage::Fragment, entry_points::PREVIEW_FS)?;
-    let uniform = |binding| wgpu::BindGroupLayoutEntry {
+    let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
         count: None,
     };
-    let has_params = !compiled.material.params.is_empty();
+    let optional = bindings::layout(&compiled.module);
+    // `lower` always adds the preview light; binding 4 is where it lands when absent otherwise.
+    let light_binding = optional.light.unwrap_or(bindings::PARAMS + 1);
     let mut entries = Vec::new();
-    if has_params {
-        entries.push(uniform(bindings::PARAMS));
+    if let Some(binding) = optional.params {
+        entries.push(buffer(binding, wgpu::BufferBindingType::Uniform));
     }
-    entries.push(uniform(bindings::PREVIEW_LIGHT));
+    if let Some(binding) = optional.tables {
+        entries.push(buffer(binding, wgpu::BufferBindingType::Uniform));
+    }
+    entries.push(buffer(light_binding, wgpu::BufferBindingType::Uniform));
     let layout = gpu
         .device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("preview"), entries: &entries });
@@ -188,20 +189,18 @@ pub fn render(
     };
     let corner_buffer = init("corners", bytemuck::cast_slice(&corners), wgpu::BufferUsages::VERTEX);
     let params = super::params_bytes(&compiled.material, values)?;
-    let params_buffer = has_params.then(|| init("params", &params, wgpu::BufferUsages::UNIFORM));
+    let params_buffer = optional.params.map(|binding| (binding, init("params", &params, wgpu::BufferUsages::UNIFORM)));
+    let tables_buffer = optional.tables.map(|binding| (binding, super::kernel::tables_buffer(gpu)));
     let groups: Vec<wgpu::BindGroup> = lights(options)
         .iter()
         .map(|(direction, radiance)| {
             let light: [f32; 8] = [direction.x, direction.y, direction.z, 0.0, radiance.x, radiance.y, radiance.z, 0.0];
             let light_buffer = init("light", bytemuck::cast_slice(&light), wgpu::BufferUsages::UNIFORM);
             let mut entries = Vec::new();
-            if let Some(b) = &params_buffer {
-                entries.push(wgpu::BindGroupEntry { binding: bindings::PARAMS, resource: b.as_entire_binding() });
+            for (binding, b) in params_buffer.iter().chain(&tables_buffer) {
+                entries.push(wgpu::BindGroupEntry { binding: *binding, resource: b.as_entire_binding() });
             }
-            entries.push(wgpu::BindGroupEntry {
-                binding: bindings::PREVIEW_LIGHT,
-                resource: light_buffer.as_entire_binding(),
-            });
+            entries.push(wgpu::BindGroupEntry { binding: light_binding, resource: light_buffer.as_entire_binding() });
             gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries: &entries })
         })
         .collect();

@@ -5,6 +5,48 @@ use std::path::{Path, PathBuf};
 
 pub mod stacks;
 
+/// Opens the Vulkan device for a test binary. Without an adapter: `None` and a visible
+/// "SKIPPED" line — or, with `GLAZEC_REQUIRE_GPU=1` (set by `.ci/run`), a panic.
+#[cfg(feature = "gpu")]
+pub fn open_gpu() -> Option<glazec::run::Gpu> {
+    match glazec::run::Gpu::new() {
+        Ok(gpu) => {
+            eprintln!("GPU tests run on {}", gpu.describe());
+            Some(gpu)
+        }
+        Err(e @ glazec::run::RunError::NoAdapter { .. }) => {
+            if std::env::var("GLAZEC_REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                panic!("GLAZEC_REQUIRE_GPU=1 but {e}");
+            }
+            eprintln!("SKIPPED: {e}");
+            None
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// GPU-vs-CPU agreement tolerances, shared by every test that runs shaders on a device.
+pub mod agreement {
+    /// Relative tolerance where |f| is significant.
+    pub const REL_TOL: f32 = 2e-4;
+    /// A value is significant when |f| > SIGNIFICANT · max|f| (over the material's pairs and
+    /// channels).
+    pub const SIGNIFICANT: f32 = 1e-4;
+    /// Absolute tolerance for values that are not significant. Such a value also passes if it
+    /// meets REL_TOL: for a material with a very sharp peak (car_paint: max|f| ≈ 4·10⁸ at a
+    /// grazing mirror pair) "not significant" reaches values of 10⁴, where 10⁻⁶ is far below
+    /// one f32 ulp, so the absolute bound alone would demand more than f32 can represent.
+    /// Significant values get no such alternative.
+    pub const ABS_TOL: f32 = 1e-6;
+
+    /// Whether a GPU value agrees with the CPU value `cpu`, given the largest |f| of the set.
+    pub fn agrees(cpu: f32, gpu: f32, max: f32) -> bool {
+        let error = (gpu - cpu).abs();
+        let significant = cpu.abs() > SIGNIFICANT * max;
+        gpu.is_finite() && gpu >= 0.0 && (error <= REL_TOL * cpu.abs() || (!significant && error <= ABS_TOL))
+    }
+}
+
 /// The project root (where `materials/` and `generated/` live).
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -1,0 +1,409 @@
+//! `glazec tables`: generates `data/tables.bin`, the tabulated terms of the default method
+//! (layout and meaning in `crate::math::tables`).
+//!
+//! Every value is computed in f64 from the reference's microsurface (Heitz et al. 2016), never
+//! from the compiled math it will feed:
+//!
+//! * the single-scattering deficit G(μ) = F(μ) − E_ss(μ) of a rough dielectric interface (GGX D,
+//!   height-correlated Smith G2, exact Fresnel with total internal reflection), E_ss by
+//!   deterministic quadrature over half vectors;
+//! * the share E_ms(μ) that leaves on the reflection side after two or more microfacet events,
+//!   by counting analog microsurface random walks (`walks` per entry: standard error at most
+//!   √(E_ms/walks)). The walk's single-event share equals E_ss in this model (the generator
+//!   checks it), and the walk conserves energy, so T(μ) = 1 − E_ss − E_ms = 1 − F + G − E_ms;
+//! * the geometric-mean cosine of the directions the walks transmit into (the path factor);
+//! * seen from inside (relative IOR 1/η), R_int(μ) = E_ss + E_ms likewise, at 32 Gauss–Legendre
+//!   nodes split at the critical cosine, integrated into R(τ) and E_esc(τ) at each depth node and
+//!   normalised by ⟨T_int⟩ (see the table docs for why).
+//!
+//! Smooth columns (α < 10⁻³, as in the reference) and η = 1 (no interface) are exact: Fresnel's
+//! equations. Grazing nodes (μ = 0) are evaluated at μ = [`GRAZING_COSINE`].
+
+use std::sync::Mutex;
+
+use glam::DVec3;
+
+use super::quadrature::{directional_albedo_f64, gauss_legendre_16};
+use crate::math::tables::{Axis, TableId, TableSpec};
+use crate::reference::microsurface::{self, RoughDielectric};
+use crate::reference::{Rng, fresnel_dielectric};
+
+/// The cosine at which μ = 0 nodes of rough interfaces are evaluated (the limit is degenerate).
+pub const GRAZING_COSINE: f64 = 1e-3;
+
+/// GGX α below which an interface is smooth (the reference's threshold).
+const SMOOTH_ALPHA: f64 = 1e-3;
+
+/// What generation measured about its own consistency.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Report {
+    /// Largest |η²⟨T_int⟩ − ⟨T⟩| over rough columns: the flux identity between the walks from
+    /// inside and the external transmittance (a check of the walks; the normalised slab tables
+    /// do not depend on it).
+    pub max_flux_identity_error: f64,
+    /// Largest deviation of the walks' single-event reflection share from the quadrature E_ss,
+    /// in standard errors (a check of both).
+    pub max_single_event_sigma: f64,
+}
+
+/// One column of a table (every node along its first axis) at an (r, η) node pair.
+enum Column {
+    Deficit {
+        values: Vec<f64>,
+        average: f64,
+    },
+    ExtraAndSlab {
+        extra: Vec<f64>,
+        extra_average: f64,
+        returned: Vec<f64>,
+        escape: Vec<f64>,
+        identity_error: f64,
+        sigma: f64,
+    },
+    Path {
+        values: Vec<f64>,
+    },
+}
+
+#[derive(Clone, Copy)]
+enum Job {
+    Deficit(usize, usize),
+    ExtraAndSlab(usize, usize),
+    Path(usize, usize),
+}
+
+/// Computes every table. `walks` microsurface walks per rough entry; `progress(done, total)`.
+pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Vec<f32>>, Report) {
+    let dims = |id: TableId| -> Vec<usize> { id.spec().axes.iter().map(|&(_, n)| n).collect() };
+    let (deficit, extra, path, slab) =
+        (dims(TableId::CoatDeficit), dims(TableId::CoatExtra), dims(TableId::CoatPath), dims(TableId::CoatReturn));
+    let mut jobs = Vec::new();
+    for e in 0..deficit[2] {
+        jobs.extend((0..deficit[1]).map(|r| Job::Deficit(r, e)));
+    }
+    for e in 0..extra[2] {
+        jobs.extend((0..extra[1]).map(|r| Job::ExtraAndSlab(r, e)));
+    }
+    for e in 0..path[2] {
+        jobs.extend((0..path[1]).map(|r| Job::Path(r, e)));
+    }
+    let results: Mutex<Vec<Option<Column>>> = Mutex::new((0..jobs.len()).map(|_| None).collect());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(&job) = jobs.get(k) else { break };
+                    let seed = k as u64;
+                    let column = match job {
+                        Job::Deficit(r, e) => deficit_column(
+                            node(Axis::Roughness, r, deficit[1]),
+                            node(Axis::Ior, e, deficit[2]),
+                            deficit[0],
+                        ),
+                        Job::ExtraAndSlab(r, e) => {
+                            let (roughness, eta) = (node(Axis::Roughness, r, extra[1]), node(Axis::Ior, e, extra[2]));
+                            extra_and_slab_column(roughness, eta, extra[0], slab[0], walks, seed)
+                        }
+                        Job::Path(r, e) => path_column(
+                            node(Axis::Roughness, r, path[1]),
+                            node(Axis::Ior, e, path[2]),
+                            path[0],
+                            walks,
+                            seed,
+                        ),
+                    };
+                    if let Ok(mut c) = results.lock() {
+                        c[k] = Some(column);
+                    }
+                    progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len());
+                }
+            });
+        }
+    });
+    let results: Vec<Option<Column>> = results.into_inner().unwrap_or_default();
+    let mut tables: Vec<Vec<f32>> = TableId::ALL.iter().map(|id| vec![0.0; id.spec().len()]).collect();
+    let mut report = Report::default();
+    let mut put = |id: TableId, column: usize, values: &[f64]| {
+        let n = values.len();
+        for (i, v) in values.iter().enumerate() {
+            tables[id as usize][i + n * column] = *v as f32;
+        }
+    };
+    for (job, column) in jobs.iter().zip(results.into_iter().flatten()) {
+        match (*job, column) {
+            (Job::Deficit(r, e), Column::Deficit { values, average }) => {
+                put(TableId::CoatDeficit, r + deficit[1] * e, &values);
+                put(TableId::CoatDeficitAvg, r + deficit[1] * e, &[average]);
+            }
+            (
+                Job::ExtraAndSlab(r, e),
+                Column::ExtraAndSlab { extra: values, extra_average, returned, escape, identity_error, sigma },
+            ) => {
+                let col = r + extra[1] * e;
+                put(TableId::CoatExtra, col, &values);
+                put(TableId::CoatExtraAvg, col, &[extra_average]);
+                put(TableId::CoatReturn, col, &returned);
+                put(TableId::CoatEscape, col, &escape);
+                report.max_flux_identity_error = report.max_flux_identity_error.max(identity_error);
+                report.max_single_event_sigma = report.max_single_event_sigma.max(sigma);
+            }
+            (Job::Path(r, e), Column::Path { values }) => put(TableId::CoatPath, r + path[1] * e, &values),
+            _ => unreachable!("each job yields its own kind of column"),
+        }
+    }
+    let n_eta = TableId::FresnelTransmitAvg.spec().axes[0].1;
+    let fresnel: Vec<f64> = (0..n_eta).map(|e| smooth_transmission_average(node(Axis::Ior, e, n_eta))).collect();
+    put(TableId::FresnelTransmitAvg, 0, &fresnel);
+    let (albedo, average) = ggx_albedo(TableId::GgxAlbedo.spec());
+    tables[TableId::GgxAlbedo as usize] = albedo;
+    tables[TableId::GgxAlbedoAvg as usize] = average;
+    (tables, report)
+}
+
+fn node(axis: Axis, i: usize, n: usize) -> f64 {
+    axis.node(i, n)
+}
+
+/// The single-scattering reflection lobe of a rough dielectric seen from the side where the
+/// relative IOR is `eta` (TIR included): D G2 F / (4 μi μo).
+fn dielectric_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return 0.0;
+    }
+    let h = (wi + wo).normalize();
+    microsurface::ggx_d(h, alpha) * microsurface::g2(wi, wo, alpha) * fresnel_dielectric(wo.dot(h), eta)
+        / (4.0 * wi.z * wo.z)
+}
+
+fn direction(mu: f64) -> DVec3 {
+    DVec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
+}
+
+/// E_ss(μ): the single-scattering reflection albedo, by quadrature.
+fn single_scattering_albedo(mu: f64, eta: f64, alpha: f64) -> f64 {
+    let lobe = |wi: DVec3, wo: DVec3| DVec3::splat(dielectric_lobe(wi, wo, eta, alpha));
+    directional_albedo_f64(&lobe, direction(mu), alpha).x
+}
+
+/// What a microsurface's walks from one direction show.
+struct Walks {
+    /// Share reflected after a single event.
+    single: f64,
+    /// Share reflected after two or more events.
+    multiple: f64,
+    /// Geometric mean cosine of the transmitted directions (0 if none crossed).
+    transmitted_cosine: f64,
+}
+
+fn walk(mu: f64, eta: f64, alpha: f64, walks: u32, seed: u64) -> Walks {
+    let surface = RoughDielectric { eta, alpha };
+    let mut rng = Rng::seeded(seed);
+    let (mut multiple, mut first, mut crossed, mut log_cosine) = (0u64, 0u64, 0u64, 0.0);
+    for _ in 0..walks {
+        let (out, events) = surface.walk(direction(mu), &mut rng);
+        if out.z > 0.0 {
+            if events >= 2 {
+                multiple += 1;
+            } else {
+                first += 1;
+            }
+        } else {
+            crossed += 1;
+            log_cosine += (-out.z).max(1e-9).ln();
+        }
+    }
+    let n = f64::from(walks.max(1));
+    let transmitted_cosine = if crossed > 0 { (log_cosine / crossed as f64).exp() } else { 0.0 };
+    Walks { single: first as f64 / n, multiple: multiple as f64 / n, transmitted_cosine }
+}
+
+/// |walk single-event share − quadrature| in standard errors.
+fn sigma(walks: &Walks, single: f64, n: u32) -> f64 {
+    let std_err = (single * (1.0 - single) / f64::from(n.max(1))).sqrt().max(1e-12);
+    (walks.single - single).abs() / std_err
+}
+
+fn deficit_column(roughness: f64, eta: f64, n_mu: usize) -> Column {
+    let alpha = roughness * roughness;
+    let values: Vec<f64> = (0..n_mu)
+        .map(|i| {
+            if alpha < SMOOTH_ALPHA || eta == 1.0 {
+                return 0.0;
+            }
+            let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
+            fresnel_dielectric(mu, eta) - single_scattering_albedo(mu, eta, alpha)
+        })
+        .collect();
+    let average = curve_average(&values);
+    Column::Deficit { values, average }
+}
+
+fn extra_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, walks: u32, seed: u64) -> Column {
+    let alpha = roughness * roughness;
+    // Below α = 10⁻³ the reference treats an interface as smooth (pbrt's `EffectivelySmooth`),
+    // and so do the tables.
+    let smooth = alpha < SMOOTH_ALPHA || eta == 1.0;
+    let mut worst_sigma = 0.0_f64;
+    let extra: Vec<f64> = (0..n_mu)
+        .map(|i| {
+            if smooth {
+                return 0.0;
+            }
+            let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
+            walk(mu, eta, alpha, walks, seed << 20 | i as u64).multiple
+        })
+        .collect();
+    let extra_average = curve_average(&extra);
+    // Inside: relative IOR 1/η, 32 Gauss–Legendre nodes split at the critical cosine.
+    let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
+    let gl = gauss_legendre_16();
+    let mut nodes = Vec::new(); // (μ, weight of ∫ … dμ)
+    if mu_c > 0.0 {
+        nodes.extend(gl.iter().map(|&(t, w)| (mu_c * t * t, w * 2.0 * mu_c * t)));
+    }
+    nodes.extend(gl.iter().map(|&(s, w)| (mu_c + (1.0 - mu_c) * s * s, w * 2.0 * (1.0 - mu_c) * s)));
+    let inner_reflect: Vec<f64> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &(mu, _))| {
+            if smooth {
+                return fresnel_dielectric(mu, 1.0 / eta);
+            }
+            let single = single_scattering_albedo(mu, 1.0 / eta, alpha);
+            let w = walk(mu, 1.0 / eta, alpha, walks, seed << 20 | 1 << 19 | k as u64);
+            worst_sigma = worst_sigma.max(sigma(&w, single, walks));
+            (single + w.multiple).min(1.0)
+        })
+        .collect();
+    let integral = |f: &dyn Fn(f64, f64) -> f64| -> f64 {
+        nodes.iter().zip(&inner_reflect).map(|(&(mu, w), &r)| w * 2.0 * mu * f(mu, r)).sum()
+    };
+    let inner_transmit = integral(&|_, r| 1.0 - r);
+    let mut returned = Vec::new();
+    let mut escape = Vec::new();
+    for i in 0..n_tau {
+        let tau = Axis::Depth.node(i, n_tau);
+        let (r, e) = if tau.is_finite() {
+            (integral(&|mu, r| (-2.0 * tau / mu).exp() * r), integral(&|mu, r| (-tau / mu).exp() * (1.0 - r)))
+        } else {
+            (0.0, 0.0)
+        };
+        returned.push((1.0 - r) / inner_transmit);
+        escape.push(e / inner_transmit);
+    }
+    let identity_error = if smooth {
+        0.0
+    } else {
+        let deficit = match deficit_column(roughness, eta, 32) {
+            Column::Deficit { average, .. } => average,
+            _ => 0.0,
+        };
+        let outer_transmit = smooth_transmission_average(eta) + deficit - extra_average;
+        (eta * eta * inner_transmit - outer_transmit).abs()
+    };
+    Column::ExtraAndSlab { extra, extra_average, returned, escape, identity_error, sigma: worst_sigma }
+}
+
+fn path_column(roughness: f64, eta: f64, n_mu: usize, walks: u32, seed: u64) -> Column {
+    let alpha = roughness * roughness;
+    let values = (0..n_mu)
+        .map(|i| {
+            if alpha < SMOOTH_ALPHA || eta == 1.0 {
+                return 1.0;
+            }
+            let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
+            let w = walk(mu, eta, alpha, walks, seed << 20 | 1 << 18 | i as u64);
+            // Paths through the slab are longer by μ′/μ_eff than along Snell's direction.
+            if w.transmitted_cosine > 0.0 { refracted_cosine(mu, eta) / w.transmitted_cosine } else { 1.0 }
+        })
+        .collect();
+    Column::Path { values }
+}
+
+/// Snell's cosine inside a coat of relative IOR η for light arriving at cosine μ.
+fn refracted_cosine(mu: f64, eta: f64) -> f64 {
+    (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
+}
+
+/// The rough interface seen from outside at one point, computed directly (not from the
+/// tables): (G(μ) = F − E_ss, E_ms(μ)). For checking the tables' interpolation.
+pub fn interface_direct(mu: f64, roughness: f64, eta: f64, walks: u32, seed: u64) -> (f64, f64) {
+    let (mu, alpha) = (mu.max(GRAZING_COSINE), roughness * roughness);
+    let single = single_scattering_albedo(mu, eta, alpha);
+    (fresnel_dielectric(mu, eta) - single, walk(mu, eta, alpha, walks, seed).multiple)
+}
+
+/// ∫₀¹ 2μ (1 − F(μ)) dμ for a smooth interface seen from outside (Gauss–Legendre on 16 cells in
+/// u = √μ; the integrand is smooth there).
+fn smooth_transmission_average(eta: f64) -> f64 {
+    let gl = gauss_legendre_16();
+    let cells = 16;
+    let mut total = 0.0;
+    for c in 0..cells {
+        for &(x, w) in &gl {
+            let u = (c as f64 + x) / cells as f64;
+            let mu = u * u;
+            total += w / cells as f64 * 4.0 * u * u * u * (1.0 - fresnel_dielectric(mu, eta));
+        }
+    }
+    total
+}
+
+/// ∫₀¹ 2μ c(μ) dμ for a curve stored at the nodes of a cosine axis and interpolated linearly
+/// in u = √μ, as the lookups do: ∫₀¹ 4u³ c(u) du, exactly (3-point Gauss–Legendre per cell).
+fn curve_average(values: &[f64]) -> f64 {
+    const GL3: [(f64, f64); 3] = [
+        (0.112_701_665_379_258_3, 0.277_777_777_777_777_8),
+        (0.5, 0.444_444_444_444_444_4),
+        (0.887_298_334_620_741_7, 0.277_777_777_777_777_8),
+    ];
+    let n = values.len();
+    let h = 1.0 / (n - 1) as f64;
+    let mut total = 0.0;
+    for i in 0..n - 1 {
+        for &(x, w) in &GL3 {
+            let u = (i as f64 + x) * h;
+            let c = values[i] + (values[i + 1] - values[i]) * x;
+            total += w * h * 4.0 * u * u * u * c;
+        }
+    }
+    total
+}
+
+/// The white single-scattering GGX albedo E(μ; r) and its average ⟨E⟩(r).
+fn ggx_albedo(spec: &TableSpec) -> (Vec<f32>, Vec<f32>) {
+    let (n_mu, n_r) = (spec.axes[0].1, spec.axes[1].1);
+    // Layout: μ fastest, then r.
+    let mut table = Vec::new();
+    let mut average = Vec::new();
+    let mut columns = vec![Vec::new(); n_r];
+    for (j, column) in columns.iter_mut().enumerate() {
+        let roughness = Axis::Roughness.node(j, n_r);
+        let alpha = roughness * roughness;
+        for i in 0..n_mu {
+            let mu = Axis::Cosine.node(i, n_mu);
+            let e = if alpha < SMOOTH_ALPHA {
+                1.0
+            } else {
+                let lobe = |wi: DVec3, wo: DVec3| {
+                    if wi.z <= 0.0 || wo.z <= 0.0 {
+                        return DVec3::ZERO;
+                    }
+                    let h = (wi + wo).normalize();
+                    DVec3::splat(microsurface::ggx_d(h, alpha) * microsurface::g2(wi, wo, alpha) / (4.0 * wi.z * wo.z))
+                };
+                directional_albedo_f64(&lobe, direction(mu.max(GRAZING_COSINE)), alpha).x.min(1.0)
+            };
+            column.push(e);
+        }
+    }
+    for column in &columns {
+        average.push(curve_average(column) as f32);
+        table.extend(column.iter().map(|&e| e as f32));
+    }
+    (table, average)
+}
