@@ -88,16 +88,16 @@ pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Com
 }
 
 impl Compiled {
-    /// Emits shader files for `targets`.
-    ///
-    /// # Errors
-    /// Only for a backend bug; a validated module is expected to emit.
-    /// Whether the shaders read the table storage buffer `glazec_tables` (then bind
-    /// [`output::tables_file`]'s contents; see `lower::bindings`).
+    /// Whether the shaders read the table buffer `glazec_tables` (then bind the contents of
+    /// [`output::tables_file`]; see `lower::bindings`).
     pub fn uses_tables(&self) -> bool {
         lower::bindings::layout(&self.module).tables.is_some()
     }
 
+    /// Emits shader files for `targets`.
+    ///
+    /// # Errors
+    /// Only for a backend bug; a validated module is expected to emit.
     pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
         emit::emit(&self.material.name, &self.module, &self.info, targets)
     }

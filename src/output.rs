@@ -60,7 +60,7 @@ pub fn plan(out_dir: &Path, material: &str, artifacts: Vec<crate::Artifact>) -> 
 /// The name of the table file written beside the material folders.
 pub const TABLES_FILE: &str = "glazec_tables.bin";
 
-/// `<out_dir>/glazec_tables.bin`: the contents of the table storage buffer `glazec_tables`
+/// `<out_dir>/glazec_tables.bin`: the contents of the table buffer `glazec_tables`
 /// (every table of `crate::math::tables`, concatenated, little-endian f32), which shaders that
 /// look up a table bind (`crate::lower::bindings`). One file serves every material.
 pub fn tables_file(out_dir: &Path) -> OutputFile {

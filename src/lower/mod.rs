@@ -59,7 +59,7 @@ pub mod bindings {
     pub struct Layout {
         /// `var<uniform> params: <Material>Params`.
         pub params: Option<u32>,
-        /// `var<storage, read> glazec_tables: array<f32>`: the contents of
+        /// `var<uniform> glazec_tables: array<vec4<f32>, N>`: the contents of
         /// `glazec::math::tables::buffer()` (`glazec_tables.bin` beside the generated folders),
         /// bound when a table lookup has an argument known only at run time (a cosine, or a
         /// runtime parameter).

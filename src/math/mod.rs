@@ -108,7 +108,7 @@ pub trait Real:
 
     /// The value, if it is known now (always on the CPU; a folded constant in naga).
     fn known(self) -> Option<f32>;
-    /// Entry `index` of a table (in a shader: from the table storage buffer); `index` holds a
+    /// Entry `index` of a table (in a shader: from the table buffer `glazec_tables`); `index` holds a
     /// whole number in range (callers clamp).
     fn fetch(table: tables::TableId, index: Self) -> Self;
 

@@ -17,7 +17,7 @@
 //! every term: on the CPU they interpolate directly; in a shader a lookup whose arguments are
 //! all compile-time constants folds to a number, and any other becomes a call of the table's
 //! lookup function (`coat_deficit`, `coat_escape`, …), which reads the table from the table
-//! storage buffer `glazec_tables` (all tables concatenated, [`buffer`]; its binding is in
+//! uniform buffer `glazec_tables` (all tables concatenated, [`buffer`]; its binding is in
 //! `crate::lower::bindings`). Tables are not emitted as constant arrays: see
 //! `lower::builder`'s `tables_buffer` for what that cost on lavapipe.
 
@@ -263,8 +263,8 @@ impl TableId {
     }
 }
 
-/// Every table, concatenated in [`SPECS`] order: the contents of the table storage buffer a
-/// shader binds when a runtime parameter needs whole tables (`crate::lower::bindings`).
+/// Every table, concatenated in [`SPECS`] order: the contents of the table buffer a shader
+/// binds when a lookup has an argument known only at run time (`crate::lower::bindings`).
 pub fn buffer() -> Vec<f32> {
     TableId::ALL.iter().flat_map(|id| id.values().iter().copied()).collect()
 }

@@ -24,7 +24,7 @@ pub struct EvalKernel {
     material: Material,
 }
 
-/// The table storage buffer (`lower::bindings::Layout::tables`).
+/// The table buffer (`lower::bindings::Layout::tables`), a uniform buffer.
 pub(crate) fn tables_buffer(gpu: &Gpu) -> wgpu::Buffer {
     gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("glazec_tables"),
