@@ -34,6 +34,7 @@ pub mod parse;
 pub mod reference;
 #[cfg(feature = "gpu")]
 pub mod run;
+pub mod stability;
 pub mod validate;
 
 use diag::Diagnostic;

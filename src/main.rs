@@ -11,8 +11,9 @@ use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use codespan_reporting::term::termcolor::{ColorChoice, StandardStream};
 
+use glam::Vec3;
 use glazec::diag::{self, Code, Diagnostic, Format, Source};
-use glazec::model::{Material, ParamValue};
+use glazec::model::{Material, Method, ParamValue};
 use glazec::output::{self, OutputFile};
 use glazec::{CompileError, Compiled, Target};
 
@@ -160,6 +161,21 @@ enum Command {
         #[arg(long, default_value = "docs/accuracy.csv")]
         csv: PathBuf,
     },
+    /// Sweep every method to the limits where layering breaks (grazing angles, roughness → 0,
+    /// IOR → 1 and below, opaque coats, 16 layers, denormals); count non-finite and negative
+    /// values, energy gains and discontinuities; write a summary and a heat map per method.
+    Stability {
+        /// Fewer values per sweep (what the tests run).
+        #[arg(long)]
+        reduced: bool,
+        /// Evaluate on the GPU (the naga-IR kernel on the Vulkan adapter) instead of the CPU.
+        #[cfg(feature = "gpu")]
+        #[arg(long)]
+        gpu: bool,
+        /// Where to write `summary.md` and `<method>.png`.
+        #[arg(long, short, default_value = "docs/stability")]
+        out: PathBuf,
+    },
     /// Generate the tabulated terms of the default method (rough-coat transmission and internal
     /// reflection, GGX albedo) from the reference's microsurface, into data/tables.bin.
     Tables {
@@ -240,6 +256,10 @@ fn main() -> ExitCode {
             accuracy(mode, data, regenerate_reference, samples, walks, &markdown, &csv)
         }
         Command::Tables { walks, out } => tables(walks, &out),
+        #[cfg(feature = "gpu")]
+        Command::Stability { reduced, gpu, out } => stability(reduced, gpu, &out),
+        #[cfg(not(feature = "gpu"))]
+        Command::Stability { reduced, out } => stability(reduced, false, &out),
         #[cfg(feature = "gpu")]
         Command::Preview { inputs, out, size, light, light_radiance, env, exposure, columns, message_format } => {
             let environment = match env {
@@ -624,4 +644,87 @@ fn accuracy(
         accuracy::report(&cases, &methods, &reference, Some(markdown), Some(csv)).context("cannot write the report")?;
     println!("{md}");
     Ok(())
+}
+
+/// `glazec stability`: every method over every sweep, on the CPU or the GPU.
+fn stability(reduced: bool, gpu: bool, out: &Path) -> Result<(), Failure> {
+    use glazec::stability;
+    let sweeps = stability::sweeps(reduced);
+    let mut evaluate = stability_evaluator(gpu)?;
+    let methods = [Method::Interfaced, Method::WeidlichWilkie, Method::Additive];
+    let mut maps = Vec::new();
+    for method in methods {
+        for sweep in &sweeps {
+            eprintln!("{} / {}", method.name(), sweep.name);
+            // Discontinuities are refined on the CPU only (the GPU agrees with it to 2·10⁻⁴).
+            maps.push(stability::run(sweep, method, &mut *evaluate, !gpu));
+        }
+    }
+    let backend = if gpu { "the GPU (naga-IR kernel)" } else { "the CPU" };
+    let md = format!("Evaluated on {backend}.\n\n{}", stability::summary(&maps, &sweeps));
+    print!("{md}");
+    let mut files = vec![glazec::output::OutputFile { path: out.join("summary.md"), contents: md.into_bytes() }];
+    files.extend(stability_pictures(&maps, &methods, out));
+    glazec::output::write_all(&files).with_context(|| format!("cannot write to {}", out.display()))?;
+    eprintln!("wrote {} files to {}", files.len(), out.display());
+    Ok(())
+}
+
+#[cfg(feature = "gpu")]
+fn stability_pictures(
+    maps: &[glazec::stability::Map],
+    methods: &[Method],
+    out: &Path,
+) -> Vec<glazec::output::OutputFile> {
+    use glazec::run::preview::{Image, contact_sheet, encode_png};
+    const CELL: u32 = 32;
+    let rows = maps.iter().map(|m| m.cells.len() as u32).max().unwrap_or(1);
+    methods
+        .iter()
+        .filter_map(|&method| {
+            let tiles: Vec<(String, Image)> = maps
+                .iter()
+                .filter(|m| m.method == method)
+                .map(|m| {
+                    let (width, height, rgb) = glazec::stability::heat_map(m, CELL, rows);
+                    (m.sweep.to_string(), Image { width, height, rgb })
+                })
+                .collect();
+            let sheet = contact_sheet(&tiles, 4);
+            let contents = encode_png(&sheet).ok()?;
+            Some(glazec::output::OutputFile { path: out.join(format!("{}.png", method.name())), contents })
+        })
+        .collect()
+}
+
+#[cfg(not(feature = "gpu"))]
+fn stability_pictures(_: &[glazec::stability::Map], _: &[Method], _: &Path) -> Vec<glazec::output::OutputFile> {
+    Vec::new()
+}
+
+type MaterialEvaluator = Box<dyn FnMut(&Material, &[(Vec3, Vec3)]) -> Vec<Vec3>>;
+
+fn stability_evaluator(gpu: bool) -> Result<MaterialEvaluator, Failure> {
+    if !gpu {
+        return Ok(Box::new(glazec::stability::cpu_evaluator));
+    }
+    #[cfg(feature = "gpu")]
+    {
+        use glazec::run::{EvalKernel, Gpu, ShaderPath};
+        let device = Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
+        return Ok(Box::new(move |material: &Material, pairs: &[(Vec3, Vec3)]| {
+            let pairs: Vec<glazec::eval::Pair> = pairs.iter().map(|&(wi, wo)| glazec::eval::Pair { wi, wo }).collect();
+            let result = glazec::compile_material(material.clone(), Default::default())
+                .map_err(|e| e.to_string())
+                .and_then(|c| EvalKernel::new(&device, &c, ShaderPath::NagaIr).map_err(|e| e.to_string()))
+                .and_then(|k| k.eval(&device, &pairs, &material.default_values()).map_err(|e| e.to_string()));
+            // A shader that does not compile or run counts as non-finite everywhere.
+            result.unwrap_or_else(|e| {
+                eprintln!("error: {e}");
+                vec![Vec3::NAN; pairs.len()]
+            })
+        }));
+    }
+    #[allow(unreachable_code)]
+    Err(Failure::Usage(anyhow::anyhow!("glazec was built without the `gpu` feature")))
 }

@@ -347,11 +347,11 @@ pub fn contact_sheet(tiles: &[(String, Image)], columns: usize) -> Image {
     Image { width, height, rgb }
 }
 
-/// Writes an image as an 8-bit RGB PNG tagged sRGB.
+/// An image as an 8-bit RGB PNG tagged sRGB.
 ///
 /// # Errors
-/// An I/O or encoding error.
-pub fn write_png(path: &Path, image: &Image) -> Result<(), RunError> {
+/// An encoding error.
+pub fn encode_png(image: &Image) -> Result<Vec<u8>, RunError> {
     let mut bytes = Vec::new();
     {
         let mut encoder = png::Encoder::new(&mut bytes, image.width, image.height);
@@ -361,6 +361,15 @@ pub fn write_png(path: &Path, image: &Image) -> Result<(), RunError> {
         let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
         writer.write_image_data(&image.rgb).map_err(std::io::Error::other)?;
     }
+    Ok(bytes)
+}
+
+/// Writes an image as an 8-bit RGB PNG tagged sRGB.
+///
+/// # Errors
+/// An I/O or encoding error.
+pub fn write_png(path: &Path, image: &Image) -> Result<(), RunError> {
+    let bytes = encode_png(image)?;
     crate::output::write_all(&[crate::output::OutputFile { path: path.to_path_buf(), contents: bytes }])?;
     Ok(())
 }
