@@ -338,7 +338,17 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
     vec3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     vec3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    vec3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float _e144 = (1.0 - layer2_transmit_l_1);
+    vec3 _e165 = min(max(((vec3((_e144 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e144)), vec3(0.0)) * vec3(0.40606037))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e165 / vec3(0.4036585));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e165) / vec3(0.5963415)), vec3(0.0)), vec3(1.0));
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    float _e184 = (1.0 - layer2_transmit_v_1);
+    vec3 _e205 = min(max(((vec3((_e184 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e184)), vec3(0.0)) * vec3(0.40606037))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e205 / vec3(0.4036585));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e205) / vec3(0.5963415)), vec3(0.0)), vec3(1.0));
+    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9958361, 0.9941894, 0.99203056), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

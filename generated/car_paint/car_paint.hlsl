@@ -382,7 +382,17 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
     const float3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     const float3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    const float3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float _e144 = (1.0 - layer2_transmit_l_1);
+    float3 _e165 = min(max(((((_e144 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e144).xxx), (0.0).xxx) * (0.40606037).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e165 / (0.4036585).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e165) / (0.5963415).xxx), (0.0).xxx), (1.0).xxx);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    float _e184 = (1.0 - layer2_transmit_v_1);
+    float3 _e205 = min(max(((((_e184 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e184).xxx), (0.0).xxx) * (0.40606037).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e205 / (0.4036585).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e205) / (0.5963415).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.9958361, 0.9941894, 0.99203056), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }

@@ -351,7 +351,17 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02f);
     let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    let under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
+    let _e144 = (1f - layer2_transmit_l_1);
+    let _e165 = min(max(((vec3((_e144 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e144)), vec3(0f)) * vec3(0.40606037f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e165 / vec3(0.4036585f));
+    let first_return_l = min(max(((vec3(1f) - _e165) / vec3(0.5963415f)), vec3(0f)), vec3(1f));
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_v);
+    let _e184 = (1f - layer2_transmit_v_1);
+    let _e205 = min(max(((vec3((_e184 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e184)), vec3(0f)) * vec3(0.40606037f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e205 / vec3(0.4036585f));
+    let first_return_v = min(max(((vec3(1f) - _e205) / vec3(0.5963415f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.9941894f, 0.99203056f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }

@@ -326,11 +326,14 @@ float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
-// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
-float3 interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape)
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+float3 interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e9 = (rho_below_1 * r_return_1);
-    return (((((a * e_below) * e_escape) * t) / ((1.0).xxx - _e9)) + ((1.0 - t)).xxx);
+    float3 _e10 = (rho_below_1 * r_return_1);
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -429,17 +432,47 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer4_albedo_v = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
     const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
     const float3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
-    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.67819357).xxx);
-    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.67819357).xxx);
-    const float3 layer2_under = interfaced_diffuse_under(layer3_f, layer3_albedo_l, layer3_albedo_v, layer3_rho, layer3_r_return);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.67819357).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.67819357).xxx, (1.0).xxx, (1.0).xxx);
+    float layer4_transmit_l_1 = min(max((((1.0 - layer4_fresnel_l) + _e190) - layer4_restored_l), 0.0), 1.0);
+    float _e279 = (1.0 - layer4_transmit_l_1);
+    float3 _e300 = min(max(((((_e279 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e279).xxx), (0.0).xxx) * (0.8201173).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e300 / (0.81007236).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e300) / (0.18992764).xxx), (0.0).xxx), (1.0).xxx);
+    float layer4_transmit_v_1 = min(max((((1.0 - layer4_fresnel_v) + _e203) - layer4_restored_v), 0.0), 1.0);
+    float _e325 = (1.0 - layer4_transmit_v_1);
+    float3 _e346 = min(max(((((_e325 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e325).xxx), (0.0).xxx) * (0.8201173).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e346 / (0.81007236).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e346) / (0.18992764).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93489885, 0.93489885, 0.93384814), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     const float3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444));
-    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444));
-    const float3 layer1_under = interfaced_diffuse_under(layer2_f, layer2_albedo_l, layer2_albedo_v, layer2_rho, layer2_r_return);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_l, layer2_first_return_l);
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_v, layer2_first_return_v);
+    float layer3_transmit_l_1 = min(max((((1.0 - layer3_fresnel_l) + _e119) - layer3_restored_l), 0.0), 1.0);
+    float _e399 = (1.0 - layer3_transmit_l_1);
+    float3 _e417 = min(max(((((_e399 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e399).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l = (_e417 / (0.9999998).xxx);
+    float3 layer1_first_return_l = min(max((((1.0).xxx - _e417) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float layer3_transmit_v_1 = min(max((((1.0 - layer3_fresnel_v) + _e132) - layer3_restored_v), 0.0), 1.0);
+    float _e442 = (1.0 - layer3_transmit_v_1);
+    float3 _e460 = min(max(((((_e442 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e442).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v = (_e460 / (0.9999998).xxx);
+    float3 layer1_first_return_v = min(max((((1.0).xxx - _e460) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
     const float3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx);
-    const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
+    const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float _e502 = (1.0 - layer2_transmit_l_1);
+    float3 _e523 = min(max(((((_e502 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e502).xxx), (0.0).xxx) * (0.4163022).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e523 / (0.40512747).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e523) / (0.59487253).xxx), (0.0).xxx), (1.0).xxx);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    float _e542 = (1.0 - layer2_transmit_v_1);
+    float3 _e563 = min(max(((((_e542 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e542).xxx), (0.0).xxx) * (0.4163022).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e563 / (0.40512747).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e563) / (0.59487253).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9812149).xxx, min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }

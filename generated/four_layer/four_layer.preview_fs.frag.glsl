@@ -276,9 +276,12 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
-// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
-vec3 interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape) {
-    return (((((a * e_below) * e_escape) * t) / (vec3(1.0) - (rho_below_1 * r_return_1))) + vec3((1.0 - t)));
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+vec3 interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape, vec3 first_escape, vec3 first_return) {
+    vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - (rho_below_1 * r_return_1)));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -376,17 +379,47 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_albedo_v = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
     vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
     vec3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
-    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357));
-    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357));
-    vec3 layer2_under = interfaced_diffuse_under(layer3_f, layer3_albedo_l, layer3_albedo_v, layer3_rho, layer3_r_return);
+    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357), vec3(1.0), vec3(1.0));
+    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357), vec3(1.0), vec3(1.0));
+    float layer4_transmit_l_1 = min(max((((1.0 - layer4_fresnel_l) + _e190) - layer4_restored_l), 0.0), 1.0);
+    float _e279 = (1.0 - layer4_transmit_l_1);
+    vec3 _e300 = min(max(((vec3((_e279 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e279)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e300 / vec3(0.81007236));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e300) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
+    float layer4_transmit_v_1 = min(max((((1.0 - layer4_fresnel_v) + _e203) - layer4_restored_v), 0.0), 1.0);
+    float _e325 = (1.0 - layer4_transmit_v_1);
+    vec3 _e346 = min(max(((vec3((_e325 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e325)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e346 / vec3(0.81007236));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e346) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93489885, 0.93489885, 0.93384814), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     vec3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444));
-    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444));
-    vec3 layer1_under = interfaced_diffuse_under(layer2_f, layer2_albedo_l, layer2_albedo_v, layer2_rho, layer2_r_return);
+    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_v, layer2_first_return_v);
+    float layer3_transmit_l_1 = min(max((((1.0 - layer3_fresnel_l) + _e119) - layer3_restored_l), 0.0), 1.0);
+    float _e399 = (1.0 - layer3_transmit_l_1);
+    vec3 _e417 = min(max(((vec3((_e399 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e399)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e417 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e417) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float layer3_transmit_v_1 = min(max((((1.0 - layer3_fresnel_v) + _e132) - layer3_restored_v), 0.0), 1.0);
+    float _e442 = (1.0 - layer3_transmit_v_1);
+    vec3 _e460 = min(max(((vec3((_e442 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e442)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e460 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e460) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    vec3 layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
     vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359));
-    vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359));
-    vec3 under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
+    vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float _e502 = (1.0 - layer2_transmit_l_1);
+    vec3 _e523 = min(max(((vec3((_e502 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e502)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e523 / vec3(0.40512747));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e523) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    float _e542 = (1.0 - layer2_transmit_v_1);
+    vec3 _e563 = min(max(((vec3((_e542 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e542)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e563 / vec3(0.40512747));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e563) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
+    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9812149), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }

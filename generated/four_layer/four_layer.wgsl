@@ -297,10 +297,13 @@ fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: v
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
-// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
-fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>) -> vec3<f32> {
-    let _e9 = (rho_below_1 * r_return_1);
-    return (((((a * e_below) * e_escape) * t) / (vec3(1f) - _e9)) + vec3((1f - t)));
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
+    let _e10 = (rho_below_1 * r_return_1);
+    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -398,17 +401,47 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_albedo_v = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
     let layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
     let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f));
-    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f));
-    let layer2_under = interfaced_diffuse_under(layer3_f, layer3_albedo_l, layer3_albedo_v, layer3_rho, layer3_r_return);
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f), vec3(1f), vec3(1f));
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f), vec3(1f), vec3(1f));
+    let layer4_transmit_l_1 = min(max((((1f - layer4_fresnel_l) + _e190) - layer4_restored_l), 0f), 1f);
+    let _e279 = (1f - layer4_transmit_l_1);
+    let _e300 = min(max(((vec3((_e279 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e279)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e300 / vec3(0.81007236f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e300) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
+    let layer4_transmit_v_1 = min(max((((1f - layer4_fresnel_v) + _e203) - layer4_restored_v), 0f), 1f);
+    let _e325 = (1f - layer4_transmit_v_1);
+    let _e346 = min(max(((vec3((_e325 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e325)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e346 / vec3(0.81007236f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e346) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
+    let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93489885f, 0.93489885f, 0.93384814f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     let layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f));
-    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f));
-    let layer1_under = interfaced_diffuse_under(layer2_f, layer2_albedo_l, layer2_albedo_v, layer2_rho, layer2_r_return);
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_v, layer2_first_return_v);
+    let layer3_transmit_l_1 = min(max((((1f - layer3_fresnel_l) + _e119) - layer3_restored_l), 0f), 1f);
+    let _e399 = (1f - layer3_transmit_l_1);
+    let _e417 = min(max(((vec3((_e399 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e399)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e417 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e417) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let layer3_transmit_v_1 = min(max((((1f - layer3_fresnel_v) + _e132) - layer3_restored_v), 0f), 1f);
+    let _e442 = (1f - layer3_transmit_v_1);
+    let _e460 = min(max(((vec3((_e442 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e442)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e460 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e460) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
     let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
-    let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f));
-    let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f));
-    let under = interfaced_diffuse_under(layer1_f, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
+    let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
+    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
+    let _e502 = (1f - layer2_transmit_l_1);
+    let _e523 = min(max(((vec3((_e502 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e502)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e523 / vec3(0.40512747f));
+    let first_return_l = min(max(((vec3(1f) - _e523) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_v);
+    let _e542 = (1f - layer2_transmit_v_1);
+    let _e563 = min(max(((vec3((_e542 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e542)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e563 / vec3(0.40512747f));
+    let first_return_v = min(max(((vec3(1f) - _e563) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9812149f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }

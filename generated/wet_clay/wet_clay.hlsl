@@ -22,8 +22,6 @@ struct PreviewVarying {
 };
 
 static const float3 tau_1 = float3(0.32000002, 0.32000002, 0.32000002);
-static const float3 layer1_albedo_l = float3(0.5876322, 0.34278542, 0.24484675);
-static const float3 layer1_albedo_v = float3(0.5876322, 0.34278542, 0.24484675);
 static const float3 layer1_rho = float3(0.5876322, 0.34278542, 0.24484675);
 static const float3 layer1_r_return = float3(0.116509795, 0.116509795, 0.116509795);
 
@@ -323,7 +321,7 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
     const float3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
     const float3 layer1_f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    const float3 under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float3 under = interfaced_diffuse_under(layer1_f_base, float3(0.5876322, 0.34278542, 0.24484675), float3(0.5876322, 0.34278542, 0.24484675), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }

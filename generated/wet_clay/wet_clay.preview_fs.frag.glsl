@@ -5,8 +5,6 @@ struct PreviewLight {
     vec4 radiance;
 };
 const vec3 tau_1 = vec3(0.32000002, 0.32000002, 0.32000002);
-const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_r_return = vec3(0.116509795, 0.116509795, 0.116509795);
 
@@ -277,7 +275,7 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
     vec3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
     vec3 layer1_f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    vec3 under = interfaced_diffuse_under(layer1_f_base, vec3(0.5876322, 0.34278542, 0.24484675), vec3(0.5876322, 0.34278542, 0.24484675), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }

@@ -5,8 +5,6 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 tau = vec3(0.32000002, 0.32000002, 0.32000002);
-const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_r_return = vec3(0.116509795, 0.116509795, 0.116509795);
 

@@ -19,8 +19,6 @@ struct PreviewVarying {
 }
 
 const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
-const layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.116509795f, 0.116509795f, 0.116509795f);
 
@@ -296,7 +294,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
     let absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
     let layer1_f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let under = interfaced_diffuse_under(layer1_f_base, vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }

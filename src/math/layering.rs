@@ -27,7 +27,9 @@
 //!     tabulated path factor of a rough interface; η² radiance compression;
 //!   - below the coat, a diffuse body gets f_b + E_b(μi)E_b(μo)R(τ)/(π(1 − ρ̄R(τ))): the series of
 //!     internal reflections (TIR included) between the coat and the body, R(τ) and the escape
-//!     share E_esc(τ) from slab integrals (smooth) or tables (rough). A glossy body (a
+//!     share E_esc(τ) from slab integrals (smooth) or tables (rough). When the layer below is
+//!     itself coated, the series starts from what its first reflection really returns
+//!     ([`first_pass`]): that light leaves concentrated towards the normal. A glossy body (a
 //!     conductor) keeps its lobe: f_b/(1 − √(E k E k)) for the bounces inside the escape cone, a
 //!     pool of light trapped by TIR that leaves after a few bounces, and a lobe widened by the
 //!     refraction through a rough coat above ([`BLUR_WIDTH`]).
@@ -310,6 +312,9 @@ struct Level<F: Real> {
     glossy: bool,
     /// The GGX α of that lobe (a bare conductor only).
     alpha: Option<F>,
+    /// How much more easily than diffuse light the light this level sends up escapes the coats
+    /// above it (see [`first_pass`]); 1 for the body.
+    boost: F,
 }
 
 /// Directional albedos towards l and v, and the hemispherical mean.
@@ -351,7 +356,7 @@ fn interfaced<F: Real>(
             Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur, g.level)),
             _ => None,
         };
-        return Level { f, albedo, glossy: alpha.is_some(), alpha };
+        return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0) };
     };
     let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
@@ -386,30 +391,131 @@ fn interfaced<F: Real>(
     let lower = interfaced(coats, body, inputs, &below, k + 1, n_below, blur_below, true);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
     let (r_return, e_escape) = interface.slab(tau);
+    let first =
+        (!lower.glossy).then(|| first_pass(coats, k, &interface, &below, &albedo, (t_l, t_v), lower.boost, inputs));
+    let boost = first.as_ref().map_or(inputs.lit(1.0), |p| p.boost);
     let f_under: F::Vec = if lower.glossy {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         let glossy = interfaced_glossy_under::<F>(lower.f, albedo.e_l, k_l, albedo.e_v, k_v);
         glossy + trapped(&interface, &below, &albedo, lower.alpha, r_return, inputs).named(&name("trapped"))
+    } else if let Some(first) = &first {
+        // The series starts from what the first pass returns, E·c (c = 1 for a diffusing body),
+        // and on the viewer's side is divided by the return factor of diffuse light through the
+        // escape cone, so that what returns eventually escapes (reciprocal: symmetric in l, v).
+        let e_v = albedo.e_v * first.return_v / first.return_mean.max(first.return_l.min(first.return_v));
+        interfaced_diffuse_under::<F>(lower.f, albedo.e_l * first.return_l, e_v, albedo.mean, r_return)
     } else {
-        interfaced_diffuse_under::<F>(lower.f, albedo.e_l, albedo.e_v, albedo.mean, r_return)
+        unreachable!("a layer that is not glossy has its first pass")
     };
     let f = interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"));
     let albedo = want_albedo.then(|| {
-        let directional = |t: F, a: F::Vec, e: F::Vec| {
-            if lower.glossy {
-                interfaced_albedo_glossy::<F>(t, a, e)
-            } else {
-                interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape)
-            }
-        };
-        let e_l = directional(t_l, a_l, albedo.e_l).named(&name("albedo_l"));
-        let e_v = directional(t_v, a_v, albedo.e_v).named(&name("albedo_v"));
+        let directional =
+            |t: F, a: F::Vec, e: F::Vec, escape: Option<F::Vec>, back: Option<F::Vec>| match (escape, back) {
+                (Some(escape), Some(back)) => {
+                    interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back)
+                }
+                _ => interfaced_albedo_glossy::<F>(t, a, e),
+            };
+        let e_l =
+            directional(t_l, a_l, albedo.e_l, first.as_ref().map(|p| p.escape_l), first.as_ref().map(|p| p.return_l))
+                .named(&name("albedo_l"));
+        let e_v =
+            directional(t_v, a_v, albedo.e_v, first.as_ref().map(|p| p.escape_v), first.as_ref().map(|p| p.return_v))
+                .named(&name("albedo_v"));
         let e_escape_clear = interface.slab(inputs.zero()).1.x();
         let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
         Albedo { e_l, e_v, mean }
     });
-    Level { f, albedo, glossy: false, alpha: None }
+    Level { f, albedo, glossy: false, alpha: None, boost }
+}
+
+/// How the first reflection off the layer under coat `k` differs from a diffusing body's, per
+/// light and view direction: `escape_*` scales the share of it that leaves through the coat at
+/// once, `return_*` the share the coat sends back down (both 1 for a diffusing body, whose light
+/// leaves the way [`interfaced_diffuse_under`]'s series assumes).
+struct FirstPass<F: Real> {
+    escape_l: F::Vec,
+    escape_v: F::Vec,
+    return_l: F::Vec,
+    return_v: F::Vec,
+    /// The return factor of diffuse light seen through the escape cone (at its mean cosine,
+    /// with the layer's mean albedo); ≥ 10⁻³.
+    return_mean: F::Vec,
+    /// T′(μ̄c)/⟨T′⟩ times the layer's own boost: how concentrated towards the normal the light
+    /// leaving this coat's level is (handed to the coat above).
+    boost: F,
+}
+
+/// glazec's interfaced layering, the first pass out of a coated layer. A coated layer below (coat
+/// `k + 1` over something) reflects part of the light specularly (1 − T′(μ′), which leaves
+/// through coat `k` with its transmission T(μ)) and sends the rest up through coat `k + 1` with a
+/// distribution ∝ T′(w) — concentrated towards the normal, so more of it escapes coat `k` than of
+/// diffuse light: the share Y ≈ E_esc(0)·b, b = T′(μ̄c)/⟨T′⟩ times the same factor of the coats
+/// further down, μ̄c the mean cosine of coat `k`'s escape cone. The first pass then escapes
+/// ξ = [(1 − T′)T + (E − (1 − T′))Y]/E and returns 1 − ξ, against E_esc(0) and R(0) = 1 − E_esc(0)
+/// for diffuse light. Treating that light as diffuse counted part of it twice (energy gains of up
+/// to 16% for sixteen coats, README "Stability"); compounding b down the stack over-corrects
+/// deep stacks instead (a white stack of sixteen coats reflects 0.47–0.76).
+/// Guards: the return factor is clamped to [0, 1] (never more than a diffusing body returns),
+/// ξ to [0, 1], E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, E_esc(0) ≥ 10⁻⁴.
+#[allow(clippy::too_many_arguments)]
+fn first_pass<F: Real>(
+    coats: &[Coat],
+    k: usize,
+    interface: &CoatInterface<'_, F>,
+    below: &Geometry<F>,
+    albedo: &Albedo<F>,
+    (t_l, t_v): (F, F),
+    deeper_boost: F,
+    inputs: &Inputs<F>,
+) -> FirstPass<F> {
+    let one = inputs.lit(1.0).splat();
+    let Some(next) = coats.get(k + 1) else {
+        return FirstPass {
+            escape_l: one,
+            escape_v: one,
+            return_l: one,
+            return_v: one,
+            return_mean: one,
+            boost: inputs.lit(1.0),
+        };
+    };
+    let name = |base: &str| level_name(base, k);
+    let lower = CoatInterface::new(&next.lobe, inputs.scalar(next.ior), inputs, k + 1);
+    let (r_clear, e_clear) = interface.slab(inputs.zero());
+    let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
+    // The escape cone of coat k seen from inside: μc = √(1 − 1/η²), its projected-solid-angle
+    // mean cosine (2/3)(1 − μc³)/(1 − μc²) (2/3 without TIR).
+    let mu_c = interface.eta.sq().recip().one_minus().at_least(0.0).sqrt();
+    let mu_mean =
+        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0);
+    let t_cone_below = lower.transmission(mu_mean, "cone");
+    // Coats further down concentrate the light further (their boost, handed up).
+    let boost = (t_cone_below / lower.transmission_hemispherical().at_least(1e-4) * deeper_boost).named(&name("boost"));
+    let shaped = (e_clear * boost).clamp(0.0, 1.0).named(&name("first_escape_diffuse"));
+    // ξ for light reflected with albedo `e`, of which 1 − T′ (`below_transmission`) specularly,
+    // and escaping coat k with transmission `t` at the mirror direction.
+    let shares = |e: F::Vec, below_transmission: F, t: F, side: &str| {
+        let specular = below_transmission.one_minus();
+        let e_safe = e.max(inputs.lit(1e-6).splat());
+        let escaped = (specular * t).splat() + (e - specular.splat()).max(inputs.zero()) * shaped;
+        let xi = (escaped / e_safe).max(inputs.zero()).min(one);
+        let escape = (xi / e_clear.at_least(1e-4)).named(&name(&format!("first_escape_{side}")));
+        let back = ((one - xi) / r_clear.at_least(1e-4))
+            .max(inputs.zero())
+            .min(one)
+            .named(&name(&format!("first_return_{side}")));
+        (escape, back)
+    };
+    let (escape_l, return_l) = shares(albedo.e_l, lower.transmission(below.raw_n_dot_l, "l"), t_l, "l");
+    let (escape_v, return_v) = shares(albedo.e_v, lower.transmission(below.raw_n_dot_v, "v"), t_v, "v");
+    // At the cone's mean cosine: the outside cosine √(1 − η²(1 − μ̄c²)) and coat k's
+    // transmission there.
+    let mu_outside = (interface.eta.sq() * mu_mean.sq().one_minus()).one_minus().at_least(0.0).sqrt();
+    let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission(mu_outside, "cone"), "cone");
+    let return_mean = return_mean.max(inputs.lit(1e-3).splat());
+    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost }
 }
 
 /// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`).
@@ -496,6 +602,14 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// E_ms(μ): the reflection the single-scattering lobe misses.
     fn extra(&self, mu: F, r: F) -> F {
         tables::lookup(TableId::CoatExtra, &[mu, r, self.eta])
+    }
+
+    /// ⟨T⟩ for either kind of interface.
+    fn transmission_hemispherical(&self) -> F {
+        match self.roughness {
+            None => tables::lookup(TableId::FresnelTransmitAvg, &[self.eta]),
+            Some(r) => self.transmission_avg(r),
+        }
     }
 
     /// ⟨T⟩: the coat's hemispherical transmittance from above, consistent with

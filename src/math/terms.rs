@@ -378,9 +378,12 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a diffusing layer (same model as
-    /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc / (1 − ρ̄ R).
-    pub fn interfaced_albedo_dir(t: S, a: V, e_below: V, rho_below: V, r_return: V, e_escape: V) -> V {
-        a * e_below * e_escape * t / (rho_below * r_return).one_minus() + t.one_minus().splat()
+    /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+    /// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+    /// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+    pub fn interfaced_albedo_dir(t: S, a: V, e_below: V, rho_below: V, r_return: V, e_escape: V, first_escape: V, first_return: V) -> V {
+        let series = first_return * rho_below * r_return / (rho_below * r_return).one_minus();
+        a * e_below * e_escape * (first_escape + series) * t + t.one_minus().splat()
     }
 }
 
