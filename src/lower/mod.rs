@@ -55,7 +55,7 @@ pub mod bindings {
     pub const PARAMS: u32 = 3;
 
     /// Where a module's optional resources are bound.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
     pub struct Layout {
         /// `var<uniform> params: <Material>Params`.
         pub params: Option<u32>,

@@ -95,6 +95,33 @@ pub(crate) fn kernel_layout(gpu: &Gpu, optional: &bindings::Layout) -> wgpu::Bin
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
 }
 
+/// The compute pipeline of an `eval_pairs` entry point and its bind-group layout.
+fn pipeline(
+    gpu: &Gpu,
+    what: &str,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    optional: &bindings::Layout,
+) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), RunError> {
+    let layout = kernel_layout(gpu, optional);
+    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("eval_pairs"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = gpu.checked(what, || {
+        gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(what),
+            layout: Some(&pipeline_layout),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })?;
+    Ok((pipeline, layout))
+}
+
 /// Buffers and bind group for one dispatch.
 struct Batch {
     bind_group: wgpu::BindGroup,
@@ -110,24 +137,45 @@ impl EvalKernel {
     pub fn new(gpu: &Gpu, compiled: &Compiled, path: ShaderPath) -> Result<EvalKernel, RunError> {
         let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
         let optional = bindings::layout(&compiled.module);
-        let layout = kernel_layout(gpu, &optional);
-        let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("eval_pairs"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
         let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
-        let pipeline = gpu.checked(&what, || {
-            gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&what),
-                layout: Some(&pipeline_layout),
-                module: &loaded.module,
-                entry_point: Some(&loaded.entry),
-                compilation_options: Default::default(),
-                cache: None,
+        let pipeline_and_layout = pipeline(gpu, &what, &loaded.module, &loaded.entry, &optional)?;
+        Ok(EvalKernel::assemble(path, pipeline_and_layout, optional, compiled.material.clone()))
+    }
+
+    /// A kernel from WGSL text written by hand with `eval_pairs`'s interface (`pairs`,
+    /// `values` and `dispatch` at bindings 0–2; no parameters, tables or light): the benchmarks'
+    /// hand-written baseline. Reported as the WGSL path.
+    ///
+    /// # Errors
+    /// A [`RunError`] if the device rejects the shader.
+    pub fn from_wgsl(gpu: &Gpu, label: &str, wgsl: &str) -> Result<EvalKernel, RunError> {
+        let what = format!("hand-written eval_pairs `{label}`");
+        let module = gpu.checked(&what, || {
+            gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(wgsl)),
             })
         })?;
-        Ok(EvalKernel { path, pipeline, layout, bindings: optional, material: compiled.material.clone() })
+        let optional = bindings::Layout::default();
+        let pipeline_and_layout = pipeline(gpu, &what, &module, entry_points::EVAL_PAIRS, &optional)?;
+        // No parameters: an empty stand-in material gives `eval` an empty uniform.
+        let material = Material {
+            name: label.to_string(),
+            method: crate::model::Method::default(),
+            coats: Vec::new(),
+            base: crate::model::Base::Lambert { albedo: crate::model::Color::Lit([0.0; 3]) },
+            params: Vec::new(),
+        };
+        Ok(EvalKernel::assemble(ShaderPath::Wgsl, pipeline_and_layout, optional, material))
+    }
+
+    fn assemble(
+        path: ShaderPath,
+        (pipeline, layout): (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+        bindings: bindings::Layout,
+        material: Material,
+    ) -> EvalKernel {
+        EvalKernel { path, pipeline, layout, bindings, material }
     }
 
     fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8]) -> Batch {
