@@ -22,6 +22,8 @@
 //! compiler (naga, codespan-reporting) without the CLI.
 
 pub mod accuracy;
+#[cfg(feature = "gpu")]
+pub mod bench;
 pub mod check;
 pub mod diag;
 pub mod emit;

@@ -161,6 +161,18 @@ enum Command {
         #[arg(long, default_value = "docs/accuracy.csv")]
         csv: PathBuf,
     },
+    /// Measure speed against accuracy on the GPU: kernel throughput and static cost of every
+    /// method with its error on the accuracy set, the generated kernel against a hand-written one,
+    /// compile times per material and target, and growth with the number of coats.
+    #[cfg(feature = "gpu")]
+    Bench {
+        /// The materials whose compile times are measured.
+        #[arg(default_value = "materials")]
+        materials: PathBuf,
+        /// Where to write the Markdown report.
+        #[arg(long, short, default_value = "docs/bench.md")]
+        out: PathBuf,
+    },
     /// Sweep every method to the limits where layering breaks (grazing angles, roughness → 0,
     /// IOR → 1 and below, opaque coats, 16 layers, denormals); count non-finite and negative
     /// values, energy gains and discontinuities; write a summary and a heat map per method.
@@ -256,6 +268,8 @@ fn main() -> ExitCode {
             accuracy(mode, data, regenerate_reference, samples, walks, &markdown, &csv)
         }
         Command::Tables { walks, out } => tables(walks, &out),
+        #[cfg(feature = "gpu")]
+        Command::Bench { materials, out } => bench(&materials, &out),
         #[cfg(feature = "gpu")]
         Command::Stability { reduced, gpu, out } => stability(reduced, gpu, &out),
         #[cfg(not(feature = "gpu"))]
@@ -727,4 +741,47 @@ fn stability_evaluator(gpu: bool) -> Result<MaterialEvaluator, Failure> {
     }
     #[allow(unreachable_code)]
     Err(Failure::Usage(anyhow::anyhow!("glazec was built without the `gpu` feature")))
+}
+
+/// `glazec bench`: speed against accuracy on the GPU, written as Markdown.
+#[cfg(feature = "gpu")]
+fn bench(materials_dir: &Path, out: &Path) -> Result<(), Failure> {
+    let inputs = read_inputs(&[materials_dir.to_path_buf()]).map_err(Failure::Usage)?;
+    let materials_text: Vec<(String, String)> = inputs
+        .into_iter()
+        .map(|i| (i.path.file_stem().map_or(i.name.clone(), |s| s.to_string_lossy().into_owned()), i.text))
+        .collect();
+    let gpu = glazec::run::Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
+    let mut report = glazec::bench::run(&gpu, &materials_text, &|what| eprintln!("measuring {what}"))
+        .map_err(|e| Failure::Internal(anyhow::anyhow!(e)))?;
+    report.process_ms = process_time(materials_dir).ok();
+    let md = report.markdown();
+    print!("{md}");
+    let file = OutputFile { path: out.to_path_buf(), contents: md.into_bytes() };
+    output::write_all(&[file]).with_context(|| format!("cannot write {}", out.display()))?;
+    Ok(())
+}
+
+/// Median wall time of `glazec compile <materials> -o <temporary directory>` as a new process.
+#[cfg(feature = "gpu")]
+fn process_time(materials: &Path) -> anyhow::Result<f64> {
+    let exe = std::env::current_exe()?;
+    let out = tempfile::tempdir()?;
+    let mut times = Vec::new();
+    for _ in 0..5 {
+        let start = std::time::Instant::now();
+        let status = std::process::Command::new(&exe)
+            .arg("compile")
+            .arg(materials)
+            .arg("-o")
+            .arg(out.path())
+            .stderr(std::process::Stdio::null())
+            .status()?;
+        if !status.success() {
+            bail!("glazec compile failed");
+        }
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
 }

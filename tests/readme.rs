@@ -35,16 +35,26 @@ fn quoted_shader_excerpt_is_real_output() {
     assert!(wgsl.contains(excerpt), "README's d_ggx excerpt differs from generated/wet_clay/wet_clay.wgsl:\n{excerpt}");
 }
 
+/// The text between `<!-- {marker}:begin -->` and `<!-- {marker}:end -->` in the README, and the
+/// docs file it quotes.
+fn quoted(marker: &str, docs: &str) -> (String, String) {
+    let readme = readme();
+    let begin = format!("<!-- {marker}:begin -->\n");
+    let start = readme.find(&begin).unwrap_or_else(|| panic!("README lacks {begin}")) + begin.len();
+    let end =
+        readme.find(&format!("<!-- {marker}:end -->")).unwrap_or_else(|| panic!("README lacks the end of {marker}"));
+    let docs = std::fs::read_to_string(common::root().join(docs)).unwrap_or_else(|e| panic!("{docs}: {e}"));
+    (readme[start..end].to_string(), docs)
+}
+
 #[test]
 fn accuracy_table_in_the_readme_is_the_one_in_docs() {
-    let readme = readme();
-    let begin = "<!-- accuracy:begin -->\n";
-    let start = readme.find(begin).expect("the accuracy table's start marker") + begin.len();
-    let end = readme.find("<!-- accuracy:end -->").expect("the accuracy table's end marker");
-    let docs = std::fs::read_to_string(common::root().join("docs/accuracy.md")).expect("docs/accuracy.md");
-    assert_eq!(
-        &readme[start..end],
-        docs,
-        "README's accuracy table differs from docs/accuracy.md (glazec accuracy writes it)"
-    );
+    let (quoted, docs) = quoted("accuracy", "docs/accuracy.md");
+    assert_eq!(quoted, docs, "README's accuracy table differs from docs/accuracy.md (glazec accuracy writes it)");
+}
+
+#[test]
+fn bench_tables_in_the_readme_are_the_ones_in_docs() {
+    let (quoted, docs) = quoted("bench", "docs/bench.md");
+    assert_eq!(quoted, docs, "README's bench tables differ from docs/bench.md (glazec bench writes it)");
 }
