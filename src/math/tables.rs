@@ -360,7 +360,7 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
     let known: Option<Vec<f32>> =
         args.iter().zip(spec.axes).map(|(&x, &(axis, _))| x.known().and_then(|_| axis.coordinate(x).known())).collect();
     if let Some(known) = known {
-        return args[0].lit(interpolate(spec, id.values(), &known));
+        return args[0].lit(multilinear::<f32>(id, |a| known[a], &[]));
     }
     let slots: Vec<Slot<F>> = args.iter().map(|&x| Slot::S(x)).collect();
     match F::call(&spec.term, &slots, &|slots| Slot::S(interpolate_in_buffer(id, slots))) {
@@ -369,21 +369,37 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
     }
 }
 
-/// The body of a table's lookup function: multilinear interpolation of the whole table.
+/// The body of a table's lookup function: [`multilinear`] at the arguments' coordinates.
 fn interpolate_in_buffer<F: Real>(id: TableId, args: &[Slot<F>]) -> F {
+    let spec = id.spec();
+    let params: Vec<&str> = spec.term.params.iter().map(|&(p, _)| p).collect();
+    let coordinate = |a: usize| match args[a] {
+        Slot::S(x) => spec.axes[a].0.coordinate(x).named(&format!("u_{}", params[a])),
+        Slot::V(_) => unreachable!("table arguments are scalars"),
+    };
+    multilinear(id, coordinate, &params)
+}
+
+/// Multilinear interpolation of table `id` at coordinates u ∈ [0, 1] (`coordinate(axis)`, asked
+/// for once per axis, in order), written once over the shading ops: it folds literal lookups at
+/// compile time, evaluates on the CPU, and is the body of the shader's lookup function. `names`
+/// (one per axis, or none at all) name the generated `let`s.
+fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&str]) -> F {
     let spec = id.spec();
     let cells: Vec<(F, F)> = spec
         .axes
         .iter()
-        .zip(args)
-        .zip(spec.term.params)
-        .map(|((&(axis, n), slot), &(param, _))| match *slot {
-            Slot::S(x) => {
-                let u = axis.coordinate(x).named(&format!("u_{param}"));
-                let (i, w) = cell((u * (n - 1) as f32).named(&format!("node_{param}")), n);
-                (i.named(&format!("cell_{param}")), w.named(&format!("weight_{param}")))
+        .enumerate()
+        .map(|(a, &(_, n))| {
+            let node = coordinate(a) * (n - 1) as f32;
+            match names.get(a) {
+                Some(name) => {
+                    let (i, w) = cell(node.named(&format!("node_{name}")), n);
+                    (i.named(&format!("cell_{name}")), w.named(&format!("weight_{name}")))
+                }
+                // (No names: no strings built on the CPU's hot path.)
+                None => cell(node, n),
             }
-            Slot::V(_) => unreachable!("table arguments are scalars"),
         })
         .collect();
     let zero = cells[0].0.lit(0.0);
@@ -396,33 +412,13 @@ fn interpolate_in_buffer<F: Real>(id: TableId, args: &[Slot<F>]) -> F {
             weight = weight * if upper { w } else { w.one_minus() };
             stride *= spec.axes[axis].1 as f32;
         }
-        // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
-        let corner_name: String = (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect();
-        total = total + F::fetch(id, index).named(&format!("at_{corner_name}")) * weight;
-    }
-    total
-}
-
-/// Multilinear interpolation on the CPU at known coordinates.
-fn interpolate(spec: &TableSpec, values: &[f32], coords: &[f32]) -> f32 {
-    let cells: Vec<(usize, f32)> = coords
-        .iter()
-        .zip(spec.axes)
-        .map(|(&u, &(_, n))| {
-            let (i, w) = cell(u * (n - 1) as f32, n);
-            (i as usize, w)
-        })
-        .collect();
-    let mut total = 0.0;
-    for corner in 0..1usize << cells.len() {
-        let (mut index, mut weight, mut stride) = (0, 1.0, 1);
-        for (axis, &(i, w)) in cells.iter().enumerate() {
-            let upper = corner >> axis & 1 == 1;
-            index += (i + usize::from(upper)) * stride;
-            weight *= if upper { w } else { 1.0 - w };
-            stride *= spec.axes[axis].1;
+        let mut value = F::fetch(id, index);
+        if !names.is_empty() {
+            // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
+            let corner_name: String = (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect();
+            value = value.named(&format!("at_{corner_name}"));
         }
-        total += values[index] * weight;
+        total = total + value * weight;
     }
     total
 }
@@ -457,11 +453,10 @@ mod tests {
 
     #[test]
     fn interpolation_reproduces_nodes_and_is_linear_between() {
-        let spec = TableId::GgxAlbedo.spec();
         let values = TableId::GgxAlbedo.values();
         let at = |i: usize, j: usize| values[i + 16 * j];
-        assert_eq!(interpolate(spec, values, &[3.0 / 15.0, 7.0 / 15.0]), at(3, 7));
-        let mid = interpolate(spec, values, &[3.5 / 15.0, 7.0 / 15.0]);
+        assert_eq!(multilinear::<f32>(TableId::GgxAlbedo, |a| [3.0 / 15.0, 7.0 / 15.0][a], &[]), at(3, 7));
+        let mid = multilinear::<f32>(TableId::GgxAlbedo, |a| [3.5 / 15.0, 7.0 / 15.0][a], &[]);
         assert!((mid - (at(3, 7) + at(4, 7)) / 2.0).abs() < 1e-6);
     }
 }
