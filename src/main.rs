@@ -724,16 +724,10 @@ fn stability_evaluator(gpu: bool) -> Result<MaterialEvaluator, Failure> {
     }
     #[cfg(feature = "gpu")]
     {
-        use glazec::run::{EvalKernel, Gpu, ShaderPath};
-        let device = Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
+        let device = glazec::run::Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
         return Ok(Box::new(move |material: &Material, pairs: &[(Vec3, Vec3)]| {
-            let pairs: Vec<glazec::eval::Pair> = pairs.iter().map(|&(wi, wo)| glazec::eval::Pair { wi, wo }).collect();
-            let result = glazec::compile_material(material.clone(), Default::default())
-                .map_err(|e| e.to_string())
-                .and_then(|c| EvalKernel::new(&device, &c, ShaderPath::NagaIr).map_err(|e| e.to_string()))
-                .and_then(|k| k.eval(&device, &pairs, &material.default_values()).map_err(|e| e.to_string()));
             // A shader that does not compile or run counts as non-finite everywhere.
-            result.unwrap_or_else(|e| {
+            glazec::stability::gpu_evaluation(&device, material, pairs).unwrap_or_else(|e| {
                 eprintln!("error: {e}");
                 vec![Vec3::NAN; pairs.len()]
             })

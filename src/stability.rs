@@ -246,6 +246,20 @@ pub fn cpu_evaluator(material: &Material, pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
     pairs.iter().map(|&(wi, wo)| crate::eval::brdf(material, &material.default_values(), wi, wo)).collect()
 }
 
+/// f of a material at direction pairs on a GPU: the material's own `eval_pairs` kernel, reached
+/// as the naga module (one shader per material).
+///
+/// # Errors
+/// The module does not validate, or the device rejects or fails to run it.
+#[cfg(feature = "gpu")]
+pub fn gpu_evaluation(gpu: &crate::run::Gpu, material: &Material, pairs: &[(Vec3, Vec3)]) -> Result<Vec<Vec3>, String> {
+    use crate::run::{EvalKernel, ShaderPath};
+    let compiled = crate::compile_material(material.clone(), Default::default()).map_err(|e| e.to_string())?;
+    let kernel = EvalKernel::new(gpu, &compiled, ShaderPath::NagaIr).map_err(|e| e.to_string())?;
+    let pairs: Vec<crate::eval::Pair> = pairs.iter().map(|&(wi, wo)| crate::eval::Pair { wi, wo }).collect();
+    kernel.eval(gpu, &pairs, &material.default_values()).map_err(|e| e.to_string())
+}
+
 fn count(values: &[Vec3], cell: &mut Cell) {
     for v in values {
         for c in 0..3 {

@@ -89,17 +89,13 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
 #[test]
 fn default_method_is_stable_on_the_gpu() {
     use glam::Vec3;
-    use glazec::run::{EvalKernel, ShaderPath};
 
     let Some(gpu) = common::open_gpu() else { return };
     let sweeps = stability::sweeps(true);
     let (mut maps, mut problems, mut shaders) = (Vec::new(), Vec::new(), 0);
     let mut on_gpu = |material: &glazec::model::Material, pairs: &[(Vec3, Vec3)]| -> Vec<Vec3> {
         shaders += 1;
-        let compiled = glazec::compile_material(material.clone(), Default::default()).unwrap_or_else(|e| panic!("{e}"));
-        let kernel = EvalKernel::new(&gpu, &compiled, ShaderPath::NagaIr).unwrap_or_else(|e| panic!("{e}"));
-        let pairs: Vec<glazec::eval::Pair> = pairs.iter().map(|&(wi, wo)| glazec::eval::Pair { wi, wo }).collect();
-        kernel.eval(&gpu, &pairs, &[]).unwrap_or_else(|e| panic!("{e}"))
+        stability::gpu_evaluation(&gpu, material, pairs).unwrap_or_else(|e| panic!("{e}"))
     };
     for sweep in &sweeps {
         // Discontinuities are sought on the CPU (the refinement compiles a shader per bisection);
