@@ -315,9 +315,12 @@ struct Level<F: Real> {
     /// How much more easily than diffuse light the light this level sends up escapes the coats
     /// above it (see [`first_pass`]); 1 for the body.
     boost: F,
+    /// Its top coat's transmission T(μ) towards l and v (`None` for the body).
+    transmission: Option<(F, F)>,
 }
 
 /// Directional albedos towards l and v, and the hemispherical mean.
+#[derive(Clone, Copy)]
 struct Albedo<F: Real> {
     e_l: F::Vec,
     e_v: F::Vec,
@@ -356,7 +359,7 @@ fn interfaced<F: Real>(
             Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur, g.level)),
             _ => None,
         };
-        return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0) };
+        return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0), transmission: None };
     };
     let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
@@ -391,14 +394,17 @@ fn interfaced<F: Real>(
     let lower = interfaced(coats, body, inputs, &below, k + 1, n_below, blur_below, true);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
     let (r_return, e_escape) = interface.slab(tau);
-    let first =
-        (!lower.glossy).then(|| first_pass(coats, k, &interface, &below, &albedo, (t_l, t_v), lower.boost, inputs));
+    // The clear slab's (R(0), E_esc(0)), built when first needed.
+    let clear = OnceCell::new();
+    let clear = || *clear.get_or_init(|| interface.slab(inputs.zero()));
+    let first = (!lower.glossy).then(|| first_pass(coats, k, &interface, &lower, &albedo, (t_l, t_v), &clear, inputs));
     let boost = first.as_ref().map_or(inputs.lit(1.0), |p| p.boost);
     let f_under: F::Vec = if lower.glossy {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         let glossy = interfaced_glossy_under::<F>(lower.f, albedo.e_l, k_l, albedo.e_v, k_v);
-        glossy + trapped(&interface, &below, &albedo, lower.alpha, r_return, inputs).named(&name("trapped"))
+        glossy
+            + trapped(&interface, &below, &albedo, lower.alpha, (r_return, clear().0), inputs).named(&name("trapped"))
     } else if let Some(first) = &first {
         // The series starts from what the first pass returns, E·c (c = 1 for a diffusing body),
         // and on the viewer's side is divided by the return factor of diffuse light through the
@@ -423,11 +429,11 @@ fn interfaced<F: Real>(
         let e_v =
             directional(t_v, a_v, albedo.e_v, first.as_ref().map(|p| p.escape_v), first.as_ref().map(|p| p.return_v))
                 .named(&name("albedo_v"));
-        let e_escape_clear = interface.slab(inputs.zero()).1.x();
+        let e_escape_clear = clear().1.x();
         let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
         Albedo { e_l, e_v, mean }
     });
-    Level { f, albedo, glossy: false, alpha: None, boost }
+    Level { f, albedo, glossy: false, alpha: None, boost, transmission: Some((t_l, t_v)) }
 }
 
 /// How the first reflection off the layer under coat `k` differs from a diffusing body's, per
@@ -464,14 +470,14 @@ fn first_pass<F: Real>(
     coats: &[Coat],
     k: usize,
     interface: &CoatInterface<'_, F>,
-    below: &Geometry<F>,
+    lower_level: &Level<F>,
     albedo: &Albedo<F>,
     (t_l, t_v): (F, F),
-    deeper_boost: F,
+    clear: &dyn Fn() -> (F::Vec, F::Vec),
     inputs: &Inputs<F>,
 ) -> FirstPass<F> {
     let one = inputs.lit(1.0).splat();
-    let Some(next) = coats.get(k + 1) else {
+    let (Some(next), Some((t_below_l, t_below_v))) = (coats.get(k + 1), lower_level.transmission) else {
         return FirstPass {
             escape_l: one,
             escape_v: one,
@@ -483,7 +489,7 @@ fn first_pass<F: Real>(
     };
     let name = |base: &str| level_name(base, k);
     let lower = CoatInterface::new(&next.lobe, inputs.scalar(next.ior), inputs, k + 1);
-    let (r_clear, e_clear) = interface.slab(inputs.zero());
+    let (r_clear, e_clear) = clear();
     let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
     // The escape cone of coat k seen from inside: μc = √(1 − 1/η²), its projected-solid-angle
     // mean cosine (2/3)(1 − μc³)/(1 − μc²) (2/3 without TIR).
@@ -492,7 +498,8 @@ fn first_pass<F: Real>(
         ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0);
     let t_cone_below = lower.transmission(mu_mean, "cone");
     // Coats further down concentrate the light further (their boost, handed up).
-    let boost = (t_cone_below / lower.transmission_hemispherical().at_least(1e-4) * deeper_boost).named(&name("boost"));
+    let boost =
+        (t_cone_below / lower.transmission_hemispherical().at_least(1e-4) * lower_level.boost).named(&name("boost"));
     let shaped = (e_clear * boost).clamp(0.0, 1.0).named(&name("first_escape_diffuse"));
     // ξ for light reflected with albedo `e`, of which 1 − T′ (`below_transmission`) specularly,
     // and escaping coat k with transmission `t` at the mirror direction.
@@ -508,8 +515,8 @@ fn first_pass<F: Real>(
             .named(&name(&format!("first_return_{side}")));
         (escape, back)
     };
-    let (escape_l, return_l) = shares(albedo.e_l, lower.transmission(below.raw_n_dot_l, "l"), t_l, "l");
-    let (escape_v, return_v) = shares(albedo.e_v, lower.transmission(below.raw_n_dot_v, "v"), t_v, "v");
+    let (escape_l, return_l) = shares(albedo.e_l, t_below_l, t_l, "l");
+    let (escape_v, return_v) = shares(albedo.e_v, t_below_v, t_v, "v");
     // At the cone's mean cosine: the outside cosine √(1 − η²(1 − μ̄c²)) and coat k's
     // transmission there.
     let mu_outside = (interface.eta.sq() * mu_mean.sq().one_minus()).one_minus().at_least(0.0).sqrt();
@@ -518,13 +525,14 @@ fn first_pass<F: Real>(
     FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost }
 }
 
-/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`).
+/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`);
+/// `r_clear` is the clear slab's return R(0).
 fn trapped<F: Real>(
     interface: &CoatInterface<'_, F>,
     below: &Geometry<F>,
     albedo: &Albedo<F>,
     alpha: Option<F>,
-    r_return: F::Vec,
+    (r_return, r_clear): (F::Vec, F::Vec),
     inputs: &Inputs<F>,
 ) -> F::Vec {
     let Some(alpha) = alpha else { return inputs.zero() };
@@ -534,7 +542,6 @@ fn trapped<F: Real>(
     let p_l = trapped_share(below.n_dot_l, mu_c, alpha).named(&name("trapped_l"));
     let p_v = trapped_share(below.n_dot_v, mu_c, alpha).named(&name("trapped_v"));
     // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
-    let r_clear = interface.slab(inputs.zero()).0;
     let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
     let stay = alpha.lit(1.0 - TRAPPED_ESCAPE);
     let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, stay);
