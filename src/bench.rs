@@ -22,8 +22,10 @@ use crate::run::{EvalKernel, Gpu, RunError, ShaderPath};
 
 /// Direction pairs per timed dispatch.
 pub const PAIRS: usize = 1 << 20;
-/// Timed dispatches per kernel (after one warm-up).
+/// Timed dispatches per kernel and round (after one warm-up).
 pub const REPEATS: usize = 7;
+/// Interleaved rounds in which the methods' kernels and the Lambert baseline are timed.
+pub const ROUNDS: usize = 3;
 /// In-process compiles timed per material.
 const COMPILES: usize = 15;
 /// Coat counts of the scaling sweep.
@@ -57,6 +59,19 @@ pub fn pairs(n: usize) -> Vec<Pair> {
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// Median seconds per dispatch of each kernel, timed in [`ROUNDS`] interleaved rounds of
+/// [`REPEATS`] dispatches each (after a warm-up), so that a slow spell of the machine falls on
+/// every kernel alike rather than on one of them.
+pub fn interleaved_seconds(gpu: &Gpu, kernels: &[&EvalKernel], pairs: &[Pair]) -> Result<Vec<f64>, RunError> {
+    let mut times = vec![Vec::new(); kernels.len()];
+    for _ in 0..ROUNDS {
+        for (kernel, t) in kernels.iter().zip(&mut times) {
+            t.extend(kernel.time_dispatches(gpu, pairs, &[], REPEATS)?.iter().map(|d| d.as_secs_f64()));
+        }
+    }
+    Ok(times.into_iter().map(median).collect())
 }
 
 /// Median seconds per dispatch of a kernel.
@@ -177,17 +192,26 @@ pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -
         let seconds = kernel_seconds(gpu, &kernel, &pairs).map_err(|e| e.to_string())?;
         Ok((compiled, seconds))
     };
-    progress("Lambert baseline");
-    let (_, lambert) = timed("Material(name: \"lambert\", layers: [Lambert(0.5)])")?;
-
     progress("accuracy of each method");
     let errors = method_errors();
+    progress("kernels of the Lambert baseline and every method, interleaved");
+    let kernel_of = |text: &str| -> Result<(crate::Compiled, EvalKernel), String> {
+        let compiled = compile(text)?;
+        let kernel = EvalKernel::new(gpu, &compiled, ShaderPath::NagaIr).map_err(|e| e.to_string())?;
+        Ok((compiled, kernel))
+    };
+    let (_, lambert_kernel) = kernel_of("Material(name: \"lambert\", layers: [Lambert(0.5)])")?;
+    let method_kernels = Method::MEASURED
+        .iter()
+        .map(|m| kernel_of(&format!("Material(name: \"clay\", method: {}, {CLAY_STACK})", m.source())))
+        .collect::<Result<Vec<_>, _>>()?;
+    let all: Vec<&EvalKernel> = std::iter::once(&lambert_kernel).chain(method_kernels.iter().map(|(_, k)| k)).collect();
+    let seconds = interleaved_seconds(gpu, &all, &pairs).map_err(|e| e.to_string())?;
+    let lambert = seconds[0];
     let mut methods = Vec::new();
-    for (method, (lobe_median, lobe_max, albedo_max)) in
-        [Method::Interfaced, Method::WeidlichWilkie, Method::Additive].into_iter().zip(errors)
+    for (((method, (lobe_median, lobe_max, albedo_max)), (compiled, _)), &seconds) in
+        Method::MEASURED.into_iter().zip(errors).zip(&method_kernels).zip(&seconds[1..])
     {
-        progress(&format!("kernel of {}", method.name()));
-        let (compiled, seconds) = timed(&format!("Material(name: \"clay\", method: {}, {CLAY_STACK})", method.name()))?;
         let (expressions, transcendental) = static_cost(&compiled.module);
         methods.push(MethodRow {
             method,
@@ -269,16 +293,16 @@ pub fn stack_of(coats: usize) -> String {
     format!("Material(name: \"stack{coats}\", layers: [{}, Lambert(0.5)])", layers.join(", "))
 }
 
-/// (median lobe relRMSE, largest lobe relRMSE, largest albedo error) per method, in the order
-/// Interfaced, WeidlichWilkie, Additive; NaN if the stored reference is missing.
+/// (median lobe relRMSE, largest lobe relRMSE, largest albedo error) per method of
+/// [`Method::MEASURED`], in that order; NaN if the stored reference is missing.
 fn method_errors() -> Vec<(f64, f64, f64)> {
     use crate::accuracy;
     let cases = accuracy::standard_set();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/reference/standard-multiple.bin");
     let Ok(data) = accuracy::ReferenceData::read(&path, cases.len()) else {
-        return vec![(f64::NAN, f64::NAN, f64::NAN); 3];
+        return vec![(f64::NAN, f64::NAN, f64::NAN); Method::MEASURED.len()];
     };
-    [Method::Interfaced, Method::WeidlichWilkie, Method::Additive]
+    Method::MEASURED
         .into_iter()
         .map(|method| {
             let metrics: Vec<accuracy::Metrics> = cases
@@ -323,8 +347,9 @@ pub fn against_hand_written(gpu: &Gpu, pairs: &[Pair]) -> Result<(f64, f64, f32)
 impl Report {
     pub fn markdown(&self) -> String {
         let mut md = format!(
-            "Device: {}. Kernels: median of {REPEATS} dispatches of {PAIRS} pairs after a warm-up, against a bare Lambert kernel in the same run ({:.1} M evaluations/s).\n\n",
+            "Device: {}. Kernels: median of {} dispatches of {PAIRS} pairs ({ROUNDS} interleaved rounds of {REPEATS}, each after a warm-up), against a bare Lambert kernel timed in the same rounds ({:.1} M evaluations/s).\n\n",
             self.device,
+            ROUNDS * REPEATS,
             self.lambert_evals_per_second / 1e6
         );
         md.push_str("| method (seed's clay stack) | M evaluations/s | time vs Lambert | naga expressions | transcendental calls | lobe relRMSE median / max | albedo error max |\n|---|---|---|---|---|---|---|\n");

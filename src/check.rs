@@ -69,6 +69,8 @@ const CONDUCTOR_FIELDS: &[FieldSpec] = &[
     opt("k", "(3.9, 2.45, 2.14)"),
 ];
 const PLASTIC_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.1, 0.1)"), req("roughness", "0.3"), req("ior", "1.5")];
+const INTERFACED_FIELDS: &[FieldSpec] = &[opt("fresnel", "Schlick"), opt("multiple_scattering", "false")];
+const FRESNEL_NAMES: &[&str] = &["Exact", "Schlick"];
 const PARAM_FIELDS: &[FieldSpec] = &[req("name", "\"roughness\""), req("default", "0.5")];
 
 const LAYER_NAMES: &[&str] = &["Coat", "Lambert", "OrenNayar", "Eon", "Conductor", "Plastic"];
@@ -545,12 +547,44 @@ impl Checker {
 
     fn method(&mut self, v: &Spanned<Value>) -> Option<Method> {
         let (name, args) = self.constructor(v, "method", Method::NAMES)?;
-        self.no_arguments(name, args, v.span);
-        Some(match name.node.as_str() {
-            "Additive" => Method::Additive,
-            "WeidlichWilkie" => Method::WeidlichWilkie,
-            _ => Method::Interfaced,
-        })
+        match name.node.as_str() {
+            "Additive" => {
+                self.no_arguments(name, args, v.span);
+                Some(Method::Additive)
+            }
+            "WeidlichWilkie" => {
+                self.no_arguments(name, args, v.span);
+                Some(Method::WeidlichWilkie)
+            }
+            _ => self.approximations(name, args, v.span).map(Method::Interfaced),
+        }
+    }
+
+    /// `Interfaced(fresnel: Exact | Schlick, multiple_scattering: true | false)`.
+    fn approximations(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) -> Option<Approximations> {
+        let f = self.fields(name, args, whole, INTERFACED_FIELDS);
+        let schlick_fresnel = match f.get(0) {
+            Some(v) => self.constructor(v, "Fresnel model", FRESNEL_NAMES).map(|(n, a)| {
+                self.no_arguments(n, a, v.span);
+                n.node == "Schlick"
+            }),
+            None => Some(false),
+        };
+        let single_scattering = match f.get(1) {
+            Some(v) => self.boolean(v).map(|multiple| !multiple),
+            None => Some(false),
+        };
+        Some(Approximations { schlick_fresnel: schlick_fresnel?, single_scattering: single_scattering? })
+    }
+
+    fn boolean(&mut self, v: &Spanned<Value>) -> Option<bool> {
+        match v.node {
+            Value::Bool(b) => Some(b),
+            _ => {
+                self.wrong_type(v, "`true` or `false`", None);
+                None
+            }
+        }
     }
 
     fn no_arguments(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) {
@@ -938,6 +972,26 @@ mod tests {
         assert_eq!(m.params.len(), 2);
         assert_eq!(m.coats[0].absorption, Color::Lit([0.8; 3]));
         assert_eq!(m.coats[0].lobe, Lobe::Ggx { roughness: Scalar::Param(ParamId(0)) });
+    }
+
+    #[test]
+    fn interfaced_approximations() {
+        let method = |m: &str| check_text(&format!(r#"Material(name: "m", method: {m}, layers: [Lambert(0.5)])"#));
+        assert_eq!(method("Interfaced").expect("valid").method, Method::INTERFACED);
+        assert_eq!(method("Interfaced()").expect("valid").method, Method::INTERFACED);
+        assert_eq!(method("Interfaced(fresnel: Schlick)").expect("valid").method, Method::INTERFACED_SCHLICK);
+        assert_eq!(
+            method("Interfaced(multiple_scattering: false)").expect("valid").method,
+            Method::INTERFACED_SINGLE_SCATTERING
+        );
+        for m in Method::MEASURED {
+            assert_eq!(method(&m.source()).expect("valid").method, m, "{}", m.source());
+        }
+        let codes = |m: &str| method(m).unwrap_err().iter().map(|d| d.code).collect::<Vec<_>>();
+        assert_eq!(codes("Interfaced(fresnel: Schlik)"), [Code::UnknownVariant]);
+        assert_eq!(codes("Interfaced(multiple_scattering: 0)"), [Code::WrongType]);
+        assert_eq!(codes("Interfaced(fresnell: Exact)"), [Code::UnknownField]);
+        assert_eq!(codes("Additive(fresnel: Schlick)"), [Code::BadArguments]);
     }
 
     #[test]

@@ -24,6 +24,8 @@
 pub mod accuracy;
 #[cfg(feature = "gpu")]
 pub mod bench;
+#[cfg(feature = "gpu")]
+pub mod chart;
 pub mod check;
 pub mod diag;
 pub mod emit;

@@ -172,6 +172,10 @@ enum Command {
         /// Where to write the Markdown report.
         #[arg(long, short, default_value = "docs/bench.md")]
         out: PathBuf,
+        /// Also draw error against cost, with the Pareto front, as `speed-accuracy.svg` and
+        /// `speed-accuracy.png` in this directory.
+        #[arg(long, value_name = "DIR")]
+        chart: Option<PathBuf>,
     },
     /// Sweep every method to the limits where layering breaks (grazing angles, roughness → 0,
     /// IOR → 1 and below, opaque coats, 16 layers, denormals); count non-finite and negative
@@ -269,7 +273,7 @@ fn main() -> ExitCode {
         }
         Command::Tables { walks, out } => tables(walks, &out),
         #[cfg(feature = "gpu")]
-        Command::Bench { materials, out } => bench(&materials, &out),
+        Command::Bench { materials, out, chart } => bench(&materials, &out, chart.as_deref()),
         #[cfg(feature = "gpu")]
         Command::Stability { reduced, gpu, out } => stability(reduced, gpu, &out),
         #[cfg(not(feature = "gpu"))]
@@ -643,7 +647,7 @@ fn accuracy(
             .context("cannot read the reference (run with --regenerate-reference to compute it)")?
     };
     let methods: Vec<_> =
-        [glazec::model::Method::Interfaced, glazec::model::Method::WeidlichWilkie, glazec::model::Method::Additive]
+        [glazec::model::Method::INTERFACED, glazec::model::Method::WeidlichWilkie, glazec::model::Method::Additive]
             .into_iter()
             .map(|method| {
                 let metrics = cases
@@ -665,7 +669,7 @@ fn stability(reduced: bool, gpu: bool, out: &Path) -> Result<(), Failure> {
     use glazec::stability;
     let sweeps = stability::sweeps(reduced);
     let mut evaluate = stability_evaluator(gpu)?;
-    let methods = [Method::Interfaced, Method::WeidlichWilkie, Method::Additive];
+    let methods = [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive];
     let mut maps = Vec::new();
     for method in methods {
         for sweep in &sweeps {
@@ -739,7 +743,7 @@ fn stability_evaluator(gpu: bool) -> Result<MaterialEvaluator, Failure> {
 
 /// `glazec bench`: speed against accuracy on the GPU, written as Markdown.
 #[cfg(feature = "gpu")]
-fn bench(materials_dir: &Path, out: &Path) -> Result<(), Failure> {
+fn bench(materials_dir: &Path, out: &Path, chart: Option<&Path>) -> Result<(), Failure> {
     let inputs = read_inputs(&[materials_dir.to_path_buf()]).map_err(Failure::Usage)?;
     let materials_text: Vec<(String, String)> = inputs
         .into_iter()
@@ -753,6 +757,11 @@ fn bench(materials_dir: &Path, out: &Path) -> Result<(), Failure> {
     print!("{md}");
     let file = OutputFile { path: out.to_path_buf(), contents: md.into_bytes() };
     output::write_all(&[file]).with_context(|| format!("cannot write {}", out.display()))?;
+    if let Some(dir) = chart {
+        for path in glazec::chart::write(&report, dir).map_err(|e| Failure::Internal(anyhow::anyhow!(e)))? {
+            eprintln!("wrote {}", path.display());
+        }
+    }
     Ok(())
 }
 

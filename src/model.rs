@@ -29,7 +29,7 @@ pub struct Material {
 }
 
 /// How a stack of layers is combined into one BRDF.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// Disney clear-coat (Burley 2012; seed 000 §3.0.2): each coat adds a specular lobe on top of
     /// the base, with no attenuation. The cheapest; creates energy.
@@ -39,19 +39,72 @@ pub enum Method {
     WeidlichWilkie,
     /// glazec's default: reciprocal, energy-conserving layering that is exact for a smooth
     /// dielectric coat over a Lambertian base with absorption (η² radiance compression, internal
-    /// reflection including TIR, absorption along refracted paths).
-    #[default]
-    Interfaced,
+    /// reflection including TIR, absorption along refracted paths). Cheaper approximations
+    /// can be asked for (`Interfaced(fresnel: Schlick, multiple_scattering: false)`); `glazec
+    /// bench` measures what each costs and loses.
+    Interfaced(Approximations),
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::INTERFACED
+    }
+}
+
+/// Approximations the interfaced method may take to save time, all off by default.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Approximations {
+    /// Schlick's approximation (Schlick 1994) for the coats' dielectric Fresnel reflectance
+    /// instead of the exact formula (`fresnel: Schlick`; default `Exact`).
+    pub schlick_fresnel: bool,
+    /// Leave out the light a rough coat reflects after several microfacet bounces (the
+    /// Kulla–Conty compensation lobe): it is lost, as in a single-scattering microfacet model
+    /// (`multiple_scattering: false`; default `true`).
+    pub single_scattering: bool,
 }
 
 impl Method {
     pub const NAMES: &'static [&'static str] = &["Additive", "WeidlichWilkie", "Interfaced"];
+    /// The default method with no approximations.
+    pub const INTERFACED: Method =
+        Method::Interfaced(Approximations { schlick_fresnel: false, single_scattering: false });
+    /// The interfaced method with Schlick's Fresnel.
+    pub const INTERFACED_SCHLICK: Method =
+        Method::Interfaced(Approximations { schlick_fresnel: true, single_scattering: false });
+    /// The interfaced method without multiple-scattering compensation.
+    pub const INTERFACED_SINGLE_SCATTERING: Method =
+        Method::Interfaced(Approximations { schlick_fresnel: false, single_scattering: true });
+    /// Every method and variant that `glazec bench` and `glazec accuracy` measure.
+    pub const MEASURED: [Method; 5] = [
+        Method::INTERFACED,
+        Method::INTERFACED_SCHLICK,
+        Method::INTERFACED_SINGLE_SCATTERING,
+        Method::WeidlichWilkie,
+        Method::Additive,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             Method::Additive => "Additive",
             Method::WeidlichWilkie => "WeidlichWilkie",
-            Method::Interfaced => "Interfaced",
+            Method::Interfaced(_) => "Interfaced",
+        }
+    }
+
+    /// The method as a material file writes it, approximations included.
+    pub fn source(self) -> String {
+        match self {
+            Method::Interfaced(a) if a != Approximations::default() => {
+                let mut args = Vec::new();
+                if a.schlick_fresnel {
+                    args.push("fresnel: Schlick");
+                }
+                if a.single_scattering {
+                    args.push("multiple_scattering: false");
+                }
+                format!("Interfaced({})", args.join(", "))
+            }
+            _ => self.name().to_string(),
         }
     }
 }
@@ -217,7 +270,7 @@ mod tests {
     fn params_struct_name_is_camel_case() {
         let m = Material {
             name: "wet_clay_2".into(),
-            method: Method::Interfaced,
+            method: Method::INTERFACED,
             coats: vec![],
             base: Base::Lambert { albedo: Color::Lit([0.5; 3]) },
             params: vec![],

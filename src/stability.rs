@@ -484,15 +484,15 @@ mod tests {
         let samples: Vec<Vec<Vec3>> = sweep
             .values
             .iter()
-            .map(|&x| step(&sweep.material(Method::Interfaced, x), &column_pairs(0).repeat(COLUMNS)))
+            .map(|&x| step(&sweep.material(Method::INTERFACED, x), &column_pairs(0).repeat(COLUMNS)))
             .collect();
-        assert_eq!(discontinuities(&sweep, Method::Interfaced, &samples, &mut step).len(), COLUMNS);
+        assert_eq!(discontinuities(&sweep, Method::INTERFACED, &samples, &mut step).len(), COLUMNS);
         let mut ramp = |m: &Material, pairs: &[(Vec3, Vec3)]| vec![Vec3::splat(3.0 * x_of(m)); pairs.len()];
         let samples: Vec<Vec<Vec3>> = sweep
             .values
             .iter()
-            .map(|&x| ramp(&sweep.material(Method::Interfaced, x), &column_pairs(0).repeat(COLUMNS)))
+            .map(|&x| ramp(&sweep.material(Method::INTERFACED, x), &column_pairs(0).repeat(COLUMNS)))
             .collect();
-        assert!(discontinuities(&sweep, Method::Interfaced, &samples, &mut ramp).is_empty());
+        assert!(discontinuities(&sweep, Method::INTERFACED, &samples, &mut ramp).is_empty());
     }
 }

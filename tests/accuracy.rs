@@ -28,8 +28,8 @@ use glazec::model::Method;
 use glazec::reference::InterfaceMode;
 
 /// Copper's worst lobe relRMSE and albedo error as measured (a regression bound, not a target).
-const COPPER_LOBE_MEASURED: f64 = 0.196;
-const COPPER_ALBEDO_MEASURED: f64 = 0.0993;
+const COPPER_LOBE_MEASURED: f64 = 0.197;
+const COPPER_ALBEDO_MEASURED: f64 = 0.0498;
 /// EON's worst albedo error as measured, for η 1.33 and roughness ≤ 0.05 only.
 const EON_ALBEDO_MEASURED: f64 = 0.0109;
 /// Cases recomputed by the reproducibility test (the first ones of the set).
@@ -105,7 +105,7 @@ fn default_method_meets_the_targets_on_the_cpu() {
     let metrics: Vec<Metrics> = cases
         .iter()
         .enumerate()
-        .map(|(i, c)| accuracy::measure(c, Method::Interfaced, &data.under[i], &data.albedo[i]))
+        .map(|(i, c)| accuracy::measure(c, Method::INTERFACED, &data.under[i], &data.albedo[i]))
         .collect();
     let failures = check_default_method(&cases, &metrics);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -123,7 +123,7 @@ fn laws_hold_for_the_default_method_and_the_others_are_reported() {
         cases.iter().enumerate().map(|(i, c)| accuracy::measure(c, method, &data.under[i], &data.albedo[i])).collect()
     };
     let methods: Vec<(Method, Vec<Metrics>)> =
-        [Method::Interfaced, Method::WeidlichWilkie, Method::Additive].into_iter().map(|m| (m, measure(m))).collect();
+        [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive].into_iter().map(|m| (m, measure(m))).collect();
     let interfaced = accuracy::laws(&cases, &methods[0].1);
     let ww = accuracy::laws(&cases, &methods[1].1);
     let additive = accuracy::laws(&cases, &methods[2].1);
@@ -273,7 +273,7 @@ mod on_the_device {
                 }
                 on_gpu.iter().map(|v| v.as_dvec3()).collect()
             };
-            metrics.push(accuracy::measure_with(case, Method::Interfaced, &data.under[i], &data.albedo[i], &mut eval));
+            metrics.push(accuracy::measure_with(case, Method::INTERFACED, &data.under[i], &data.albedo[i], &mut eval));
         }
         eprintln!(
             "GPU cases executed: {} materials, {} shaders, {values_checked} values compared with the CPU",

@@ -68,10 +68,10 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
     let sweeps = stability::sweeps(true);
     let mut maps = Vec::new();
     let mut problems = Vec::new();
-    for method in [Method::Interfaced, Method::WeidlichWilkie, Method::Additive] {
+    for method in [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive] {
         for sweep in &sweeps {
             let map = stability::run(sweep, method, &mut stability::cpu_evaluator, true);
-            if method == Method::Interfaced {
+            if method == Method::INTERFACED {
                 problems.extend(check_default(&map, sweep));
             }
             maps.push(map);
@@ -80,7 +80,7 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
     report("CPU, reduced sweep", &maps, &sweeps);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     // The seed's method and Disney clear-coat gain energy in every sweep (reported above).
-    for map in maps.iter().filter(|m| m.method != Method::Interfaced) {
+    for map in maps.iter().filter(|m| m.method != Method::INTERFACED) {
         assert!(Failures::of(map).energy_gain > 0, "{:?} on {} shows no energy gain", map.method, map.sweep);
     }
 }
@@ -100,7 +100,7 @@ fn default_method_is_stable_on_the_gpu() {
     for sweep in &sweeps {
         // Discontinuities are sought on the CPU (the refinement compiles a shader per bisection);
         // the agreement tests tie the GPU's values to the CPU's.
-        let map = stability::run(sweep, Method::Interfaced, &mut on_gpu, false);
+        let map = stability::run(sweep, Method::INTERFACED, &mut on_gpu, false);
         problems.extend(check_default(&map, sweep));
         maps.push(map);
     }

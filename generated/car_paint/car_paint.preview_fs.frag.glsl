@@ -9,6 +9,7 @@ const float layer2_alpha = 0.09026667;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
 const vec3 layer2_rho = vec3(0.85031915, 0.8638832, 0.8638832);
+const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.70851177, 0.054169346, 0.02450287);
 const vec3 layer1_r_return = vec3(0.5963415, 0.5963415, 0.5963415);
@@ -219,28 +220,38 @@ vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
 // cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. In the plane of incidence the mirror direction moves by twice the facet
-// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
-// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
-// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
 float trapped_share(float mu_1, float mu_c, float alpha_3) {
     float sin_t = sqrt(max((1.0 - (mu_1 * mu_1)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
-    float cos_d = ((mu_c * mu_1) + (sin_c * sin_t));
-    float sin_d = ((sin_c * mu_1) - (mu_c * sin_t));
-    float x0_ = (sin_d / max((cos_d + 1.0), 1e-6));
-    return ((1.0 - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 1e-12)))) * 0.5);
+    float near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1.0));
+    float far = (((sin_t * mu_c) + (mu_1 * sin_c)) / max((((mu_1 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
+    float a2_ = (alpha_3 * alpha_3);
+    float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
+    return ((cos_beta + 1.0) * 0.5);
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
 // cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
-// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
-// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
-// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// back with the slab's round-trip transmittance g and meets the body again, which (mean
+// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
+// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
+// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
+// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
+// all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_1, vec3 round_trip, vec3 rho, float stay) {
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * stay)));
+vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_1, vec3 round_trip, vec3 rho, float q) {
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * (1.0 - q))));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
@@ -324,7 +335,7 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e120 = interfaced_glossy_under(layer2_f_base, layer2_albedo_l, layer1_inner_l, layer2_albedo_v, layer1_inner_v);
     float layer2_trapped_l = trapped_share(layer2_cos_l, layer2_mu_c, layer2_alpha);
     float layer2_trapped_v = trapped_share(layer2_cos_v, layer2_mu_c, layer2_alpha);
-    vec3 layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, vec3(0.48009053, 0.0003817311, 0.00011028103), layer2_rho, 0.8535534);
+    vec3 layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, vec3(0.48009053, 0.0003817311, 0.00011028103), layer2_rho, layer2_trapped_escape);
     vec3 layer1_under = (_e120 + layer1_trapped);
     vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
     vec3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);

@@ -9,6 +9,7 @@ const float layer2_alpha = 0.09026667;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
 const vec3 layer2_rho = vec3(0.85031915, 0.8638832, 0.8638832);
+const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.70851177, 0.054169346, 0.02450287);
 const vec3 layer1_r_return = vec3(0.5963415, 0.5963415, 0.5963415);

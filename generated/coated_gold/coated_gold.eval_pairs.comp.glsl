@@ -14,6 +14,7 @@ struct EvalDispatch {
 const float layer1_alpha = 0.064166665;
 const float layer1_mu_c = 0.745356;
 const vec3 layer1_rho = vec3(0.9218583, 0.73782545, 0.30311453);
+const float layer1_trapped_escape = 0.11389495;
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4052]; };
 
@@ -230,28 +231,38 @@ vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
 // cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. In the plane of incidence the mirror direction moves by twice the facet
-// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
-// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
-// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
 float trapped_share(float mu, float mu_c, float alpha_3) {
     float sin_t = sqrt(max((1.0 - (mu * mu)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
-    float cos_d = ((mu_c * mu) + (sin_c * sin_t));
-    float sin_d = ((sin_c * mu) - (mu_c * sin_t));
-    float x0_ = (sin_d / max((cos_d + 1.0), 1e-6));
-    return ((1.0 - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 1e-12)))) * 0.5);
+    float near = (((sin_t * mu_c) - (mu * sin_c)) / (((mu * mu_c) + (sin_t * sin_c)) + 1.0));
+    float far = (((sin_t * mu_c) + (mu * sin_c)) / max((((mu * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
+    float a2_ = (alpha_3 * alpha_3);
+    float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
+    return ((cos_beta + 1.0) * 0.5);
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
 // cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
-// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
-// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
-// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// back with the slab's round-trip transmittance g and meets the body again, which (mean
+// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
+// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
+// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
+// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
+// all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_1, vec3 round_trip, vec3 rho, float stay) {
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * stay)));
+vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_1, vec3 round_trip, vec3 rho, float q) {
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * (1.0 - q))));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
@@ -307,7 +318,7 @@ vec3 coated_gold_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e121 = interfaced_glossy_under(layer1_f_base, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer1_alpha);
     float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer1_alpha);
-    vec3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1.0), layer1_rho, 0.8535534);
+    vec3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1.0), layer1_rho, layer1_trapped_escape);
     vec3 under = (_e121 + trapped);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));

@@ -21,6 +21,7 @@ struct PreviewVarying {
 const layer1_alpha: f32 = 0.064166665f;
 const layer1_mu_c: f32 = 0.745356f;
 const layer1_rho: vec3<f32> = vec3<f32>(0.9218583f, 0.73782545f, 0.30311453f);
+const layer1_trapped_escape: f32 = 0.11389495f;
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4052>;
@@ -240,29 +241,39 @@ fn interfaced_glossy_under(f_below: vec3<f32>, e_i_1: vec3<f32>, k_i: vec3<f32>,
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
 // cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. In the plane of incidence the mirror direction moves by twice the facet
-// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
-// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
-// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
 fn trapped_share(mu: f32, mu_c: f32, alpha_3: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu * mu)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
-    let cos_d = ((mu_c * mu) + (sin_c * sin_t));
-    let sin_d = ((sin_c * mu) - (mu_c * sin_t));
-    let x0_ = (sin_d / max((cos_d + 1f), 0.000001f));
-    return ((1f - (x0_ / sqrt(max(((alpha_3 * alpha_3) + (x0_ * x0_)), 0.000000000001f)))) * 0.5f);
+    let near = (((sin_t * mu_c) - (mu * sin_c)) / (((mu * mu_c) + (sin_t * sin_c)) + 1f));
+    let far = (((sin_t * mu_c) + (mu * sin_c)) / max((((mu * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
+    let a2_ = (alpha_3 * alpha_3);
+    let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
+    return ((cos_beta + 1f) * 0.5f);
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
 // cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
-// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
-// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
-// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+// back with the slab's round-trip transmittance g and meets the body again, which (mean
+// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
+// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
+// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
+// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
+// all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-fn trapped_lobe(e_i_2: vec3<f32>, p_i: f32, e_o_2: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, stay: f32) -> vec3<f32> {
-    let _e19 = ((rho * round_trip) * stay);
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e19));
+fn trapped_lobe(e_i_2: vec3<f32>, p_i: f32, e_o_2: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, q: f32) -> vec3<f32> {
+    let _e21 = ((rho * round_trip) * (1f - q));
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
@@ -318,7 +329,7 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let _e121 = interfaced_glossy_under(layer1_f_base, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer1_alpha);
     let layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer1_alpha);
-    let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, 0.8535534f);
+    let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, layer1_trapped_escape);
     let under = (_e121 + trapped);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));

@@ -182,7 +182,7 @@ impl ReferenceData {
                         if i >= cases.len() {
                             break;
                         }
-                        let stack = Stack::from_material(&cases[i].material(Method::Interfaced, false), &[]);
+                        let stack = Stack::from_material(&cases[i].material(Method::INTERFACED, false), &[]);
                         let f_opts = reference::Options { mode, samples, seed: i as u64, ..Default::default() };
                         let a_opts = reference::Options { mode, samples: walks, seed: i as u64, ..Default::default() };
                         let estimates: Vec<_> = pairs.iter().map(|(wi, wo)| stack.f_under(*wi, *wo, &f_opts)).collect();
@@ -560,7 +560,17 @@ impl BaseFamily {
 /// A method's name in the tables, with what it stands for.
 pub fn method_label(method: Method) -> String {
     match method {
-        Method::Interfaced => "Interfaced (default)".into(),
+        Method::INTERFACED => "Interfaced (default)".into(),
+        Method::Interfaced(a) => {
+            let mut parts = Vec::new();
+            if a.schlick_fresnel {
+                parts.push("Schlick Fresnel");
+            }
+            if a.single_scattering {
+                parts.push("no multiple scattering");
+            }
+            format!("Interfaced ({})", parts.join(", "))
+        }
         Method::WeidlichWilkie => "WeidlichWilkie (seed 000)".into(),
         Method::Additive => "Additive (Disney clear-coat)".into(),
     }

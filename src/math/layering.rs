@@ -43,7 +43,7 @@ use std::cell::OnceCell;
 use super::tables::{self, TableId};
 use super::terms::*;
 use super::{Named, Real, Slot, Vector};
-use crate::model::{Base, Coat, Color, ConductorFresnel, Lobe, Material, Method, Scalar};
+use crate::model::{Approximations, Base, Coat, Color, ConductorFresnel, Lobe, Material, Method, Scalar};
 
 /// Cosines are clamped to at least this before anything divides by them. It keeps f finite at
 /// grazing angles and changes nothing above θ = 89.994°.
@@ -103,7 +103,7 @@ pub fn brdf<F: Real>(material: &Material, inputs: &Inputs<F>, n: F::Vec, v: F::V
     let f = match material.method {
         Method::Additive => additive(&coats, &body, inputs, &top),
         Method::WeidlichWilkie => weidlich_wilkie(&coats, &body, inputs, &top, 0, None),
-        Method::Interfaced => interfaced(&coats, &body, inputs, &top, 0, None, None, false).f,
+        Method::Interfaced(approx) => interfaced(&coats, &body, inputs, &top, 0, None, None, false, approx).f,
     };
     // A one-sided BRDF: nothing is reflected from or towards below the horizon.
     let above = top.raw_n_dot_v.gt_lit(0.0) & top.raw_n_dot_l.gt_lit(0.0);
@@ -123,7 +123,7 @@ pub fn mirror_reflectance<F: Real>(material: &Material, inputs: &Inputs<F>, n: F
     let eta = inputs.scalar(coat.ior);
     let n_dot_v = n.dot(v);
     let reflectance = match material.method {
-        Method::Interfaced => fr_dielectric(n_dot_v, eta).splat(),
+        Method::Interfaced(approx) => dielectric_fresnel(n_dot_v, eta, approx).splat(),
         Method::Additive | Method::WeidlichWilkie => {
             f_schlick(f0_dielectric(eta).splat(), n_dot_v.at_least(COS_EPSILON))
         }
@@ -334,11 +334,6 @@ struct Albedo<F: Real> {
 /// coat r = 0.5) it gives a lobe error of 15–19%, 0.6 would give 10–15%, 1 gives 24–31%.
 const BLUR_WIDTH: f32 = 0.5;
 
-/// The share of trapped light that finds the escape cone at each bounce in `trapped_lobe`: the
-/// GGX slope share beyond one slope width, ½(1 − 1/√2), for a ray one width past the edge of
-/// the cone.
-const TRAPPED_ESCAPE: f32 = 0.146_446_6;
-
 /// The interfaced method from coat `k` down. `blur` is the GGX α that rough coats above add to a
 /// conductor's lobe (see [`BLUR_WIDTH`]).
 #[allow(clippy::too_many_arguments)]
@@ -351,6 +346,7 @@ fn interfaced<F: Real>(
     n_medium: Option<F>,
     blur: Option<F>,
     want_albedo: bool,
+    approx: Approximations,
 ) -> Level<F> {
     let Some(coat) = coats.get(k) else {
         let f = base_brdf(body, inputs, g, n_medium, blur).named(&level_name("f_base", g.level));
@@ -364,8 +360,9 @@ fn interfaced<F: Real>(
     let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&name("tau"));
-    let interface = CoatInterface::new(&coat.lobe, eta, inputs, k);
-    let f_top = (interfaced_lobe(&coat.lobe, eta, inputs, g) + interface.restored_lobe(g)).named(&name("specular"));
+    let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
+    let f_top =
+        (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + interface.restored_lobe(g)).named(&name("specular"));
     let t_l = interface.transmission(g.raw_n_dot_l, "l");
     let t_v = interface.transmission(g.raw_n_dot_v, "v");
     let below = g.refracted(eta);
@@ -391,7 +388,7 @@ fn interfaced<F: Real>(
         }
         None => blur,
     };
-    let lower = interfaced(coats, body, inputs, &below, k + 1, n_below, blur_below, true);
+    let lower = interfaced(coats, body, inputs, &below, k + 1, n_below, blur_below, true, approx);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
     let (r_return, e_escape) = interface.slab(tau);
     // The clear slab's (R(0), E_esc(0)), built when first needed.
@@ -488,7 +485,7 @@ fn first_pass<F: Real>(
         };
     };
     let name = |base: &str| level_name(base, k);
-    let lower = CoatInterface::new(&next.lobe, inputs.scalar(next.ior), inputs, k + 1);
+    let lower = CoatInterface::new(&next.lobe, inputs.scalar(next.ior), inputs, k + 1, interface.approx);
     let (r_clear, e_clear) = clear();
     let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
     // The escape cone of coat k seen from inside: μc = √(1 − 1/η²), its projected-solid-angle
@@ -543,8 +540,8 @@ fn trapped<F: Real>(
     let p_v = trapped_share(below.n_dot_v, mu_c, alpha).named(&name("trapped_v"));
     // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
     let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
-    let stay = alpha.lit(1.0 - TRAPPED_ESCAPE);
-    let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, stay);
+    let q = trapped_escape(mu_c, alpha).named(&name("trapped_escape"));
+    let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
     // Without total internal reflection (η ≤ 1) nothing is trapped.
     F::Vec::select(mu_c.gt_lit(0.0), lobe, inputs.zero())
 }
@@ -557,10 +554,11 @@ struct CoatInterface<'i, F: Real> {
     roughness: Option<F>,
     inputs: &'i Inputs<F>,
     level: usize,
+    approx: Approximations,
 }
 
 impl<'i, F: Real> CoatInterface<'i, F> {
-    fn new(lobe: &Lobe, eta: F, inputs: &'i Inputs<F>, k: usize) -> Self {
+    fn new(lobe: &Lobe, eta: F, inputs: &'i Inputs<F>, k: usize, approx: Approximations) -> Self {
         // A literal roughness of 0 is a smooth interface. (A runtime roughness always takes the
         // tabulated path, whose r = 0 nodes are the smooth interface, so the CPU and the shader
         // evaluate the same formula.)
@@ -570,7 +568,7 @@ impl<'i, F: Real> CoatInterface<'i, F> {
             }
             Lobe::Ggx { roughness } | Lobe::Gtr1 { roughness } => Some(inputs.scalar(*roughness)),
         };
-        CoatInterface { eta, roughness, inputs, level: k + 1 }
+        CoatInterface { eta, roughness, inputs, level: k + 1, approx }
     }
 
     fn name(&self, base: &str) -> String {
@@ -594,7 +592,8 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// T = 1 − F + G − E_ms (single-scattering deficit and multiple-scattering share, tabulated).
     fn transmission(&self, mu: F, side: &str) -> F {
         let name = self.name(&format!("transmit_{side}"));
-        let smooth = fr_dielectric(mu, self.eta).named(&self.name(&format!("fresnel_{side}"))).one_minus();
+        let smooth =
+            dielectric_fresnel(mu, self.eta, self.approx).named(&self.name(&format!("fresnel_{side}"))).one_minus();
         match self.roughness {
             None => smooth.named(&name),
             Some(r) => {
@@ -645,7 +644,7 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// The multiple-scattering reflection that the coat's single-scattering lobe misses, as a
     /// Kulla–Conty lobe.
     fn restored_lobe(&self, g: &Geometry<F>) -> F::Vec {
-        let Some(r) = self.roughness else { return self.inputs.zero() };
+        let Some(r) = self.roughness.filter(|_| !self.approx.single_scattering) else { return self.inputs.zero() };
         let e_l = self.extra(g.raw_n_dot_l, r).named(&self.name("restored_l"));
         let e_v = self.extra(g.raw_n_dot_v, r).named(&self.name("restored_v"));
         let e_avg = tables::lookup(TableId::CoatExtraAvg, &[r, self.eta]);
@@ -686,7 +685,13 @@ impl<'i, F: Real> CoatInterface<'i, F> {
 /// A coat's own reflection lobe in the interfaced method: exact dielectric Fresnel at the
 /// microfacet normal and the exact height-correlated Smith term. Zero for a smooth coat (a delta
 /// lobe that point lights cannot see).
-fn interfaced_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> F::Vec {
+fn interfaced_lobe<F: Real>(
+    lobe: &Lobe,
+    eta: F,
+    inputs: &Inputs<F>,
+    g: &Geometry<F>,
+    approx: Approximations,
+) -> F::Vec {
     let (distribution, alpha_g) = match lobe {
         Lobe::Smooth => return inputs.zero(),
         Lobe::Ggx { roughness } => {
@@ -701,8 +706,23 @@ fn interfaced_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometr
     let name = |base| level_name(base, g.level);
     let distribution = distribution.named(&name("d"));
     let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g).named(&name("g"));
-    let fresnel = fr_dielectric(g.half().v_dot_h, eta).named(&name("fresnel"));
+    let fresnel = dielectric_fresnel(g.half().v_dot_h, eta, approx).named(&name("fresnel"));
     f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
+}
+
+/// A coat's dielectric Fresnel reflectance at cosine `cos_i` from above: exact, or Schlick's
+/// approximation when asked for ([`Approximations::schlick_fresnel`]). Schlick's needs the
+/// cosine on the optically thinner side, which for η < 1 is the refracted one, with total
+/// internal reflection where it does not exist (`fr_dielectric_schlick`); a literal η ≥ 1
+/// skips that.
+fn dielectric_fresnel<F: Real>(cos_i: F, eta: F, approx: Approximations) -> F {
+    if !approx.schlick_fresnel {
+        return fr_dielectric(cos_i, eta);
+    }
+    match eta.known() {
+        Some(e) if e >= 1.0 => f_schlick_scalar(f0_dielectric(eta), cos_i.clamp(0.0, 1.0)),
+        _ => fr_dielectric_schlick(cos_i, eta),
+    }
 }
 
 /// The base's own BRDF at the directions of its level. `n_medium` is the absolute IOR of the

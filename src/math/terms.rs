@@ -112,6 +112,34 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering", eq. 15, for one
+    /// scalar reflectance (a dielectric's): F = F0 + (1 − F0)(1 − cos θ)⁵.
+    pub fn f_schlick_scalar(f0: S, cos_theta: S) -> S {
+        let m = cos_theta.one_minus();
+        let m_sq = m * m;
+        f0 + f0.one_minus() * (m_sq * m_sq * m)
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994 eq. 15 for a dielectric interface of relative IOR η from either side: the
+    /// cosine in the power term must be the one in the optically thinner medium, so for η < 1
+    /// it is the refracted cosine √(1 − (1 − cos²θ)/η²), and beyond the critical angle the
+    /// reflectance is 1 (total internal reflection; the rejected branch is then NaN).
+    pub fn fr_dielectric_schlick(cos_i: S, eta: S) -> S {
+        let cos_i = cos_i.clamp(0.0, 1.0);
+        let sin2_t = cos_i.sq().one_minus() / (eta * eta);
+        let cos_t = sin2_t.one_minus().at_least(0.0).sqrt();
+        let cos_thin = F::select(eta.lt_lit(1.0), cos_t, cos_i);
+        let f0 = ((eta - 1.0) / (eta + 1.0)).sq();
+        let m = cos_thin.one_minus();
+        let m_sq = m * m;
+        let schlick = f0 + f0.one_minus() * (m_sq * m_sq * m);
+        F::select(sin2_t.lt_lit(1.0), schlick, cos_i.lit(1.0))
+    }
+}
+
+shading_fn! {
     /// The normal-incidence reflectance of a dielectric interface, F0 = ((η − 1)/(η + 1))².
     pub fn f0_dielectric(eta: S) -> S {
         ((eta - 1.0) / (eta + 1.0)).sq()
@@ -349,30 +377,72 @@ shading_fn! {
 shading_fn! {
     /// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
     /// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-    /// reflection. In the plane of incidence the mirror direction moves by twice the facet
-    /// slope, whose marginal distribution has the CDF ½(1 + x/√(α² + x²)) (GGX, Walter et al.
-    /// 2007 eq. 33); the ray is trapped beyond the slope x₀ = tan((θc − θ)/2), written without
-    /// trigonometric calls as sin(θc − θ)/(1 + cos(θc − θ)).
+    /// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+    /// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+    /// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+    /// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+    /// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+    /// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+    /// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+    /// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+    /// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+    /// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+    /// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
     pub fn trapped_share(mu: S, mu_c: S, alpha: S) -> S {
         let sin_t = mu.sq().one_minus().at_least(0.0).sqrt();
         let sin_c = mu_c.sq().one_minus().at_least(0.0).sqrt();
-        let cos_d = mu_c * mu + sin_c * sin_t;
-        let sin_d = sin_c * mu - mu_c * sin_t;
-        let x0 = sin_d / (cos_d + 1.0).at_least(1e-6);
-        (x0 / (alpha.sq() + x0.sq()).at_least(1e-12).sqrt()).one_minus() * 0.5
+        let near = (sin_t * mu_c - mu * sin_c) / (mu * mu_c + sin_t * sin_c + 1.0);
+        let far = (sin_t * mu_c + mu * sin_c) / (mu * mu_c - sin_t * sin_c + 1.0).at_least(1e-6);
+        let a2 = alpha.sq();
+        let cos_beta = (a2 + near * far) / ((a2 + near.sq()) * (a2 + far.sq())).at_least(1e-24).sqrt();
+        (cos_beta + 1.0) * 0.5
+    }
+}
+
+shading_fn! {
+    /// glazec: the share q of a pool of trapped light (uniform radiance over the trapped
+    /// directions, projected solid angle π μc²) that a body reflects into the escape cone at each
+    /// bounce, per unit albedo. By reciprocity the body sends light from the pool towards a cone
+    /// direction o in proportion to its trapped share p(μₒ) (`trapped_share`), so
+    /// q = (1/μc²) ∫ p du over the cone, u = μ² from μc² to 1 (projected solid angle). For a
+    /// sharp lobe p falls from ½ to 0 within a sliver of the cone's edge that no fixed quadrature
+    /// resolves, and a q too small would let a white body return more than it trapped. So the
+    /// edge's half-plane profile h(d) = ½(1 − d/√(w² + d²)) (d = u − μc², w = 4 μc sin θc α: the
+    /// slope x ≈ d/(4 μc sin θc) of `trapped_share` near the edge) is integrated exactly,
+    /// ∫₀ᴰ h = ½(D + w − √(w² + D²)), D = 1 − μc², and only the smooth rest p − h by 4-point
+    /// Gauss–Legendre quadrature.
+    /// Guards: μc² ≥ 10⁻⁴; q ≤ 1.
+    pub fn trapped_escape(mu_c: S, alpha: S) -> S {
+        let c2 = mu_c.sq();
+        let width = c2.one_minus();
+        let w = mu_c * width.at_least(0.0).sqrt() * alpha * 4.0;
+        let d1 = width * 0.069_431_84;
+        let d2 = width * 0.330_009_5;
+        let d3 = width * 0.669_990_52;
+        let d4 = width * 0.930_568_16;
+        let r1 = trapped_share((c2 + d1).sqrt(), mu_c, alpha) - (d1 / (w.sq() + d1.sq()).sqrt()).one_minus() * 0.5;
+        let r2 = trapped_share((c2 + d2).sqrt(), mu_c, alpha) - (d2 / (w.sq() + d2.sq()).sqrt()).one_minus() * 0.5;
+        let r3 = trapped_share((c2 + d3).sqrt(), mu_c, alpha) - (d3 / (w.sq() + d3.sq()).sqrt()).one_minus() * 0.5;
+        let r4 = trapped_share((c2 + d4).sqrt(), mu_c, alpha) - (d4 / (w.sq() + d4.sq()).sqrt()).one_minus() * 0.5;
+        let rest = ((r1 + r4) * 0.173_927_42 + (r2 + r3) * 0.326_072_58) * width;
+        let edge = (width + w - (w.sq() + width.sq()).sqrt()) * 0.5;
+        let q = (rest + edge) / c2.at_least(1e-4);
+        q.min(q.lit(1.0))
     }
 }
 
 shading_fn! {
     /// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
     /// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-    /// back with the slab's round-trip transmittance g and meets the body again; a share `stay`
-    /// of what the body (mean albedo ρ̄) reflects stays trapped, the rest reaches the escape
-    /// cone. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid angle
-    /// π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g stay)), symmetric in i and o.
+    /// back with the slab's round-trip transmittance g and meets the body again, which (mean
+    /// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
+    /// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
+    /// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
+    /// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
+    /// all trapped light.
     /// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-    pub fn trapped_lobe(e_i: V, p_i: S, e_o: V, p_o: S, mu_c: S, round_trip: V, rho: V, stay: S) -> V {
-        e_i * e_o * round_trip * (p_i * p_o / (mu_c.sq().at_least(1e-4) * PI)) / (rho * round_trip * stay).one_minus()
+    pub fn trapped_lobe(e_i: V, p_i: S, e_o: V, p_o: S, mu_c: S, round_trip: V, rho: V, q: S) -> V {
+        e_i * e_o * round_trip * (p_i * p_o / (mu_c.sq().at_least(1e-4) * PI)) / (rho * round_trip * q.one_minus()).one_minus()
     }
 }
 

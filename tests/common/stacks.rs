@@ -3,7 +3,8 @@
 
 use proptest::prelude::*;
 
-/// Index of `WeidlichWilkie` in [`Stack::method`] (0 = default, 1 = Additive, 3 = Interfaced).
+/// Index of `WeidlichWilkie` in [`Stack::method`] (0 = default, 1 = Additive, 3 = Interfaced,
+/// 4 and 5 = its Schlick-Fresnel and single-scattering approximations).
 pub const WEIDLICH_WILKIE: u8 = 2;
 
 #[derive(Debug, Clone)]
@@ -45,7 +46,7 @@ pub fn coat() -> impl Strategy<Value = Coat> {
 }
 
 pub fn stack() -> impl Strategy<Value = Stack> {
-    (0u8..4, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
+    (0u8..6, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
         .prop_map(|(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior })
 }
 
@@ -76,7 +77,14 @@ impl Writer {
     }
 
     pub fn material(&mut self, s: &Stack) -> String {
-        let method = ["", "method: Additive,", "method: WeidlichWilkie,", "method: Interfaced,"][s.method as usize];
+        let method = [
+            "",
+            "method: Additive,",
+            "method: WeidlichWilkie,",
+            "method: Interfaced,",
+            "method: Interfaced(fresnel: Schlick),",
+            "method: Interfaced(multiple_scattering: false),",
+        ][s.method as usize];
         let mut layers = Vec::new();
         for c in &s.coats {
             let lobe = match c.lobe {
