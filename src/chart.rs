@@ -237,7 +237,9 @@ mod tests {
         let written = write(&report, dir.path()).expect("chart");
         assert_eq!(written.len(), 2);
         let svg = std::fs::read_to_string(&written[0]).expect("svg");
-        for label in ["Interfaced (default)", "WeidlichWilkie (seed 000)", "Additive (Disney clear-coat)", "test device"] {
+        for label in
+            ["Interfaced (default)", "WeidlichWilkie (seed 000)", "Additive (Disney clear-coat)", "test device"]
+        {
             assert!(svg.contains(label), "{label} missing from the SVG");
         }
         let png = std::fs::read(&written[1]).expect("png");

@@ -6,6 +6,7 @@ struct PreviewLight {
 };
 const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
+const vec3 layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
 const vec3 layer4_r_return = vec3(0.32180643, 0.32180643, 0.32180643);
 const vec3 layer3_rho = vec3(0.8527521, 0.8527521, 0.7851878);
@@ -233,29 +234,35 @@ float e_fon(float mu_1, float r) {
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
 }
 
+// Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
+// ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
+vec3 eon_rho_ms(vec3 albedo, float r_1) {
+    float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
+    return (((albedo * albedo) * e_avg_1) / (vec3(1.0) - (albedo * (1.0 - e_avg_1))));
+}
+
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-vec3 fd_eon(vec3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+vec3 fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = ((s > 0.0) ? (s / max(n_dot_v_2, n_dot_l_2)) : s);
-    float a_f = (1.0 / ((r_1 * 0.2877934) + 1.0));
-    vec3 f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1.0)) / 3.1415927));
-    float e_o = e_fon(n_dot_v_2, r_1);
-    float e_i = e_fon(n_dot_l_2, r_1);
-    float e_avg_1 = (a_f * ((r_1 * 0.07248825) + 1.0));
-    vec3 rho_ms = (((albedo * albedo) * e_avg_1) / (vec3(1.0) - (albedo * (1.0 - e_avg_1))));
-    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
+    float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
+    vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
+    float e_o = e_fon(n_dot_v_2, r_2);
+    float e_i = e_fon(n_dot_l_2, r_2);
+    float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
+    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-vec3 albedo_eon(vec3 albedo_1, float r_2, float mu_2) {
-    float e_f = e_fon(mu_2, r_2);
-    float e_avg_2 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
-    vec3 rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / (vec3(1.0) - (albedo_1 * (1.0 - e_avg_2))));
-    return ((albedo_1 * e_f) + (rho_ms_1 * (1.0 - e_f)));
+vec3 albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
+    float e_f = e_fon(mu_2, r_3);
+    vec3 rho_ms = eon_rho_ms(albedo_2, r_3);
+    return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -377,42 +384,54 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_f_base = fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     vec3 layer4_albedo_l = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     vec3 layer4_albedo_v = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
+    float _e241 = coat_path(layer3_n_dot_l, 0.5, 1.2);
+    float layer4_path_cos_l = (layer4_cos_l / _e241);
+    float _e245 = coat_path(layer3_n_dot_v, 0.5, 1.2);
+    float layer4_path_cos_v = (layer4_cos_v / _e245);
+    vec3 _e252 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e254 = e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e254)) * vec3(0.18731904)) / max(_e252, vec3(1e-6))));
+    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.67819357))) / vec3(0.32180643)), vec3(0.0)), vec3(1.0));
+    vec3 _e289 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e291 = e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e291)) * vec3(0.18731904)) / max(_e289, vec3(1e-6))));
+    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.67819357))) / vec3(0.32180643)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9669647, 0.9669647, 0.96877354), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     vec3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
-    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357), vec3(1.0), vec3(1.0));
-    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357), vec3(1.0), vec3(1.0));
-    float _e271 = (1.0 - layer4_transmit_l);
-    vec3 _e292 = min(max(((vec3((_e271 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e271)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e292 / vec3(0.81007236));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e292) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
-    float _e309 = (1.0 - layer4_transmit_v);
-    vec3 _e330 = min(max(((vec3((_e309 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e309)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e330 / vec3(0.81007236));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e330) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357), layer4_first_escape_l, layer4_first_return_l);
+    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357), layer4_first_escape_v, layer4_first_return_v);
+    float _e354 = (1.0 - layer4_transmit_l);
+    vec3 _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e375 / vec3(0.81007236));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e375) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
+    float _e392 = (1.0 - layer4_transmit_v);
+    vec3 _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0.0)) * vec3(0.8201173))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e413 / vec3(0.81007236));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e413) / vec3(0.18992764)), vec3(0.0)), vec3(1.0));
     vec3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93489885, 0.93489885, 0.93384814), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     vec3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_l, layer2_first_return_l);
     vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_v, layer2_first_return_v);
-    float _e375 = (1.0 - layer3_transmit_l);
-    vec3 _e393 = min(max(((vec3((_e375 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e375)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e393 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e393) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e410 = (1.0 - layer3_transmit_v);
-    vec3 _e428 = min(max(((vec3((_e410 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e410)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e428 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e428) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e458 = (1.0 - layer3_transmit_l);
+    vec3 _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e476 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e476) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e493 = (1.0 - layer3_transmit_v);
+    vec3 _e511 = min(max(((vec3((_e493 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e493)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e511 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e511) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
     vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
-    float _e468 = (1.0 - layer2_transmit_l);
-    vec3 _e489 = min(max(((vec3((_e468 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e468)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e489 / vec3(0.40512747));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e489) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
-    float _e506 = (1.0 - layer2_transmit_v);
-    vec3 _e527 = min(max(((vec3((_e506 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e506)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e527 / vec3(0.40512747));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e527) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
+    float _e551 = (1.0 - layer2_transmit_l);
+    vec3 _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e572 / vec3(0.40512747));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e572) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
+    float _e589 = (1.0 - layer2_transmit_v);
+    vec3 _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0.0)) * vec3(0.4163022))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e610 / vec3(0.40512747));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e610) / vec3(0.59487253)), vec3(0.0)), vec3(1.0));
     vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9812149), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));

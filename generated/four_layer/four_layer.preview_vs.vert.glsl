@@ -6,6 +6,7 @@ struct PreviewVarying {
 };
 const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
+const vec3 layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
 const vec3 layer4_r_return = vec3(0.32180643, 0.32180643, 0.32180643);
 const vec3 layer3_rho = vec3(0.8527521, 0.8527521, 0.7851878);

@@ -20,6 +20,7 @@ struct PreviewVarying {
 
 const layer1_tau: vec3<f32> = vec3<f32>(0.02f, 0.02f, 0.02f);
 const layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
+const layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
 const layer4_r_return: vec3<f32> = vec3<f32>(0.32180643f, 0.32180643f, 0.32180643f);
 const layer3_rho: vec3<f32> = vec3<f32>(0.8527521f, 0.8527521f, 0.7851878f);
@@ -251,31 +252,36 @@ fn e_fon(mu_1: f32, r: f32) -> f32 {
     return (((r * g_over_pi) + 1f) / ((r * 0.2877934f) + 1f));
 }
 
+// Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
+// ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
+fn eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
+    let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
+    let _e15 = (albedo * (1f - e_avg_1));
+    return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
+}
+
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-fn fd_eon(albedo: vec3<f32>, r_1: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
+fn fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
     let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     let s_over_t = select(s, (s / max(n_dot_v_2, n_dot_l_2)), (s > 0f));
-    let a_f = (1f / ((r_1 * 0.2877934f) + 1f));
-    let f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1f)) / 3.1415927f));
-    let e_o = e_fon(n_dot_v_2, r_1);
-    let e_i = e_fon(n_dot_l_2, r_1);
-    let e_avg_1 = (a_f * ((r_1 * 0.07248825f) + 1f));
-    let _e36 = (albedo * (1f - e_avg_1));
-    let rho_ms = (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e36));
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
+    let a_f = (1f / ((r_2 * 0.2877934f) + 1f));
+    let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
+    let e_o = e_fon(n_dot_v_2, r_2);
+    let e_i = e_fon(n_dot_l_2, r_2);
+    let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
+    let rho_ms = eon_rho_ms(albedo_1, r_2);
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-fn albedo_eon(albedo_1: vec3<f32>, r_2: f32, mu_2: f32) -> vec3<f32> {
-    let e_f = e_fon(mu_2, r_2);
-    let e_avg_2 = (((r_2 * 0.07248825f) + 1f) / ((r_2 * 0.2877934f) + 1f));
-    let _e17 = (albedo_1 * (1f - e_avg_2));
-    let rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / (vec3(1f) - _e17));
-    return ((albedo_1 * e_f) + (rho_ms_1 * (1f - e_f)));
+fn albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_2: f32) -> vec3<f32> {
+    let e_f = e_fon(mu_2, r_3);
+    let rho_ms = eon_rho_ms(albedo_2, r_3);
+    return ((albedo_2 * e_f) + (rho_ms * (1f - e_f)));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -399,42 +405,54 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let layer3_under = interfaced_diffuse_under(layer4_f_base, layer4_albedo_l, layer4_albedo_v, layer4_rho, layer4_r_return);
+    let _e241 = coat_path(layer3_n_dot_l, 0.5f, 1.2f);
+    let layer4_path_cos_l = (layer4_cos_l / _e241);
+    let _e245 = coat_path(layer3_n_dot_v, 0.5f, 1.2f);
+    let layer4_path_cos_v = (layer4_cos_v / _e245);
+    let _e252 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e254 = e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((layer4_rho_ms * (1f - _e254)) * vec3(0.18731904f)) / max(_e252, vec3(0.000001f))));
+    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67819357f))) / vec3(0.32180643f)), vec3(0f)), vec3(1f));
+    let _e289 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e291 = e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((layer4_rho_ms * (1f - _e291)) * vec3(0.18731904f)) / max(_e289, vec3(0.000001f))));
+    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67819357f))) / vec3(0.32180643f)), vec3(0f)), vec3(1f));
+    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9669647f, 0.9669647f, 0.96877354f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f), vec3(1f), vec3(1f));
-    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f), vec3(1f), vec3(1f));
-    let _e271 = (1f - layer4_transmit_l);
-    let _e292 = min(max(((vec3((_e271 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e271)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e292 / vec3(0.81007236f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e292) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
-    let _e309 = (1f - layer4_transmit_v);
-    let _e330 = min(max(((vec3((_e309 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e309)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e330 / vec3(0.81007236f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e330) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f), layer4_first_escape_l, layer4_first_return_l);
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f), layer4_first_escape_v, layer4_first_return_v);
+    let _e354 = (1f - layer4_transmit_l);
+    let _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e375 / vec3(0.81007236f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e375) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
+    let _e392 = (1f - layer4_transmit_v);
+    let _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e413 / vec3(0.81007236f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e413) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
     let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93489885f, 0.93489885f, 0.93384814f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     let layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_v, layer2_first_return_v);
-    let _e375 = (1f - layer3_transmit_l);
-    let _e393 = min(max(((vec3((_e375 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e375)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e393 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e393) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e410 = (1f - layer3_transmit_v);
-    let _e428 = min(max(((vec3((_e410 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e410)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e428 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e428) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e458 = (1f - layer3_transmit_l);
+    let _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e476 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e476) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e493 = (1f - layer3_transmit_v);
+    let _e511 = min(max(((vec3((_e493 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e493)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e511 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e511) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
     let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e468 = (1f - layer2_transmit_l);
-    let _e489 = min(max(((vec3((_e468 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e468)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e489 / vec3(0.40512747f));
-    let first_return_l = min(max(((vec3(1f) - _e489) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
-    let _e506 = (1f - layer2_transmit_v);
-    let _e527 = min(max(((vec3((_e506 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e506)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e527 / vec3(0.40512747f));
-    let first_return_v = min(max(((vec3(1f) - _e527) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
+    let _e551 = (1f - layer2_transmit_l);
+    let _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e572 / vec3(0.40512747f));
+    let first_return_l = min(max(((vec3(1f) - _e572) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
+    let _e589 = (1f - layer2_transmit_v);
+    let _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e610 / vec3(0.40512747f));
+    let first_return_v = min(max(((vec3(1f) - _e610) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
     let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9812149f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));

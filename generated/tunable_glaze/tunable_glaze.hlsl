@@ -292,43 +292,48 @@ float e_fon(float mu_1, float r)
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
 }
 
+// Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
+// ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
+float3 eon_rho_ms(float3 albedo, float r_1)
+{
+    float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
+    float3 _e15 = (albedo * (1.0 - e_avg_1));
+    return (((albedo * albedo) * e_avg_1) / ((1.0).xxx - _e15));
+}
+
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-float3 fd_eon(float3 albedo, float r_1, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
+float3 fd_eon(float3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
 {
-    float s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    float s_over_t = ((s_2 > 0.0) ? (s_2 / max(n_dot_v_2, n_dot_l_2)) : s_2);
-    float a_f = (1.0 / ((r_1 * 0.2877934) + 1.0));
-    float3 f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1.0)) / 3.1415927));
-    const float e_o = e_fon(n_dot_v_2, r_1);
-    const float e_i = e_fon(n_dot_l_2, r_1);
-    float e_avg_1 = (a_f * ((r_1 * 0.07248825) + 1.0));
-    float3 _e36 = (albedo * (1.0 - e_avg_1));
-    float3 rho_ms = (((albedo * albedo) * e_avg_1) / ((1.0).xxx - _e36));
-    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
+    float s_3 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    float s_over_t = ((s_3 > 0.0) ? (s_3 / max(n_dot_v_2, n_dot_l_2)) : s_3);
+    float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
+    float3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
+    const float e_o = e_fon(n_dot_v_2, r_2);
+    const float e_i = e_fon(n_dot_l_2, r_2);
+    float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
+    const float3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
-float3 albedo_avg_eon(float3 albedo_1, float r_2)
+float3 albedo_avg_eon(float3 albedo_2, float r_3)
 {
-    float e_avg_2 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
-    float3 _e15 = (albedo_1 * (1.0 - e_avg_2));
-    float3 rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / ((1.0).xxx - _e15));
-    return ((albedo_1 * e_avg_2) + (rho_ms_1 * (1.0 - e_avg_2)));
+    float e_avg_3 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
+    const float3 rho_ms = eon_rho_ms(albedo_2, r_3);
+    return ((albedo_2 * e_avg_3) + (rho_ms * (1.0 - e_avg_3)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-float3 albedo_eon(float3 albedo_2, float r_3, float mu_2)
+float3 albedo_eon(float3 albedo_3, float r_4, float mu_2)
 {
-    const float e_f = e_fon(mu_2, r_3);
-    float e_avg_3 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
-    float3 _e17 = (albedo_2 * (1.0 - e_avg_3));
-    float3 rho_ms_2 = (((albedo_2 * albedo_2) * e_avg_3) / ((1.0).xxx - _e17));
-    return ((albedo_2 * e_f) + (rho_ms_2 * (1.0 - e_f)));
+    const float e_f = e_fon(mu_2, r_4);
+    const float3 rho_ms = eon_rho_ms(albedo_3, r_4);
+    return ((albedo_3 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -473,32 +478,32 @@ float3 slab_return_node(float mu_c_1, float inv_eta, float3 tau_4, float s, floa
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 float3 slab_return(float eta_10, float3 tau_5)
 {
-    float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
-    float inv_eta_2 = (1.0 / eta_10);
-    const float3 node = slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
-    const float3 node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
-    const float3 node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
-    const float3 node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
-    const float3 node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
-    const float3 node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
-    const float3 node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
-    const float3 node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
-    const float3 node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
-    const float3 node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
-    const float3 node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
-    const float3 node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
-    const float3 node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
-    const float3 node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
-    const float3 node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
-    const float3 node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
-    const float3 node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
-    const float3 node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
-    const float3 node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
-    const float3 node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
-    const float3 node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
-    const float3 node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
-    const float3 node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
-    const float3 node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
+    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
+    float inv_eta_3 = (1.0 / eta_10);
+    const float3 node = slab_tir_node(mu_c_4, tau_5, 0.009219683, 0.023587668);
+    const float3 node_1 = slab_tir_node(mu_c_4, tau_5, 0.04794137, 0.05346966);
+    const float3 node_2 = slab_tir_node(mu_c_4, tau_5, 0.11504866, 0.080039166);
+    const float3 node_3 = slab_tir_node(mu_c_4, tau_5, 0.20634103, 0.10158371);
+    const float3 node_4 = slab_tir_node(mu_c_4, tau_5, 0.31608424, 0.11674627);
+    const float3 node_5 = slab_tir_node(mu_c_4, tau_5, 0.4373833, 0.12457352);
+    const float3 node_6 = slab_tir_node(mu_c_4, tau_5, 0.5626167, 0.12457352);
+    const float3 node_7 = slab_tir_node(mu_c_4, tau_5, 0.68391573, 0.11674627);
+    const float3 node_8 = slab_tir_node(mu_c_4, tau_5, 0.793659, 0.10158371);
+    const float3 node_9 = slab_tir_node(mu_c_4, tau_5, 0.88495135, 0.080039166);
+    const float3 node_10 = slab_tir_node(mu_c_4, tau_5, 0.9520586, 0.05346966);
+    const float3 node_11 = slab_tir_node(mu_c_4, tau_5, 0.9907803, 0.023587668);
+    const float3 node_12 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.009219683, 0.023587668);
+    const float3 node_13 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.04794137, 0.05346966);
+    const float3 node_14 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.11504866, 0.080039166);
+    const float3 node_15 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.20634103, 0.10158371);
+    const float3 node_16 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.31608424, 0.11674627);
+    const float3 node_17 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.4373833, 0.12457352);
+    const float3 node_18 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.5626167, 0.12457352);
+    const float3 node_19 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.68391573, 0.11674627);
+    const float3 node_20 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.793659, 0.10158371);
+    const float3 node_21 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.88495135, 0.080039166);
+    const float3 node_22 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9520586, 0.05346966);
+    const float3 node_23 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9907803, 0.023587668);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
@@ -516,21 +521,61 @@ float3 slab_escape_node(float mu_c_2, float inv_eta_1, float3 tau_6, float s_1, 
 // Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 float3 slab_escape(float eta_11, float3 tau_7)
 {
-    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
-    float inv_eta_3 = (1.0 / eta_11);
-    const float3 node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
-    const float3 node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
-    const float3 node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
-    const float3 node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
-    const float3 node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
-    const float3 node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
-    const float3 node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
-    const float3 node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
-    const float3 node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
-    const float3 node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
-    const float3 node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
-    const float3 node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
+    float mu_c_5 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
+    float inv_eta_4 = (1.0 / eta_11);
+    const float3 node = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.009219683, 0.023587668);
+    const float3 node_1 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.04794137, 0.05346966);
+    const float3 node_2 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.11504866, 0.080039166);
+    const float3 node_3 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.20634103, 0.10158371);
+    const float3 node_4 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.31608424, 0.11674627);
+    const float3 node_5 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.4373833, 0.12457352);
+    const float3 node_6 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.5626167, 0.12457352);
+    const float3 node_7 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.68391573, 0.11674627);
+    const float3 node_8 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.793659, 0.10158371);
+    const float3 node_9 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.88495135, 0.080039166);
+    const float3 node_10 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9520586, 0.05346966);
+    const float3 node_11 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9907803, 0.023587668);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+}
+
+// One Gauss–Legendre node (μ = μc + (1 − μc) s², as in `slab_escape_node`) of
+// Q = ∫ 2μ (1 − F_int(μ)) q(1 − μ) dμ over the escape cone, q the quartic of `e_fon`
+// (E_FON = (1 + r q)/(1 + c₁ r)).
+float eon_escape_node(float mu_c_3, float inv_eta_2, float s_2, float weight_3)
+{
+    float mu_6 = (mu_c_3 + (((1.0 - mu_c_3) * s_2) * s_2));
+    float x_1 = (1.0 - mu_6);
+    float q = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
+    const float _e26 = fr_dielectric(mu_6, inv_eta_2);
+    return ((((((mu_6 * (1.0 - mu_c_3)) * s_2) * (1.0 - _e26)) * weight_3) * q) * 4.0);
+}
+
+// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
+// IOR η) through the escape cone than of diffuse light. That lobe sends light in
+// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
+// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
+// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
+// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
+float eon_escape_shape(float eta_12)
+{
+    float mu_c_6 = sqrt(max((1.0 - (1.0 / (eta_12 * eta_12))), 0.0));
+    float inv_eta_5 = (1.0 / eta_12);
+    const float node = eon_escape_node(mu_c_6, inv_eta_5, 0.009219683, 0.023587668);
+    const float node_1 = eon_escape_node(mu_c_6, inv_eta_5, 0.04794137, 0.05346966);
+    const float node_2 = eon_escape_node(mu_c_6, inv_eta_5, 0.11504866, 0.080039166);
+    const float node_3 = eon_escape_node(mu_c_6, inv_eta_5, 0.20634103, 0.10158371);
+    const float node_4 = eon_escape_node(mu_c_6, inv_eta_5, 0.31608424, 0.11674627);
+    const float node_5 = eon_escape_node(mu_c_6, inv_eta_5, 0.4373833, 0.12457352);
+    const float node_6 = eon_escape_node(mu_c_6, inv_eta_5, 0.5626167, 0.12457352);
+    const float node_7 = eon_escape_node(mu_c_6, inv_eta_5, 0.68391573, 0.11674627);
+    const float node_8 = eon_escape_node(mu_c_6, inv_eta_5, 0.793659, 0.10158371);
+    const float node_9 = eon_escape_node(mu_c_6, inv_eta_5, 0.88495135, 0.080039166);
+    const float node_10 = eon_escape_node(mu_c_6, inv_eta_5, 0.9520586, 0.05346966);
+    const float node_11 = eon_escape_node(mu_c_6, inv_eta_5, 0.9907803, 0.023587668);
+    float q_1 = (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+    const float3 _e60 = slab_escape(eta_12, (0.0).xxx);
+    float escape = _e60.x;
+    return (((escape * 0.2877934) - q_1) / (max(escape, 1e-6) * 0.21530515));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -548,9 +593,9 @@ float3 interfaced_diffuse_under(float3 f_below, float3 e_i_1, float3 e_o_1, floa
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
 // with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_12)
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_13)
 {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -565,31 +610,34 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float3 n_cross_h = cross(n_1, h);
     const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     const float g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
-    const float fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
-    const float3 _e28 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float _e28 = fr_dielectric(cos_v, params.glaze_ior);
+    const float _e29 = fr_dielectric(cos_l, params.glaze_ior);
+    const float _e31 = fr_dielectric(dot(v_1, h), params.glaze_ior);
+    float fresnel_2 = ((params.glaze_ior < 1.0) ? min(_e28, _e29) : _e31);
+    const float3 _e34 = f_cook_torrance(d, g, (fresnel_2).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     const float layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    const float _e31 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
-    const float _e32 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e31);
-    float3 specular = (_e28 + (_e32).xxx);
+    const float _e37 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    const float _e38 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
+    float3 specular = (_e34 + (_e38).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
-    float _e37 = (1.0 - layer1_fresnel_l);
-    const float _e38 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e37 : min(max(((_e37 + _e38) - layer1_restored_l), 0.0), 1.0));
+    float _e43 = (1.0 - layer1_fresnel_l);
+    const float _e44 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e43 : min(max(((_e43 + _e44) - layer1_restored_l), 0.0), 1.0));
     const float layer1_fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
-    float _e50 = (1.0 - layer1_fresnel_v);
-    const float _e51 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e50 : min(max(((_e50 + _e51) - layer1_restored_v), 0.0), 1.0));
+    float _e56 = (1.0 - layer1_fresnel_v);
+    const float _e57 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max(((_e56 + _e57) - layer1_restored_v), 0.0), 1.0));
     const float3 layer1_v = refract_down(v_1, n_1, params.glaze_ior);
     const float3 layer1_l = refract_down(l_1, n_1, params.glaze_ior);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float _e69 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e69));
-    const float _e74 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e74));
+    const float _e75 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
+    const float _e80 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
     const float3 absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
     const float3 absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
     float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5);
@@ -597,22 +645,47 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     const float3 layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
     const float3 layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     const float3 layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    const float _e95 = fresnel_transmit_avg(params.glaze_ior);
-    const float _e96 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_avg = ((_e95 + _e96) - _e31);
-    float _e100 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    const float _e102 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    const float _e104 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    const float _e106 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    float3 _e108 = (float3(_e102, _e104, _e106) * _e100);
-    const float _e117 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    const float _e119 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    const float _e121 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    bool _e125 = (params.glaze_ior < 1.0);
-    const float3 _e126 = slab_return(params.glaze_ior, tau_8);
-    const float3 _e127 = slab_escape(params.glaze_ior, tau_8);
-    float3 layer1_r_return = (_e125 ? _e126 : max(((1.0).xxx - _e108), (0.0).xxx));
-    const float3 under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    const float _e101 = fresnel_transmit_avg(params.glaze_ior);
+    const float _e102 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_avg = ((_e101 + _e102) - _e37);
+    float _e106 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    const float _e108 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    const float _e110 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    const float _e112 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    float3 _e114 = (float3(_e108, _e110, _e112) * _e106);
+    const float _e123 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    const float _e125 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    const float _e127 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    bool _e131 = (params.glaze_ior < 1.0);
+    const float3 _e132 = slab_return(params.glaze_ior, tau_8);
+    const float3 _e133 = slab_escape(params.glaze_ior, tau_8);
+    float3 layer1_r_return = (_e131 ? _e132 : max(((1.0).xxx - _e114), (0.0).xxx));
+    float layer1_transmit_avg_1 = ((_e101 + _e102) - _e37);
+    float _e139 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    float3 _e140 = (_e139).xxx;
+    bool _e150 = (params.glaze_ior < 1.0);
+    const float3 _e153 = slab_return(params.glaze_ior, (0.0).xxx);
+    const float3 _e156 = slab_escape(params.glaze_ior, (0.0).xxx);
+    float3 layer1_r_return_1 = (_e150 ? _e153 : max(((1.0).xxx - _e140), (0.0).xxx));
+    const float layer1_eon_escape_shape = eon_escape_shape(params.glaze_ior);
+    const float3 layer1_rho_ms = eon_rho_ms(params.body_albedo, params.body_roughness);
+    float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
+    float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
+    const float3 _e171 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    const float _e172 = e_fon(layer1_path_cos_l_1, params.body_roughness);
+    float3 layer1_first_escape_l = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e172)) * (layer1_eon_escape_shape - 1.0)) / max(_e171, (1e-6).xxx)));
+    float3 layer1_first_return_l = min(max((((1.0).xxx - (layer1_first_escape_l * (_e150 ? _e156 : (_e139).xxx).x)) / (max(layer1_r_return_1.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 _e200 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    const float _e201 = e_fon(layer1_path_cos_v_1, params.body_roughness);
+    float3 layer1_first_escape_v = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e201)) * (layer1_eon_escape_shape - 1.0)) / max(_e200, (1e-6).xxx)));
+    float3 layer1_first_return_v = min(max((((1.0).xxx - (layer1_first_escape_v * (_e150 ? _e156 : (_e139).xxx).x)) / (max(layer1_r_return_1.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    float _e236 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
+    float _e252 = min(max((((1.0 - ((_e236 * _e236) * _e236)) / max((1.0 - (_e236 * _e236)), 1e-6)) * 0.6666667), 0.0), 1.0);
+    const float3 _e253 = albedo_eon(params.body_albedo, params.body_roughness, _e252);
+    const float _e254 = e_fon(_e252, params.body_roughness);
+    float3 layer1_first_escape_cone = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e254)) * (layer1_eon_escape_shape - 1.0)) / max(_e253, (1e-6).xxx)));
+    float3 layer1_first_return_cone = min(max((((1.0).xxx - (layer1_first_escape_cone * (_e150 ? _e156 : (_e139).xxx).x)) / (max(layer1_r_return_1.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, (0.001).xxx), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }

@@ -266,40 +266,44 @@ fn e_fon(mu_1: f32, r: f32) -> f32 {
     return (((r * g_over_pi) + 1f) / ((r * 0.2877934f) + 1f));
 }
 
+// Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
+// ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
+fn eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
+    let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
+    let _e15 = (albedo * (1f - e_avg_1));
+    return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
+}
+
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-fn fd_eon(albedo: vec3<f32>, r_1: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
-    let s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    let s_over_t = select(s_2, (s_2 / max(n_dot_v_2, n_dot_l_2)), (s_2 > 0f));
-    let a_f = (1f / ((r_1 * 0.2877934f) + 1f));
-    let f_ss = (albedo * ((a_f * ((r_1 * s_over_t) + 1f)) / 3.1415927f));
-    let e_o = e_fon(n_dot_v_2, r_1);
-    let e_i = e_fon(n_dot_l_2, r_1);
-    let e_avg_1 = (a_f * ((r_1 * 0.07248825f) + 1f));
-    let _e36 = (albedo * (1f - e_avg_1));
-    let rho_ms = (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e36));
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
+fn fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
+    let s_3 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    let s_over_t = select(s_3, (s_3 / max(n_dot_v_2, n_dot_l_2)), (s_3 > 0f));
+    let a_f = (1f / ((r_2 * 0.2877934f) + 1f));
+    let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
+    let e_o = e_fon(n_dot_v_2, r_2);
+    let e_i = e_fon(n_dot_l_2, r_2);
+    let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
+    let rho_ms = eon_rho_ms(albedo_1, r_2);
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
-fn albedo_avg_eon(albedo_1: vec3<f32>, r_2: f32) -> vec3<f32> {
-    let e_avg_2 = (((r_2 * 0.07248825f) + 1f) / ((r_2 * 0.2877934f) + 1f));
-    let _e15 = (albedo_1 * (1f - e_avg_2));
-    let rho_ms_1 = (((albedo_1 * albedo_1) * e_avg_2) / (vec3(1f) - _e15));
-    return ((albedo_1 * e_avg_2) + (rho_ms_1 * (1f - e_avg_2)));
+fn albedo_avg_eon(albedo_2: vec3<f32>, r_3: f32) -> vec3<f32> {
+    let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
+    let rho_ms = eon_rho_ms(albedo_2, r_3);
+    return ((albedo_2 * e_avg_3) + (rho_ms * (1f - e_avg_3)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-fn albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_2: f32) -> vec3<f32> {
-    let e_f = e_fon(mu_2, r_3);
-    let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
-    let _e17 = (albedo_2 * (1f - e_avg_3));
-    let rho_ms_2 = (((albedo_2 * albedo_2) * e_avg_3) / (vec3(1f) - _e17));
-    return ((albedo_2 * e_f) + (rho_ms_2 * (1f - e_f)));
+fn albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f32> {
+    let e_f = e_fon(mu_2, r_4);
+    let rho_ms = eon_rho_ms(albedo_3, r_4);
+    return ((albedo_3 * e_f) + (rho_ms * (1f - e_f)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -437,32 +441,32 @@ fn slab_return_node(mu_c_1: f32, inv_eta: f32, tau_4: vec3<f32>, s: f32, weight_
 // absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 fn slab_return(eta_10: f32, tau_5: vec3<f32>) -> vec3<f32> {
-    let mu_c_3 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
-    let inv_eta_2 = (1f / eta_10);
-    let node = slab_tir_node(mu_c_3, tau_5, 0.009219683f, 0.023587668f);
-    let node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137f, 0.05346966f);
-    let node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866f, 0.080039166f);
-    let node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103f, 0.10158371f);
-    let node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424f, 0.11674627f);
-    let node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833f, 0.12457352f);
-    let node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167f, 0.12457352f);
-    let node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573f, 0.11674627f);
-    let node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659f, 0.10158371f);
-    let node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135f, 0.080039166f);
-    let node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586f, 0.05346966f);
-    let node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803f, 0.023587668f);
-    let node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683f, 0.023587668f);
-    let node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137f, 0.05346966f);
-    let node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866f, 0.080039166f);
-    let node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103f, 0.10158371f);
-    let node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424f, 0.11674627f);
-    let node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833f, 0.12457352f);
-    let node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167f, 0.12457352f);
-    let node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573f, 0.11674627f);
-    let node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659f, 0.10158371f);
-    let node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135f, 0.080039166f);
-    let node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586f, 0.05346966f);
-    let node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803f, 0.023587668f);
+    let mu_c_4 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
+    let inv_eta_3 = (1f / eta_10);
+    let node = slab_tir_node(mu_c_4, tau_5, 0.009219683f, 0.023587668f);
+    let node_1 = slab_tir_node(mu_c_4, tau_5, 0.04794137f, 0.05346966f);
+    let node_2 = slab_tir_node(mu_c_4, tau_5, 0.11504866f, 0.080039166f);
+    let node_3 = slab_tir_node(mu_c_4, tau_5, 0.20634103f, 0.10158371f);
+    let node_4 = slab_tir_node(mu_c_4, tau_5, 0.31608424f, 0.11674627f);
+    let node_5 = slab_tir_node(mu_c_4, tau_5, 0.4373833f, 0.12457352f);
+    let node_6 = slab_tir_node(mu_c_4, tau_5, 0.5626167f, 0.12457352f);
+    let node_7 = slab_tir_node(mu_c_4, tau_5, 0.68391573f, 0.11674627f);
+    let node_8 = slab_tir_node(mu_c_4, tau_5, 0.793659f, 0.10158371f);
+    let node_9 = slab_tir_node(mu_c_4, tau_5, 0.88495135f, 0.080039166f);
+    let node_10 = slab_tir_node(mu_c_4, tau_5, 0.9520586f, 0.05346966f);
+    let node_11 = slab_tir_node(mu_c_4, tau_5, 0.9907803f, 0.023587668f);
+    let node_12 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.009219683f, 0.023587668f);
+    let node_13 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.04794137f, 0.05346966f);
+    let node_14 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.11504866f, 0.080039166f);
+    let node_15 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.20634103f, 0.10158371f);
+    let node_16 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.31608424f, 0.11674627f);
+    let node_17 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.4373833f, 0.12457352f);
+    let node_18 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.5626167f, 0.12457352f);
+    let node_19 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.68391573f, 0.11674627f);
+    let node_20 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.793659f, 0.10158371f);
+    let node_21 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.88495135f, 0.080039166f);
+    let node_22 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9520586f, 0.05346966f);
+    let node_23 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9907803f, 0.023587668f);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
@@ -478,21 +482,59 @@ fn slab_escape_node(mu_c_2: f32, inv_eta_1: f32, tau_6: vec3<f32>, s_1: f32, wei
 // diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
 // Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 fn slab_escape(eta_11: f32, tau_7: vec3<f32>) -> vec3<f32> {
-    let mu_c_4 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
-    let inv_eta_3 = (1f / eta_11);
-    let node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683f, 0.023587668f);
-    let node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137f, 0.05346966f);
-    let node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866f, 0.080039166f);
-    let node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103f, 0.10158371f);
-    let node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424f, 0.11674627f);
-    let node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833f, 0.12457352f);
-    let node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167f, 0.12457352f);
-    let node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573f, 0.11674627f);
-    let node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659f, 0.10158371f);
-    let node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135f, 0.080039166f);
-    let node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586f, 0.05346966f);
-    let node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803f, 0.023587668f);
+    let mu_c_5 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
+    let inv_eta_4 = (1f / eta_11);
+    let node = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.009219683f, 0.023587668f);
+    let node_1 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.04794137f, 0.05346966f);
+    let node_2 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.11504866f, 0.080039166f);
+    let node_3 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.20634103f, 0.10158371f);
+    let node_4 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.31608424f, 0.11674627f);
+    let node_5 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.4373833f, 0.12457352f);
+    let node_6 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.5626167f, 0.12457352f);
+    let node_7 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.68391573f, 0.11674627f);
+    let node_8 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.793659f, 0.10158371f);
+    let node_9 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.88495135f, 0.080039166f);
+    let node_10 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9520586f, 0.05346966f);
+    let node_11 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9907803f, 0.023587668f);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+}
+
+// One Gauss–Legendre node (μ = μc + (1 − μc) s², as in `slab_escape_node`) of
+// Q = ∫ 2μ (1 − F_int(μ)) q(1 − μ) dμ over the escape cone, q the quartic of `e_fon`
+// (E_FON = (1 + r q)/(1 + c₁ r)).
+fn eon_escape_node(mu_c_3: f32, inv_eta_2: f32, s_2: f32, weight_3: f32) -> f32 {
+    let mu_6 = (mu_c_3 + (((1f - mu_c_3) * s_2) * s_2));
+    let x_1 = (1f - mu_6);
+    let q = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
+    let _e26 = fr_dielectric(mu_6, inv_eta_2);
+    return ((((((mu_6 * (1f - mu_c_3)) * s_2) * (1f - _e26)) * weight_3) * q) * 4f);
+}
+
+// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
+// IOR η) through the escape cone than of diffuse light. That lobe sends light in
+// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
+// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
+// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
+// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
+fn eon_escape_shape(eta_12: f32) -> f32 {
+    let mu_c_6 = sqrt(max((1f - (1f / (eta_12 * eta_12))), 0f));
+    let inv_eta_5 = (1f / eta_12);
+    let node = eon_escape_node(mu_c_6, inv_eta_5, 0.009219683f, 0.023587668f);
+    let node_1 = eon_escape_node(mu_c_6, inv_eta_5, 0.04794137f, 0.05346966f);
+    let node_2 = eon_escape_node(mu_c_6, inv_eta_5, 0.11504866f, 0.080039166f);
+    let node_3 = eon_escape_node(mu_c_6, inv_eta_5, 0.20634103f, 0.10158371f);
+    let node_4 = eon_escape_node(mu_c_6, inv_eta_5, 0.31608424f, 0.11674627f);
+    let node_5 = eon_escape_node(mu_c_6, inv_eta_5, 0.4373833f, 0.12457352f);
+    let node_6 = eon_escape_node(mu_c_6, inv_eta_5, 0.5626167f, 0.12457352f);
+    let node_7 = eon_escape_node(mu_c_6, inv_eta_5, 0.68391573f, 0.11674627f);
+    let node_8 = eon_escape_node(mu_c_6, inv_eta_5, 0.793659f, 0.10158371f);
+    let node_9 = eon_escape_node(mu_c_6, inv_eta_5, 0.88495135f, 0.080039166f);
+    let node_10 = eon_escape_node(mu_c_6, inv_eta_5, 0.9520586f, 0.05346966f);
+    let node_11 = eon_escape_node(mu_c_6, inv_eta_5, 0.9907803f, 0.023587668f);
+    let q_1 = (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
+    let _e60 = slab_escape(eta_12, vec3(0f));
+    let escape = _e60.x;
+    return (((escape * 0.2877934f) - q_1) / (max(escape, 0.000001f) * 0.21530515f));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -509,8 +551,8 @@ fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f3
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
 // with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_12: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_13: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -524,31 +566,34 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let n_cross_h = cross(n_1, h);
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
     let g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
-    let fresnel = fr_dielectric(dot(v_1, h), params.glaze_ior);
-    let _e28 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let _e28 = fr_dielectric(cos_v, params.glaze_ior);
+    let _e29 = fr_dielectric(cos_l, params.glaze_ior);
+    let _e31 = fr_dielectric(dot(v_1, h), params.glaze_ior);
+    let fresnel_2 = select(_e31, min(_e28, _e29), (params.glaze_ior < 1f));
+    let _e34 = f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     let layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let _e31 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
-    let _e32 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e31);
-    let specular = (_e28 + vec3(_e32));
+    let _e37 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    let _e38 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
+    let specular = (_e34 + vec3(_e38));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
-    let _e37 = (1f - layer1_fresnel_l);
-    let _e38 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_l = select(min(max(((_e37 + _e38) - layer1_restored_l), 0f), 1f), _e37, (params.glaze_ior < 1f));
+    let _e43 = (1f - layer1_fresnel_l);
+    let _e44 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_l = select(min(max(((_e43 + _e44) - layer1_restored_l), 0f), 1f), _e43, (params.glaze_ior < 1f));
     let layer1_fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
-    let _e50 = (1f - layer1_fresnel_v);
-    let _e51 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_v = select(min(max(((_e50 + _e51) - layer1_restored_v), 0f), 1f), _e50, (params.glaze_ior < 1f));
+    let _e56 = (1f - layer1_fresnel_v);
+    let _e57 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_v = select(min(max(((_e56 + _e57) - layer1_restored_v), 0f), 1f), _e56, (params.glaze_ior < 1f));
     let layer1_v = refract_down(v_1, n_1, params.glaze_ior);
     let layer1_l = refract_down(l_1, n_1, params.glaze_ior);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e69 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_l = select((layer1_cos_l / _e69), layer1_cos_l, (params.glaze_ior < 1f));
-    let _e74 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_v = select((layer1_cos_v / _e74), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e75 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_l = select((layer1_cos_l / _e75), layer1_cos_l, (params.glaze_ior < 1f));
+    let _e80 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_v = select((layer1_cos_v / _e80), layer1_cos_v, (params.glaze_ior < 1f));
     let absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
     let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5f);
@@ -556,22 +601,47 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e95 = fresnel_transmit_avg(params.glaze_ior);
-    let _e96 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_avg = ((_e95 + _e96) - _e31);
-    let _e100 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    let _e102 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e104 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e106 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e108 = (vec3<f32>(_e102, _e104, _e106) * _e100);
-    let _e117 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e119 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e121 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e125 = (params.glaze_ior < 1f);
-    let _e126 = slab_return(params.glaze_ior, tau_8);
-    let _e127 = slab_escape(params.glaze_ior, tau_8);
-    let layer1_r_return = select(max((vec3(1f) - _e108), vec3(0f)), _e126, _e125);
-    let under = interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, layer1_rho, layer1_r_return);
+    let _e101 = fresnel_transmit_avg(params.glaze_ior);
+    let _e102 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_avg = ((_e101 + _e102) - _e37);
+    let _e106 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    let _e108 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e110 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e112 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e114 = (vec3<f32>(_e108, _e110, _e112) * _e106);
+    let _e123 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e125 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e127 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e131 = (params.glaze_ior < 1f);
+    let _e132 = slab_return(params.glaze_ior, tau_8);
+    let _e133 = slab_escape(params.glaze_ior, tau_8);
+    let layer1_r_return = select(max((vec3(1f) - _e114), vec3(0f)), _e132, _e131);
+    let layer1_transmit_avg_1 = ((_e101 + _e102) - _e37);
+    let _e139 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    let _e140 = vec3(_e139);
+    let _e150 = (params.glaze_ior < 1f);
+    let _e153 = slab_return(params.glaze_ior, vec3(0f));
+    let _e156 = slab_escape(params.glaze_ior, vec3(0f));
+    let layer1_r_return_1 = select(max((vec3(1f) - _e140), vec3(0f)), _e153, _e150);
+    let layer1_eon_escape_shape = eon_escape_shape(params.glaze_ior);
+    let layer1_rho_ms = eon_rho_ms(params.body_albedo, params.body_roughness);
+    let layer1_path_cos_l_1 = select((layer1_cos_l / _e75), layer1_cos_l, (params.glaze_ior < 1f));
+    let layer1_path_cos_v_1 = select((layer1_cos_v / _e80), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e171 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e172 = e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e172)) * (layer1_eon_escape_shape - 1f)) / max(_e171, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e200 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e201 = e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e201)) * (layer1_eon_escape_shape - 1f)) / max(_e200, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e236 = sqrt(max((1f - (1f / (params.glaze_ior * params.glaze_ior))), 0f));
+    let _e252 = min(max((((1f - ((_e236 * _e236) * _e236)) / max((1f - (_e236 * _e236)), 0.000001f)) * 0.6666667f), 0f), 1f);
+    let _e253 = albedo_eon(params.body_albedo, params.body_roughness, _e252);
+    let _e254 = e_fon(_e252, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e254)) * (layer1_eon_escape_shape - 1f)) / max(_e253, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }

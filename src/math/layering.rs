@@ -394,7 +394,10 @@ fn interfaced<F: Real>(
     // The clear slab's (R(0), E_esc(0)), built when first needed.
     let clear = OnceCell::new();
     let clear = || *clear.get_or_init(|| interface.slab(inputs.zero()));
-    let first = (!lower.glossy).then(|| first_pass(coats, k, &interface, &lower, &albedo, (t_l, t_v), &clear, inputs));
+    let first = (!lower.glossy).then(|| match (coats.get(k + 1), body) {
+        (None, Body::Eon(rho, r)) => eon_first_pass(&interface, (*rho, *r), g, &below, &clear, inputs),
+        _ => first_pass(coats, k, &interface, &lower, &albedo, (t_l, t_v), &clear, inputs),
+    });
     let boost = first.as_ref().map_or(inputs.lit(1.0), |p| p.boost);
     let f_under: F::Vec = if lower.glossy {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
@@ -520,6 +523,57 @@ fn first_pass<F: Real>(
     let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission(mu_outside, "cone"), "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
     FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost }
+}
+
+/// The first pass out of an EON body (Portsmouth et al. 2025) under coat `k`. EON's
+/// multiple-scattering lobe sends light in proportion to 1 − E_FON(μₒ), which is largest
+/// towards the normal, so more of the first reflection leaves through the escape cone than of
+/// diffuse light (treating it as diffuse made a water-coated EON 0.011 too bright at normal
+/// incidence; README "Accuracy"). Of the body's albedo E(μ) = ρE_FON(μ) + ρ_ms(1 − E_FON(μ)),
+/// the FON part is taken to leave like diffuse light and the multiple-scattering part with the
+/// cone's weight for its shape, `eon_escape_shape` s (of the smooth interface; for a rough coat
+/// an approximation): escape factor x(μ) = 1 + ρ_ms(1 − E_FON(μ))(s − 1)/E(μ), return factor
+/// (1 − x E_esc(0))/R(0) clamped to [0, 1] (R(0) = 1 − E_esc(0): a white body still returns
+/// everything, E = 1). The return factor at the cone's mean cosine normalises the viewer's side
+/// as in [`first_pass`]. Guards: E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, the return at the mean ≥ 10⁻³.
+fn eon_first_pass<F: Real>(
+    interface: &CoatInterface<'_, F>,
+    (albedo_color, roughness): (Color, Scalar),
+    above: &Geometry<F>,
+    below: &Geometry<F>,
+    clear: &dyn Fn() -> (F::Vec, F::Vec),
+    inputs: &Inputs<F>,
+) -> FirstPass<F> {
+    let name = |base: &str| level_name(base, below.level);
+    let (rho, r) = (inputs.color(albedo_color), inputs.scalar(roughness));
+    let (r_clear, e_clear) = clear();
+    let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
+    let one = inputs.lit(1.0).splat();
+    let shape = eon_escape_shape(interface.eta).named(&name("eon_escape_shape"));
+    let rho_ms = eon_rho_ms(rho, r).named(&name("rho_ms"));
+    let factors = |mu: F, side: &str| {
+        let e = albedo_eon(rho, r, mu);
+        let spread = rho_ms * e_fon(mu, r).one_minus();
+        let escape = (one + spread * (shape - 1.0) / e.max(inputs.lit(1e-6).splat()))
+            .named(&name(&format!("first_escape_{side}")));
+        let back = ((one - escape * e_clear) / r_clear.at_least(1e-4))
+            .max(inputs.zero())
+            .min(one)
+            .named(&name(&format!("first_return_{side}")));
+        (escape, back)
+    };
+    // A rough coat spreads the refracted light: its effective cosine (the path factor's) stands
+    // for the direction of incidence on the body.
+    let mu_l = interface.path_cosine(above.raw_n_dot_l, below.n_dot_l, "l");
+    let mu_v = interface.path_cosine(above.raw_n_dot_v, below.n_dot_v, "v");
+    let (escape_l, return_l) = factors(mu_l, "l");
+    let (escape_v, return_v) = factors(mu_v, "v");
+    let mu_c = interface.eta.sq().recip().one_minus().at_least(0.0).sqrt();
+    let mu_mean =
+        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0);
+    let (_, return_mean) = factors(mu_mean, "cone");
+    let return_mean = return_mean.max(inputs.lit(1e-3).splat());
+    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost: inputs.lit(1.0) }
 }
 
 /// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`);
@@ -706,7 +760,24 @@ fn interfaced_lobe<F: Real>(
     let name = |base| level_name(base, g.level);
     let distribution = distribution.named(&name("d"));
     let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g).named(&name("g"));
-    let fresnel = dielectric_fresnel(g.half().v_dot_h, eta, approx).named(&name("fresnel"));
+    let microfacet = || dielectric_fresnel(g.half().v_dot_h, eta, approx);
+    // A coat optically thinner than the medium above (η < 1) keeps its rough lobe but takes the
+    // smooth interface's transmission 1 − F(μ) (the tables stop at η = 1; see
+    // `CoatInterface::unless_below_one`). Near the critical angle, facets tilted past it reflect
+    // totally, so a lobe with the microfacet Fresnel F(v·h) reflects more than F(μ) and the two
+    // together gained up to 14% energy. With min(F(n·v), F(n·l)) instead (symmetric, so
+    // reciprocal) the lobe's albedo is at most F(μ) times the white lobe's, ≤ F(μ): no gain.
+    let macro_surface = || {
+        let f_v = dielectric_fresnel(g.n_dot_v, eta, approx);
+        let f_l = dielectric_fresnel(g.n_dot_l, eta, approx);
+        f_v.min(f_l)
+    };
+    let fresnel = match eta.known() {
+        Some(e) if e >= 1.0 => microfacet(),
+        Some(_) => macro_surface(),
+        None => F::select(eta.lt_lit(1.0), macro_surface(), microfacet()),
+    }
+    .named(&name("fresnel"));
     f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
 }
 
@@ -887,6 +958,18 @@ pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Ve
         sum = sum + node.named("node");
     }
     sum
+}
+
+/// Q of [`eon_escape_shape`]: the integral over the escape cone of a smooth interface of
+/// relative IOR `eta`, with the nodes of [`slab_integral`] (no TIR part: nothing escapes there).
+pub fn eon_escape_q<F: Real>(eta: F) -> F {
+    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt().named("mu_c");
+    let inv_eta = eta.recip().named("inv_eta");
+    let mut q = eta.lit(0.0);
+    for (s, w) in GAUSS_LEGENDRE_12 {
+        q = q + eon_escape_node(mu_c, inv_eta, mu_c.lit(s as f32), mu_c.lit(w as f32)).named("node");
+    }
+    q
 }
 
 #[cfg(test)]

@@ -251,7 +251,7 @@ shading_fn! {
         let e_o = e_fon(n_dot_v, r);
         let e_i = e_fon(n_dot_l, r);
         let e_avg = a_f * (r * FON_C2 + 1.0);
-        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        let rho_ms = eon_rho_ms(albedo, r);
         let f_ms = rho_ms * (e_o.one_minus().at_least(1e-7) * e_i.one_minus().at_least(1e-7)
             / (e_avg.one_minus().at_least(1e-7) * PI));
         f_ss + f_ms
@@ -274,7 +274,7 @@ shading_fn! {
     /// ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
     pub fn albedo_avg_eon(albedo: V, r: S) -> V {
         let e_avg = (r * FON_C2 + 1.0) / (r * FON_C1 + 1.0);
-        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        let rho_ms = eon_rho_ms(albedo, r);
         albedo * e_avg + rho_ms * e_avg.one_minus()
     }
 }
@@ -481,8 +481,7 @@ shading_fn! {
     /// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
     pub fn albedo_eon(albedo: V, r: S, mu: S) -> V {
         let e_f = e_fon(mu, r);
-        let e_avg = (r * FON_C2 + 1.0) / (r * FON_C1 + 1.0);
-        let rho_ms = albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus();
+        let rho_ms = eon_rho_ms(albedo, r);
         albedo * e_f + rho_ms * e_f.one_minus()
     }
 }
@@ -525,6 +524,41 @@ shading_fn! {
         let mu = mu_c + mu_c.one_minus() * s * s;
         let fresnel = fr_dielectric(mu, inv_eta);
         (-(tau / mu)).exp() * (mu * mu_c.one_minus() * s * fresnel.one_minus() * weight * 4.0)
+    }
+}
+
+shading_fn! {
+    /// Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
+    /// ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
+    pub fn eon_rho_ms(albedo: V, r: S) -> V {
+        let e_avg = (r * FON_C2 + 1.0) / (r * FON_C1 + 1.0);
+        albedo * albedo * e_avg / (albedo * e_avg.one_minus()).one_minus()
+    }
+}
+
+shading_fn! {
+    /// One Gauss–Legendre node (μ = μc + (1 − μc) s², as in `slab_escape_node`) of
+    /// Q = ∫ 2μ (1 − F_int(μ)) q(1 − μ) dμ over the escape cone, q the quartic of `e_fon`
+    /// (E_FON = (1 + r q)/(1 + c₁ r)).
+    pub fn eon_escape_node(mu_c: S, inv_eta: S, s: S, weight: S) -> S {
+        let mu = mu_c + mu_c.one_minus() * s * s;
+        let x = mu.one_minus();
+        let q = x * (x * (x * (x * 0.071_442_99 - 0.332_181_44) + 0.491_881_87) + 0.057_108_53);
+        mu * mu_c.one_minus() * s * fr_dielectric(mu, inv_eta).one_minus() * weight * q * 4.0
+    }
+}
+
+shading_fn! {
+    /// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
+    /// IOR η) through the escape cone than of diffuse light. That lobe sends light in
+    /// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
+    /// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
+    /// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
+    /// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
+    pub fn eon_escape_shape(eta: S) -> S {
+        let q = super::layering::eon_escape_q(eta);
+        let escape = slab_escape(eta, eta.lit(0.0).splat()).x();
+        (escape * FON_C1 - q) / (escape.at_least(1e-6) * (FON_C1 - FON_C2))
     }
 }
 
