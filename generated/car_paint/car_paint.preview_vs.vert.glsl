@@ -8,11 +8,11 @@ const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
 const float layer2_alpha = 0.09026667;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.85031915, 0.8638832, 0.8638832);
+const vec3 layer2_rho = vec3(0.8502039, 0.86376613, 0.86376613);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.70851177, 0.054169346, 0.02450287);
-const vec3 layer1_r_return = vec3(0.5963415, 0.5963415, 0.5963415);
+const vec3 layer1_rho = vec3(0.70841473, 0.054162826, 0.02450037);
+const vec3 layer1_r_return = vec3(0.59634066, 0.59634066, 0.59634066);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

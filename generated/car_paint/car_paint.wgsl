@@ -22,11 +22,11 @@ const layer1_tau: vec3<f32> = vec3<f32>(0.048f, 0.96000004f, 1.32f);
 const layer2_alpha: f32 = 0.09026667f;
 const f0_under_coat: vec3<f32> = vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f);
 const layer2_mu_c: f32 = 0.19705611f;
-const layer2_rho: vec3<f32> = vec3<f32>(0.85031915f, 0.8638832f, 0.8638832f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.8502039f, 0.86376613f, 0.86376613f);
 const layer2_trapped_escape: f32 = 1f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.70851177f, 0.054169346f, 0.02450287f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.5963415f, 0.5963415f, 0.5963415f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.70841473f, 0.054162826f, 0.02450037f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.59634066f, 0.59634066f, 0.59634066f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4052>;
@@ -102,11 +102,11 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
-    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -118,22 +118,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -146,12 +146,12 @@ fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
-    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -163,22 +163,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -205,10 +205,10 @@ fn f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 fn ggx_albedo(cos_theta_3: f32, roughness_2: f32) -> f32 {
-    let u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 15f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 14f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -216,14 +216,14 @@ fn ggx_albedo(cos_theta_3: f32, roughness_2: f32) -> f32 {
     let node_roughness_2 = (u_roughness_2 * 15f);
     let cell_roughness_2 = min(floor(node_roughness_2), 14f);
     let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let _e35 = (u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u);
-    let at_ll = glazec_tables[(_e35 >> 2u)][(_e35 & 3u)];
-    let _e55 = (u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u);
-    let at_ul = glazec_tables[(_e55 >> 2u)][(_e55 & 3u)];
-    let _e76 = (u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
-    let at_lu = glazec_tables[(_e76 >> 2u)][(_e76 & 3u)];
-    let _e97 = (u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
-    let at_uu = glazec_tables[(_e97 >> 2u)][(_e97 & 3u)];
+    let _e40 = (u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ll = glazec_tables[(_e40 >> 2u)][(_e40 & 3u)];
+    let _e60 = (u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u);
+    let at_ul = glazec_tables[(_e60 >> 2u)][(_e60 & 3u)];
+    let _e81 = (u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_lu = glazec_tables[(_e81 >> 2u)][(_e81 & 3u)];
+    let _e102 = (u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
+    let at_uu = glazec_tables[(_e102 >> 2u)][(_e102 & 3u)];
     return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
 }
 
@@ -314,7 +314,7 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_2, 0.04f, 1.5f);
     let layer1_restored_v = coat_extra(n_dot_v_2, 0.04f, 1.5f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.000013038534f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0000107950045f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
     let _e38 = coat_deficit(n_dot_l_2, 0.04f, 1.5f);
@@ -363,14 +363,14 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
     let _e142 = (1f - layer2_transmit_l);
-    let _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0f)) * vec3(0.40606037f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e163 / vec3(0.4036585f));
-    let first_return_l = min(max(((vec3(1f) - _e163) / vec3(0.5963415f)), vec3(0f)), vec3(1f));
+    let _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0f)) * vec3(0.40606117f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e163 / vec3(0.4036593f));
+    let first_return_l = min(max(((vec3(1f) - _e163) / vec3(0.59634066f)), vec3(0f)), vec3(1f));
     let _e180 = (1f - layer2_transmit_v);
-    let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40606037f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e201 / vec3(0.4036585f));
-    let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.5963415f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.9941894f, 0.99203056f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40606117f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e201 / vec3(0.4036593f));
+    let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.59634066f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.99418914f, 0.99203026f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }

@@ -23,7 +23,7 @@ struct PreviewVarying {
 
 static const float layer1_alpha = 0.064166665;
 static const float layer1_mu_c = 0.745356;
-static const float3 layer1_rho = float3(0.9218583, 0.73782545, 0.30311453);
+static const float3 layer1_rho = float3(0.9217673, 0.73775256, 0.3030846);
 static const float layer1_trapped_escape = 0.11389495;
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
@@ -114,12 +114,12 @@ uint naga_f2u32(float value) {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 float coat_extra(float cos_theta, float roughness, float eta_1)
 {
-    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -131,22 +131,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -160,13 +160,13 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
 {
-    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -178,22 +178,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -229,11 +229,11 @@ float3 fr_conductor(float cos_i_1, float3 eta_4, float3 k)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 float ggx_albedo(float cos_theta_2, float roughness_2)
 {
-    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 15.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 14.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -241,14 +241,14 @@ float ggx_albedo(float cos_theta_2, float roughness_2)
     float node_roughness_2 = (u_roughness_2 * 15.0);
     float cell_roughness_2 = min(floor(node_roughness_2), 14.0);
     float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    uint _e35 = (naga_f2u32((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u);
-    float at_ll = glazec_tables[(_e35 >> 2u)][(_e35 & 3u)];
-    uint _e55 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u);
-    float at_ul = glazec_tables[(_e55 >> 2u)][(_e55 & 3u)];
-    uint _e76 = (naga_f2u32((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
-    float at_lu = glazec_tables[(_e76 >> 2u)][(_e76 & 3u)];
-    uint _e97 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
-    float at_uu = glazec_tables[(_e97 >> 2u)][(_e97 & 3u)];
+    uint _e40 = (naga_f2u32((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u);
+    float at_ll = glazec_tables[(_e40 >> 2u)][(_e40 & 3u)];
+    uint _e60 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u);
+    float at_ul = glazec_tables[(_e60 >> 2u)][(_e60 & 3u)];
+    uint _e81 = (naga_f2u32((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
+    float at_lu = glazec_tables[(_e81 >> 2u)][(_e81 & 3u)];
+    uint _e102 = (naga_f2u32(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
+    float at_uu = glazec_tables[(_e102 >> 2u)][(_e102 & 3u)];
     return ((((at_ll * ((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1.0 - weight_roughness_2)))) + (at_lu * ((1.0 - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
 }
 
@@ -326,7 +326,7 @@ float3 coated_gold_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_2, 0.1, 1.5);
     const float layer1_restored_v = coat_extra(n_dot_v_2, 0.1, 1.5);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00021147133);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00020991957);
     float3 specular = (_e21 + (_e29).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
     const float _e38 = coat_deficit(n_dot_l_2, 0.1, 1.5);

@@ -6,7 +6,7 @@ struct PreviewVarying {
 };
 const float layer1_alpha = 0.064166665;
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.9218583, 0.73782545, 0.30311453);
+const vec3 layer1_rho = vec3(0.9217673, 0.73775256, 0.3030846);
 const float layer1_trapped_escape = 0.11389495;
 
 layout(location = 0) in vec2 _p2vs_location0;

@@ -25,14 +25,14 @@ static const float3 layer1_tau = float3(0.02, 0.02, 0.02);
 static const float3 layer2_tau = float3(0.35999998, 0.2, 0.040000003);
 static const float3 layer4_rho_ms = float3(0.8032769, 0.8032769, 0.713542);
 static const float3 layer4_rho = float3(0.89252996, 0.89252996, 0.8394612);
-static const float3 layer4_r_return = float3(0.32180643, 0.32180643, 0.32180643);
-static const float3 layer3_rho = float3(0.8527521, 0.8527521, 0.7851878);
-static const float3 layer3_r_return = float3(0.020395279, 0.055905163, 0.14811933);
-static const float3 layer2_rho = float3(0.2631604, 0.41320744, 0.6438656);
+static const float3 layer4_r_return = float3(0.32178938, 0.32178938, 0.32178938);
+static const float3 layer3_rho = float3(0.8527515, 0.8527515, 0.7851866);
+static const float3 layer3_r_return = float3(0.02038759, 0.055897713, 0.1481126);
+static const float3 layer2_rho = float3(0.26315475, 0.413203, 0.64386284);
 static const float3 layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer1_rho = float3(0.24350794, 0.38234955, 0.5957823);
-static const float3 layer1_r_return = float3(0.59487253, 0.59487253, 0.59487253);
+static const float3 layer1_rho = float3(0.24350269, 0.38234544, 0.5957798);
+static const float3 layer1_r_return = float3(0.5948766, 0.5948766, 0.5948766);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
 ByteAddressBuffer pairs : register(t0);
@@ -114,12 +114,12 @@ uint naga_f2u32(float value) {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 float coat_extra(float cos_theta, float roughness, float eta_1)
 {
-    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -131,22 +131,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -160,13 +160,13 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
 {
-    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -178,22 +178,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -230,13 +230,13 @@ float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 float coat_path(float cos_theta_2, float roughness_2, float eta_4)
 {
-    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -248,22 +248,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4)
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e59 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -358,7 +358,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_3, 0.2, 1.5);
     const float layer1_restored_v = coat_extra(n_dot_v_3, 0.2, 1.5);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.001108249);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011289268);
     float3 specular = (_e21 + (_e29).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
     const float _e38 = coat_deficit(n_dot_l_3, 0.2, 1.5);
@@ -392,7 +392,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e102 = f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
     const float layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3, 1.1);
     const float layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3, 1.1);
-    const float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000701045);
+    const float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.00071036624);
     float3 layer2_specular = (_e102 + (_e110).xxx);
     const float layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
     const float _e119 = coat_deficit(layer2_n_dot_l, 0.3, 1.1);
@@ -420,7 +420,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e173 = f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
     const float layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5, 1.2);
     const float layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5, 1.2);
-    const float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014132841);
+    const float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014620898);
     float3 layer3_specular = (_e173 + (_e181).xxx);
     const float layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
     const float _e190 = coat_deficit(layer3_n_dot_l, 0.5, 1.2);
@@ -444,27 +444,27 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e252 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     const float _e254 = e_fon(layer4_path_cos_l, 0.4);
     float3 layer4_first_escape_l = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e254)) * (0.18731904).xxx) / max(_e252, (1e-6).xxx)));
-    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.67819357).xxx)) / (0.32180643).xxx), (0.0).xxx), (1.0).xxx);
+    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.6782106).xxx)) / (0.32178938).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e289 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     const float _e291 = e_fon(layer4_path_cos_v, 0.4);
     float3 layer4_first_escape_v = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e291)) * (0.18731904).xxx) / max(_e289, (1e-6).xxx)));
-    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.67819357).xxx)) / (0.32180643).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9669647, 0.9669647, 0.96877354), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.6782106).xxx)) / (0.32178938).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.96696204, 0.96696204, 0.96877116), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     const float3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
-    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.67819357).xxx, layer4_first_escape_l, layer4_first_return_l);
-    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.67819357).xxx, layer4_first_escape_v, layer4_first_return_v);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6782106).xxx, layer4_first_escape_l, layer4_first_return_l);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.6782106).xxx, layer4_first_escape_v, layer4_first_return_v);
     float _e354 = (1.0 - layer4_transmit_l);
-    float3 _e375 = min(max(((((_e354 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e354).xxx), (0.0).xxx) * (0.8201173).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l = (_e375 / (0.81007236).xxx);
-    float3 layer2_first_return_l = min(max((((1.0).xxx - _e375) / (0.18992764).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e375 = min(max(((((_e354 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e354).xxx), (0.0).xxx) * (0.82014084).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e375 / (0.81007874).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e375) / (0.18992126).xxx), (0.0).xxx), (1.0).xxx);
     float _e392 = (1.0 - layer4_transmit_v);
-    float3 _e413 = min(max(((((_e392 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e392).xxx), (0.0).xxx) * (0.8201173).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v = (_e413 / (0.81007236).xxx);
-    float3 layer2_first_return_v = min(max((((1.0).xxx - _e413) / (0.18992764).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93489885, 0.93489885, 0.93384814), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
+    float3 _e413 = min(max(((((_e392 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e392).xxx), (0.0).xxx) * (0.82014084).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e413 / (0.81007874).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e413) / (0.18992126).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.9348574, 0.9348574, 0.9338111), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     const float3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_l, layer2_first_return_l);
-    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48139316, 0.6025642, 0.76187444), layer2_first_escape_v, layer2_first_return_v);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48139694, 0.6025689, 0.7618804), layer2_first_escape_l, layer2_first_return_l);
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48139694, 0.6025689, 0.7618804), layer2_first_escape_v, layer2_first_return_v);
     float _e458 = (1.0 - layer3_transmit_l);
     float3 _e476 = min(max(((((_e458 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e458).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l = (_e476 / (0.9999998).xxx);
@@ -478,14 +478,14 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
     float _e551 = (1.0 - layer2_transmit_l);
-    float3 _e572 = min(max(((((_e551 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e551).xxx), (0.0).xxx) * (0.4163022).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e572 / (0.40512747).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e572) / (0.59487253).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e572 = min(max(((((_e551 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e551).xxx), (0.0).xxx) * (0.41630295).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e572 / (0.4051234).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e572) / (0.5948766).xxx), (0.0).xxx), (1.0).xxx);
     float _e589 = (1.0 - layer2_transmit_v);
-    float3 _e610 = min(max(((((_e589 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e589).xxx), (0.0).xxx) * (0.4163022).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e610 / (0.40512747).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e610) / (0.59487253).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9812149).xxx, min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    float3 _e610 = min(max(((((_e589 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e589).xxx), (0.0).xxx) * (0.41630295).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e610 / (0.4051234).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e610) / (0.5948766).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.981207).xxx, min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }

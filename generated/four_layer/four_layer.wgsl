@@ -22,14 +22,14 @@ const layer1_tau: vec3<f32> = vec3<f32>(0.02f, 0.02f, 0.02f);
 const layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
 const layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
-const layer4_r_return: vec3<f32> = vec3<f32>(0.32180643f, 0.32180643f, 0.32180643f);
-const layer3_rho: vec3<f32> = vec3<f32>(0.8527521f, 0.8527521f, 0.7851878f);
-const layer3_r_return: vec3<f32> = vec3<f32>(0.020395279f, 0.055905163f, 0.14811933f);
-const layer2_rho: vec3<f32> = vec3<f32>(0.2631604f, 0.41320744f, 0.6438656f);
+const layer4_r_return: vec3<f32> = vec3<f32>(0.32178938f, 0.32178938f, 0.32178938f);
+const layer3_rho: vec3<f32> = vec3<f32>(0.8527515f, 0.8527515f, 0.7851866f);
+const layer3_r_return: vec3<f32> = vec3<f32>(0.02038759f, 0.055897713f, 0.1481126f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.26315475f, 0.413203f, 0.64386284f);
 const layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.24350794f, 0.38234955f, 0.5957823f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.59487253f, 0.59487253f, 0.59487253f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.24350269f, 0.38234544f, 0.5957798f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.5948766f, 0.5948766f, 0.5948766f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4052>;
@@ -97,11 +97,11 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
-    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -113,22 +113,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -141,12 +141,12 @@ fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
-    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -158,22 +158,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -207,12 +207,12 @@ fn d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
-    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -224,22 +224,22 @@ fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let _e59 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -326,7 +326,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_3, 0.2f, 1.5f);
     let layer1_restored_v = coat_extra(n_dot_v_3, 0.2f, 1.5f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.001108249f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011289268f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5f);
     let _e38 = coat_deficit(n_dot_l_3, 0.2f, 1.5f);
@@ -360,7 +360,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e102 = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3f, 1.1f);
     let layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3f, 1.1f);
-    let _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000701045f);
+    let _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.00071036624f);
     let layer2_specular = (_e102 + vec3(_e110));
     let layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1f);
     let _e119 = coat_deficit(layer2_n_dot_l, 0.3f, 1.1f);
@@ -388,7 +388,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e173 = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5f, 1.2f);
     let layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5f, 1.2f);
-    let _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014132841f);
+    let _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014620898f);
     let layer3_specular = (_e173 + vec3(_e181));
     let layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2f);
     let _e190 = coat_deficit(layer3_n_dot_l, 0.5f, 1.2f);
@@ -412,27 +412,27 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e252 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
     let _e254 = e_fon(layer4_path_cos_l, 0.4f);
     let layer4_first_escape_l = (vec3(1f) + (((layer4_rho_ms * (1f - _e254)) * vec3(0.18731904f)) / max(_e252, vec3(0.000001f))));
-    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67819357f))) / vec3(0.32180643f)), vec3(0f)), vec3(1f));
+    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6782106f))) / vec3(0.32178938f)), vec3(0f)), vec3(1f));
     let _e289 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
     let _e291 = e_fon(layer4_path_cos_v, 0.4f);
     let layer4_first_escape_v = (vec3(1f) + (((layer4_rho_ms * (1f - _e291)) * vec3(0.18731904f)) / max(_e289, vec3(0.000001f))));
-    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67819357f))) / vec3(0.32180643f)), vec3(0f)), vec3(1f));
-    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9669647f, 0.9669647f, 0.96877354f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6782106f))) / vec3(0.32178938f)), vec3(0f)), vec3(1f));
+    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.96696204f, 0.96696204f, 0.96877116f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.67819357f), layer4_first_escape_l, layer4_first_return_l);
-    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.67819357f), layer4_first_escape_v, layer4_first_return_v);
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6782106f), layer4_first_escape_l, layer4_first_return_l);
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6782106f), layer4_first_escape_v, layer4_first_return_v);
     let _e354 = (1f - layer4_transmit_l);
-    let _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e375 / vec3(0.81007236f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e375) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
+    let _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0f)) * vec3(0.82014084f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e375 / vec3(0.81007874f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e375) / vec3(0.18992126f)), vec3(0f)), vec3(1f));
     let _e392 = (1f - layer4_transmit_v);
-    let _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0f)) * vec3(0.8201173f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e413 / vec3(0.81007236f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e413) / vec3(0.18992764f)), vec3(0f)), vec3(1f));
-    let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93489885f, 0.93489885f, 0.93384814f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
+    let _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0f)) * vec3(0.82014084f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e413 / vec3(0.81007874f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e413) / vec3(0.18992126f)), vec3(0f)), vec3(1f));
+    let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9348574f, 0.9348574f, 0.9338111f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     let layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_l, layer2_first_return_l);
-    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139316f, 0.6025642f, 0.76187444f), layer2_first_escape_v, layer2_first_return_v);
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48139694f, 0.6025689f, 0.7618804f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48139694f, 0.6025689f, 0.7618804f), layer2_first_escape_v, layer2_first_return_v);
     let _e458 = (1f - layer3_transmit_l);
     let _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l = (_e476 / vec3(0.9999998f));
@@ -446,14 +446,14 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
     let _e551 = (1f - layer2_transmit_l);
-    let _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e572 / vec3(0.40512747f));
-    let first_return_l = min(max(((vec3(1f) - _e572) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
+    let _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0f)) * vec3(0.41630295f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e572 / vec3(0.4051234f));
+    let first_return_l = min(max(((vec3(1f) - _e572) / vec3(0.5948766f)), vec3(0f)), vec3(1f));
     let _e589 = (1f - layer2_transmit_v);
-    let _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0f)) * vec3(0.4163022f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e610 / vec3(0.40512747f));
-    let first_return_v = min(max(((vec3(1f) - _e610) / vec3(0.59487253f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9812149f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0f)) * vec3(0.41630295f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e610 / vec3(0.4051234f));
+    let first_return_v = min(max(((vec3(1f) - _e610) / vec3(0.5948766f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.981207f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }

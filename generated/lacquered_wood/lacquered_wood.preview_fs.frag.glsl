@@ -5,7 +5,7 @@ struct PreviewLight {
     vec4 radiance;
 };
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.1900987, 0.09112894, 0.03887011);
+const vec3 under = vec3(0.1900985, 0.09112888, 0.038870092);
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4052]; };
 
@@ -77,11 +77,11 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 float coat_extra(float cos_theta, float roughness, float eta_1) {
-    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -93,22 +93,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e59 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -121,12 +121,12 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
-    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -138,22 +138,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e59 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lll_1 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_ull_1 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_lul_1 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
+    float at_uul_1 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -166,12 +166,12 @@ vec3 refract_down(vec3 w, vec3 n, float eta_3) {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
-    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -183,22 +183,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e59 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = _group_0_binding_3_fs[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = _group_0_binding_3_fs[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = _group_0_binding_3_fs[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = _group_0_binding_3_fs[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = _group_0_binding_3_fs[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = _group_0_binding_3_fs[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = _group_0_binding_3_fs[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = _group_0_binding_3_fs[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lll_2 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_ull_2 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_lul_2 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
+    float at_uul_2 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -230,7 +230,7 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_restored_l = coat_extra(n_dot_l_2, 0.08, 1.5);
     float layer1_restored_v = coat_extra(n_dot_v_2, 0.08, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00011824656);
+    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.000113990085);
     vec3 specular = (_e21 + vec3(_e29));
     float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
     float _e38 = coat_deficit(n_dot_l_2, 0.08, 1.5);

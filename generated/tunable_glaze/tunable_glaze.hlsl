@@ -121,12 +121,12 @@ uint naga_f2u32(float value) {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 float coat_extra(float cos_theta, float roughness, float eta_1)
 {
-    float u_cos_theta = sqrt(min(max(cos_theta, 0.0), 1.0));
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -138,27 +138,27 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e59 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
+    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
+    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
 float coat_extra_avg(float roughness_1, float eta_2)
 {
@@ -191,13 +191,13 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 float coat_deficit(float cos_theta_1, float roughness_2, float eta_3)
 {
-    float u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0.0), 1.0));
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -209,22 +209,22 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3)
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e59 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
+    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
+    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -238,13 +238,13 @@ float3 refract_down(float3 w, float3 n, float eta_4)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 float coat_path(float cos_theta_2, float roughness_3, float eta_5)
 {
-    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -256,22 +256,22 @@ float coat_path(float cos_theta_2, float roughness_3, float eta_5)
     float node_eta_3 = (u_eta_3 * 7.0);
     float cell_eta_3 = min(floor(node_eta_3), 6.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    uint _e59 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    uint _e64 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    uint _e90 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    uint _e117 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    uint _e144 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
+    float at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    uint _e171 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    uint _e198 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    uint _e225 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    uint _e252 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
+    float at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
@@ -337,7 +337,7 @@ float3 albedo_eon(float3 albedo_3, float r_4, float mu_2)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
 float fresnel_transmit_avg(float eta_6)
 {
@@ -353,7 +353,7 @@ float fresnel_transmit_avg(float eta_6)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
 float coat_deficit_avg(float roughness_4, float eta_7)
 {
@@ -377,7 +377,7 @@ float coat_deficit_avg(float roughness_4, float eta_7)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // (1 − R(τ; r, η))/⟨T_int⟩, R(τ) = ∫ 2μ e^(−2τ/μ) R_int(μ) dμ: the share of diffuse light
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
@@ -417,7 +417,7 @@ float coat_return(float tau_1, float roughness_5, float eta_8)
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
 float coat_escape(float tau_2, float roughness_6, float eta_9)

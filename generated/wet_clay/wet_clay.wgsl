@@ -20,7 +20,7 @@ struct PreviewVarying {
 
 const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.116509795f, 0.116509795f, 0.116509795f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.11650884f, 0.11650884f, 0.11650884f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4052>;
@@ -96,11 +96,11 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
 fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
-    let u_cos_theta = sqrt(min(max(cos_theta, 0f), 1f));
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
@@ -112,22 +112,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e59 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
+    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
+    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -140,12 +140,12 @@ fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
 fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
-    let u_cos_theta_1 = sqrt(min(max(cos_theta_1, 0f), 1f));
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
@@ -157,22 +157,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e59 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
+    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
+    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -185,12 +185,12 @@ fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
-    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
@@ -202,22 +202,22 @@ fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let _e59 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lll_2 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_ull_2 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lul_2 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_uul_2 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_llu_2 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_ulu_2 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_luu_2 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_uuu_2 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let _e64 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
+    let _e90 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
+    let _e117 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
+    let _e144 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
+    let at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
+    let _e171 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
+    let _e198 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
+    let _e225 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
+    let _e252 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
+    let at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -273,7 +273,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_3, 0.12f, 1.33f);
     let layer1_restored_v = coat_extra(n_dot_v_3, 0.12f, 1.33f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031316964f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031296743f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.33f);
     let _e38 = coat_deficit(n_dot_l_3, 0.12f, 1.33f);

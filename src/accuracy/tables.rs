@@ -17,7 +17,7 @@
 //!   normalised by ⟨T_int⟩ (see the table docs for why).
 //!
 //! Smooth columns (α < 10⁻³, as in the reference) and η = 1 (no interface) are exact: Fresnel's
-//! equations. Grazing nodes (μ = 0) are evaluated at μ = [`GRAZING_COSINE`].
+//! equations. Cosine axes start at μ = [`GRAZING_COSINE`], where the lobes clamp their cosines.
 
 use std::sync::Mutex;
 
@@ -28,8 +28,9 @@ use crate::math::tables::{Axis, TableId, TableSpec};
 use crate::reference::microsurface::{self, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
 
-/// The cosine at which μ = 0 nodes of rough interfaces are evaluated (the limit is degenerate).
-pub const GRAZING_COSINE: f64 = 1e-3;
+/// The smallest cosine any node is evaluated at (the first node of a cosine axis; μ = 0 itself
+/// is degenerate): the lobes' clamp.
+pub const GRAZING_COSINE: f64 = crate::math::tables::COSINE_FLOOR;
 
 /// GGX α below which an interface is smooth (the reference's threshold).
 const SMOOTH_ALPHA: f64 = 1e-3;
@@ -354,21 +355,21 @@ fn smooth_transmission_average(eta: f64) -> f64 {
 }
 
 /// ∫₀¹ 2μ c(μ) dμ for a curve stored at the nodes of a cosine axis and interpolated linearly
-/// in u = √μ, as the lookups do: ∫₀¹ 4u³ c(u) du, exactly (3-point Gauss–Legendre per cell).
+/// in its coordinate u, as the lookups do. With μ^¼ = a + b u (a = μ₀^¼, b = 1 − a; see
+/// [`Axis::Cosine`]) the integral over the nodes is ∫₀¹ 8b (a + bu)⁷ c(u) du, a polynomial of
+/// degree 8 per cell, so 16-point Gauss–Legendre is exact; below μ₀ the lookups hold the first
+/// node's value, which adds μ₀² c₀.
 fn curve_average(values: &[f64]) -> f64 {
-    const GL3: [(f64, f64); 3] = [
-        (0.112_701_665_379_258_3, 0.277_777_777_777_777_8),
-        (0.5, 0.444_444_444_444_444_4),
-        (0.887_298_334_620_741_7, 0.277_777_777_777_777_8),
-    ];
+    let a = f64::from(crate::math::tables::COSINE_FLOOR_ROOT);
+    let b = 1.0 - a;
     let n = values.len();
     let h = 1.0 / (n - 1) as f64;
-    let mut total = 0.0;
+    let mut total = GRAZING_COSINE * GRAZING_COSINE * values[0];
     for i in 0..n - 1 {
-        for &(x, w) in &GL3 {
-            let u = (i as f64 + x) * h;
+        for (x, w) in gauss_legendre_16() {
+            let root = a + b * (i as f64 + x) * h;
             let c = values[i] + (values[i + 1] - values[i]) * x;
-            total += w * h * 4.0 * u * u * u * c;
+            total += w * h * 8.0 * b * root.powi(7) * c;
         }
     }
     total

@@ -9,7 +9,8 @@
 //! conductor's single-scattering albedo is tabulated the same way.
 //!
 //! **Axes.** Every axis maps its argument to a coordinate u ∈ [0, 1] sampled at n uniform nodes:
-//! [`Axis::Cosine`] u = √μ (dense near grazing, where Fresnel changes fastest), [`Axis::Roughness`]
+//! [`Axis::Cosine`] u = (μ^¼ − μ₀^¼)/(1 − μ₀^¼) from μ₀ = 10⁻⁴ (dense near grazing, where a rough
+//! interface's albedo changes fastest), [`Axis::Roughness`]
 //! u = √r (α = r²), [`Axis::Ior`] u = 2(η − 1)/(η + 1) (η ∈ [1, 3]; u² = 4·F0), [`Axis::Depth`]
 //! u = τ/(1 + τ) (τ ∈ [0, ∞]). Arguments outside the range clamp to its ends.
 //!
@@ -25,10 +26,19 @@ use std::sync::{Arc, OnceLock};
 
 use super::{Kind, Real, Slot, TermDef};
 
+/// The smallest cosine a cosine axis resolves: the lobes' clamp, `layering::COS_EPSILON`.
+pub const COSINE_FLOOR: f64 = 1e-4;
+/// [`COSINE_FLOOR`]^¼.
+pub const COSINE_FLOOR_ROOT: f32 = 0.1;
+
 /// How an axis maps its argument to the table coordinate u ∈ [0, 1].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
-    /// A cosine μ ∈ [0, 1]: u = √μ.
+    /// A cosine μ ∈ [μ₀, 1]: u = (μ^¼ − μ₀^¼)/(1 − μ₀^¼), μ₀ = [`COSINE_FLOOR`]. Dense towards
+    /// grazing incidence, where the single-scattering albedo changes fastest (α ≈ μ); the first
+    /// node sits at μ₀, where the lobes clamp their cosines, so that a table and the analytic lobe
+    /// it complements agree down to grazing (with u = √μ and a node at μ = 10⁻³ standing for
+    /// μ = 0, a rough coat gained 4% energy at 89.99°).
     Cosine,
     /// A roughness r ∈ [0, 1] (GGX α = r²): u = √r, dense for glossy lobes (a rough
     /// interface's effect at grazing angles switches on where α ≈ μ).
@@ -43,7 +53,10 @@ impl Axis {
     /// The coordinate of an argument (clamped into the axis range).
     pub fn coordinate<F: Real>(self, x: F) -> F {
         match self {
-            Axis::Cosine => x.clamp(0.0, 1.0).sqrt(),
+            Axis::Cosine => {
+                (x.clamp(COSINE_FLOOR as f32, 1.0).sqrt().sqrt() - COSINE_FLOOR_ROOT)
+                    * (1.0 / (1.0 - COSINE_FLOOR_ROOT))
+            }
             Axis::Roughness => x.clamp(0.0, 1.0).sqrt(),
             Axis::Ior => ((x - 1.0) * 2.0 / (x + 1.0)).clamp(0.0, 1.0),
             Axis::Depth => {
@@ -58,7 +71,10 @@ impl Axis {
     pub fn node(self, i: usize, n: usize) -> f64 {
         let u = i as f64 / (n - 1) as f64;
         match self {
-            Axis::Cosine => u * u,
+            Axis::Cosine => {
+                let root = f64::from(COSINE_FLOOR_ROOT);
+                (root + (1.0 - root) * u).powi(4)
+            }
             Axis::Roughness => u * u,
             Axis::Ior => (2.0 + u) / (2.0 - u),
             Axis::Depth if i + 1 == n => f64::INFINITY,
@@ -122,7 +138,7 @@ macro_rules! table_doc {
     ($($line:literal),* $(,)?) => {
         &[
             "Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);",
-            "multilinear in u = √μ, √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the table's range.",
+            "multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.",
             $($line),*
         ]
     };
