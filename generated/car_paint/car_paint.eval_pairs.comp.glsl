@@ -12,16 +12,16 @@ struct EvalDispatch {
     uint pair_count;
 };
 const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
-const float layer2_alpha = 0.09026667;
+const float layer2_alpha = 0.09037713;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.8502039, 0.86376613, 0.86376613);
+const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.70841473, 0.054162826, 0.02450037);
+const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
 const vec3 layer1_r_return = vec3(0.59634066, 0.59634066, 0.59634066);
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4052]; };
+layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 
 layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
@@ -333,10 +333,10 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     vec3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     vec3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    float _e103 = ggx_albedo(layer2_cos_l, 0.30044413);
+    float _e103 = ggx_albedo(layer2_cos_l, 0.3006279);
     vec3 _e105 = f_schlick(f0_under_coat, layer2_cos_l);
     vec3 layer2_albedo_l = (_e105 * _e103);
-    float _e108 = ggx_albedo(layer2_cos_v, 0.30044413);
+    float _e108 = ggx_albedo(layer2_cos_v, 0.3006279);
     vec3 _e110 = f_schlick(f0_under_coat, layer2_cos_v);
     vec3 layer2_albedo_v = (_e110 * _e108);
     vec3 layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1.0 - layer2_transmit_l));
@@ -357,7 +357,7 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0.0)) * vec3(0.40606117))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_v = (_e201 / vec3(0.4036593));
     vec3 first_return_v = min(max(((vec3(1.0) - _e201) / vec3(0.59634066)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9958361, 0.99418914, 0.99203026), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9958361, 0.9941891, 0.99203014), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

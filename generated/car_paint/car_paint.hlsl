@@ -22,16 +22,16 @@ struct PreviewVarying {
 };
 
 static const float3 layer1_tau = float3(0.048, 0.96000004, 1.32);
-static const float layer2_alpha = 0.09026667;
+static const float layer2_alpha = 0.09037713;
 static const float3 f0_under_coat = float3(0.86560106, 0.88020647, 0.88020647);
 static const float layer2_mu_c = 0.19705611;
-static const float3 layer2_rho = float3(0.8502039, 0.86376613, 0.86376613);
+static const float3 layer2_rho = float3(0.85015357, 0.863715, 0.863715);
 static const float layer2_trapped_escape = 1.0;
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer1_rho = float3(0.70841473, 0.054162826, 0.02450037);
+static const float3 layer1_rho = float3(0.70837235, 0.054159977, 0.024499279);
 static const float3 layer1_r_return = float3(0.59634066, 0.59634066, 0.59634066);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -377,10 +377,10 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     const float3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     const float3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    const float _e103 = ggx_albedo(layer2_cos_l, 0.30044413);
+    const float _e103 = ggx_albedo(layer2_cos_l, 0.3006279);
     const float3 _e105 = f_schlick(f0_under_coat, layer2_cos_l);
     float3 layer2_albedo_l = (_e105 * _e103);
-    const float _e108 = ggx_albedo(layer2_cos_v, 0.30044413);
+    const float _e108 = ggx_albedo(layer2_cos_v, 0.3006279);
     const float3 _e110 = f_schlick(f0_under_coat, layer2_cos_v);
     float3 layer2_albedo_v = (_e110 * _e108);
     float3 layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1.0 - layer2_transmit_l));
@@ -401,7 +401,7 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 _e201 = min(max(((((_e180 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e180).xxx), (0.0).xxx) * (0.40606117).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 first_escape_v = (_e201 / (0.4036593).xxx);
     float3 first_return_v = min(max((((1.0).xxx - _e201) / (0.59634066).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.9958361, 0.99418914, 0.99203026), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.9958361, 0.9941891, 0.99203014), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }

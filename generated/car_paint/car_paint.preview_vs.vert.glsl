@@ -5,13 +5,13 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
-const float layer2_alpha = 0.09026667;
+const float layer2_alpha = 0.09037713;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.8502039, 0.86376613, 0.86376613);
+const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.70841473, 0.054162826, 0.02450037);
+const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
 const vec3 layer1_r_return = vec3(0.59634066, 0.59634066, 0.59634066);
 
 layout(location = 0) in vec2 _p2vs_location0;

@@ -19,17 +19,17 @@ struct PreviewVarying {
 }
 
 const layer1_tau: vec3<f32> = vec3<f32>(0.048f, 0.96000004f, 1.32f);
-const layer2_alpha: f32 = 0.09026667f;
+const layer2_alpha: f32 = 0.09037713f;
 const f0_under_coat: vec3<f32> = vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f);
 const layer2_mu_c: f32 = 0.19705611f;
-const layer2_rho: vec3<f32> = vec3<f32>(0.8502039f, 0.86376613f, 0.86376613f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.85015357f, 0.863715f, 0.863715f);
 const layer2_trapped_escape: f32 = 1f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.70841473f, 0.054162826f, 0.02450037f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.70837235f, 0.054159977f, 0.024499279f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.59634066f, 0.59634066f, 0.59634066f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -346,10 +346,10 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     let layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
     let layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    let _e103 = ggx_albedo(layer2_cos_l, 0.30044413f);
+    let _e103 = ggx_albedo(layer2_cos_l, 0.3006279f);
     let _e105 = f_schlick(f0_under_coat, layer2_cos_l);
     let layer2_albedo_l = (_e105 * _e103);
-    let _e108 = ggx_albedo(layer2_cos_v, 0.30044413f);
+    let _e108 = ggx_albedo(layer2_cos_v, 0.3006279f);
     let _e110 = f_schlick(f0_under_coat, layer2_cos_v);
     let layer2_albedo_v = (_e110 * _e108);
     let layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1f - layer2_transmit_l));
@@ -370,7 +370,7 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40606117f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let first_escape_v = (_e201 / vec3(0.4036593f));
     let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.59634066f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.99418914f, 0.99203026f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.9941891f, 0.99203014f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }

@@ -21,12 +21,12 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-static const float layer1_alpha = 0.064166665;
+static const float layer1_alpha = 0.06485702;
 static const float layer1_mu_c = 0.745356;
-static const float3 layer1_rho = float3(0.9217673, 0.73775256, 0.3030846);
-static const float layer1_trapped_escape = 0.11389495;
+static const float3 layer1_rho = float3(0.9215437, 0.7375736, 0.3030111);
+static const float layer1_trapped_escape = 0.11505668;
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -346,10 +346,10 @@ float3 coated_gold_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
     const float3 layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
     const float3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    const float _e88 = ggx_albedo(layer1_cos_l, 0.2533114);
+    const float _e88 = ggx_albedo(layer1_cos_l, 0.2546704);
     const float3 _e97 = fr_conductor(layer1_cos_l, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
     float3 layer1_albedo_l = (_e97 * _e88);
-    const float _e100 = ggx_albedo(layer1_cos_v, 0.2533114);
+    const float _e100 = ggx_albedo(layer1_cos_v, 0.2546704);
     const float3 _e109 = fr_conductor(layer1_cos_v, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
     float3 layer1_albedo_v = (_e109 * _e100);
     float3 inner_l = ((1.0).xxx * (1.0 - layer1_transmit_l));

@@ -4,12 +4,12 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const float layer1_alpha = 0.064166665;
+const float layer1_alpha = 0.06485702;
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.9217673, 0.73775256, 0.3030846);
-const float layer1_trapped_escape = 0.11389495;
+const vec3 layer1_rho = vec3(0.9215437, 0.7375736, 0.3030111);
+const float layer1_trapped_escape = 0.11505668;
 
-layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4052]; };
+layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -298,10 +298,10 @@ vec3 coated_gold_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
     vec3 layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
     vec3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    float _e88 = ggx_albedo(layer1_cos_l, 0.2533114);
+    float _e88 = ggx_albedo(layer1_cos_l, 0.2546704);
     vec3 _e97 = fr_conductor(layer1_cos_l, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
     vec3 layer1_albedo_l = (_e97 * _e88);
-    float _e100 = ggx_albedo(layer1_cos_v, 0.2533114);
+    float _e100 = ggx_albedo(layer1_cos_v, 0.2546704);
     vec3 _e109 = fr_conductor(layer1_cos_v, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
     vec3 layer1_albedo_v = (_e109 * _e100);
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));

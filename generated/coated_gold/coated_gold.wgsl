@@ -18,13 +18,13 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
-const layer1_alpha: f32 = 0.064166665f;
+const layer1_alpha: f32 = 0.06485702f;
 const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.9217673f, 0.73775256f, 0.3030846f);
-const layer1_trapped_escape: f32 = 0.11389495f;
+const layer1_rho: vec3<f32> = vec3<f32>(0.9215437f, 0.7375736f, 0.3030111f);
+const layer1_trapped_escape: f32 = 0.11505668f;
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -318,10 +318,10 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
     let layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let _e88 = ggx_albedo(layer1_cos_l, 0.2533114f);
+    let _e88 = ggx_albedo(layer1_cos_l, 0.2546704f);
     let _e97 = fr_conductor(layer1_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_albedo_l = (_e97 * _e88);
-    let _e100 = ggx_albedo(layer1_cos_v, 0.2533114f);
+    let _e100 = ggx_albedo(layer1_cos_v, 0.2546704f);
     let _e109 = fr_conductor(layer1_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_albedo_v = (_e109 * _e100);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));

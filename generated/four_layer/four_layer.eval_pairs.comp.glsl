@@ -24,7 +24,7 @@ const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.24350269, 0.38234544, 0.5957798);
 const vec3 layer1_r_return = vec3(0.5948766, 0.5948766, 0.5948766);
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4052]; };
+layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 
 layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
@@ -399,13 +399,13 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer4_path_cos_v = (layer4_cos_v / _e245);
     vec3 _e252 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     float _e254 = e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e254)) * vec3(0.18731904)) / max(_e252, vec3(1e-6))));
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e254)) * vec3(0.18698311)) / max(_e252, vec3(1e-6))));
     vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6782106))) / vec3(0.32178938)), vec3(0.0)), vec3(1.0));
     vec3 _e289 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     float _e291 = e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e291)) * vec3(0.18731904)) / max(_e289, vec3(1e-6))));
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e291)) * vec3(0.18698311)) / max(_e289, vec3(1e-6))));
     vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6782106))) / vec3(0.32178938)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.96696204, 0.96696204, 0.96877116), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9670215, 0.9670215, 0.9688271), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     vec3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
     vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6782106), layer4_first_escape_l, layer4_first_return_l);
     vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6782106), layer4_first_escape_v, layer4_first_return_v);

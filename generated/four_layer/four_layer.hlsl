@@ -34,7 +34,7 @@ static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 layer1_rho = float3(0.24350269, 0.38234544, 0.5957798);
 static const float3 layer1_r_return = float3(0.5948766, 0.5948766, 0.5948766);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -443,13 +443,13 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer4_path_cos_v = (layer4_cos_v / _e245);
     const float3 _e252 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     const float _e254 = e_fon(layer4_path_cos_l, 0.4);
-    float3 layer4_first_escape_l = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e254)) * (0.18731904).xxx) / max(_e252, (1e-6).xxx)));
+    float3 layer4_first_escape_l = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e254)) * (0.18698311).xxx) / max(_e252, (1e-6).xxx)));
     float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.6782106).xxx)) / (0.32178938).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e289 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     const float _e291 = e_fon(layer4_path_cos_v, 0.4);
-    float3 layer4_first_escape_v = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e291)) * (0.18731904).xxx) / max(_e289, (1e-6).xxx)));
+    float3 layer4_first_escape_v = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e291)) * (0.18698311).xxx) / max(_e289, (1e-6).xxx)));
     float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.6782106).xxx)) / (0.32178938).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.96696204, 0.96696204, 0.96877116), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9670215, 0.9670215, 0.9688271), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     const float3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
     const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6782106).xxx, layer4_first_escape_l, layer4_first_return_l);
     const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.6782106).xxx, layer4_first_escape_v, layer4_first_return_v);

@@ -32,7 +32,7 @@ const layer1_rho: vec3<f32> = vec3<f32>(0.24350269f, 0.38234544f, 0.5957798f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.5948766f, 0.5948766f, 0.5948766f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -411,13 +411,13 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_path_cos_v = (layer4_cos_v / _e245);
     let _e252 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
     let _e254 = e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((layer4_rho_ms * (1f - _e254)) * vec3(0.18731904f)) / max(_e252, vec3(0.000001f))));
+    let layer4_first_escape_l = (vec3(1f) + (((layer4_rho_ms * (1f - _e254)) * vec3(0.18698311f)) / max(_e252, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6782106f))) / vec3(0.32178938f)), vec3(0f)), vec3(1f));
     let _e289 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
     let _e291 = e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((layer4_rho_ms * (1f - _e291)) * vec3(0.18731904f)) / max(_e289, vec3(0.000001f))));
+    let layer4_first_escape_v = (vec3(1f) + (((layer4_rho_ms * (1f - _e291)) * vec3(0.18698311f)) / max(_e289, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6782106f))) / vec3(0.32178938f)), vec3(0f)), vec3(1f));
-    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.96696204f, 0.96696204f, 0.96877116f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9670215f, 0.9670215f, 0.9688271f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6782106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6782106f), layer4_first_escape_v, layer4_first_return_v);

@@ -14,7 +14,7 @@ struct EvalDispatch {
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
 const vec3 under = vec3(0.1900985, 0.09112888, 0.038870092);
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4052]; };
+layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 
 layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 

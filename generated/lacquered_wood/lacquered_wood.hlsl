@@ -24,7 +24,7 @@ struct PreviewVarying {
 static const float3 tau_1 = float3(0.04, 0.12, 0.35);
 static const float3 under = float3(0.1900985, 0.09112888, 0.038870092);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }

@@ -22,7 +22,7 @@ const tau_1: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
 const under: vec3<f32> = vec3<f32>(0.1900985f, 0.09112888f, 0.038870092f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 

@@ -13,7 +13,7 @@ struct EvalDispatch {
 };
 const vec3 under = vec3(0.29391497, 0.016393924, 0.01303676);
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4052]; };
+layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 
 layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 

@@ -23,7 +23,7 @@ struct PreviewVarying {
 
 static const float3 under = float3(0.29391497, 0.016393924, 0.01303676);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4052]; }
+cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }

@@ -6,7 +6,7 @@ struct PreviewLight {
 };
 const vec3 under = vec3(0.29391497, 0.016393924, 0.01303676);
 
-layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4052]; };
+layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 

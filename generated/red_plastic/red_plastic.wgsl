@@ -21,7 +21,7 @@ struct PreviewVarying {
 const under: vec3<f32> = vec3<f32>(0.29391497f, 0.016393924f, 0.01303676f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 

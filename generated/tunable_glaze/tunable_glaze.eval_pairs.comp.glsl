@@ -19,7 +19,7 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-layout(std140, binding = 4) uniform type_5_block_0Compute { vec4 _group_0_binding_4_cs[4052]; };
+layout(std140, binding = 4) uniform type_5_block_0Compute { vec4 _group_0_binding_4_cs[4060]; };
 
 layout(std140, binding = 3) uniform TunableGlazeParams_block_1Compute { TunableGlazeParams _group_0_binding_3_cs; };
 
@@ -267,8 +267,8 @@ vec3 eon_rho_ms(vec3 albedo, float r_1) {
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
 vec3 fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
-    float s_3 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    float s_over_t = ((s_3 > 0.0) ? (s_3 / max(n_dot_v_2, n_dot_l_2)) : s_3);
+    float s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    float s_over_t = ((s_2 > 0.0) ? (s_2 / max(n_dot_v_2, n_dot_l_2)) : s_2);
     float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
     float e_o = e_fon(n_dot_v_2, r_2);
@@ -430,32 +430,32 @@ vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float we
 // absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 vec3 slab_return(float eta_10, vec3 tau_5) {
-    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
-    float inv_eta_3 = (1.0 / eta_10);
-    vec3 node = slab_tir_node(mu_c_4, tau_5, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_tir_node(mu_c_4, tau_5, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_tir_node(mu_c_4, tau_5, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_tir_node(mu_c_4, tau_5, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_tir_node(mu_c_4, tau_5, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_tir_node(mu_c_4, tau_5, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_tir_node(mu_c_4, tau_5, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_tir_node(mu_c_4, tau_5, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_tir_node(mu_c_4, tau_5, 0.793659, 0.10158371);
-    vec3 node_9 = slab_tir_node(mu_c_4, tau_5, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_tir_node(mu_c_4, tau_5, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_tir_node(mu_c_4, tau_5, 0.9907803, 0.023587668);
-    vec3 node_12 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.009219683, 0.023587668);
-    vec3 node_13 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.04794137, 0.05346966);
-    vec3 node_14 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.11504866, 0.080039166);
-    vec3 node_15 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.20634103, 0.10158371);
-    vec3 node_16 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.31608424, 0.11674627);
-    vec3 node_17 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.4373833, 0.12457352);
-    vec3 node_18 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.5626167, 0.12457352);
-    vec3 node_19 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.68391573, 0.11674627);
-    vec3 node_20 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.793659, 0.10158371);
-    vec3 node_21 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.88495135, 0.080039166);
-    vec3 node_22 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9520586, 0.05346966);
-    vec3 node_23 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9907803, 0.023587668);
+    float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
+    float inv_eta_2 = (1.0 / eta_10);
+    vec3 node = slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
+    vec3 node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
+    vec3 node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
+    vec3 node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
+    vec3 node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
+    vec3 node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
+    vec3 node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
+    vec3 node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
+    vec3 node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
+    vec3 node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
+    vec3 node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
+    vec3 node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
+    vec3 node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
+    vec3 node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
+    vec3 node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
+    vec3 node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
+    vec3 node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
+    vec3 node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
+    vec3 node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
+    vec3 node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
+    vec3 node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
+    vec3 node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
+    vec3 node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
+    vec3 node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
@@ -471,59 +471,37 @@ vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, floa
 // diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
 // Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 vec3 slab_escape(float eta_11, vec3 tau_7) {
-    float mu_c_5 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
-    float inv_eta_4 = (1.0 / eta_11);
-    vec3 node = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.793659, 0.10158371);
-    vec3 node_9 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9907803, 0.023587668);
+    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
+    float inv_eta_3 = (1.0 / eta_11);
+    vec3 node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
+    vec3 node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
+    vec3 node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
+    vec3 node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
+    vec3 node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
+    vec3 node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
+    vec3 node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
+    vec3 node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
+    vec3 node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
+    vec3 node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
+    vec3 node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
+    vec3 node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
 }
 
-// One Gauss–Legendre node (μ = μc + (1 − μc) s², as in `slab_escape_node`) of
-// Q = ∫ 2μ (1 − F_int(μ)) q(1 − μ) dμ over the escape cone, q the quartic of `e_fon`
-// (E_FON = (1 + r q)/(1 + c₁ r)).
-float eon_escape_node(float mu_c_3, float inv_eta_2, float s_2, float weight_3) {
-    float mu_6 = (mu_c_3 + (((1.0 - mu_c_3) * s_2) * s_2));
-    float x_1 = (1.0 - mu_6);
-    float q = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
-    float _e26 = fr_dielectric(mu_6, inv_eta_2);
-    return ((((((mu_6 * (1.0 - mu_c_3)) * s_2) * (1.0 - _e26)) * weight_3) * q) * 4.0);
-}
-
-// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
-// IOR η) through the escape cone than of diffuse light. That lobe sends light in
-// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
-// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
-// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
-// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
+// smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
 float eon_escape_shape(float eta_12) {
-    float mu_c_6 = sqrt(max((1.0 - (1.0 / (eta_12 * eta_12))), 0.0));
-    float inv_eta_5 = (1.0 / eta_12);
-    float node = eon_escape_node(mu_c_6, inv_eta_5, 0.009219683, 0.023587668);
-    float node_1 = eon_escape_node(mu_c_6, inv_eta_5, 0.04794137, 0.05346966);
-    float node_2 = eon_escape_node(mu_c_6, inv_eta_5, 0.11504866, 0.080039166);
-    float node_3 = eon_escape_node(mu_c_6, inv_eta_5, 0.20634103, 0.10158371);
-    float node_4 = eon_escape_node(mu_c_6, inv_eta_5, 0.31608424, 0.11674627);
-    float node_5 = eon_escape_node(mu_c_6, inv_eta_5, 0.4373833, 0.12457352);
-    float node_6 = eon_escape_node(mu_c_6, inv_eta_5, 0.5626167, 0.12457352);
-    float node_7 = eon_escape_node(mu_c_6, inv_eta_5, 0.68391573, 0.11674627);
-    float node_8 = eon_escape_node(mu_c_6, inv_eta_5, 0.793659, 0.10158371);
-    float node_9 = eon_escape_node(mu_c_6, inv_eta_5, 0.88495135, 0.080039166);
-    float node_10 = eon_escape_node(mu_c_6, inv_eta_5, 0.9520586, 0.05346966);
-    float node_11 = eon_escape_node(mu_c_6, inv_eta_5, 0.9907803, 0.023587668);
-    float q_1 = (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
-    vec3 _e60 = slab_escape(eta_12, vec3(0.0));
-    float escape = _e60.x;
-    return (((escape * 0.2877934) - q_1) / (max(escape, 1e-6) * 0.21530515));
+    float u_eta_8 = min(max((((eta_12 - 1.0) * 2.0) / (eta_12 + 1.0)), 0.0), 1.0);
+    float node_eta_8 = (u_eta_8 * 31.0);
+    float cell_eta_8 = min(floor(node_eta_8), 30.0);
+    float weight_eta_8 = (node_eta_8 - cell_eta_8);
+    uint _e23 = (uint(cell_eta_8) + 16208u);
+    float at_l_1 = _group_0_binding_4_cs[(_e23 >> 2u)][(_e23 & 3u)];
+    uint _e37 = (uint((cell_eta_8 + 1.0)) + 16208u);
+    float at_u_1 = _group_0_binding_4_cs[(_e37 >> 2u)][(_e37 & 3u)];
+    return ((at_l_1 * (1.0 - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -584,7 +562,7 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
     vec3 absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
     vec3 absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
-    float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5);
+    float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
     vec3 layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
     vec3 layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);

@@ -28,7 +28,7 @@ struct PreviewVarying {
 }
 
 @group(0) @binding(4) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(3) 
 var<uniform> params_2: TunableGlazeParams;
 @group(0) @binding(0) 
@@ -278,8 +278,8 @@ fn eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
 fn fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
-    let s_3 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    let s_over_t = select(s_3, (s_3 / max(n_dot_v_2, n_dot_l_2)), (s_3 > 0f));
+    let s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
+    let s_over_t = select(s_2, (s_2 / max(n_dot_v_2, n_dot_l_2)), (s_2 > 0f));
     let a_f = (1f / ((r_2 * 0.2877934f) + 1f));
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = e_fon(n_dot_v_2, r_2);
@@ -441,32 +441,32 @@ fn slab_return_node(mu_c_1: f32, inv_eta: f32, tau_4: vec3<f32>, s: f32, weight_
 // absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
 // by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 fn slab_return(eta_10: f32, tau_5: vec3<f32>) -> vec3<f32> {
-    let mu_c_4 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
-    let inv_eta_3 = (1f / eta_10);
-    let node = slab_tir_node(mu_c_4, tau_5, 0.009219683f, 0.023587668f);
-    let node_1 = slab_tir_node(mu_c_4, tau_5, 0.04794137f, 0.05346966f);
-    let node_2 = slab_tir_node(mu_c_4, tau_5, 0.11504866f, 0.080039166f);
-    let node_3 = slab_tir_node(mu_c_4, tau_5, 0.20634103f, 0.10158371f);
-    let node_4 = slab_tir_node(mu_c_4, tau_5, 0.31608424f, 0.11674627f);
-    let node_5 = slab_tir_node(mu_c_4, tau_5, 0.4373833f, 0.12457352f);
-    let node_6 = slab_tir_node(mu_c_4, tau_5, 0.5626167f, 0.12457352f);
-    let node_7 = slab_tir_node(mu_c_4, tau_5, 0.68391573f, 0.11674627f);
-    let node_8 = slab_tir_node(mu_c_4, tau_5, 0.793659f, 0.10158371f);
-    let node_9 = slab_tir_node(mu_c_4, tau_5, 0.88495135f, 0.080039166f);
-    let node_10 = slab_tir_node(mu_c_4, tau_5, 0.9520586f, 0.05346966f);
-    let node_11 = slab_tir_node(mu_c_4, tau_5, 0.9907803f, 0.023587668f);
-    let node_12 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.009219683f, 0.023587668f);
-    let node_13 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.04794137f, 0.05346966f);
-    let node_14 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.11504866f, 0.080039166f);
-    let node_15 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.20634103f, 0.10158371f);
-    let node_16 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.31608424f, 0.11674627f);
-    let node_17 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.4373833f, 0.12457352f);
-    let node_18 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.5626167f, 0.12457352f);
-    let node_19 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.68391573f, 0.11674627f);
-    let node_20 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.793659f, 0.10158371f);
-    let node_21 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.88495135f, 0.080039166f);
-    let node_22 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9520586f, 0.05346966f);
-    let node_23 = slab_return_node(mu_c_4, inv_eta_3, tau_5, 0.9907803f, 0.023587668f);
+    let mu_c_3 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
+    let inv_eta_2 = (1f / eta_10);
+    let node = slab_tir_node(mu_c_3, tau_5, 0.009219683f, 0.023587668f);
+    let node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137f, 0.05346966f);
+    let node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866f, 0.080039166f);
+    let node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103f, 0.10158371f);
+    let node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424f, 0.11674627f);
+    let node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833f, 0.12457352f);
+    let node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167f, 0.12457352f);
+    let node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573f, 0.11674627f);
+    let node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659f, 0.10158371f);
+    let node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135f, 0.080039166f);
+    let node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586f, 0.05346966f);
+    let node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803f, 0.023587668f);
+    let node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683f, 0.023587668f);
+    let node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137f, 0.05346966f);
+    let node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866f, 0.080039166f);
+    let node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103f, 0.10158371f);
+    let node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424f, 0.11674627f);
+    let node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833f, 0.12457352f);
+    let node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167f, 0.12457352f);
+    let node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573f, 0.11674627f);
+    let node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659f, 0.10158371f);
+    let node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135f, 0.080039166f);
+    let node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586f, 0.05346966f);
+    let node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803f, 0.023587668f);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
@@ -482,59 +482,37 @@ fn slab_escape_node(mu_c_2: f32, inv_eta_1: f32, tau_6: vec3<f32>, s_1: f32, wei
 // diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
 // Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
 fn slab_escape(eta_11: f32, tau_7: vec3<f32>) -> vec3<f32> {
-    let mu_c_5 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
-    let inv_eta_4 = (1f / eta_11);
-    let node = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.009219683f, 0.023587668f);
-    let node_1 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.04794137f, 0.05346966f);
-    let node_2 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.11504866f, 0.080039166f);
-    let node_3 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.20634103f, 0.10158371f);
-    let node_4 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.31608424f, 0.11674627f);
-    let node_5 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.4373833f, 0.12457352f);
-    let node_6 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.5626167f, 0.12457352f);
-    let node_7 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.68391573f, 0.11674627f);
-    let node_8 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.793659f, 0.10158371f);
-    let node_9 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.88495135f, 0.080039166f);
-    let node_10 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9520586f, 0.05346966f);
-    let node_11 = slab_escape_node(mu_c_5, inv_eta_4, tau_7, 0.9907803f, 0.023587668f);
+    let mu_c_4 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
+    let inv_eta_3 = (1f / eta_11);
+    let node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683f, 0.023587668f);
+    let node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137f, 0.05346966f);
+    let node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866f, 0.080039166f);
+    let node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103f, 0.10158371f);
+    let node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424f, 0.11674627f);
+    let node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833f, 0.12457352f);
+    let node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167f, 0.12457352f);
+    let node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573f, 0.11674627f);
+    let node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659f, 0.10158371f);
+    let node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135f, 0.080039166f);
+    let node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586f, 0.05346966f);
+    let node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803f, 0.023587668f);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
 }
 
-// One Gauss–Legendre node (μ = μc + (1 − μc) s², as in `slab_escape_node`) of
-// Q = ∫ 2μ (1 − F_int(μ)) q(1 − μ) dμ over the escape cone, q the quartic of `e_fon`
-// (E_FON = (1 + r q)/(1 + c₁ r)).
-fn eon_escape_node(mu_c_3: f32, inv_eta_2: f32, s_2: f32, weight_3: f32) -> f32 {
-    let mu_6 = (mu_c_3 + (((1f - mu_c_3) * s_2) * s_2));
-    let x_1 = (1f - mu_6);
-    let q = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
-    let _e26 = fr_dielectric(mu_6, inv_eta_2);
-    return ((((((mu_6 * (1f - mu_c_3)) * s_2) * (1f - _e26)) * weight_3) * q) * 4f);
-}
-
-// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
-// IOR η) through the escape cone than of diffuse light. That lobe sends light in
-// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
-// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
-// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
-// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
+// smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
 fn eon_escape_shape(eta_12: f32) -> f32 {
-    let mu_c_6 = sqrt(max((1f - (1f / (eta_12 * eta_12))), 0f));
-    let inv_eta_5 = (1f / eta_12);
-    let node = eon_escape_node(mu_c_6, inv_eta_5, 0.009219683f, 0.023587668f);
-    let node_1 = eon_escape_node(mu_c_6, inv_eta_5, 0.04794137f, 0.05346966f);
-    let node_2 = eon_escape_node(mu_c_6, inv_eta_5, 0.11504866f, 0.080039166f);
-    let node_3 = eon_escape_node(mu_c_6, inv_eta_5, 0.20634103f, 0.10158371f);
-    let node_4 = eon_escape_node(mu_c_6, inv_eta_5, 0.31608424f, 0.11674627f);
-    let node_5 = eon_escape_node(mu_c_6, inv_eta_5, 0.4373833f, 0.12457352f);
-    let node_6 = eon_escape_node(mu_c_6, inv_eta_5, 0.5626167f, 0.12457352f);
-    let node_7 = eon_escape_node(mu_c_6, inv_eta_5, 0.68391573f, 0.11674627f);
-    let node_8 = eon_escape_node(mu_c_6, inv_eta_5, 0.793659f, 0.10158371f);
-    let node_9 = eon_escape_node(mu_c_6, inv_eta_5, 0.88495135f, 0.080039166f);
-    let node_10 = eon_escape_node(mu_c_6, inv_eta_5, 0.9520586f, 0.05346966f);
-    let node_11 = eon_escape_node(mu_c_6, inv_eta_5, 0.9907803f, 0.023587668f);
-    let q_1 = (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
-    let _e60 = slab_escape(eta_12, vec3(0f));
-    let escape = _e60.x;
-    return (((escape * 0.2877934f) - q_1) / (max(escape, 0.000001f) * 0.21530515f));
+    let u_eta_8 = min(max((((eta_12 - 1f) * 2f) / (eta_12 + 1f)), 0f), 1f);
+    let node_eta_8 = (u_eta_8 * 31f);
+    let cell_eta_8 = min(floor(node_eta_8), 30f);
+    let weight_eta_8 = (node_eta_8 - cell_eta_8);
+    let _e23 = (u32(cell_eta_8) + 16208u);
+    let at_l_1 = glazec_tables[(_e23 >> 2u)][(_e23 & 3u)];
+    let _e37 = (u32((cell_eta_8 + 1f)) + 16208u);
+    let at_u_1 = glazec_tables[(_e37 >> 2u)][(_e37 & 3u)];
+    return ((at_l_1 * (1f - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -596,7 +574,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_path_cos_v = select((layer1_cos_v / _e80), layer1_cos_v, (params.glaze_ior < 1f));
     let absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
-    let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.5f);
+    let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
     let layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);

@@ -8,7 +8,7 @@ const vec3 tau_1 = vec3(0.32000002, 0.32000002, 0.32000002);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_r_return = vec3(0.11650884, 0.11650884, 0.11650884);
 
-layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4052]; };
+layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 

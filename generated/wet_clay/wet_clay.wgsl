@@ -23,7 +23,7 @@ const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.11650884f, 0.11650884f, 0.11650884f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4052>;
+var<uniform> glazec_tables: array<vec4<f32>, 4060>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 

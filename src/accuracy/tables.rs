@@ -159,6 +159,11 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
     let n_eta = TableId::FresnelTransmitAvg.spec().axes[0].1;
     let fresnel: Vec<f64> = (0..n_eta).map(|e| smooth_transmission_average(node(Axis::Ior, e, n_eta))).collect();
     put(TableId::FresnelTransmitAvg, 0, &fresnel);
+    let n_eta = TableId::EonEscapeShape.spec().axes[0].1;
+    let shape: Vec<f64> = (0..n_eta)
+        .map(|e| f64::from(crate::math::terms::eon_escape_shape_exact::<f32>(node(Axis::Ior, e, n_eta) as f32)))
+        .collect();
+    put(TableId::EonEscapeShape, 0, &shape);
     let (albedo, average) = ggx_albedo(TableId::GgxAlbedo.spec());
     tables[TableId::GgxAlbedo as usize] = albedo;
     tables[TableId::GgxAlbedoAvg as usize] = average;

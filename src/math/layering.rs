@@ -328,11 +328,15 @@ struct Albedo<F: Real> {
 }
 
 /// How much a rough coat widens a conductor's lobe under it: α += BLUR_WIDTH · |1 − 1/η| α_coat.
-/// A facet tilted by θm refracts a ray by about (1 − 1/η) θm, on the way in and out; GGX slopes
-/// are heavy-tailed, so widths add linearly rather than in quadrature (Belcour 2018 adds
-/// variances). The factor ½ is an a-priori choice; against the reference (standard set, copper,
-/// coat r = 0.5) it gives a lobe error of 15–19%, 0.6 would give 10–15%, 1 gives 24–31%.
-const BLUR_WIDTH: f32 = 0.5;
+/// A facet tilted by θm refracts a ray by about (1 − 1/η) θm (Walter et al. 2007, the
+/// refraction Jacobian at normal incidence). The light crosses the coat twice, through
+/// independent facets, so the two deviations add in quadrature: √2 (1 − 1/η) α_coat in
+/// direction. A GGX lobe of width α in half-vector slope reflects into 2α in direction, so that
+/// spread is (1/√2)(1 − 1/η) α_coat in the conductor's α. GGX slopes are heavy-tailed, so the
+/// added width adds to the conductor's own linearly rather than in quadrature (Belcour 2018 adds
+/// variances). Against the reference (standard set, copper under coats of roughness 0.5) this
+/// gives a lobe error of 9–14%; the earlier ½ (a guess) gave 14–20%.
+const BLUR_WIDTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
 
 /// The interfaced method from coat `k` down. `blur` is the GGX α that rough coats above add to a
 /// conductor's lobe (see [`BLUR_WIDTH`]).
@@ -531,8 +535,8 @@ fn first_pass<F: Real>(
 /// diffuse light (treating it as diffuse made a water-coated EON 0.011 too bright at normal
 /// incidence; README "Accuracy"). Of the body's albedo E(μ) = ρE_FON(μ) + ρ_ms(1 − E_FON(μ)),
 /// the FON part is taken to leave like diffuse light and the multiple-scattering part with the
-/// cone's weight for its shape, `eon_escape_shape` s (of the smooth interface; for a rough coat
-/// an approximation): escape factor x(μ) = 1 + ρ_ms(1 − E_FON(μ))(s − 1)/E(μ), return factor
+/// cone's weight for its shape, `eon_escape_shape_exact` s (of the smooth interface, tabulated
+/// over η; for a rough coat an approximation): escape factor x(μ) = 1 + ρ_ms(1 − E_FON(μ))(s − 1)/E(μ), return factor
 /// (1 − x E_esc(0))/R(0) clamped to [0, 1] (R(0) = 1 − E_esc(0): a white body still returns
 /// everything, E = 1). The return factor at the cone's mean cosine normalises the viewer's side
 /// as in [`first_pass`]. Guards: E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, the return at the mean ≥ 10⁻³.
@@ -549,7 +553,7 @@ fn eon_first_pass<F: Real>(
     let (r_clear, e_clear) = clear();
     let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
     let one = inputs.lit(1.0).splat();
-    let shape = eon_escape_shape(interface.eta).named(&name("eon_escape_shape"));
+    let shape = tables::lookup(TableId::EonEscapeShape, &[interface.eta]).named(&name("eon_escape_shape"));
     let rho_ms = eon_rho_ms(rho, r).named(&name("rho_ms"));
     let factors = |mu: F, side: &str| {
         let e = albedo_eon(rho, r, mu);

@@ -117,6 +117,7 @@ pub enum TableId {
     CoatEscape,
     GgxAlbedo,
     GgxAlbedoAvg,
+    EonEscapeShape,
 }
 
 /// The single-scattering deficit decides the energy balance and switches on sharply near
@@ -156,7 +157,7 @@ const fn table(
 
 /// Every table's layout. Changing one invalidates `data/tables.bin` (regenerate it with
 /// `glazec tables`).
-pub const SPECS: [TableSpec; 10] = [
+pub const SPECS: [TableSpec; 11] = [
     table(
         "coat_deficit_table",
         &DEFICIT_GRID,
@@ -246,10 +247,20 @@ pub const SPECS: [TableSpec; 10] = [
         &[("roughness", S)],
         table_doc!["⟨E⟩(r) = ∫ 2μ E(μ; r) dμ.",],
     ),
+    table(
+        "eon_escape_shape_table",
+        &[(Axis::Ior, 32)],
+        "eon_escape_shape",
+        &[("eta", S)],
+        table_doc![
+            "s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a",
+            "smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.",
+        ],
+    ),
 ];
 
 impl TableId {
-    pub const ALL: [TableId; 10] = [
+    pub const ALL: [TableId; 11] = [
         TableId::CoatDeficit,
         TableId::CoatExtra,
         TableId::CoatPath,
@@ -260,6 +271,7 @@ impl TableId {
         TableId::CoatEscape,
         TableId::GgxAlbedo,
         TableId::GgxAlbedoAvg,
+        TableId::EonEscapeShape,
     ];
 
     pub fn spec(self) -> &'static TableSpec {
@@ -454,6 +466,19 @@ mod tests {
             assert!(values.iter().all(|v| v.is_finite() && range.contains(v)), "{}", spec.name);
         }
         assert_eq!(encode(&tables), TABLE_FILE);
+    }
+
+    #[test]
+    fn eon_escape_shape_table_matches_its_quadrature() {
+        for eta in [1.0_f32, 1.1, 1.33, 1.5, 1.7, 2.0, 2.5, 3.0] {
+            let table = lookup::<f32>(TableId::EonEscapeShape, &[eta]);
+            let exact = crate::math::terms::eon_escape_shape_exact::<f32>(eta);
+            assert!((table - exact).abs() < 2e-3, "η {eta}: table {table}, quadrature {exact}");
+        }
+        // Without a cone every direction escapes, so s = 1 up to the quartic fit of E_FON that
+        // `e_fon` uses (Portsmouth et al.: max error 4.7·10⁻⁴), which the constants c₁, c₂ do not share.
+        let at_one = crate::math::terms::eon_escape_shape_exact::<f32>(1.0);
+        assert!((at_one - 1.0).abs() < 1e-3, "no cone, no preference: {at_one}");
     }
 
     #[test]

@@ -553,9 +553,9 @@ shading_fn! {
     /// IOR η) through the escape cone than of diffuse light. That lobe sends light in
     /// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
     /// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
-    /// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone
-    /// (folded to a constant when η is a literal). Guard: E_esc(0) ≥ 10⁻⁶.
-    pub fn eon_escape_shape(eta: S) -> S {
+    /// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone.
+    /// `glazec tables` tabulates it over η (`eon_escape_shape` looks it up). Guard: E_esc(0) ≥ 10⁻⁶.
+    pub fn eon_escape_shape_exact(eta: S) -> S {
         let q = super::layering::eon_escape_q(eta);
         let escape = slab_escape(eta, eta.lit(0.0).splat()).x();
         (escape * FON_C1 - q) / (escape.at_least(1e-6) * (FON_C1 - FON_C2))
