@@ -149,7 +149,7 @@ where
     let front = pareto_front(&points);
     let highest = rows.iter().map(|r| panel.worst.unwrap_or(panel.error)(r)).fold(f64::MIN_POSITIVE, f64::max);
     let lowest = points.iter().map(|p| p.1).filter(|y| *y > 0.0).fold(f64::INFINITY, f64::min);
-    let x_max = rows.iter().map(|r| r.time_ratio).fold(1.0, f64::max) * 1.25;
+    let x_max = rows.iter().map(|r| r.time_ratio).fold(1.0, f64::max) * 1.6; // room for the labels
     let mut chart = ChartBuilder::on(area)
         .caption(panel.title, (FONT, 15))
         .margin(12)
