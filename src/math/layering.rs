@@ -495,11 +495,7 @@ fn first_pass<F: Real>(
     let lower = CoatInterface::new(&next.lobe, inputs.scalar(next.ior), inputs, k + 1, interface.approx);
     let (r_clear, e_clear) = clear();
     let (r_clear, e_clear) = (r_clear.x(), e_clear.x());
-    // The escape cone of coat k seen from inside: μc = √(1 − 1/η²), its projected-solid-angle
-    // mean cosine (2/3)(1 − μc³)/(1 − μc²) (2/3 without TIR).
-    let mu_c = interface.eta.sq().recip().one_minus().at_least(0.0).sqrt();
-    let mu_mean =
-        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0);
+    let mu_mean = interface.escape_cone_mean_cosine();
     let t_cone_below = lower.transmission(mu_mean, "cone");
     // Coats further down concentrate the light further (their boost, handed up).
     let boost =
@@ -572,9 +568,7 @@ fn eon_first_pass<F: Real>(
     let mu_v = interface.path_cosine(above.raw_n_dot_v, below.n_dot_v, "v");
     let (escape_l, return_l) = factors(mu_l, "l");
     let (escape_v, return_v) = factors(mu_v, "v");
-    let mu_c = interface.eta.sq().recip().one_minus().at_least(0.0).sqrt();
-    let mu_mean =
-        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0);
+    let mu_mean = interface.escape_cone_mean_cosine();
     let (_, return_mean) = factors(mu_mean, "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
     FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost: inputs.lit(1.0) }
@@ -631,6 +625,13 @@ impl<'i, F: Real> CoatInterface<'i, F> {
 
     fn name(&self, base: &str) -> String {
         level_name(base, self.level)
+    }
+
+    /// The mean cosine of the escape cone seen from inside, weighted by projected solid angle:
+    /// (2/3)(1 − μc³)/(1 − μc²) with μc = √(1 − 1/η²) (2/3 without TIR). Guard: 1 − μc² ≥ 10⁻⁶.
+    fn escape_cone_mean_cosine(&self) -> F {
+        let mu_c = self.eta.sq().recip().one_minus().at_least(0.0).sqrt();
+        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0)
     }
 
     /// The tables cover η ∈ [1, 3]. A rough coat of lower relative IOR (optically thinner than
