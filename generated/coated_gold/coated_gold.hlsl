@@ -24,7 +24,7 @@ struct PreviewVarying {
 static const float layer1_alpha = 0.06485702;
 static const float layer1_mu_c = 0.745356;
 static const float3 layer1_rho = float3(0.9215437, 0.7375736, 0.3030111);
-static const float layer1_trapped_escape = 0.11505668;
+static const float layer1_trapped_escape = 0.1150567;
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);

@@ -21,7 +21,7 @@ struct PreviewVarying {
 const layer1_alpha: f32 = 0.06485702f;
 const layer1_mu_c: f32 = 0.745356f;
 const layer1_rho: vec3<f32> = vec3<f32>(0.9215437f, 0.7375736f, 0.3030111f);
-const layer1_trapped_escape: f32 = 0.11505668f;
+const layer1_trapped_escape: f32 = 0.1150567f;
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;

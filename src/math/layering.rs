@@ -965,6 +965,30 @@ pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Ve
     sum
 }
 
+/// 4-point Gauss–Legendre nodes and weights on [0, 1].
+const GAUSS_LEGENDRE_4: [(f32, f32); 4] = [
+    (0.069_431_84, 0.173_927_42),
+    (0.330_009_5, 0.326_072_58),
+    (0.669_990_5, 0.326_072_58),
+    (0.930_568_16, 0.173_927_42),
+];
+
+/// The smooth rest ∫ (p − h) du of `trapped_escape` over the cone, u = μc² + d, d ∈ [0, 1 − μc²]:
+/// the trapped share p (`trapped_share`) minus its edge profile h(d) = ½(1 − d/√(w² + d²)),
+/// by 4-point Gauss–Legendre quadrature.
+pub fn trapped_rest<F: Real>(mu_c: F, alpha: F, w: F) -> F {
+    let c2 = mu_c.sq();
+    let width = c2.one_minus();
+    let mut sum = mu_c.lit(0.0);
+    for (x, weight) in GAUSS_LEGENDRE_4 {
+        let d = width * x;
+        let p = trapped_share((c2 + d).sqrt(), mu_c, alpha);
+        let h = (d / (w.sq() + d.sq()).sqrt()).one_minus() * 0.5;
+        sum = sum + (p - h).named("node") * weight;
+    }
+    sum * width
+}
+
 /// Q of [`eon_escape_shape`]: the integral over the escape cone of a smooth interface of
 /// relative IOR `eta`, with the nodes of [`slab_integral`] (no TIR part: nothing escapes there).
 pub fn eon_escape_q<F: Real>(eta: F) -> F {

@@ -416,15 +416,7 @@ shading_fn! {
         let c2 = mu_c.sq();
         let width = c2.one_minus();
         let w = mu_c * width.at_least(0.0).sqrt() * alpha * 4.0;
-        let d1 = width * 0.069_431_84;
-        let d2 = width * 0.330_009_5;
-        let d3 = width * 0.669_990_52;
-        let d4 = width * 0.930_568_16;
-        let r1 = trapped_share((c2 + d1).sqrt(), mu_c, alpha) - (d1 / (w.sq() + d1.sq()).sqrt()).one_minus() * 0.5;
-        let r2 = trapped_share((c2 + d2).sqrt(), mu_c, alpha) - (d2 / (w.sq() + d2.sq()).sqrt()).one_minus() * 0.5;
-        let r3 = trapped_share((c2 + d3).sqrt(), mu_c, alpha) - (d3 / (w.sq() + d3.sq()).sqrt()).one_minus() * 0.5;
-        let r4 = trapped_share((c2 + d4).sqrt(), mu_c, alpha) - (d4 / (w.sq() + d4.sq()).sqrt()).one_minus() * 0.5;
-        let rest = ((r1 + r4) * 0.173_927_42 + (r2 + r3) * 0.326_072_58) * width;
+        let rest = super::layering::trapped_rest(mu_c, alpha, w);
         let edge = (width + w - (w.sq() + width.sq()).sqrt()) * 0.5;
         let q = (rest + edge) / c2.at_least(1e-4);
         q.min(q.lit(1.0))
