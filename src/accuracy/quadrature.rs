@@ -59,6 +59,14 @@ pub fn directional_albedo_f64(f: &dyn Fn(DVec3, DVec3) -> DVec3, wo: DVec3, shar
 /// The quadrature's nodes for E(wo): light directions `wi` (above the horizon) and weights, so
 /// that E(wo) ≈ Σ weight · f(wi, wo). (For evaluating f elsewhere, e.g. on a GPU.)
 pub fn albedo_nodes(wo: DVec3, sharpest_alpha: f64) -> Vec<(DVec3, f64)> {
+    albedo_nodes_with_breaks(wo, sharpest_alpha, &[])
+}
+
+/// [`albedo_nodes`] with extra breakpoints in θh (radians), where f is known to jump: a coat
+/// optically thinner than the medium above (η < 1) cuts its transmission off at the critical
+/// angle θc, which for wo = n lies at θh = θc/2. Gauss–Legendre nodes across a jump err by the
+/// jump times the panel's width; a breakpoint on it removes that.
+pub fn albedo_nodes_with_breaks(wo: DVec3, sharpest_alpha: f64, breaks: &[f64]) -> Vec<(DVec3, f64)> {
     let a = sharpest_alpha.clamp(1e-3, 1.0);
     let mut edges = vec![0.0];
     let mut edge = a;
@@ -68,6 +76,9 @@ pub fn albedo_nodes(wo: DVec3, sharpest_alpha: f64) -> Vec<(DVec3, f64)> {
         edge *= factor;
         factor = if factor == 3.0 { 10.0 / 3.0 } else { 3.0 };
     }
+    edges.extend(breaks.iter().copied().filter(|&b| b > 1e-9 && b < PI / 2.0 - 1e-9));
+    edges.sort_by(f64::total_cmp);
+    edges.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
     edges.push(PI / 2.0);
     let gauss = gauss_legendre_16();
     let mut nodes = Vec::new();
@@ -97,6 +108,19 @@ pub fn albedo_nodes(wo: DVec3, sharpest_alpha: f64) -> Vec<(DVec3, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_breakpoint_on_a_jump_makes_it_exact() {
+        // Lambert cut off beyond θc (a coat with η < 1 at normal incidence): E = sin²θc.
+        let theta_c = 0.9_f64.asin();
+        let f = |wi: DVec3, _: DVec3| DVec3::splat(if wi.z > theta_c.cos() { 1.0 / PI } else { 0.0 });
+        let exact = theta_c.sin().powi(2);
+        let integrate = |breaks: &[f64]| -> f64 {
+            albedo_nodes_with_breaks(DVec3::Z, 0.04, breaks).iter().map(|&(wi, w)| f(wi, DVec3::Z).x * w).sum()
+        };
+        assert!((integrate(&[theta_c / 2.0]) - exact).abs() < 1e-9);
+        assert!((integrate(&[]) - exact).abs() > 1e-4, "the jump should cost accuracy without a breakpoint");
+    }
 
     #[test]
     fn lambert_integrates_to_its_albedo() {
