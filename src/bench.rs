@@ -186,20 +186,19 @@ pub struct Report {
 /// A device error, or a material that does not compile.
 pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -> Result<Report, String> {
     let pairs = pairs(PAIRS);
-    let timed = |text: &str| -> Result<(crate::Compiled, f64), String> {
+    let kernel_of = |text: &str| -> Result<(crate::Compiled, EvalKernel), String> {
         let compiled = compile(text)?;
         let kernel = EvalKernel::new(gpu, &compiled, ShaderPath::NagaIr).map_err(|e| e.to_string())?;
+        Ok((compiled, kernel))
+    };
+    let timed = |text: &str| -> Result<(crate::Compiled, f64), String> {
+        let (compiled, kernel) = kernel_of(text)?;
         let seconds = kernel_seconds(gpu, &kernel, &pairs).map_err(|e| e.to_string())?;
         Ok((compiled, seconds))
     };
     progress("accuracy of each method");
     let errors = method_errors();
     progress("kernels of the Lambert baseline and every method, interleaved");
-    let kernel_of = |text: &str| -> Result<(crate::Compiled, EvalKernel), String> {
-        let compiled = compile(text)?;
-        let kernel = EvalKernel::new(gpu, &compiled, ShaderPath::NagaIr).map_err(|e| e.to_string())?;
-        Ok((compiled, kernel))
-    };
     let (_, lambert_kernel) = kernel_of("Material(name: \"lambert\", layers: [Lambert(0.5)])")?;
     let method_kernels = Method::MEASURED
         .iter()

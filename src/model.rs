@@ -63,6 +63,18 @@ pub struct Approximations {
     pub single_scattering: bool,
 }
 
+impl Approximations {
+    /// The approximations taken, each as (its argument in a material file, its name in reports).
+    pub fn taken(self) -> impl Iterator<Item = (&'static str, &'static str)> {
+        [
+            (self.schlick_fresnel, ("fresnel: Schlick", "Schlick Fresnel")),
+            (self.single_scattering, ("multiple_scattering: false", "no multiple scattering")),
+        ]
+        .into_iter()
+        .filter_map(|(on, names)| on.then_some(names))
+    }
+}
+
 impl Method {
     pub const NAMES: &'static [&'static str] = &["Additive", "WeidlichWilkie", "Interfaced"];
     /// The default method with no approximations.
@@ -74,7 +86,7 @@ impl Method {
     /// The interfaced method without multiple-scattering compensation.
     pub const INTERFACED_SINGLE_SCATTERING: Method =
         Method::Interfaced(Approximations { schlick_fresnel: false, single_scattering: true });
-    /// Every method and variant that `glazec bench` and `glazec accuracy` measure.
+    /// Every method and variant that `glazec bench` measures.
     pub const MEASURED: [Method; 5] = [
         Method::INTERFACED,
         Method::INTERFACED_SCHLICK,
@@ -95,13 +107,7 @@ impl Method {
     pub fn source(self) -> String {
         match self {
             Method::Interfaced(a) if a != Approximations::default() => {
-                let mut args = Vec::new();
-                if a.schlick_fresnel {
-                    args.push("fresnel: Schlick");
-                }
-                if a.single_scattering {
-                    args.push("multiple_scattering: false");
-                }
+                let args: Vec<&str> = a.taken().map(|(source, _)| source).collect();
                 format!("Interfaced({})", args.join(", "))
             }
             _ => self.name().to_string(),

@@ -562,14 +562,8 @@ pub fn method_label(method: Method) -> String {
     match method {
         Method::INTERFACED => "Interfaced (default)".into(),
         Method::Interfaced(a) => {
-            let mut parts = Vec::new();
-            if a.schlick_fresnel {
-                parts.push("Schlick Fresnel");
-            }
-            if a.single_scattering {
-                parts.push("no multiple scattering");
-            }
-            format!("Interfaced ({})", parts.join(", "))
+            let names: Vec<&str> = a.taken().map(|(_, name)| name).collect();
+            format!("Interfaced ({})", names.join(", "))
         }
         Method::WeidlichWilkie => "WeidlichWilkie (seed 000)".into(),
         Method::Additive => "Additive (Disney clear-coat)".into(),

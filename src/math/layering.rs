@@ -509,10 +509,7 @@ fn first_pass<F: Real>(
         let escaped = (specular * t).splat() + (e - specular.splat()).max(inputs.zero()) * shaped;
         let xi = (escaped / e_safe).max(inputs.zero()).min(one);
         let escape = (xi / e_clear.at_least(1e-4)).named(&name(&format!("first_escape_{side}")));
-        let back = ((one - xi) / r_clear.at_least(1e-4))
-            .max(inputs.zero())
-            .min(one)
-            .named(&name(&format!("first_return_{side}")));
+        let back = first_return(xi, r_clear, inputs).named(&name(&format!("first_return_{side}")));
         (escape, back)
     };
     let (escape_l, return_l) = shares(albedo.e_l, t_below_l, t_l, "l");
@@ -556,10 +553,7 @@ fn eon_first_pass<F: Real>(
         let spread = rho_ms * e_fon(mu, r).one_minus();
         let escape = (one + spread * (shape - 1.0) / e.max(inputs.lit(1e-6).splat()))
             .named(&name(&format!("first_escape_{side}")));
-        let back = ((one - escape * e_clear) / r_clear.at_least(1e-4))
-            .max(inputs.zero())
-            .min(one)
-            .named(&name(&format!("first_return_{side}")));
+        let back = first_return(escape * e_clear, r_clear, inputs).named(&name(&format!("first_return_{side}")));
         (escape, back)
     };
     // A rough coat spreads the refracted light: its effective cosine (the path factor's) stands
@@ -587,7 +581,7 @@ fn trapped<F: Real>(
     let Some(alpha) = alpha else { return inputs.zero() };
     let name = |base: &str| level_name(base, below.level);
     let eta = interface.eta;
-    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt().named(&name("mu_c"));
+    let mu_c = escape_cone_cosine(eta).named(&name("mu_c"));
     let p_l = trapped_share(below.n_dot_l, mu_c, alpha).named(&name("trapped_l"));
     let p_v = trapped_share(below.n_dot_v, mu_c, alpha).named(&name("trapped_v"));
     // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
@@ -630,7 +624,7 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// The mean cosine of the escape cone seen from inside, weighted by projected solid angle:
     /// (2/3)(1 − μc³)/(1 − μc²) with μc = √(1 − 1/η²) (2/3 without TIR). Guard: 1 − μc² ≥ 10⁻⁶.
     fn escape_cone_mean_cosine(&self) -> F {
-        let mu_c = self.eta.sq().recip().one_minus().at_least(0.0).sqrt();
+        let mu_c = escape_cone_cosine(self.eta);
         ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0)
     }
 
@@ -908,6 +902,19 @@ fn base_mean_albedo<F: Real>(
     }
 }
 
+/// The cosine μc = √(1 − 1/η²) of a coat's escape cone seen from inside (0 without TIR, η ≤ 1).
+fn escape_cone_cosine<F: Real>(eta: F) -> F {
+    eta.sq().recip().one_minus().at_least(0.0).sqrt()
+}
+
+/// The return factor of a first pass (see [`FirstPass`]): the share 1 − ξ of the first
+/// reflection that does not escape, against the clear slab's R(0), clamped to [0, 1] (never more
+/// than a diffusing body returns). Guard: R(0) ≥ 10⁻⁴.
+fn first_return<F: Real>(escaped: F::Vec, r_clear: F, inputs: &Inputs<F>) -> F::Vec {
+    let one = inputs.lit(1.0).splat();
+    ((one - escaped) / r_clear.at_least(1e-4)).max(inputs.zero()).min(one)
+}
+
 /// Which slab integral [`slab_integral`] computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SlabIntegral {
@@ -946,7 +953,7 @@ const GAUSS_LEGENDRE_12: [(f64, f64); 12] = [
 /// 12 + 12 nodes give an absolute error below 10⁻⁶ for η ∈ (1, 3] and all τ ≥ 0 (measured
 /// against adaptive quadrature in the tests). For η ≤ 1 there is no TIR cone (μc = 0).
 pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Vec {
-    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt().named("mu_c");
+    let mu_c = escape_cone_cosine(eta).named("mu_c");
     let inv_eta = eta.recip().named("inv_eta");
     let mut sum = eta.lit(0.0).splat();
     if which == SlabIntegral::Return {
@@ -992,7 +999,7 @@ pub fn trapped_rest<F: Real>(mu_c: F, alpha: F, w: F) -> F {
 /// Q of [`eon_escape_shape`]: the integral over the escape cone of a smooth interface of
 /// relative IOR `eta`, with the nodes of [`slab_integral`] (no TIR part: nothing escapes there).
 pub fn eon_escape_q<F: Real>(eta: F) -> F {
-    let mu_c = eta.sq().recip().one_minus().at_least(0.0).sqrt().named("mu_c");
+    let mu_c = escape_cone_cosine(eta).named("mu_c");
     let inv_eta = eta.recip().named("inv_eta");
     let mut q = eta.lit(0.0);
     for (s, w) in GAUSS_LEGENDRE_12 {
