@@ -25,7 +25,7 @@ fn compile_clay() -> usize {
 fn naga_from_wgsl(wgsl: &str) -> usize {
     let module = naga::front::wgsl::parse_str(black_box(wgsl)).expect("parses");
     let info = glazec::validate::validate("clay", &module).expect("validates");
-    let artifacts = glazec::emit::emit("clay", &module, &info, &Target::TEXT).expect("emits");
+    let artifacts = glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), &module, &info, &Target::TEXT).expect("emits");
     artifacts.iter().map(|a| a.contents.len()).sum()
 }
 
@@ -48,9 +48,10 @@ fn stages(c: &mut Criterion) {
         b.iter(|| glazec::validate::validate("clay", black_box(&module)).expect("valid"))
     });
     let info = glazec::validate::validate("clay", &module).expect("valid");
+    let origin = glazec::Origin::new(Some("clay.ron"), CLAY);
     for target in Target::TEXT {
         group.bench_function(format!("emit_{}", target.name()), |b| {
-            b.iter(|| glazec::emit::emit("clay", black_box(&module), &info, &[target]).expect("emits"))
+            b.iter(|| glazec::emit::emit("clay", &origin, black_box(&module), &info, &[target]).expect("emits"))
         });
     }
     group.finish();

@@ -35,7 +35,9 @@ pub mod math;
 pub mod model;
 pub mod output;
 pub mod parse;
+pub mod project;
 pub mod reference;
+pub mod snapshot;
 #[cfg(feature = "gpu")]
 pub mod run;
 pub mod stability;
@@ -48,10 +50,47 @@ pub use model::{Material, SourceMap};
 /// A material that went through every stage up to validation.
 pub struct Compiled {
     pub material: Material,
+    /// Where the text came from; named in the header of every generated file.
+    pub origin: Origin,
     pub source_map: SourceMap,
     pub module: naga::Module,
     pub info: naga::valid::ModuleInfo,
 }
+
+/// The source a material was compiled from, as every generated file's header names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Origin {
+    /// The source file's name (no directory, so that headers do not depend on where a project
+    /// lives), or `None` for text compiled from memory.
+    pub file: Option<String>,
+    /// [`source_hash`] of the text.
+    pub hash: u64,
+}
+
+impl Origin {
+    /// The origin of `text`, read from a file named `file` (its directory is dropped).
+    pub fn new(file: Option<&str>, text: &str) -> Self {
+        let file = file.map(|f| std::path::Path::new(f).file_name().map_or(f.into(), |n| n.to_string_lossy().into()));
+        Origin { file, hash: source_hash(text.as_bytes()) }
+    }
+}
+
+/// The hash that generated files record of their source: 64-bit FNV-1a (Fowler, Noll & Vo).
+/// Chosen because the Rust module written by [`build`] recomputes it in a `const fn` at compile
+/// time, which rules out cryptographic hashes from crates; it detects changes, not attacks.
+pub const fn source_hash(bytes: &[u8]) -> u64 {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut i = 0;
+    while i < bytes.len() {
+        hash ^= bytes[i] as u64;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+        i += 1;
+    }
+    hash
+}
+
+/// The glazec version that generated files name in their header.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// Why a compilation produced nothing.
 #[derive(Debug, thiserror::Error)]
@@ -78,8 +117,18 @@ pub fn load(text: &str) -> Result<(Material, SourceMap), Vec<Diagnostic>> {
 /// # Errors
 /// [`CompileError::Diagnostics`] for bad input; [`CompileError::Internal`] for a compiler bug.
 pub fn compile(text: &str) -> Result<Compiled, CompileError> {
+    compile_source(None, text)
+}
+
+/// Compiles the text of the file `file` (named in generated headers without its directory).
+///
+/// # Errors
+/// As [`compile`].
+pub fn compile_source(file: Option<&str>, text: &str) -> Result<Compiled, CompileError> {
     let (material, source_map) = load(text).map_err(CompileError::Diagnostics)?;
-    Ok(compile_material(material, source_map)?)
+    let mut compiled = compile_material(material, source_map)?;
+    compiled.origin = Origin::new(file, text);
+    Ok(compiled)
 }
 
 /// Lowers and validates an already-checked material (for programs that build [`Material`]s).
@@ -89,7 +138,10 @@ pub fn compile(text: &str) -> Result<Compiled, CompileError> {
 pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Compiled, validate::ValidateError> {
     let module = lower::lower(&material);
     let info = validate::validate(&material.name, &module)?;
-    Ok(Compiled { material, source_map, module, info })
+    // A material built by a program has no text; its model (whose `Debug` form prints every
+    // field, floats exactly) stands in for it.
+    let origin = Origin { file: None, hash: source_hash(format!("{material:?}").as_bytes()) };
+    Ok(Compiled { material, origin, source_map, module, info })
 }
 
 impl Compiled {
@@ -104,6 +156,6 @@ impl Compiled {
     /// # Errors
     /// Only for a backend bug; a validated module is expected to emit.
     pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
-        emit::emit(&self.material.name, &self.module, &self.info, targets)
+        emit::emit(&self.material.name, &self.origin, &self.module, &self.info, targets)
     }
 }

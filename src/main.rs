@@ -2,7 +2,6 @@
 //! the pipeline, prints diagnostics, and maps outcomes to exit codes:
 //! 0 success, 1 diagnostics (or `--check` drift), 2 usage or unreadable input, 3 internal error.
 
-use std::collections::BTreeMap;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -12,10 +11,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use codespan_reporting::term::termcolor::{ColorChoice, StandardStream};
 
 use glam::Vec3;
-use glazec::diag::{self, Code, Diagnostic, Format, Source};
+use glazec::diag::{self, Diagnostic, Format, Source};
 use glazec::model::{Material, Method, ParamValue};
 use glazec::output::{self, OutputFile};
-use glazec::{CompileError, Compiled, Target};
+use glazec::project::{self, ProjectError, SourceFile};
+use glazec::{Compiled, Target};
 
 #[derive(Parser)]
 #[command(name = "glazec", version, about = "A layered-material compiler: RON material stacks → WGSL, GLSL, HLSL")]
@@ -306,45 +306,13 @@ fn main() -> ExitCode {
     }
 }
 
-/// A material file and its text.
-struct Input {
-    path: PathBuf,
-    name: String,
-    text: String,
+/// Reads files and directories of materials (see `glazec::project::read`).
+fn read_inputs(paths: &[PathBuf]) -> anyhow::Result<Vec<SourceFile>> {
+    Ok(project::read(paths)?)
 }
 
-impl Input {
-    fn source(&self) -> Source<'_> {
-        Source { name: &self.name, text: &self.text }
-    }
-}
-
-/// Expands directories to their `*.ron` files (sorted) and reads everything.
-fn read_inputs(paths: &[PathBuf]) -> anyhow::Result<Vec<Input>> {
-    let mut files = Vec::new();
-    for path in paths {
-        if path.is_dir() {
-            let mut entries: Vec<PathBuf> = std::fs::read_dir(path)
-                .with_context(|| format!("cannot read directory {}", path.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "ron") && p.is_file())
-                .collect();
-            entries.sort();
-            if entries.is_empty() {
-                bail!("no .ron files in {}", path.display());
-            }
-            files.extend(entries);
-        } else {
-            files.push(path.clone());
-        }
-    }
-    files
-        .into_iter()
-        .map(|path| {
-            let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-            Ok(Input { name: path.display().to_string(), path, text })
-        })
-        .collect()
+fn source_of(file: &SourceFile) -> (String, &str) {
+    (file.name(), &file.text)
 }
 
 fn print_diagnostics(source: Source<'_>, diagnostics: &[Diagnostic], format: MessageFormat) {
@@ -359,36 +327,18 @@ fn print_diagnostics(source: Source<'_>, diagnostics: &[Diagnostic], format: Mes
 }
 
 /// Compiles every input, printing all diagnostics. Fails if any input has errors.
-fn compile_all(inputs: &[Input], format: MessageFormat) -> Result<Vec<Compiled>, Failure> {
-    let mut compiled: Vec<(&Input, Compiled)> = Vec::new();
-    let mut failed = false;
-    for input in inputs {
-        match glazec::compile(&input.text) {
-            Ok(c) => compiled.push((input, c)),
-            Err(CompileError::Diagnostics(diagnostics)) => {
-                print_diagnostics(input.source(), &diagnostics, format);
-                failed = true;
+fn compile_all(inputs: &[SourceFile], format: MessageFormat) -> Result<Vec<Compiled>, Failure> {
+    match project::compile(inputs) {
+        Ok(compiled) => Ok(compiled),
+        Err(ProjectError::Diagnostics(failed)) => {
+            for f in &failed {
+                let (name, text) = source_of(&inputs[f.file]);
+                print_diagnostics(Source { name: &name, text }, &f.diagnostics, format);
             }
-            Err(CompileError::Internal(e)) => return Err(Failure::Internal(e.into())),
+            Err(Failure::Diagnostics)
         }
+        Err(ProjectError::Internal(e)) => Err(Failure::Internal(e.into())),
     }
-    // Two files declaring one name would overwrite each other's outputs.
-    let mut first_by_name: BTreeMap<&str, &Input> = BTreeMap::new();
-    for (input, c) in &compiled {
-        if let Some(first) = first_by_name.insert(&c.material.name, input) {
-            let span = c.source_map.name.unwrap_or_default();
-            let d = Diagnostic::error(
-                Code::DuplicateMaterial,
-                format!("material `{}` is also defined in {}", c.material.name, first.path.display()),
-                span,
-                "a second material with this name",
-            )
-            .with_help("material names must be unique: they name the output directory and shader symbols");
-            print_diagnostics(input.source(), &[d], format);
-            failed = true;
-        }
-    }
-    if failed { Err(Failure::Diagnostics) } else { Ok(compiled.into_iter().map(|(_, c)| c).collect()) }
 }
 
 fn compile(
@@ -409,16 +359,12 @@ fn compile(
             TargetArg::Spv => Target::Spv,
         })
         .collect();
-    let mut files: Vec<OutputFile> = Vec::new();
-    for c in &compiled {
-        let artifacts = c.emit(&targets).map_err(|e| Failure::Internal(e.into()))?;
-        files.extend(output::plan(out, &c.material.name, artifacts));
-    }
-    if compiled.iter().any(glazec::Compiled::uses_tables) {
-        files.push(output::tables_file(out));
-    }
+    let files = project::plan(out, &compiled, &targets).map_err(|e| Failure::Internal(e.into()))?;
     if check {
         let drift = output::drift(&files);
+        for file in &files {
+            print!("{}", output::unified_diff(file));
+        }
         for d in &drift {
             eprintln!("{d}");
         }
@@ -485,7 +431,8 @@ fn eval(
     let material = match glazec::load(&input.text) {
         Ok((material, _)) => material,
         Err(diagnostics) => {
-            print_diagnostics(input.source(), &diagnostics, format);
+            let (name, text) = source_of(input);
+            print_diagnostics(Source { name: &name, text }, &diagnostics, format);
             return Err(Failure::Diagnostics);
         }
     };
@@ -747,7 +694,7 @@ fn bench(materials_dir: &Path, out: &Path, chart: Option<&Path>) -> Result<(), F
     let inputs = read_inputs(&[materials_dir.to_path_buf()]).map_err(Failure::Usage)?;
     let materials_text: Vec<(String, String)> = inputs
         .into_iter()
-        .map(|i| (i.path.file_stem().map_or(i.name.clone(), |s| s.to_string_lossy().into_owned()), i.text))
+        .map(|i| (i.path.file_stem().map_or_else(|| i.name(), |s| s.to_string_lossy().into_owned()), i.text))
         .collect();
     let gpu = glazec::run::Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
     let mut report = glazec::bench::run(&gpu, &materials_text, &|what| eprintln!("measuring {what}"))

@@ -96,6 +96,27 @@ pub fn drift(files: &[OutputFile]) -> Vec<Drift> {
         .collect()
 }
 
+/// A unified diff (3 lines of context) from the file on disk to the planned contents, headed
+/// `--- <path> (on disk)` / `+++ <path> (generated)`; a missing file diffs against nothing, and
+/// a file that is not UTF-8 on either side gets a one-line note instead. Empty when they agree.
+pub fn unified_diff(file: &OutputFile) -> String {
+    let on_disk = fs::read(&file.path).ok();
+    if on_disk.as_deref() == Some(file.contents.as_slice()) {
+        return String::new();
+    }
+    let path = file.path.display();
+    let old = on_disk.as_deref().map_or(Ok(""), std::str::from_utf8);
+    let (Ok(old), Ok(new)) = (old, std::str::from_utf8(&file.contents)) else {
+        return format!("Binary files {path} (on disk) and {path} (generated) differ\n");
+    };
+    let old_header = if on_disk.is_some() { format!("{path} (on disk)") } else { "/dev/null".to_string() };
+    similar::TextDiff::from_lines(old, new)
+        .unified_diff()
+        .context_radius(3)
+        .header(&old_header, &format!("{path} (generated)"))
+        .to_string()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,6 +133,9 @@ mod tests {
         assert!(drift(&files).is_empty());
         let changed = vec![OutputFile { path: dir.path().join("a/x.txt"), contents: b"three".to_vec() }];
         assert_eq!(drift(&changed), vec![Drift::Different(dir.path().join("a/x.txt"))]);
+        let diff = unified_diff(&changed[0]);
+        assert!(diff.contains("-one") && diff.contains("+three") && diff.contains("(on disk)"), "{diff}");
+        assert!(unified_diff(&files[1]).is_empty());
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;

@@ -73,6 +73,24 @@ fn check_mode_reports_drift_and_writes_nothing() {
 }
 
 #[test]
+fn check_mode_prints_a_unified_diff_of_what_changed() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let target = dir.path().to_str().expect("utf-8");
+    assert_eq!(code(&glazec(&["compile", "materials/clay.ron", "--target", "wgsl", "-o", target])), 0);
+    let wgsl = dir.path().join("clay/clay.wgsl");
+    let original = std::fs::read_to_string(&wgsl).expect("written");
+    let line = original.lines().find(|l| l.starts_with("fn d_ggx")).expect("d_ggx is emitted").to_string();
+    std::fs::write(&wgsl, original.replace(&line, "fn d_ggx_edited_by_hand() {")).expect("edits");
+    let out = glazec(&["compile", "--check", "materials/clay.ron", "--target", "wgsl", "-o", target]);
+    assert_eq!(code(&out), 1);
+    let diff = String::from_utf8_lossy(&out.stdout);
+    assert!(diff.contains("(on disk)") && diff.contains("(generated)") && diff.contains("@@"), "{diff}");
+    assert!(diff.contains("-fn d_ggx_edited_by_hand() {") && diff.contains(&format!("+{line}")), "{diff}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("out of date:"));
+    assert_eq!(std::fs::read_to_string(&wgsl).expect("still there"), original.replace(&line, "fn d_ggx_edited_by_hand() {"));
+}
+
+#[test]
 fn one_bad_file_means_nothing_is_written() {
     let dir = tempfile::tempdir().expect("tmp");
     let bad = dir.path().join("bad.ron");

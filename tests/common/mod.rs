@@ -66,7 +66,8 @@ pub fn material_files() -> Vec<PathBuf> {
 /// Compiles one material file, panicking with rendered diagnostics if it does not compile.
 pub fn compile_file(path: &Path) -> glazec::Compiled {
     let text = std::fs::read_to_string(path).expect("readable material");
-    match glazec::compile(&text) {
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    match glazec::compile_source(file_name.as_deref(), &text) {
         Ok(c) => c,
         Err(glazec::CompileError::Diagnostics(d)) => {
             let source = glazec::diag::Source { name: &path.display().to_string(), text: &text };

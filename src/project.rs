@@ -1,0 +1,169 @@
+//! A set of material files compiled together: what the CLI's `compile`, the [`crate::build`] API
+//! and the [`crate::snapshot`] helper share.
+//!
+//! **Input:** paths (files or directories of `*.ron`). **Output:** every material compiled, or
+//! every file's diagnostics; then the planned output files (shaders per material folder plus the
+//! table file when a shader binds it), ready for [`crate::output::write_all`] or
+//! [`crate::output::drift`].
+//!
+//! Beyond what one file can check, a set checks that material names are unique: a name is a
+//! folder and a shader symbol, so two files declaring one name would overwrite each other.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::diag::{Code, Diagnostic, Source};
+use crate::output::{self, OutputFile};
+use crate::{CompileError, Compiled, Target};
+
+/// A material file and its text.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    pub path: PathBuf,
+    pub text: String,
+}
+
+impl SourceFile {
+    /// The path as diagnostics name it.
+    pub fn name(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    /// The file name that generated headers record (no directory).
+    pub fn file_name(&self) -> String {
+        self.path.file_name().map_or_else(|| self.name(), |n| n.to_string_lossy().into_owned())
+    }
+}
+
+/// A path could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("cannot read {}: {source}", .path.display())]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("no .ron files in {}", .0.display())]
+    Empty(PathBuf),
+}
+
+/// The `*.ron` files directly inside `dir`, sorted by name.
+///
+/// # Errors
+/// The directory cannot be listed, or holds no `.ron` file.
+pub fn material_files(dir: &Path) -> Result<Vec<PathBuf>, ReadError> {
+    let io = |source| ReadError::Io { path: dir.to_path_buf(), source };
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(io)? {
+        let path = entry.map_err(io)?.path();
+        if path.extension().is_some_and(|e| e == "ron") && path.is_file() {
+            files.push(path);
+        }
+    }
+    if files.is_empty() {
+        return Err(ReadError::Empty(dir.to_path_buf()));
+    }
+    files.sort();
+    Ok(files)
+}
+
+/// Reads `paths`, expanding each directory to its [`material_files`].
+///
+/// # Errors
+/// The first path that cannot be read.
+pub fn read(paths: &[PathBuf]) -> Result<Vec<SourceFile>, ReadError> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() { files.extend(material_files(path)?) } else { files.push(path.clone()) }
+    }
+    files
+        .into_iter()
+        .map(|path| match std::fs::read_to_string(&path) {
+            Ok(text) => Ok(SourceFile { path, text }),
+            Err(source) => Err(ReadError::Io { path, source }),
+        })
+        .collect()
+}
+
+/// One file's problems.
+#[derive(Clone, Debug)]
+pub struct FileDiagnostics {
+    /// Index into the files given to [`compile`].
+    pub file: usize,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Why a set of files produced nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum ProjectError {
+    /// Problems in the files' text, per file in input order.
+    #[error("{} file(s) with errors", .0.len())]
+    Diagnostics(Vec<FileDiagnostics>),
+    /// A bug in glazec: naga rejected IR that `lower` built.
+    #[error(transparent)]
+    Internal(#[from] crate::validate::ValidateError),
+}
+
+/// Compiles every file; fails with every file's diagnostics if any has errors (including a
+/// material name declared by two files).
+///
+/// # Errors
+/// See [`ProjectError`].
+pub fn compile(files: &[SourceFile]) -> Result<Vec<Compiled>, ProjectError> {
+    let mut compiled: Vec<(usize, Compiled)> = Vec::new();
+    let mut failed: BTreeMap<usize, Vec<Diagnostic>> = BTreeMap::new();
+    for (index, file) in files.iter().enumerate() {
+        match crate::compile_source(Some(&file.file_name()), &file.text) {
+            Ok(c) => compiled.push((index, c)),
+            Err(CompileError::Diagnostics(diagnostics)) => {
+                failed.insert(index, diagnostics);
+            }
+            Err(CompileError::Internal(e)) => return Err(ProjectError::Internal(e)),
+        }
+    }
+    let mut first_by_name: BTreeMap<&str, usize> = BTreeMap::new();
+    for (index, c) in &compiled {
+        if let Some(first) = first_by_name.insert(&c.material.name, *index) {
+            let span = c.source_map.name.unwrap_or_default();
+            let d = Diagnostic::error(
+                Code::DuplicateMaterial,
+                format!("material `{}` is also defined in {}", c.material.name, files[first].name()),
+                span,
+                "a second material with this name",
+            )
+            .with_help("material names must be unique: they name the output directory and shader symbols");
+            failed.entry(*index).or_default().push(d);
+        }
+    }
+    if failed.is_empty() {
+        Ok(compiled.into_iter().map(|(_, c)| c).collect())
+    } else {
+        Err(ProjectError::Diagnostics(
+            failed.into_iter().map(|(file, diagnostics)| FileDiagnostics { file, diagnostics }).collect(),
+        ))
+    }
+}
+
+/// The files `compiled` materials produce under `out_dir`: `<material>/<artifact>` for each
+/// target, plus [`output::TABLES_FILE`] when any shader binds the table buffer.
+///
+/// # Errors
+/// A backend error (a bug: validated modules are expected to emit).
+pub fn plan(out_dir: &Path, compiled: &[Compiled], targets: &[Target]) -> Result<Vec<OutputFile>, crate::emit::EmitError> {
+    let mut files = Vec::new();
+    for c in compiled {
+        files.extend(output::plan(out_dir, &c.material.name, c.emit(targets)?));
+    }
+    if compiled.iter().any(Compiled::uses_tables) {
+        files.push(output::tables_file(out_dir));
+    }
+    Ok(files)
+}
+
+/// Every file's diagnostics rendered as plain text (codespan-reporting, no colour).
+pub fn render_plain(files: &[SourceFile], failed: &[FileDiagnostics]) -> String {
+    failed
+        .iter()
+        .map(|f| {
+            let file = &files[f.file];
+            crate::diag::render_plain(Source { name: &file.name(), text: &file.text }, &f.diagnostics)
+        })
+        .collect()
+}
