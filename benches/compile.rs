@@ -25,7 +25,8 @@ fn compile_clay() -> usize {
 fn naga_from_wgsl(wgsl: &str) -> usize {
     let module = naga::front::wgsl::parse_str(black_box(wgsl)).expect("parses");
     let info = glazec::validate::validate("clay", &module).expect("validates");
-    let artifacts = glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), &module, &info, &Target::TEXT).expect("emits");
+    let artifacts =
+        glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), &module, &info, &Target::TEXT).expect("emits");
     artifacts.iter().map(|a| a.contents.len()).sum()
 }
 

@@ -24,6 +24,7 @@
 pub mod accuracy;
 #[cfg(feature = "gpu")]
 pub mod bench;
+pub mod build;
 #[cfg(feature = "gpu")]
 pub mod chart;
 pub mod check;
@@ -37,9 +38,9 @@ pub mod output;
 pub mod parse;
 pub mod project;
 pub mod reference;
-pub mod snapshot;
 #[cfg(feature = "gpu")]
 pub mod run;
+pub mod snapshot;
 pub mod stability;
 pub mod validate;
 
@@ -79,14 +80,7 @@ impl Origin {
 /// Chosen because the Rust module written by [`build`] recomputes it in a `const fn` at compile
 /// time, which rules out cryptographic hashes from crates; it detects changes, not attacks.
 pub const fn source_hash(bytes: &[u8]) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut i = 0;
-    while i < bytes.len() {
-        hash ^= bytes[i] as u64;
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-        i += 1;
-    }
-    hash
+    build::prelude::glazec_source_hash(bytes)
 }
 
 /// The glazec version that generated files name in their header.

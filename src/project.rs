@@ -146,7 +146,11 @@ pub fn compile(files: &[SourceFile]) -> Result<Vec<Compiled>, ProjectError> {
 ///
 /// # Errors
 /// A backend error (a bug: validated modules are expected to emit).
-pub fn plan(out_dir: &Path, compiled: &[Compiled], targets: &[Target]) -> Result<Vec<OutputFile>, crate::emit::EmitError> {
+pub fn plan(
+    out_dir: &Path,
+    compiled: &[Compiled],
+    targets: &[Target],
+) -> Result<Vec<OutputFile>, crate::emit::EmitError> {
     let mut files = Vec::new();
     for c in compiled {
         files.extend(output::plan(out_dir, &c.material.name, c.emit(targets)?));

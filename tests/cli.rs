@@ -87,7 +87,10 @@ fn check_mode_prints_a_unified_diff_of_what_changed() {
     assert!(diff.contains("(on disk)") && diff.contains("(generated)") && diff.contains("@@"), "{diff}");
     assert!(diff.contains("-fn d_ggx_edited_by_hand() {") && diff.contains(&format!("+{line}")), "{diff}");
     assert!(String::from_utf8_lossy(&out.stderr).contains("out of date:"));
-    assert_eq!(std::fs::read_to_string(&wgsl).expect("still there"), original.replace(&line, "fn d_ggx_edited_by_hand() {"));
+    assert_eq!(
+        std::fs::read_to_string(&wgsl).expect("still there"),
+        original.replace(&line, "fn d_ggx_edited_by_hand() {")
+    );
 }
 
 #[test]
