@@ -117,26 +117,29 @@ impl Build {
     /// For `build.rs`: generates, speaking cargo's build-script protocol (see the module docs).
     /// Exits the process with status 1 after printing the report if anything fails.
     pub fn run(&self) -> Generated {
-        println!("cargo:rerun-if-changed={}", self.materials.display());
-        if let Ok(files) = project::material_files(&self.materials) {
-            for file in files {
-                println!("cargo:rerun-if-changed={}", file.display());
-            }
+        for line in self.rerun_if_changed() {
+            println!("{line}");
         }
         match self.generate() {
             Ok(generated) => generated,
             Err(e) => {
-                if let BuildError::Diagnostics { summaries, .. } = &e {
-                    for line in summaries {
-                        println!("cargo:warning={line}");
-                    }
-                } else {
-                    println!("cargo:warning=glazec: {}", e.to_string().replace('\n', " "));
+                for line in cargo_warnings(&e) {
+                    println!("{line}");
                 }
                 eprintln!("{e}");
                 std::process::exit(1);
             }
         }
+    }
+
+    /// `cargo:rerun-if-changed` for the materials folder (cargo then watches everything in it,
+    /// including files added later) and for each material file in it.
+    pub fn rerun_if_changed(&self) -> Vec<String> {
+        let mut lines = vec![format!("cargo:rerun-if-changed={}", self.materials.display())];
+        if let Ok(files) = project::material_files(&self.materials) {
+            lines.extend(files.iter().map(|f| format!("cargo:rerun-if-changed={}", f.display())));
+        }
+        lines
     }
 
     /// Compiles every material and writes the shaders and the Rust module, all or nothing.
@@ -187,6 +190,14 @@ impl Build {
     }
 }
 
+/// The `cargo:warning` lines for a failure: one per diagnostic, or one for anything else.
+pub fn cargo_warnings(e: &BuildError) -> Vec<String> {
+    match e {
+        BuildError::Diagnostics { summaries, .. } => summaries.iter().map(|l| format!("cargo:warning={l}")).collect(),
+        other => vec![format!("cargo:warning=glazec: {}", other.to_string().replace('\n', " "))],
+    }
+}
+
 fn absolute(path: &Path) -> std::io::Result<PathBuf> {
     std::path::absolute(path)
 }
@@ -208,4 +219,78 @@ fn diagnostics_error(files: &[SourceFile], failed: &[FileDiagnostics]) -> BuildE
         }
     }
     BuildError::Diagnostics { summaries, report: project::render_plain(files, failed) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GLAZE: &str = r#"Material(name: "glaze", layers: [
+    Coat(lobe: Ggx(roughness: Param("glaze_roughness", 0.2)), ior: 1.5, absorption: Param("tint", (0.1, 0.2, 0.3))),
+    Lambert(albedo: (0.5, 0.4, 0.3)),
+])"#;
+    const BAD: &str = "Material(name: \"bad\", layers: [Lambert(albedo: 7)])";
+
+    fn materials(files: &[(&str, &str)]) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().expect("temp dir");
+        for (name, text) in files {
+            std::fs::write(dir.path().join(name), text).expect("writes a material");
+        }
+        dir
+    }
+
+    #[test]
+    fn generates_shaders_and_a_module_deterministically() {
+        let sources = materials(&[("glaze.ron", GLAZE)]);
+        let out = tempfile::tempdir().expect("temp dir");
+        let build = Build::new(sources.path()).out_dir(out.path());
+        let generated = build.generate().expect("generates");
+        assert_eq!(generated.materials, ["glaze"]);
+        let module = std::fs::read_to_string(&generated.module).expect("module written");
+        for expected in [
+            "pub mod glaze {",
+            "pub struct GlazeParams {",
+            "pub _pad0: [u32; 3],",
+            "assert!(core::mem::offset_of!(GlazeParams, tint) == 16",
+            "assert!(core::mem::size_of::<GlazeParams>() == 32",
+            "unsafe impl bytemuck::Pod for GlazeParams {}",
+            "pub const PREVIEW_BINDINGS: &[Binding] = &[",
+            "glazec_source_hash(include_bytes!(",
+        ] {
+            assert!(module.contains(expected), "missing `{expected}` in\n{module}");
+        }
+        for file in &generated.files {
+            assert!(file.is_absolute() && file.exists(), "{}", file.display());
+        }
+        let first: Vec<Vec<u8>> = generated.files.iter().map(|f| std::fs::read(f).expect("readable")).collect();
+        let again = build.generate().expect("generates again");
+        let second: Vec<Vec<u8>> = again.files.iter().map(|f| std::fs::read(f).expect("readable")).collect();
+        assert_eq!(first, second, "byte-identical on a second run");
+        let without = Build::new(sources.path()).out_dir(out.path()).bytemuck(false).generate().expect("generates");
+        assert!(!std::fs::read_to_string(without.module).expect("written").contains("bytemuck"));
+    }
+
+    #[test]
+    fn errors_become_one_warning_per_diagnostic_and_nothing_is_written() {
+        let sources = materials(&[("glaze.ron", GLAZE), ("bad.ron", BAD)]);
+        let out = tempfile::tempdir().expect("temp dir");
+        let target = out.path().join("out");
+        let error = Build::new(sources.path()).out_dir(&target).generate().expect_err("bad.ron has an error");
+        let warnings = cargo_warnings(&error);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        let bad = sources.path().join("bad.ron");
+        assert!(warnings[0].starts_with(&format!("cargo:warning={}:1:", bad.display())), "{}", warnings[0]);
+        assert!(warnings[0].contains("error[E0213]"), "{}", warnings[0]);
+        let report = error.to_string();
+        assert!(report.contains("error[E0213]") && report.contains("┌─"), "the full codespan report:\n{report}");
+        assert!(!target.exists(), "nothing is written when a material has errors");
+    }
+
+    #[test]
+    fn reruns_when_the_folder_or_any_material_changes() {
+        let sources = materials(&[("glaze.ron", GLAZE), ("notes.txt", "not a material")]);
+        let lines = Build::new(sources.path()).rerun_if_changed();
+        let dir = sources.path().display();
+        assert_eq!(lines, [format!("cargo:rerun-if-changed={dir}"), format!("cargo:rerun-if-changed={dir}/glaze.ron")]);
+    }
 }
