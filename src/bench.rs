@@ -17,7 +17,7 @@ use std::time::Instant;
 use glam::Vec3;
 
 use crate::eval::Pair;
-use crate::model::Method;
+use crate::model::{Method, ParamValue};
 use crate::run::{EvalKernel, Gpu, RunError, ShaderPath};
 
 /// Direction pairs per timed dispatch.
@@ -65,13 +65,39 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// [`REPEATS`] dispatches each (after a warm-up), so that a slow spell of the machine falls on
 /// every kernel alike rather than on one of them.
 pub fn interleaved_seconds(gpu: &Gpu, kernels: &[&EvalKernel], pairs: &[Pair]) -> Result<Vec<f64>, RunError> {
+    let with_values: Vec<(&EvalKernel, &[ParamValue])> = kernels.iter().map(|k| (*k, &[][..])).collect();
+    interleaved_seconds_with(gpu, &with_values, pairs)
+}
+
+/// [`interleaved_seconds`] for kernels with runtime parameters (one value per parameter each).
+pub fn interleaved_seconds_with(
+    gpu: &Gpu,
+    kernels: &[(&EvalKernel, &[ParamValue])],
+    pairs: &[Pair],
+) -> Result<Vec<f64>, RunError> {
     let mut times = vec![Vec::new(); kernels.len()];
     for _ in 0..ROUNDS {
-        for (kernel, t) in kernels.iter().zip(&mut times) {
-            t.extend(kernel.time_dispatches(gpu, pairs, &[], REPEATS)?.iter().map(|d| d.as_secs_f64()));
+        for ((kernel, values), t) in kernels.iter().zip(&mut times) {
+            t.extend(kernel.time_dispatches(gpu, pairs, values, REPEATS)?.iter().map(|d| d.as_secs_f64()));
         }
     }
     Ok(times.into_iter().map(median).collect())
+}
+
+/// Evaluations per second of each material's `eval_pairs` kernel on the device (naga-IR path,
+/// default parameter values, [`PAIRS`] pairs), timed in interleaved rounds.
+///
+/// # Errors
+/// A device failure.
+pub fn throughputs(gpu: &Gpu, compiled: &[&crate::Compiled]) -> Result<Vec<f64>, RunError> {
+    let kernels: Vec<EvalKernel> =
+        compiled.iter().map(|c| EvalKernel::new(gpu, c, ShaderPath::NagaIr)).collect::<Result<_, _>>()?;
+    let values: Vec<Vec<ParamValue>> = compiled.iter().map(|c| c.material.default_values()).collect();
+    let with_values: Vec<(&EvalKernel, &[ParamValue])> =
+        kernels.iter().zip(&values).map(|(k, v)| (k, v.as_slice())).collect();
+    let pairs = pairs(PAIRS);
+    let seconds = interleaved_seconds_with(gpu, &with_values, &pairs)?;
+    Ok(seconds.iter().map(|s| PAIRS as f64 / s).collect())
 }
 
 /// Median seconds per dispatch of a kernel.
@@ -82,44 +108,6 @@ pub fn kernel_seconds(gpu: &Gpu, kernel: &EvalKernel, pairs: &[Pair]) -> Result<
 
 fn compile(text: &str) -> Result<crate::Compiled, String> {
     crate::compile(text).map_err(|e| format!("{e:?}"))
-}
-
-/// Expressions and transcendental calls (exp, log, pow, sqrt, trigonometry) over the module's
-/// functions: the static size of the shading code.
-pub fn static_cost(module: &naga::Module) -> (usize, usize) {
-    use naga::{Expression, MathFunction as M};
-    let mut expressions = 0;
-    let mut transcendental = 0;
-    for (_, f) in module.functions.iter() {
-        expressions += f.expressions.len();
-        transcendental += f
-            .expressions
-            .iter()
-            .filter(|(_, e)| {
-                matches!(
-                    e,
-                    Expression::Math {
-                        fun: M::Exp
-                            | M::Exp2
-                            | M::Log
-                            | M::Log2
-                            | M::Pow
-                            | M::Sqrt
-                            | M::InverseSqrt
-                            | M::Sin
-                            | M::Cos
-                            | M::Tan
-                            | M::Asin
-                            | M::Acos
-                            | M::Atan
-                            | M::Atan2,
-                        ..
-                    }
-                )
-            })
-            .count();
-    }
-    (expressions, transcendental)
 }
 
 /// One method on the clay stack.
@@ -211,7 +199,7 @@ pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -
     for (((method, (lobe_median, lobe_max, albedo_max)), (compiled, _)), &seconds) in
         Method::MEASURED.into_iter().zip(errors).zip(&method_kernels).zip(&seconds[1..])
     {
-        let (expressions, transcendental) = static_cost(&compiled.module);
+        let (expressions, transcendental) = crate::lower::static_cost(&compiled.module);
         methods.push(MethodRow {
             method,
             evals_per_second: PAIRS as f64 / seconds,
@@ -265,7 +253,7 @@ pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -
             coats,
             compile_ms: compile_s * 1e3,
             wgsl_bytes,
-            expressions: static_cost(&compiled.module).0,
+            expressions: crate::lower::static_cost(&compiled.module).0,
             kernel_ns: seconds / PAIRS as f64 * 1e9,
         });
     }

@@ -7,7 +7,8 @@
 //! Diagnostics are plain data; rendering is a function of them. This file is the only one that
 //! talks to `codespan-reporting`, so a version bump of that crate touches one place.
 //!
-//! Codes are stable and grouped by stage: `E01xx` syntax (parse), `E02xx` semantics (check).
+//! Codes are stable and grouped by stage: `E01xx` syntax (parse), `E02xx` semantics (check),
+//! `E03xx` scenes (check and simplify).
 //! The full list, with one line each, is [`Code`].
 
 use std::fmt;
@@ -120,6 +121,14 @@ codes! {
     NotFinite = "E0217",
     /// Two input files declare materials with the same name (their outputs would collide).
     DuplicateMaterial = "E0218",
+    /// A scene's number outside its range (angle, tolerance, exposure, light, distance).
+    SceneRange = "E0301",
+    /// `Range(lo, hi)` with lo > hi.
+    RangeOrder = "E0302",
+    /// A scene sets a parameter that the material does not have.
+    UnknownSceneParam = "E0303",
+    /// A scene gives an RGB value for a scalar parameter, or the reverse.
+    SceneParamType = "E0304",
 }
 
 impl fmt::Display for Code {

@@ -17,6 +17,9 @@
 //! [`lower`] builds IR by running [`math`] on a naga builder, [`validate`] is naga's validator,
 //! [`emit`] wraps naga's backends, [`eval`] runs [`math`] on `f32`, and [`output`] writes files
 //! atomically. [`compile`] chains the stages; the CLI (`src/main.rs`) is a thin layer over it.
+//! Around them: [`project`] compiles a set of files, [`build`] is the `build.rs` API,
+//! [`snapshot`] the golden-shader helper for users' tests, and [`simplify`] (between check and
+//! lower) drops what a [`scene`] cannot see, within its tolerance.
 //!
 //! `build.rs` users depend on this crate with `default-features = false`: they get the whole
 //! compiler (naga, codespan-reporting) without the CLI.
@@ -40,6 +43,8 @@ pub mod project;
 pub mod reference;
 #[cfg(feature = "gpu")]
 pub mod run;
+pub mod scene;
+pub mod simplify;
 pub mod snapshot;
 pub mod stability;
 pub mod validate;
@@ -66,13 +71,15 @@ pub struct Origin {
     pub file: Option<String>,
     /// [`source_hash`] of the text.
     pub hash: u64,
+    /// The scene the material was simplified for (`compile --scene`): its file name and hash.
+    pub scene: Option<(String, u64)>,
 }
 
 impl Origin {
     /// The origin of `text`, read from a file named `file` (its directory is dropped).
     pub fn new(file: Option<&str>, text: &str) -> Self {
         let file = file.map(|f| std::path::Path::new(f).file_name().map_or(f.into(), |n| n.to_string_lossy().into()));
-        Origin { file, hash: source_hash(text.as_bytes()) }
+        Origin { file, hash: source_hash(text.as_bytes()), scene: None }
     }
 }
 
@@ -134,7 +141,7 @@ pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Com
     let info = validate::validate(&material.name, &module)?;
     // A material built by a program has no text; its model (whose `Debug` form prints every
     // field, floats exactly) stands in for it.
-    let origin = Origin { file: None, hash: source_hash(format!("{material:?}").as_bytes()) };
+    let origin = Origin { file: None, hash: source_hash(format!("{material:?}").as_bytes()), scene: None };
     Ok(Compiled { material, origin, source_map, module, info })
 }
 

@@ -99,6 +99,16 @@ enum Command {
         /// Write nothing; exit 1 if any output differs from what is on disk.
         #[arg(long)]
         check: bool,
+        /// Simplify each material for this scene (see `scenes/`): drop what the scene cannot see
+        /// within its tolerance, print the report and write it next to the outputs.
+        #[arg(long, value_name = "SCENE.ron")]
+        scene: Option<PathBuf>,
+        /// With --scene: also print the changes that were tried and not kept, with their errors.
+        #[arg(long, requires = "scene")]
+        explain: bool,
+        /// With --scene: measure the full and simplified kernels' throughput on the GPU.
+        #[arg(long, requires = "scene")]
+        throughput: bool,
         #[arg(long, value_enum, default_value = "human")]
         message_format: MessageFormat,
     },
@@ -228,6 +238,9 @@ enum Command {
         /// Tiles per row of a contact sheet.
         #[arg(long, default_value_t = 3)]
         columns: usize,
+        /// Before/after: each material beside its simplification for this scene.
+        #[arg(long, value_name = "SCENE.ron")]
+        scene: Option<PathBuf>,
         #[arg(long, value_enum, default_value = "human")]
         message_format: MessageFormat,
     },
@@ -252,8 +265,9 @@ impl From<anyhow::Error> for Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Compile { inputs, out, target, check, message_format } => {
-            compile(&inputs, &out, &target, check, message_format)
+        Command::Compile { inputs, out, target, check, scene, explain, throughput, message_format } => {
+            let scene = scene.map(|path| SceneOptions { path, explain, throughput });
+            compile(&inputs, &out, &target, check, scene.as_ref(), message_format)
         }
         Command::Check { files, message_format } => check(&files, message_format),
         Command::Eval { file, pairs, backend, set, samples, interfaces, std_err, message_format } => {
@@ -279,7 +293,18 @@ fn main() -> ExitCode {
         #[cfg(not(feature = "gpu"))]
         Command::Stability { reduced, out } => stability(reduced, false, &out),
         #[cfg(feature = "gpu")]
-        Command::Preview { inputs, out, size, light, light_radiance, env, exposure, columns, message_format } => {
+        Command::Preview {
+            inputs,
+            out,
+            size,
+            light,
+            light_radiance,
+            env,
+            exposure,
+            columns,
+            scene,
+            message_format,
+        } => {
             let environment = match env {
                 EnvironmentArg::None => glazec::run::preview::Environment::None,
                 EnvironmentArg::Sky => glazec::run::preview::Environment::Sky,
@@ -288,7 +313,7 @@ fn main() -> ExitCode {
             parse_vec3(&light).map_err(Failure::Usage).and_then(|light| {
                 let options =
                     glazec::run::preview::PreviewOptions { size, light, light_radiance, environment, exposure };
-                preview(&inputs, &out, &options, columns, message_format)
+                preview(&inputs, &out, &options, columns, scene.as_deref(), message_format)
             })
         }
     };
@@ -341,15 +366,89 @@ fn compile_all(inputs: &[SourceFile], format: MessageFormat) -> Result<Vec<Compi
     }
 }
 
+/// `compile --scene`.
+struct SceneOptions {
+    path: PathBuf,
+    explain: bool,
+    throughput: bool,
+}
+
+/// Simplifies every material for the scene; prints the reports (and throughputs).
+fn simplify_for_scene(
+    compiled: &[Compiled],
+    options: &SceneOptions,
+    format: MessageFormat,
+) -> Result<(Vec<Compiled>, Vec<glazec::simplify::Report>), Failure> {
+    let scene = match project::read_scene(&options.path).map_err(|e| Failure::Usage(e.into()))? {
+        Ok(scene) => scene,
+        Err((source, diagnostics)) => {
+            let (name, text) = source_of(&source);
+            print_diagnostics(Source { name: &name, text }, &diagnostics, format);
+            return Err(Failure::Diagnostics);
+        }
+    };
+    let simplified = match project::simplify_all(compiled, &scene) {
+        Ok(s) => s,
+        Err(project::SceneError::Diagnostics(diagnostics)) => {
+            let (name, text) = source_of(&scene.source);
+            print_diagnostics(Source { name: &name, text }, &diagnostics, format);
+            return Err(Failure::Diagnostics);
+        }
+        Err(project::SceneError::Internal(e)) => return Err(Failure::Internal(e.into())),
+    };
+    let (simplified, reports): (Vec<Compiled>, Vec<glazec::simplify::Report>) = simplified.into_iter().unzip();
+    for report in &reports {
+        println!("{}", report.markdown(options.explain));
+    }
+    if options.throughput {
+        print_throughputs(compiled, &simplified)?;
+    }
+    Ok((simplified, reports))
+}
+
+/// Evaluations per second of each full and simplified kernel on the GPU, timed interleaved.
+#[cfg(feature = "gpu")]
+fn print_throughputs(full: &[Compiled], simplified: &[Compiled]) -> Result<(), Failure> {
+    let gpu = glazec::run::Gpu::new().map_err(|e| Failure::Usage(e.into()))?;
+    println!(
+        "Throughput on {} ({} pairs per dispatch, median of interleaved rounds):\n",
+        gpu.describe(),
+        glazec::bench::PAIRS
+    );
+    println!("| material | full (M evals/s) | simplified (M evals/s) | speed-up |\n|---|---|---|---|");
+    for (f, s) in full.iter().zip(simplified) {
+        let rates = glazec::bench::throughputs(&gpu, &[f, s]).map_err(run_failure)?;
+        println!(
+            "| {} | {:.1} | {:.1} | {:.2}× |",
+            f.material.name,
+            rates[0] / 1e6,
+            rates[1] / 1e6,
+            rates[1] / rates[0]
+        );
+    }
+    println!();
+    Ok(())
+}
+
+#[cfg(not(feature = "gpu"))]
+fn print_throughputs(_: &[Compiled], _: &[Compiled]) -> Result<(), Failure> {
+    Err(Failure::Usage(anyhow::anyhow!("--throughput needs glazec built with the `gpu` feature")))
+}
+
 fn compile(
     inputs: &[PathBuf],
     out: &Path,
     targets: &[TargetArg],
     check: bool,
+    scene: Option<&SceneOptions>,
     format: MessageFormat,
 ) -> Result<(), Failure> {
     let inputs = read_inputs(inputs)?;
     let compiled = compile_all(&inputs, format)?;
+    let (compiled, reports) = match scene {
+        Some(options) => simplify_for_scene(&compiled, options, format)?,
+        None => (compiled, Vec::new()),
+    };
     let targets: Vec<Target> = targets
         .iter()
         .map(|t| match t {
@@ -359,7 +458,8 @@ fn compile(
             TargetArg::Spv => Target::Spv,
         })
         .collect();
-    let files = project::plan(out, &compiled, &targets).map_err(|e| Failure::Internal(e.into()))?;
+    let mut files = project::plan(out, &compiled, &targets).map_err(|e| Failure::Internal(e.into()))?;
+    files.extend(reports.iter().map(|r| project::report_file(out, r)));
     if check {
         let drift = output::drift(&files);
         for file in &files {
@@ -523,18 +623,31 @@ fn preview(
     out: &Path,
     options: &glazec::run::preview::PreviewOptions,
     columns: usize,
+    scene: Option<&Path>,
     format: MessageFormat,
 ) -> Result<(), Failure> {
     use glazec::run::preview;
     let files = read_inputs(inputs)?;
     let compiled = compile_all(&files, format)?;
+    let simplified = match scene {
+        Some(path) => {
+            let options = SceneOptions { path: path.to_path_buf(), explain: false, throughput: false };
+            Some(simplify_for_scene(&compiled, &options, format)?.0)
+        }
+        None => None,
+    };
     let gpu = glazec::run::Gpu::new().map_err(run_failure)?;
     let mut tiles = Vec::new();
-    for c in &compiled {
+    for (i, c) in compiled.iter().enumerate() {
         let linear = preview::render(&gpu, c, &c.material.default_values(), options).map_err(run_failure)?;
         tiles.push((c.material.name.clone(), preview::encode(&linear, options.size, options.exposure)));
+        if let Some(s) = simplified.as_ref().map(|s| &s[i]) {
+            let scene_name = s.origin.scene.as_ref().map_or("scene", |(file, _)| file.trim_end_matches(".ron"));
+            let linear = preview::render(&gpu, s, &s.material.default_values(), options).map_err(run_failure)?;
+            tiles.push((scene_name.to_string(), preview::encode(&linear, options.size, options.exposure)));
+        }
     }
-    let single = inputs.len() == 1 && !inputs[0].is_dir();
+    let single = inputs.len() == 1 && !inputs[0].is_dir() && simplified.is_none();
     let image = if single { tiles.remove(0).1 } else { preview::contact_sheet(&tiles, columns) };
     preview::write_png(out, &image).map_err(run_failure)?;
     eprintln!("wrote {} ({}×{}, {} on {})", out.display(), image.width, image.height, compiled.len(), gpu.describe());

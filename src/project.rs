@@ -44,7 +44,7 @@ pub enum ReadError {
     Empty(PathBuf),
 }
 
-/// The `*.ron` files directly inside `dir`, sorted by name.
+/// The `*.ron` files directly inside `dir` (materials or scenes), sorted by name.
 ///
 /// # Errors
 /// The directory cannot be listed, or holds no `.ron` file.
@@ -170,4 +170,76 @@ pub fn render_plain(files: &[SourceFile], failed: &[FileDiagnostics]) -> String 
             crate::diag::render_plain(Source { name: &file.name(), text: &file.text }, &f.diagnostics)
         })
         .collect()
+}
+
+/// A scene file, read and checked.
+#[derive(Clone, Debug)]
+pub struct SceneFile {
+    pub source: SourceFile,
+    pub scene: crate::scene::Scene,
+}
+
+/// Reads and checks a scene file; diagnostics come back with the file for rendering.
+///
+/// # Errors
+/// [`ReadError`] if it cannot be read; otherwise the file and its diagnostics.
+pub fn read_scene(path: &Path) -> Result<Result<SceneFile, (SourceFile, Vec<Diagnostic>)>, ReadError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ReadError::Io { path: path.to_path_buf(), source })?;
+    let source = SourceFile { path: path.to_path_buf(), text };
+    let checked = crate::parse::parse(&source.text).map_err(|d| vec![d]).and_then(|v| crate::check::check_scene(&v));
+    Ok(match checked {
+        Ok(scene) => Ok(SceneFile { source, scene }),
+        Err(diagnostics) => Err((source, diagnostics)),
+    })
+}
+
+/// Why materials could not be simplified for a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// Problems in the scene file, for these materials.
+    #[error("{} error(s) in the scene", .0.len())]
+    Diagnostics(Vec<Diagnostic>),
+    #[error(transparent)]
+    Internal(#[from] crate::validate::ValidateError),
+}
+
+/// `compiled` materials simplified for a scene, each with its report; every output header
+/// names the scene file.
+///
+/// # Errors
+/// Diagnostics against the scene file (`E0303`, `E0304`), or a compiler bug.
+pub fn simplify_all(
+    compiled: &[Compiled],
+    scene: &SceneFile,
+) -> Result<Vec<(Compiled, crate::simplify::Report)>, SceneError> {
+    let materials: Vec<&crate::Material> = compiled.iter().map(|c| &c.material).collect();
+    let mut diagnostics = crate::simplify::check_scene_params(&scene.scene, &materials);
+    let mut out = Vec::new();
+    for c in compiled {
+        match crate::simplify::simplify(&c.material, &scene.scene) {
+            Ok((material, report)) => {
+                let mut simplified = crate::compile_material(material, c.source_map.clone())?;
+                simplified.origin = c.origin.clone();
+                simplified.origin.scene =
+                    Some((scene.source.file_name(), crate::source_hash(scene.source.text.as_bytes())));
+                out.push((simplified, report));
+            }
+            Err(d) => diagnostics.extend(d),
+        }
+    }
+    if diagnostics.is_empty() {
+        Ok(out)
+    } else {
+        diagnostics.sort_by_key(|d| d.primary_span().start);
+        Err(SceneError::Diagnostics(diagnostics))
+    }
+}
+
+/// The report file of a simplified material: `<out_dir>/<material>/<material>.simplify.md`
+/// (with the explanation of what was kept).
+pub fn report_file(out_dir: &Path, report: &crate::simplify::Report) -> OutputFile {
+    OutputFile {
+        path: out_dir.join(&report.material).join(format!("{}.simplify.md", report.material)),
+        contents: report.markdown(true).into_bytes(),
+    }
 }

@@ -32,6 +32,7 @@ pub struct Snapshot {
     materials: PathBuf,
     expected: PathBuf,
     targets: Vec<Target>,
+    scene: Option<PathBuf>,
 }
 
 /// Why a snapshot is not current.
@@ -54,7 +55,15 @@ pub enum SnapshotError {
 impl Snapshot {
     /// Compares `expected` with what every `materials/*.ron` generates, in WGSL, GLSL and HLSL.
     pub fn new(materials: impl Into<PathBuf>, expected: impl Into<PathBuf>) -> Self {
-        Snapshot { materials: materials.into(), expected: expected.into(), targets: Target::TEXT.to_vec() }
+        Snapshot { materials: materials.into(), expected: expected.into(), targets: Target::TEXT.to_vec(), scene: None }
+    }
+
+    /// Snapshots the materials simplified for a scene (`compile --scene`), with each material's
+    /// `.simplify.md` report.
+    #[must_use]
+    pub fn scene(mut self, scene: impl Into<PathBuf>) -> Self {
+        self.scene = Some(scene.into());
+        self
     }
 
     /// Which targets the snapshot holds.
@@ -74,7 +83,28 @@ impl Snapshot {
             ProjectError::Diagnostics(failed) => SnapshotError::Diagnostics(project::render_plain(&files, &failed)),
             ProjectError::Internal(e) => SnapshotError::Internal(e.to_string()),
         })?;
-        project::plan(&self.expected, &compiled, &self.targets).map_err(|e| SnapshotError::Internal(e.to_string()))
+        let Some(scene_path) = &self.scene else {
+            return project::plan(&self.expected, &compiled, &self.targets)
+                .map_err(|e| SnapshotError::Internal(e.to_string()));
+        };
+        let scene = project::read_scene(scene_path)?.map_err(|(source, d)| {
+            SnapshotError::Diagnostics(crate::diag::render_plain(
+                crate::diag::Source { name: &source.name(), text: &source.text },
+                &d,
+            ))
+        })?;
+        let simplified = project::simplify_all(&compiled, &scene).map_err(|e| match e {
+            project::SceneError::Diagnostics(d) => SnapshotError::Diagnostics(crate::diag::render_plain(
+                crate::diag::Source { name: &scene.source.name(), text: &scene.source.text },
+                &d,
+            )),
+            project::SceneError::Internal(e) => SnapshotError::Internal(e.to_string()),
+        })?;
+        let (compiled, reports): (Vec<_>, Vec<_>) = simplified.into_iter().unzip();
+        let mut files = project::plan(&self.expected, &compiled, &self.targets)
+            .map_err(|e| SnapshotError::Internal(e.to_string()))?;
+        files.extend(reports.iter().map(|r| project::report_file(&self.expected, r)));
+        Ok(files)
     }
 
     /// Whether the expected directory holds exactly the generated files.
@@ -127,13 +157,17 @@ impl Snapshot {
 }
 
 /// Files in `dir` (and its material folders, one level down) that `planned` does not include.
+/// Folders one level down are not looked into.
 fn stale(dir: &Path, planned: &[OutputFile]) -> Vec<PathBuf> {
     let planned: BTreeSet<&Path> = planned.iter().map(|f| f.path.as_path()).collect();
     let mut found = BTreeSet::new();
     for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
         let path = entry.path();
         if path.is_dir() {
-            found.extend(std::fs::read_dir(&path).into_iter().flatten().flatten().map(|e| e.path()));
+            // Files only: a folder here (`generated/scenes/<scene>/`) is another snapshot's.
+            found.extend(
+                std::fs::read_dir(&path).into_iter().flatten().flatten().map(|e| e.path()).filter(|p| p.is_file()),
+            );
         } else {
             found.insert(path);
         }

@@ -13,6 +13,21 @@ fn generated_matches_materials() {
     Snapshot::new(common::root().join("materials"), common::root().join("generated")).assert_current();
 }
 
+/// `generated/scenes/<scene>/`: every material simplified for every shipped scene (WGSL and the
+/// `.simplify.md` report), as `glazec compile --scene scenes/<scene>.ron --target wgsl` writes it.
+#[test]
+fn scene_outputs_match_materials_and_scenes() {
+    let scenes = common::scene_files();
+    assert!(scenes.len() >= 4, "studio, overcast, turntable, top-down");
+    for scene in scenes {
+        let name = scene.file_stem().expect("file name").to_string_lossy().into_owned();
+        Snapshot::new(common::root().join("materials"), common::root().join("generated/scenes").join(name))
+            .scene(&scene)
+            .targets(&[glazec::Target::Wgsl])
+            .assert_current();
+    }
+}
+
 #[test]
 fn every_material_produces_every_text_target() {
     for path in common::material_files() {

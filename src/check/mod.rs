@@ -15,6 +15,9 @@
 use std::collections::HashMap;
 
 use crate::diag::{Code, Diagnostic, Span, Spanned};
+mod scene;
+pub use scene::check_scene;
+
 use crate::model::*;
 use crate::parse::{Arg, Value};
 
@@ -96,6 +99,18 @@ enum Rule {
     Reflectance,
     /// The real part η of a conductor's complex IOR (relative to vacuum), > 0.
     ConductorEta,
+    /// A scene's angle from the normal, in degrees: [0, 90].
+    Angle,
+    /// A light's irradiance, intensity or radiance: ≥ 0.
+    LightAmount,
+    /// A point light's closest distance: > 0.
+    Distance,
+    /// A tolerance: (0, 1].
+    Tolerance,
+    /// A scene's exposure: > 0.
+    Exposure,
+    /// A value a scene gives a runtime parameter: ≥ 0 (the material's slot bounds it further).
+    SceneValue,
 }
 
 impl Rule {
@@ -104,6 +119,10 @@ impl Rule {
             Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => (0.0..=1.0).contains(&x),
             Rule::Ior | Rule::ConductorEta => x > 0.0,
             Rule::Absorption | Rule::Thickness | Rule::Extinction => x >= 0.0,
+            Rule::Angle => (0.0..=90.0).contains(&x),
+            Rule::LightAmount | Rule::SceneValue => x >= 0.0,
+            Rule::Distance | Rule::Exposure => x > 0.0,
+            Rule::Tolerance => x > 0.0 && x <= 1.0,
         }
     }
 
@@ -113,6 +132,9 @@ impl Rule {
             Rule::Ior | Rule::ConductorEta => Code::IorRange,
             Rule::Absorption | Rule::Thickness | Rule::Extinction => Code::NegativeMedium,
             Rule::Albedo | Rule::Reflectance => Code::AlbedoRange,
+            Rule::Angle | Rule::LightAmount | Rule::Distance | Rule::Tolerance | Rule::Exposure | Rule::SceneValue => {
+                Code::SceneRange
+            }
         }
     }
 
@@ -127,6 +149,12 @@ impl Rule {
             Rule::Albedo => "albedo",
             Rule::Reflectance => "reflectance F0",
             Rule::ConductorEta => "conductor IOR η",
+            Rule::Angle => "angle",
+            Rule::LightAmount => "light amount",
+            Rule::Distance => "distance",
+            Rule::Tolerance => "tolerance",
+            Rule::Exposure => "exposure",
+            Rule::SceneValue => "parameter value",
         }
     }
 
@@ -135,6 +163,10 @@ impl Rule {
             Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => "must lie in [0, 1]",
             Rule::Ior | Rule::ConductorEta => "must be greater than 0",
             Rule::Absorption | Rule::Thickness | Rule::Extinction => "must not be negative",
+            Rule::Angle => "must lie in [0, 90] degrees",
+            Rule::LightAmount | Rule::SceneValue => "must not be negative",
+            Rule::Distance | Rule::Exposure => "must be greater than 0",
+            Rule::Tolerance => "must lie in (0, 1]",
         }
     }
 
@@ -160,6 +192,12 @@ impl Rule {
                 "η is the real part of the conductor's complex IOR relative to vacuum, above 0 \
                                    (gold: η = (0.17, 0.43, 1.44), κ = (3.5, 2.46, 1.8))"
             }
+            Rule::Angle => "an angle from the surface normal in degrees: 0 is head-on, 90 is grazing",
+            Rule::LightAmount => "irradiance, intensity and radiance are 0 or more, per channel",
+            Rule::Distance => "the closest a point light comes to a lit surface, in scene units, above 0",
+            Rule::Tolerance => "a tolerance is a fraction: `Display` is 1/255, `Relative(0.01)` is 1%",
+            Rule::Exposure => "exposure scales radiance to display value; 1 shows radiance 1 as white",
+            Rule::SceneValue => "a parameter's value in a scene is 0 or more (the material's slot bounds it)",
         }
     }
 }

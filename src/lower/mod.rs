@@ -143,6 +143,44 @@ pub fn params_layout(material: &Material) -> (Vec<ParamLayout>, u32) {
     (layout, offset.next_multiple_of(align_max.max(16)))
 }
 
+/// Expressions and transcendental calls (exp, log, pow, sqrt, trigonometry) over the module's
+/// functions: the static size of the shading code.
+pub fn static_cost(module: &naga::Module) -> (usize, usize) {
+    use naga::{Expression, MathFunction as M};
+    let mut expressions = 0;
+    let mut transcendental = 0;
+    for (_, f) in module.functions.iter() {
+        expressions += f.expressions.len();
+        transcendental += f
+            .expressions
+            .iter()
+            .filter(|(_, e)| {
+                matches!(
+                    e,
+                    Expression::Math {
+                        fun: M::Exp
+                            | M::Exp2
+                            | M::Log
+                            | M::Log2
+                            | M::Pow
+                            | M::Sqrt
+                            | M::InverseSqrt
+                            | M::Sin
+                            | M::Cos
+                            | M::Tan
+                            | M::Asin
+                            | M::Acos
+                            | M::Atan
+                            | M::Atan2,
+                        ..
+                    }
+                )
+            })
+            .count();
+    }
+    (expressions, transcendental)
+}
+
 /// Lowers a material to a naga module (see the module docs for what it contains).
 pub fn lower(material: &Material) -> Module {
     let b = ModuleBuilder::new();

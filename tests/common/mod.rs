@@ -54,13 +54,12 @@ pub fn root() -> PathBuf {
 
 /// Every `materials/*.ron`, sorted.
 pub fn material_files() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("materials"))
-        .expect("materials/ exists")
-        .map(|e| e.expect("readable entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    files.sort();
-    files
+    glazec::project::material_files(&root().join("materials")).expect("materials/ holds .ron files")
+}
+
+/// Every `scenes/*.ron`, sorted.
+pub fn scene_files() -> Vec<PathBuf> {
+    glazec::project::material_files(&root().join("scenes")).expect("scenes/ holds .ron files")
 }
 
 /// Compiles one material file, panicking with rendered diagnostics if it does not compile.
