@@ -8,7 +8,7 @@
 //! talks to `codespan-reporting`, so a version bump of that crate touches one place.
 //!
 //! Codes are stable and grouped by stage: `E01xx` syntax (parse), `E02xx` semantics (check),
-//! `E03xx` scenes (check and simplify).
+//! `E03xx` scenes (check and simplify), `E04xx` measured optics; `N04xx` are notes.
 //! The full list, with one line each, is [`Code`].
 
 use std::fmt;
@@ -129,6 +129,12 @@ codes! {
     UnknownSceneParam = "E0303",
     /// A scene gives an RGB value for a scalar parameter, or the reverse.
     SceneParamType = "E0304",
+    /// `Measured` with one reflectance and nothing that fixes the second unknown.
+    SingleReflectance = "E0401",
+    /// `Measured` readings that no layer produces (white below black, out of range, …).
+    ImpossibleMeasurement = "E0402",
+    /// A note with the optical coefficients `Measured` derived (not an error).
+    DerivedOptics = "N0401",
 }
 
 impl fmt::Display for Code {
@@ -142,6 +148,8 @@ impl fmt::Display for Code {
 pub enum Severity {
     Error,
     Warning,
+    /// Information (derived values); never fails a build.
+    Note,
 }
 
 /// A span with a message. The primary label marks the offending value; secondary labels say why.
@@ -196,6 +204,7 @@ impl Diagnostic {
         let severity = match self.severity {
             Severity::Error => cs::Severity::Error,
             Severity::Warning => cs::Severity::Warning,
+            Severity::Note => cs::Severity::Note,
         };
         cs::Diagnostic::new(severity)
             .with_code(self.code.as_str())

@@ -37,6 +37,7 @@ pub mod eval;
 pub mod lower;
 pub mod math;
 pub mod model;
+pub mod optics;
 pub mod output;
 pub mod parse;
 pub mod project;

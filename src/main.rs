@@ -83,7 +83,14 @@ enum EnvironmentArg {
     Studio,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum SlabModelArg {
+    Exponential,
+    Seed,
+}
+
 #[derive(Subcommand)]
+#[allow(clippy::large_enum_variant)] // parsed once per run
 enum Command {
     /// Compile material files (or every `*.ron` in a directory) to shaders.
     Compile {
@@ -212,6 +219,56 @@ enum Command {
         #[arg(short, long, default_value = "data/tables.bin")]
         out: PathBuf,
     },
+    /// Solve a turbid layer's absorption σa and reduced scattering σs′ from measured reflectance
+    /// (seed 002): per channel (comma-separated values, any number of channels or spectral
+    /// samples), or a CSV batch. Prints CSV: channel, sigma_a, sigma_s, albedo, warnings.
+    Optics {
+        /// Reflectance over a black backing (Kubelka–Munk, with --r-white, --backing, --thickness).
+        #[arg(long, value_delimiter = ',')]
+        r_black: Vec<f64>,
+        /// Reflectance over the white backing.
+        #[arg(long, value_delimiter = ',')]
+        r_white: Vec<f64>,
+        /// Reflectance of the white backing (or, for slab models, F_dr,b: what is under the sample).
+        #[arg(long, value_delimiter = ',')]
+        backing: Vec<f64>,
+        /// Sample thickness.
+        #[arg(long, value_delimiter = ',')]
+        thickness: Vec<f64>,
+        /// Two thicknesses: reflectance at the first.
+        #[arg(long, value_delimiter = ',')]
+        r1: Vec<f64>,
+        #[arg(long, value_delimiter = ',')]
+        d1: Vec<f64>,
+        #[arg(long, value_delimiter = ',')]
+        r2: Vec<f64>,
+        #[arg(long, value_delimiter = ',')]
+        d2: Vec<f64>,
+        /// One reflectance (needs --scattering, --ratio or --mfp as well).
+        #[arg(long, value_delimiter = ',')]
+        reflectance: Vec<f64>,
+        /// Known reduced scattering coefficient σs′.
+        #[arg(long, value_delimiter = ',')]
+        scattering: Vec<f64>,
+        /// Known ratio σs′/σa.
+        #[arg(long, value_delimiter = ',')]
+        ratio: Vec<f64>,
+        /// Diffuse mean free path ℓ_d of a thick sample (diffusion dipole).
+        #[arg(long, value_delimiter = ',')]
+        mfp: Vec<f64>,
+        /// Boundary index (default 1.5): F_dr,t of the slab models and the dipole's boundary.
+        #[arg(long)]
+        ior: Option<f64>,
+        /// Slab formula for two thicknesses and priors: `exponential` (default) or `seed` (eq. 1
+        /// as published, linearised: sound only for σt·d ≲ 0.2).
+        #[arg(long, value_enum, default_value = "exponential")]
+        model: SlabModelArg,
+        /// A CSV batch instead: a header naming columns (r_black, r_white, backing, thickness, r1,
+        /// d1, r2, d2, reflectance, scattering, ratio, mfp, ior, f_top, f_bottom, p_g), one
+        /// observation per row; the output repeats each row with the results.
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["r_black", "r1", "reflectance"])]
+        csv: Option<PathBuf>,
+    },
     /// Render a sphere with the material on the GPU and write a PNG. Several inputs (or a
     /// directory) give a labelled contact sheet.
     #[cfg(feature = "gpu")]
@@ -293,6 +350,45 @@ fn main() -> ExitCode {
         #[cfg(not(feature = "gpu"))]
         Command::Stability { reduced, out } => stability(reduced, false, &out),
         #[cfg(feature = "gpu")]
+        Command::Optics {
+            r_black,
+            r_white,
+            backing,
+            thickness,
+            r1,
+            d1,
+            r2,
+            d2,
+            reflectance,
+            scattering,
+            ratio,
+            mfp,
+            ior,
+            model,
+            csv,
+        } => {
+            let seed = matches!(model, SlabModelArg::Seed);
+            match csv {
+                Some(path) => optics_csv(&path, seed, ior),
+                None => {
+                    let columns: [(&str, &[f64]); 12] = [
+                        ("r_black", &r_black),
+                        ("r_white", &r_white),
+                        ("backing", &backing),
+                        ("thickness", &thickness),
+                        ("r1", &r1),
+                        ("d1", &d1),
+                        ("r2", &r2),
+                        ("d2", &d2),
+                        ("reflectance", &reflectance),
+                        ("scattering", &scattering),
+                        ("ratio", &ratio),
+                        ("mfp", &mfp),
+                    ];
+                    optics(&columns, seed, ior)
+                }
+            }
+        }
         Command::Preview {
             inputs,
             out,
@@ -354,7 +450,16 @@ fn print_diagnostics(source: Source<'_>, diagnostics: &[Diagnostic], format: Mes
 /// Compiles every input, printing all diagnostics. Fails if any input has errors.
 fn compile_all(inputs: &[SourceFile], format: MessageFormat) -> Result<Vec<Compiled>, Failure> {
     match project::compile(inputs) {
-        Ok(compiled) => Ok(compiled),
+        Ok(compiled) => {
+            // Notes (the coefficients a `Measured` layer derived) never fail a compilation.
+            for (file, c) in inputs.iter().zip(&compiled) {
+                if !c.source_map.notes.is_empty() {
+                    let (name, text) = source_of(file);
+                    print_diagnostics(Source { name: &name, text }, &c.source_map.notes, format);
+                }
+            }
+            Ok(compiled)
+        }
         Err(ProjectError::Diagnostics(failed)) => {
             for f in &failed {
                 let (name, text) = source_of(&inputs[f.file]);
@@ -652,6 +757,98 @@ fn preview(
     preview::write_png(out, &image).map_err(run_failure)?;
     eprintln!("wrote {} ({}×{}, {} on {})", out.display(), image.width, image.height, compiled.len(), gpu.describe());
     Ok(())
+}
+
+/// `glazec optics` with per-channel flags: a flag with one value applies to every channel.
+fn optics(columns: &[(&str, &[f64])], seed: bool, ior: Option<f64>) -> Result<(), Failure> {
+    let channels = columns.iter().map(|(_, v)| v.len()).max().unwrap_or(0);
+    if channels == 0 {
+        return Err(Failure::Usage(anyhow::anyhow!(
+            "give measurements: --r-black/--r-white/--backing/--thickness, --r1/--d1/--r2/--d2, or --reflectance with \
+             --scattering, --ratio or --mfp"
+        )));
+    }
+    for (name, values) in columns {
+        if values.len() > 1 && values.len() != channels {
+            return Err(Failure::Usage(anyhow::anyhow!(
+                "--{} has {} values, others {channels}",
+                name.replace('_', "-"),
+                values.len()
+            )));
+        }
+    }
+    println!("channel,sigma_a,sigma_s,albedo,warnings");
+    let mut failed = false;
+    for c in 0..channels {
+        let mut inputs = glazec::optics::Inputs { seed_model: seed, ior, ..Default::default() };
+        for (name, values) in columns {
+            if let Some(v) = values.get(c).or_else(|| values.first().filter(|_| values.len() == 1)) {
+                inputs.set(name, *v);
+            }
+        }
+        match inputs.observation().and_then(|o| glazec::optics::solve(&o)) {
+            Ok(s) => println!("{c},{},{},{},{}", s.sigma_a, s.sigma_s, s.albedo, s.warnings.join("; ")),
+            Err(e) => {
+                eprintln!("error: channel {c}: {e}");
+                failed = true;
+            }
+        }
+    }
+    if failed { Err(Failure::Diagnostics) } else { Ok(()) }
+}
+
+/// `glazec optics --csv FILE`: one observation per row; the output repeats each row with
+/// `sigma_a,sigma_s,albedo,status` (status `ok`, a warning, or the error). Exit 1 if a row failed.
+fn optics_csv(path: &Path, seed: bool, ior: Option<f64>) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let header: Vec<&str> = lines.next().map(|h| h.split(',').map(str::trim).collect()).unwrap_or_default();
+    for name in &header {
+        if !glazec::optics::INPUT_NAMES.contains(name) {
+            return Err(Failure::Usage(anyhow::anyhow!(
+                "{}: unknown column `{name}` (columns: {})",
+                path.display(),
+                glazec::optics::INPUT_NAMES.join(", ")
+            )));
+        }
+    }
+    println!("{},sigma_a,sigma_s,albedo,status", header.join(","));
+    let mut failed = false;
+    for (row, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let mut inputs = glazec::optics::Inputs { seed_model: seed, ior, ..Default::default() };
+        let mut bad = None;
+        for (name, cell) in header.iter().zip(&cells) {
+            if cell.is_empty() {
+                continue;
+            }
+            match cell.parse::<f64>() {
+                Ok(v) => {
+                    inputs.set(name, v);
+                }
+                Err(_) => bad = Some(format!("row {}: `{cell}` in column {name} is not a number", row + 2)),
+            }
+        }
+        if cells.len() != header.len() {
+            bad = Some(format!("row {}: {} cells for {} columns", row + 2, cells.len(), header.len()));
+        }
+        let result = match bad {
+            Some(message) => Err(message),
+            None => inputs.observation().and_then(|o| glazec::optics::solve(&o)).map_err(|e| e.to_string()),
+        };
+        match result {
+            Ok(s) => {
+                let status =
+                    if s.warnings.is_empty() { "ok".to_string() } else { s.warnings.join("; ").replace(',', ";") };
+                println!("{line},{},{},{},{status}", s.sigma_a, s.sigma_s, s.albedo);
+            }
+            Err(e) => {
+                failed = true;
+                println!("{line},,,,error: {}", e.replace(',', ";"));
+            }
+        }
+    }
+    if failed { Err(Failure::Diagnostics) } else { Ok(()) }
 }
 
 /// The default location of the stored reference for an interface mode.

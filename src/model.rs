@@ -223,6 +223,9 @@ pub struct SourceMap {
     pub layers: Vec<crate::diag::Span>,
     /// One span per parameter (its first declaration).
     pub params: Vec<crate::diag::Span>,
+    /// Notes `check` has for the author (the coefficients a `Measured` layer derived); they
+    /// never make a compilation fail.
+    pub notes: Vec<crate::diag::Diagnostic>,
 }
 
 impl Material {

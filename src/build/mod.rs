@@ -214,6 +214,7 @@ fn diagnostics_error(files: &[SourceFile], failed: &[FileDiagnostics]) -> BuildE
             let severity = match d.severity {
                 crate::diag::Severity::Error => "error",
                 crate::diag::Severity::Warning => "warning",
+                crate::diag::Severity::Note => "note",
             };
             summaries.push(format!("{name}:{line}:{column}: {severity}[{}]: {}", d.code, d.message));
         }

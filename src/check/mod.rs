@@ -15,6 +15,7 @@
 use std::collections::HashMap;
 
 use crate::diag::{Code, Diagnostic, Span, Spanned};
+mod measured;
 mod scene;
 pub use scene::check_scene;
 
@@ -31,7 +32,12 @@ pub fn check(root: &Spanned<Value>) -> Result<(Material, SourceMap), Vec<Diagnos
     checker.errors.sort_by_key(|d| d.primary_span().start);
     match material {
         Some(material) if checker.errors.is_empty() => {
-            let map = SourceMap { name: checker.name_span, layers: checker.layer_spans, params: checker.param_spans };
+            let map = SourceMap {
+                name: checker.name_span,
+                layers: checker.layer_spans,
+                params: checker.param_spans,
+                notes: checker.notes,
+            };
             Ok((material, map))
         }
         _ => Err(checker.errors),
@@ -76,7 +82,7 @@ const INTERFACED_FIELDS: &[FieldSpec] = &[opt("fresnel", "Schlick"), opt("multip
 const FRESNEL_NAMES: &[&str] = &["Exact", "Schlick"];
 const PARAM_FIELDS: &[FieldSpec] = &[req("name", "\"roughness\""), req("default", "0.5")];
 
-const LAYER_NAMES: &[&str] = &["Coat", "Lambert", "OrenNayar", "Eon", "Conductor", "Plastic"];
+const LAYER_NAMES: &[&str] = &["Coat", "Lambert", "OrenNayar", "Eon", "Conductor", "Plastic", "Measured"];
 
 /// The physical range a number must lie in, with its code and help text.
 #[derive(Clone, Copy)]
@@ -210,6 +216,7 @@ struct Checker {
     param_ids: HashMap<String, ParamId>,
     name_span: Option<Span>,
     layer_spans: Vec<Span>,
+    notes: Vec<Diagnostic>,
 }
 
 /// The arguments of one constructor call, mapped onto its field list.
@@ -731,6 +738,7 @@ impl Checker {
                 })
             }
             "Conductor" => Layer::Base(self.conductor(name, args, v.span)?),
+            "Measured" => Layer::Base(self.measured(name, args, v.span)?),
             _ => {
                 let f = self.fields(name, args, v.span, PLASTIC_FIELDS);
                 let albedo = self.color(f.get(0), Rule::Albedo);
