@@ -85,6 +85,8 @@ codes! {
     TrailingInput = "E0106",
     /// Values nested deeper than the parser allows.
     TooDeep = "E0107",
+    /// A source larger than `parse::MAX_SOURCE_BYTES`.
+    FileTooLarge = "E0108",
     /// A field name that the constructor does not have.
     UnknownField = "E0201",
     /// A required field is absent.
@@ -121,6 +123,8 @@ codes! {
     NotFinite = "E0217",
     /// Two input files declare materials with the same name (their outputs would collide).
     DuplicateMaterial = "E0218",
+    /// More runtime parameters than `model::MAX_PARAMS`.
+    TooManyParams = "E0219",
     /// A scene's number outside its range (angle, tolerance, exposure, light, distance).
     SceneRange = "E0301",
     /// `Range(lo, hi)` with lo > hi.

@@ -34,6 +34,7 @@ pub mod check;
 pub mod diag;
 pub mod emit;
 pub mod eval;
+pub mod fuzzing;
 pub mod lower;
 pub mod math;
 pub mod model;

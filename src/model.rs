@@ -253,6 +253,10 @@ impl Material {
 /// shader code, so this bounds shader size, not correctness.
 pub const MAX_COATS: usize = 16;
 
+/// Most runtime parameters a material may declare (one uniform struct member each; 64 members
+/// are at most 1 KiB of uniform data).
+pub const MAX_PARAMS: usize = 64;
+
 /// F0 of a dielectric interface with relative IOR η: ((η − 1)/(η + 1))² (normal incidence).
 pub fn f0_from_ior(ior: f32) -> f32 {
     let r = (ior - 1.0) / (ior + 1.0);

@@ -76,6 +76,15 @@ impl Value {
 /// # Errors
 /// The first syntax error, as a diagnostic with a span and an `E01xx` code.
 pub fn parse(text: &str) -> Result<Spanned<Value>, Diagnostic> {
+    if text.len() > MAX_SOURCE_BYTES {
+        return Err(Diagnostic::error(
+            Code::FileTooLarge,
+            format!("the file is {} bytes; at most {MAX_SOURCE_BYTES} are read", text.len()),
+            Span::new(0, 0),
+            "this file",
+        )
+        .with_help("a material is a few hundred bytes; this is probably not a material file"));
+    }
     // A UTF-8 byte-order mark is not part of the document.
     let start = if text.starts_with('\u{feff}') { '\u{feff}'.len_utf8() } else { 0 };
     let mut parser = Parser { text, pos: start, open: Vec::new() };
@@ -94,6 +103,9 @@ pub fn parse(text: &str) -> Result<Spanned<Value>, Diagnostic> {
     }
     Ok(value)
 }
+
+/// Largest source accepted (1 MiB): materials and scenes are a few hundred bytes.
+pub const MAX_SOURCE_BYTES: usize = 1 << 20;
 
 /// Deepest nesting of `(`, `[` and `{` accepted. Materials nest about five deep; the limit keeps
 /// hostile input from exhausting the stack.

@@ -42,6 +42,8 @@ pub enum ReadError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("no .ron files in {}", .0.display())]
     Empty(PathBuf),
+    #[error("{} is {size} bytes; sources of at most {} bytes are read", .path.display(), crate::parse::MAX_SOURCE_BYTES)]
+    TooLarge { path: PathBuf, size: u64 },
 }
 
 /// The `*.ron` files directly inside `dir` (materials or scenes), sorted by name.
@@ -73,13 +75,19 @@ pub fn read(paths: &[PathBuf]) -> Result<Vec<SourceFile>, ReadError> {
     for path in paths {
         if path.is_dir() { files.extend(material_files(path)?) } else { files.push(path.clone()) }
     }
-    files
-        .into_iter()
-        .map(|path| match std::fs::read_to_string(&path) {
-            Ok(text) => Ok(SourceFile { path, text }),
-            Err(source) => Err(ReadError::Io { path, source }),
-        })
-        .collect()
+    files.into_iter().map(|path| read_file(&path)).collect()
+}
+
+/// Reads one source file, refusing one larger than [`crate::parse::MAX_SOURCE_BYTES`] before
+/// reading it.
+fn read_file(path: &Path) -> Result<SourceFile, ReadError> {
+    let io = |source| ReadError::Io { path: path.to_path_buf(), source };
+    let size = std::fs::metadata(path).map_err(io)?.len();
+    if size > crate::parse::MAX_SOURCE_BYTES as u64 {
+        return Err(ReadError::TooLarge { path: path.to_path_buf(), size });
+    }
+    let text = std::fs::read_to_string(path).map_err(io)?;
+    Ok(SourceFile { path: path.to_path_buf(), text })
 }
 
 /// One file's problems.
@@ -184,8 +192,7 @@ pub struct SceneFile {
 /// # Errors
 /// [`ReadError`] if it cannot be read; otherwise the file and its diagnostics.
 pub fn read_scene(path: &Path) -> Result<Result<SceneFile, (SourceFile, Vec<Diagnostic>)>, ReadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ReadError::Io { path: path.to_path_buf(), source })?;
-    let source = SourceFile { path: path.to_path_buf(), text };
+    let source = read_file(path)?;
     let checked = crate::parse::parse(&source.text).map_err(|d| vec![d]).and_then(|v| crate::check::check_scene(&v));
     Ok(match checked {
         Ok(scene) => Ok(SceneFile { source, scene }),

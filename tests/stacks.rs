@@ -5,13 +5,16 @@
 
 mod common;
 
-use common::stacks::{WEIDLICH_WILKIE, Writer, stack};
+use common::stacks::{Stack, WEIDLICH_WILKIE, Writer, stack, stack_of};
 use glam::Vec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
-/// Stacks tried per run (fixed seed: the same stacks every run).
+/// Stacks tried per run (fixed seed: the same stacks every run); `GLAZEC_PROPTEST_CASES` asks
+/// for more.
 const CASES: u32 = 200;
+/// Deep stacks (9..=16 coats, up to the layer limit) tried per run.
+const DEEP_CASES: u32 = 24;
 const SEED: u64 = 0x91a2_e5c0;
 /// Direction pairs evaluated per stack.
 const PAIRS: usize = 48;
@@ -34,12 +37,33 @@ fn directions() -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
+fn cases(default: u32) -> u32 {
+    std::env::var("GLAZEC_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
 proptest! {
-    #![proptest_config(Config { cases: CASES, rng_seed: RngSeed::Fixed(SEED), failure_persistence: None, ..Config::default() })]
+    #![proptest_config(Config { cases: cases(CASES), rng_seed: RngSeed::Fixed(SEED), failure_persistence: None, ..Config::default() })]
 
     #[test]
     fn random_stacks_compile_validate_and_evaluate(s in stack()) {
-        let text = Writer { next_param: 0 }.material(&s);
+        check_stack(&s)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(Config { cases: cases(DEEP_CASES), rng_seed: RngSeed::Fixed(SEED + 1), failure_persistence: None, ..Config::default() })]
+
+    #[test]
+    fn deep_random_stacks_up_to_the_layer_limit_compile_validate_and_evaluate(s in stack_of(9..=16)) {
+        check_stack(&s)?;
+    }
+}
+
+/// The whole pipeline on one stack: compiles, validates, emits every target deterministically,
+/// and evaluates finite, non-negative and (where the method is) reciprocal.
+fn check_stack(s: &Stack) -> Result<(), TestCaseError> {
+    {
+        let text = Writer { next_param: 0 }.material(s);
         let compiled = match glazec::compile(&text) {
             Ok(c) => c,
             Err(e) => return Err(TestCaseError::fail(format!("{e}: {e:?}\n{text}"))),
@@ -47,6 +71,9 @@ proptest! {
         let targets = [glazec::Target::Wgsl, glazec::Target::Glsl, glazec::Target::Hlsl, glazec::Target::Spv];
         let artifacts = compiled.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
         prop_assert_eq!(artifacts.len(), 6);
+        let again = glazec::compile(&text).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let again = again.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        prop_assert!(artifacts == again, "output is not deterministic\n{}", text);
 
         // Every method is reciprocal except the seed's Weidlich–Wilkie over a smooth coat, whose
         // T12 = 1 − F(n·v) depends on the view direction only (seed 000 eq. 5; README).
@@ -62,6 +89,7 @@ proptest! {
             }
         }
     }
+    Ok(())
 }
 
 #[test]

@@ -119,12 +119,24 @@ enum Rule {
     SceneValue,
 }
 
+/// A coat's relative IOR: physical interfaces lie well inside (diamond in air 2.42, air under
+/// water 0.75); far outside, η² and 1/η² leave f32's range in the shader's constants (fuzzing
+/// found η = 10⁻⁴⁵ folding to NaN).
+const IOR_MIN: f64 = 0.1;
+const IOR_MAX: f64 = 10.0;
+/// A conductor's η can be small (silver ≈ 0.05 in the visible).
+const CONDUCTOR_ETA_MIN: f64 = 0.01;
+/// Absorption, thickness and extinction: beyond 10⁶ a layer is opaque anyway, and products of
+/// such values overflow f32.
+const MEDIUM_MAX: f64 = 1e6;
+
 impl Rule {
     fn accepts(self, x: f64) -> bool {
         match self {
             Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => (0.0..=1.0).contains(&x),
-            Rule::Ior | Rule::ConductorEta => x > 0.0,
-            Rule::Absorption | Rule::Thickness | Rule::Extinction => x >= 0.0,
+            Rule::Ior => (IOR_MIN..=IOR_MAX).contains(&x),
+            Rule::ConductorEta => (CONDUCTOR_ETA_MIN..=IOR_MAX).contains(&x),
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => (0.0..=MEDIUM_MAX).contains(&x),
             Rule::Angle => (0.0..=90.0).contains(&x),
             Rule::LightAmount | Rule::SceneValue => x >= 0.0,
             Rule::Distance | Rule::Exposure => x > 0.0,
@@ -167,8 +179,9 @@ impl Rule {
     fn label(self) -> &'static str {
         match self {
             Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => "must lie in [0, 1]",
-            Rule::Ior | Rule::ConductorEta => "must be greater than 0",
-            Rule::Absorption | Rule::Thickness | Rule::Extinction => "must not be negative",
+            Rule::Ior => "must lie in [0.1, 10]",
+            Rule::ConductorEta => "must lie in [0.01, 10]",
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => "must lie in [0, 10⁶]",
             Rule::Angle => "must lie in [0, 90] degrees",
             Rule::LightAmount | Rule::SceneValue => "must not be negative",
             Rule::Distance | Rule::Exposure => "must be greater than 0",
@@ -181,7 +194,7 @@ impl Rule {
             Rule::Roughness => "roughness is perceptual (α = roughness²): 0 is a mirror, 1 is fully rough",
             Rule::Sigma => "Oren–Nayar roughness is the facet-slope deviation σ in radians, from 0 (Lambert) to 1",
             Rule::Ior => {
-                "an index of refraction relative to the medium above is a finite number above 0 \
+                "an index of refraction relative to the medium above lies in [0.1, 10] \
                           (water 1.33, glass 1.5, diamond 2.42)"
             }
             Rule::Absorption => "absorption σa is per unit length; 0 means a clear coat",
@@ -371,6 +384,16 @@ pub fn is_reserved(word: &str) -> bool {
         .contains(word)
 }
 
+/// Device names Windows reserves in every folder (`con`, `nul`, `com1`, …): a folder so named
+/// cannot be created there.
+fn is_reserved_file_name(name: &str) -> bool {
+    matches!(name, "con" | "prn" | "aux" | "nul")
+        || (name.len() == 4
+            && (name.starts_with("com") || name.starts_with("lpt"))
+            && name.as_bytes()[3].is_ascii_digit()
+            && name.as_bytes()[3] != b'0')
+}
+
 /// Whether `name` can name a material (files, shader functions) or a parameter (struct member).
 fn name_problem(name: &str) -> Option<&'static str> {
     if name.is_empty() {
@@ -390,6 +413,9 @@ fn name_problem(name: &str) -> Option<&'static str> {
     }
     if is_reserved(name) {
         return Some("this word is reserved in WGSL, GLSL or HLSL");
+    }
+    if is_reserved_file_name(name) {
+        return Some("this is a reserved file name on Windows, and a material's name names its output folder");
     }
     None
 }
@@ -968,6 +994,18 @@ impl Checker {
                 return None;
             }
             return Some((id, first));
+        }
+        if self.params.len() == MAX_PARAMS {
+            self.error(
+                Diagnostic::error(
+                    Code::TooManyParams,
+                    format!("more than {MAX_PARAMS} runtime parameters"),
+                    whole,
+                    format!("parameter {} is one too many", MAX_PARAMS + 1),
+                )
+                .with_help("fold the values that never change into literals"),
+            );
+            return None;
         }
         let id = ParamId(self.params.len() as u16);
         self.param_ids.insert(name.clone(), id);

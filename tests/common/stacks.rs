@@ -46,7 +46,12 @@ pub fn coat() -> impl Strategy<Value = Coat> {
 }
 
 pub fn stack() -> impl Strategy<Value = Stack> {
-    (0u8..6, prop::collection::vec(coat(), 1..=8), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
+    stack_of(1..=8)
+}
+
+/// Stacks with a given range of coat counts (up to glazec's limit of 16).
+pub fn stack_of(coats: std::ops::RangeInclusive<usize>) -> impl Strategy<Value = Stack> {
+    (0u8..6, prop::collection::vec(coat(), coats), 0u8..6, rgb(0.0..=1.0), num(0.0..=1.0), num(1.05..=2.5))
         .prop_map(|(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior })
 }
 
