@@ -196,27 +196,40 @@ impl SlabModel {
 
     /// ∂R/∂σa and ∂R/∂σs′.
     fn gradient(self, slab: Slab, d: f64, sigma_a: f64, sigma_s: f64) -> (f64, f64) {
+        let (_, d_a, d_s) = self.value_and_gradient(slab, d, sigma_a, sigma_s);
+        (d_a, d_s)
+    }
+
+    /// R, ∂R/∂σa and ∂R/∂σs′ together (two exponentials for the exponential model).
+    fn value_and_gradient(self, slab: Slab, d: f64, sigma_a: f64, sigma_s: f64) -> (f64, f64, f64) {
         let t = 1.0 - slab.f_top;
         let p = slab.p_g;
         let s = sigma_s * p;
         match self {
             SlabModel::Seed => {
                 let lin = 1.0 - sigma_a * d - s * d;
+                let path = d - sigma_a * d * d + sigma_a * sigma_a * d * d * d / 3.0;
+                let value = t * (s * path + slab.f_bottom * lin * lin);
                 let d_a = t * (s * (-d * d + 2.0 * sigma_a * d * d * d / 3.0) - 2.0 * slab.f_bottom * lin * d);
-                let d_s = t
-                    * p
-                    * ((d - sigma_a * d * d + sigma_a * sigma_a * d * d * d / 3.0) - 2.0 * slab.f_bottom * lin * d);
-                (d_a, d_s)
+                let d_s = t * p * (path - 2.0 * slab.f_bottom * lin * d);
+                (value, d_a, d_s)
             }
             SlabModel::Exponential => {
                 let x = 2.0 * sigma_a * d;
-                let bottom = slab.f_bottom * (-2.0 * (sigma_a + s) * d).exp();
-                // d/dσa [(1 − e^(−x))/(2σa)] = [x e^(−x) − (1 − e^(−x))]/(2σa²), written in x for
-                // small σa: d²·[x e^(−x) + expm1(−x)]·2/x² (→ −d² as x → 0).
-                let d_single = if x < 1e-6 { -d * d } else { 2.0 * d * d * (x * (-x).exp() + (-x).exp_m1()) / (x * x) };
-                let d_a = t * (s * d_single - 2.0 * d * bottom);
-                let d_s = t * p * (single_path(sigma_a, d) - 2.0 * d * bottom);
-                (d_a, d_s)
+                let e_a = (-x).exp();
+                let bottom = slab.f_bottom * e_a * (-2.0 * s * d).exp();
+                // ∫₀^d e^(−2σa z) dz = −expm1(−x)/x · d (accurate as x → 0), and its σa-derivative
+                // d²·[x e^(−x) + expm1(−x)]·2/x² (→ −d² as x → 0).
+                let (path, d_path) = if x < 1e-6 {
+                    (d * (1.0 - 0.5 * x), -d * d)
+                } else {
+                    let em1 = (-x).exp_m1();
+                    (-em1 / x * d, 2.0 * d * d * (x * e_a + em1) / (x * x))
+                };
+                let value = t * (s * path + bottom);
+                let d_a = t * (s * d_path - 2.0 * d * bottom);
+                let d_s = t * p * (path - 2.0 * d * bottom);
+                (value, d_a, d_s)
             }
         }
     }
@@ -464,19 +477,22 @@ fn two_thicknesses(
             "the two thicknesses are equal: they give one observation, not two".into(),
         ));
     }
-    let residual = |a: f64, s: f64| [model.reflectance(slab, d1, a, s) - r1, model.reflectance(slab, d2, a, s) - r2];
+    // Residuals and their Jacobian in (u, v) = (ln σa, ln σs′), where ∂R/∂u = σa ∂R/∂σa: one
+    // evaluation per Newton step, reused by the line search's accepted point.
+    let evaluate = |u: f64, v: f64| {
+        let (a, s) = (u.exp(), v.exp());
+        let (f1, g1a, g1s) = model.value_and_gradient(slab, d1, a, s);
+        let (f2, g2a, g2s) = model.value_and_gradient(slab, d2, a, s);
+        ([f1 - r1, f2 - r2], [g1a * a, g1s * s, g2a * a, g2s * s])
+    };
     let norm = |v: [f64; 2]| v[0].hypot(v[1]);
     // Start at σa·d̄ = ½ and the σs′ that explains the mean reading by single scattering alone.
     let mean_d = 0.5 * (d1 + d2);
     let (mut u, mut v) =
         ((0.5 / mean_d).ln(), ((0.5 * (r1 + r2)) / ((1.0 - slab.f_top) * slab.p_g * mean_d)).max(1e-9).ln());
+    let (mut res, mut jac) = evaluate(u, v);
     for _ in 0..MAX_ITERATIONS {
-        let (a, s) = (u.exp(), v.exp());
-        let res = residual(a, s);
-        let (g1a, g1s) = model.gradient(slab, d1, a, s);
-        let (g2a, g2s) = model.gradient(slab, d2, a, s);
-        // Jacobian in (u, v) = (ln σa, ln σs′): ∂R/∂u = σa ∂R/∂σa.
-        let (j11, j12, j21, j22) = (g1a * a, g1s * s, g2a * a, g2s * s);
+        let [j11, j12, j21, j22] = jac;
         let det = j11 * j22 - j12 * j21;
         if det == 0.0 || !det.is_finite() {
             return Err(OpticsError::NoConvergence(
@@ -485,23 +501,25 @@ fn two_thicknesses(
         }
         let du = -(j22 * res[0] - j12 * res[1]) / det;
         let dv = -(-j21 * res[0] + j11 * res[1]) / det;
+        // Backtracking: halve the step until the residual does not grow.
         let mut step = 1.0;
-        let start = norm(res);
-        while step > 1e-6 && norm(residual((u + step * du).exp(), (v + step * dv).exp())) > start {
+        let mut trial = evaluate(u + du, v + dv);
+        while step > 1e-6 && norm(trial.0) > norm(res) {
             step *= 0.5;
+            trial = evaluate(u + step * du, v + step * dv);
         }
         u += step * du;
         v += step * dv;
+        (res, jac) = trial;
         if (step * du).abs().max((step * dv).abs()) < CONVERGED {
-            let (a, s) = (u.exp(), v.exp());
-            if norm(residual(a, s)) > 1e-9 {
+            if norm(res) > 1e-9 {
                 break;
             }
-            return Ok((a, s));
+            return Ok((u.exp(), v.exp()));
         }
     }
     let (a, s) = (u.exp(), v.exp());
-    if norm(residual(a, s)) <= 1e-12 {
+    if norm(res) <= 1e-12 {
         return Ok((a, s));
     }
     Err(OpticsError::Inconsistent(format!(
