@@ -843,9 +843,7 @@ pub fn error_between(full: &[Vec<Vec3>], candidate: &[Vec<Vec3>], scene: &Scene,
     let n_env = samples.env.len();
     let mut worst = 0.0_f32;
     let mut worse = |delta: Vec3, value: Vec3| {
-        for c in 0..3 {
-            worst = worst.max(delta[c] / scene.tolerance.allowed(value[c]));
-        }
+        worst = worst.max(scene.tolerance.share(value.to_array(), delta.to_array()));
     };
     for (full, cand) in full.iter().zip(candidate) {
         // The environment's share at each view: L_env · ∫ |Δf| cos, and L_env · ∫ f cos; the
@@ -957,6 +955,29 @@ mod tests {
         assert_eq!(reference.error(&m, &s, &samples), 0.0);
         let dropped = apply(&m, &Change::DropCoat(0)).expect("applies");
         assert!(reference.error(&dropped, &s, &samples) > 10.0);
+    }
+
+    #[test]
+    fn a_delta_e_tolerance_measures_colour_differences() {
+        let m = glaze();
+        let strict = scene(r#"Scene(name: "s", lights: [Directional(irradiance: 1)], tolerance: DeltaE(0.5))"#);
+        let loose = scene(r#"Scene(name: "s", lights: [Directional(irradiance: 1)], tolerance: DeltaE(50))"#);
+        let dropped = apply(&m, &Change::DropCoat(0)).expect("applies");
+        let error = |s: &Scene| {
+            let domain = ParameterDomain::new(&m, s).expect("domain");
+            let samples = SampleSet::pass(s, &domain);
+            Evaluated::new(&m, s, &samples).error(&dropped, s, &samples)
+        };
+        // The same difference is 100× the share of a 100× stricter ΔE.
+        let (e_strict, e_loose) = (error(&strict), error(&loose));
+        assert!(e_strict > 1.0 && (e_strict / e_loose - 100.0).abs() < 1e-2, "{e_strict} vs {e_loose}");
+        // The pass runs under a ΔE tolerance like under the others: whatever it keeps is within budget.
+        let pinned = scene(
+            r#"Scene(name: "s", lights: [Directional(irradiance: 1)], tolerance: DeltaE(50),
+               params: {"rough": Pinned(0.2), "ior": Pinned(1.5), "tint": Pinned((0.1, 0.2, 0.3)), "body": Pinned((0.5, 0.4, 0.3))})"#,
+        );
+        let (_, report) = simplify(&m, &pinned).expect("simplifies");
+        assert!(report.final_error <= PASS_BUDGET && report.simplified_cost < report.full_cost, "{report:?}");
     }
 
     #[test]

@@ -115,6 +115,8 @@ enum Rule {
     Tolerance,
     /// A scene's exposure: > 0.
     Exposure,
+    /// A ΔE*ab tolerance: (0, 100].
+    DeltaE,
     /// A value a scene gives a runtime parameter: ≥ 0 (the material's slot bounds it further).
     SceneValue,
 }
@@ -141,6 +143,7 @@ impl Rule {
             Rule::LightAmount | Rule::SceneValue => x >= 0.0,
             Rule::Distance | Rule::Exposure => x > 0.0,
             Rule::Tolerance => x > 0.0 && x <= 1.0,
+            Rule::DeltaE => x > 0.0 && x <= 100.0,
         }
     }
 
@@ -150,9 +153,13 @@ impl Rule {
             Rule::Ior | Rule::ConductorEta => Code::IorRange,
             Rule::Absorption | Rule::Thickness | Rule::Extinction => Code::NegativeMedium,
             Rule::Albedo | Rule::Reflectance => Code::AlbedoRange,
-            Rule::Angle | Rule::LightAmount | Rule::Distance | Rule::Tolerance | Rule::Exposure | Rule::SceneValue => {
-                Code::SceneRange
-            }
+            Rule::Angle
+            | Rule::LightAmount
+            | Rule::Distance
+            | Rule::Tolerance
+            | Rule::Exposure
+            | Rule::DeltaE
+            | Rule::SceneValue => Code::SceneRange,
         }
     }
 
@@ -172,6 +179,7 @@ impl Rule {
             Rule::Distance => "distance",
             Rule::Tolerance => "tolerance",
             Rule::Exposure => "exposure",
+            Rule::DeltaE => "ΔE tolerance",
             Rule::SceneValue => "parameter value",
         }
     }
@@ -186,6 +194,7 @@ impl Rule {
             Rule::LightAmount | Rule::SceneValue => "must not be negative",
             Rule::Distance | Rule::Exposure => "must be greater than 0",
             Rule::Tolerance => "must lie in (0, 1]",
+            Rule::DeltaE => "must lie in (0, 100]",
         }
     }
 
@@ -216,6 +225,7 @@ impl Rule {
             Rule::Distance => "the closest a point light comes to a lit surface, in scene units, above 0",
             Rule::Tolerance => "a tolerance is a fraction: `Display` is 1/255, `Relative(0.01)` is 1%",
             Rule::Exposure => "exposure scales radiance to display value; 1 shows radiance 1 as white",
+            Rule::DeltaE => "a CIE 1976 ΔE*ab: about 2.3 is one just-noticeable difference",
             Rule::SceneValue => "a parameter's value in a scene is 0 or more (the material's slot bounds it)",
         }
     }

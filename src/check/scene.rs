@@ -178,15 +178,20 @@ impl Checker {
         self.error(Diagnostic::error(Code::WrongType, format!("expected {expected}"), span, expected).with_help(help));
     }
 
-    /// `Display`, `Display(x)` or `Relative(r)`.
+    /// `Display`, `Display(x)`, `Relative(r)` or `DeltaE(x)`.
     fn tolerance(&mut self, v: &Spanned<Value>) -> Option<Tolerance> {
-        let (ctor, args) = self.constructor(v, "tolerance", &["Display", "Relative"])?;
+        let (ctor, args) = self.constructor(v, "tolerance", &["Display", "Relative", "DeltaE"])?;
         if ctor.node == "Display" && args.is_none() {
             return Some(Tolerance::Display(DISPLAY_TOLERANCE));
         }
         let f = self.fields(ctor, args, v.span, AMOUNT_FIELDS);
-        let amount = f.get(0).and_then(|v| self.number(v, Rule::Tolerance))? as f32;
-        Some(if ctor.node == "Display" { Tolerance::Display(amount) } else { Tolerance::Relative(amount) })
+        let rule = if ctor.node == "DeltaE" { Rule::DeltaE } else { Rule::Tolerance };
+        let amount = f.get(0).and_then(|v| self.number(v, rule))? as f32;
+        Some(match ctor.node.as_str() {
+            "Display" => Tolerance::Display(amount),
+            "Relative" => Tolerance::Relative(amount),
+            _ => Tolerance::DeltaE(amount),
+        })
     }
 }
 
@@ -227,6 +232,9 @@ mod tests {
         assert_eq!(codes(r#"Scene(name: "s", lights: [Directional(irradiance: -1)])"#), [Code::SceneRange]);
         assert_eq!(codes(r#"Scene(name: "s", lights: [Spot(cone: 3)])"#), [Code::UnknownVariant]);
         assert_eq!(codes(r#"Scene(name: "s", lights: [], tolerance: Relative(2))"#), [Code::SceneRange]);
+        assert_eq!(codes(r#"Scene(name: "s", lights: [], tolerance: DeltaE(0))"#), [Code::SceneRange]);
+        let scene = check_text(r#"Scene(name: "s", lights: [], tolerance: DeltaE(2.3))"#).expect("checks");
+        assert_eq!(scene.tolerance, Tolerance::DeltaE(2.3));
         assert_eq!(codes(r#"Scene(name: "s", lights: [], exposur: 1)"#), [Code::UnknownField]);
         assert_eq!(codes(r#"Scene(lights: [])"#), [Code::MissingField]);
     }
