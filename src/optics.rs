@@ -106,7 +106,7 @@ impl Default for Slab {
 // ---------------------------------------------------------------------------------------------
 // Forward models
 
-/// Seed 002 eq. 1 (after its ref. [4]): R_d = (1 − F_dr,t)·[s(d − σa d² + σa² d³/3) +
+/// Seed 002 eq. 1 (after its ref. 4): R_d = (1 − F_dr,t)·[s(d − σa d² + σa² d³/3) +
 /// F_dr,b (1 − σa d − s d)²] with s = σs′·P(g): single scattering with the two-way attenuation
 /// e^(−2σa z) linearised to (1 − σa z)², plus the bottom's reflection, attenuation linearised too.
 /// Sound only for σt·d ≲ [`SEED_MODEL_MAX_OPTICAL_DEPTH`].

@@ -6,7 +6,7 @@
 //! the physical range of a number, or a fix.
 //!
 //! Checking is table-driven: each constructor (`Material`, `Coat`, `Ggx`, `Lambert`, …) has a
-//! list of [`FieldSpec`]s, and one routine maps named or positional arguments onto it, reporting
+//! list of `FieldSpec`s, and one routine maps named or positional arguments onto it, reporting
 //! unknown, duplicate and missing fields. Values are then converted slot by slot; a slot that
 //! fails is reported and skipped, so one run finds every error.
 //!

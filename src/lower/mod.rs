@@ -42,7 +42,7 @@ use builder::{Expr, ModuleBuilder};
 /// SPIR-V (the HLSL path) keeps the numbers glslang gave it, so the two must coincide. The
 /// optional resources therefore take the next free number, in this order: `params` (3, when
 /// the material has runtime parameters), `glazec_tables` (when a runtime parameter needs whole
-/// tables), `light` (the preview's). [`layout`] reads them back from a module.
+/// tables), `light` (the preview's). [`layout`](bindings::layout) reads them back from a module.
 pub mod bindings {
     pub const GROUP: u32 = 0;
     /// `var<storage, read> pairs: array<DirectionPair>`: `wi` then `wo`, each a `vec4<f32>` (w unused).

@@ -29,10 +29,10 @@
 //!     internal reflections (TIR included) between the coat and the body, R(τ) and the escape
 //!     share E_esc(τ) from slab integrals (smooth) or tables (rough). When the layer below is
 //!     itself coated, the series starts from what its first reflection really returns
-//!     ([`first_pass`]): that light leaves concentrated towards the normal. A glossy body (a
+//!     (`first_pass`): that light leaves concentrated towards the normal. A glossy body (a
 //!     conductor) keeps its lobe: f_b/(1 − √(E k E k)) for the bounces inside the escape cone, a
 //!     pool of light trapped by TIR that leaves after a few bounces, and a lobe widened by the
-//!     refraction through a rough coat above ([`BLUR_WIDTH`]).
+//!     refraction through a rough coat above (`BLUR_WIDTH`).
 //!
 //!   Reciprocal, white furnace within 2·10⁻³, exact for a smooth coat over Lambert with
 //!   absorption (research/accuracy.md §1.4); measured against the stochastic reference in
@@ -996,7 +996,7 @@ pub fn trapped_rest<F: Real>(mu_c: F, alpha: F, w: F) -> F {
     sum * width
 }
 
-/// Q of [`eon_escape_shape`]: the integral over the escape cone of a smooth interface of
+/// Q of `eon_escape_shape`: the integral over the escape cone of a smooth interface of
 /// relative IOR `eta`, with the nodes of [`slab_integral`] (no TIR part: nothing escapes there).
 pub fn eon_escape_q<F: Real>(eta: F) -> F {
     let mu_c = escape_cone_cosine(eta).named("mu_c");
