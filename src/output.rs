@@ -122,6 +122,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_failure_while_staging_writes_nothing_at_all() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        // The second file's folder cannot be created: a file stands where it should be.
+        fs::write(dir.path().join("blocked"), "a file").expect("writes");
+        let files = vec![
+            OutputFile { path: dir.path().join("ok/first.wgsl"), contents: b"first".to_vec() },
+            OutputFile { path: dir.path().join("blocked/second.wgsl"), contents: b"second".to_vec() },
+        ];
+        assert!(write_all(&files).is_err());
+        assert!(!dir.path().join("ok/first.wgsl").exists(), "the first file was written although the second failed");
+        let leftovers: Vec<_> = fs::read_dir(dir.path().join("ok")).map(|d| d.flatten().collect()).unwrap_or_default();
+        assert!(leftovers.is_empty(), "temporary files left behind: {leftovers:?}");
+    }
+
+    #[test]
     fn writes_all_files_and_reports_drift() {
         let dir = tempfile::tempdir().expect("temp dir");
         let files = vec![
