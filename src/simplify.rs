@@ -663,18 +663,13 @@ fn apply(m: &Material, change: &Change) -> Option<Material> {
             else {
                 return None;
             };
-            let f0 = [0, 1, 2].map(|c| conductor_f0(eta[c], k[c]));
+            // The exact conductor Fresnel at normal incidence (the shared term, on f32).
+            let f0 = crate::math::terms::fr_conductor(1.0, Vec3::from(eta), Vec3::from(k)).to_array();
             out.base = Base::Conductor { roughness, fresnel: ConductorFresnel::F0(Color::Lit(f0)) };
         }
         Change::Method(method) => out.method = *method,
     }
     Some(prune_params(out))
-}
-
-/// A conductor's reflectance at normal incidence: ((η − 1)² + κ²) / ((η + 1)² + κ²) (the
-/// Fresnel equations at θ = 0; Born & Wolf §14.2).
-fn conductor_f0(eta: f32, k: f32) -> f32 {
-    ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k)
 }
 
 // ---------------------------------------------------------------------------------------------

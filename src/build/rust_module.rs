@@ -351,23 +351,8 @@ fn write_params_info(out: &mut String, c: &Compiled, ty: Handle<Type>) {
     let _ = writeln!(out, "        struct_name: {name:?},\n        members: PARAMS_MEMBERS,\n        size: {span},");
     let _ = writeln!(out, "        rust_offsets: &[{}],", offsets.join(", "));
     let _ = writeln!(out, "        rust_size: core::mem::size_of::<{name}>(),");
-    let _ = writeln!(out, "        default_bytes: &{:?},\n    }};\n", default_bytes(c, members, *span));
-}
-
-/// The material's defaults at naga's member offsets, little-endian f32, zeros elsewhere.
-fn default_bytes(c: &Compiled, members: &[naga::StructMember], span: u32) -> Vec<u8> {
-    let mut bytes = vec![0u8; span as usize];
-    for (member, param) in members.iter().zip(&c.material.params) {
-        let values: &[f32] = match &param.default {
-            ParamValue::Scalar(v) => std::slice::from_ref(v),
-            ParamValue::Rgb(rgb) => rgb,
-        };
-        for (i, v) in values.iter().enumerate() {
-            let at = member.offset as usize + 4 * i;
-            bytes[at..at + 4].copy_from_slice(&v.to_le_bytes());
-        }
-    }
-    bytes
+    let defaults = crate::lower::params_bytes(&c.material, &c.material.default_values());
+    let _ = writeln!(out, "        default_bytes: &{defaults:?},\n    }};\n");
 }
 
 /// The bindings used by the entry points whose stage `selects`, merged (stages or-ed).

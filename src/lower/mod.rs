@@ -124,6 +124,25 @@ pub struct ParamLayout {
     pub size: u32,
 }
 
+/// The uniform block of a material's runtime parameters for `values` (one per parameter, in
+/// declaration order): little-endian f32 at [`params_layout`]'s offsets, padding zeroed.
+/// Extra or missing values are the caller's to check.
+pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Vec<u8> {
+    let (layout, size) = params_layout(material);
+    let mut bytes = vec![0u8; size as usize];
+    for (slot, value) in layout.iter().zip(values) {
+        let components: &[f32] = match value {
+            ParamValue::Scalar(x) => std::slice::from_ref(x),
+            ParamValue::Rgb(c) => c,
+        };
+        for (i, x) in components.iter().enumerate() {
+            let at = slot.offset as usize + 4 * i;
+            bytes[at..at + 4].copy_from_slice(&x.to_le_bytes());
+        }
+    }
+    bytes
+}
+
 /// The uniform struct's layout (WGSL uniform rules; naga reproduces it in every backend).
 pub fn params_layout(material: &Material) -> (Vec<ParamLayout>, u32) {
     let mut offset: u32 = 0;

@@ -9,7 +9,7 @@ use super::shader::{self, ShaderPath};
 use super::{Gpu, RunError};
 use crate::Compiled;
 use crate::eval::Pair;
-use crate::lower::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, bindings, entry_points, params_layout};
+use crate::lower::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, bindings, entry_points};
 use crate::model::{Material, ParamValue};
 
 /// Most pairs one dispatch covers (65,535 workgroups of 64 invocations).
@@ -41,19 +41,7 @@ pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Result<Vec<u8
     if values.len() != material.params.len() {
         return Err(RunError::ParamCount { expected: material.params.len(), got: values.len() });
     }
-    let (layout, size) = params_layout(material);
-    let mut bytes = vec![0u8; size as usize];
-    for (slot, value) in layout.iter().zip(values) {
-        let components: Vec<f32> = match *value {
-            ParamValue::Scalar(x) => vec![x],
-            ParamValue::Rgb(c) => c.to_vec(),
-        };
-        for (i, x) in components.iter().enumerate() {
-            let at = slot.offset as usize + 4 * i;
-            bytes[at..at + 4].copy_from_slice(&x.to_le_bytes());
-        }
-    }
-    Ok(bytes)
+    Ok(crate::lower::params_bytes(material, values))
 }
 
 /// The `pairs` buffer: per pair `wi.xyz, 0, wo.xyz, 0` as little-endian f32.
