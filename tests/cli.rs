@@ -2,13 +2,11 @@
 
 mod common;
 
+use common::glazec;
+
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn glazec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glazec")).args(args).current_dir(common::root()).output().expect("runs glazec")
-}
+use std::process::Output;
 
 fn code(out: &Output) -> i32 {
     out.status.code().expect("exited normally")

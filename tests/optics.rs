@@ -3,16 +3,14 @@
 
 mod common;
 
-use std::process::{Command, Output};
+use common::glazec;
+
+use std::process::Output;
 
 use glazec::optics::{self, Slab, SlabModel};
 
 /// Round trips through the CLI's printed values (shortest f64 text reads back exactly).
 const ROUND_TRIP: f64 = 1e-9;
-
-fn glazec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glazec")).args(args).current_dir(common::root()).output().expect("runs")
-}
 
 fn rows(out: &Output) -> Vec<Vec<String>> {
     String::from_utf8_lossy(&out.stdout).lines().skip(1).map(|l| l.split(',').map(str::to_string).collect()).collect()

@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::glazec;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use glazec::fuzzing;
 use proptest::prelude::*;
@@ -29,8 +30,17 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-fn glazec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glazec")).args(args).current_dir(common::root()).output().expect("runs")
+#[test]
+fn the_fuzzers_seed_from_every_shipped_material() {
+    // `fuzzing::SHIPPED` lists the files by hand (include_str! needs literal paths).
+    let on_disk: Vec<String> =
+        common::material_files().iter().map(|p| std::fs::read_to_string(p).expect("readable")).collect();
+    assert_eq!(
+        fuzzing::SHIPPED.len(),
+        on_disk.len(),
+        "a material was added or removed: update glazec::fuzzing::SHIPPED"
+    );
+    assert!(on_disk.iter().all(|text| fuzzing::SHIPPED.contains(&text.as_str())));
 }
 
 #[test]

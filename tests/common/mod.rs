@@ -47,6 +47,15 @@ pub mod agreement {
     }
 }
 
+/// Runs the `glazec` binary from the project root.
+pub fn glazec(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_glazec"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("runs glazec")
+}
+
 /// The project root (where `materials/` and `generated/` live).
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
