@@ -212,7 +212,8 @@ pub fn simplify(material: &Material, scene: &Scene) -> Result<(Material, Report)
     let reference = Evaluated::new(material, scene, &samples);
     let full_cost = cost(material);
     let mut current = material.clone();
-    let mut steps = Vec::new();
+    let mut current_cost = full_cost;
+    let mut steps: Vec<Step> = Vec::new();
     let mut rejected = Vec::new();
     let pinned = domain.pinned_names();
     if !pinned.is_empty() {
@@ -226,9 +227,9 @@ pub fn simplify(material: &Material, scene: &Scene) -> Result<(Material, Report)
             cost_after: after,
         });
         current = folded;
+        current_cost = after;
     }
     loop {
-        let current_cost = cost(&current);
         let mut candidates: Vec<(usize, Change, Material)> = changes(&current)
             .into_iter()
             .filter_map(|change| apply(&current, &change).map(|m| (cost(&m), change, m)))
@@ -251,10 +252,12 @@ pub fn simplify(material: &Material, scene: &Scene) -> Result<(Material, Report)
         let Some((next, step)) = accepted else { break };
         // A change rejected earlier may fit now; only the last round's rejections are explained.
         rejected.clear();
+        current_cost = step.cost_after;
         steps.push(step);
         current = next;
     }
-    let final_error = reference.error(&current, scene, &samples);
+    // Every step's error is measured against the original, so the last one is the result's.
+    let final_error = steps.last().map_or(0.0, |s| s.error);
     let report = Report {
         material: material.name.clone(),
         scene: scene.name.clone(),
@@ -263,7 +266,7 @@ pub fn simplify(material: &Material, scene: &Scene) -> Result<(Material, Report)
         steps,
         rejected,
         full_cost,
-        simplified_cost: cost(&current),
+        simplified_cost: current_cost,
         final_error,
     };
     Ok((current, report))
