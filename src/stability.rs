@@ -188,13 +188,13 @@ fn column_pairs(column: usize) -> Vec<(Vec3, Vec3)> {
     vec![(w, mirror), (w, w), (w, Vec3::Z), (Vec3::Z, w), (w, direction(60.0, 90.0))]
 }
 
-/// Where the albedo quadrature needs a breakpoint in θh: a top coat optically thinner than the
-/// medium above (literal η < 1) transmits nothing beyond its critical angle θc = asin η, which at
-/// normal incidence lies at θh = θc/2 (see `quadrature::albedo_nodes_with_breaks`).
-fn critical_breaks(material: &Material) -> Vec<f64> {
+/// Where f jumps in the light direction's cosine: a top coat optically thinner than the medium
+/// above (literal η < 1) transmits nothing beyond its critical angle, cos θc = √(1 − η²) (the
+/// albedo quadrature refines its cells there, `quadrature::albedo_nodes_with_jump`).
+fn critical_cosine(material: &Material) -> Option<f64> {
     match material.coats.first().map(|c| c.ior) {
-        Some(Scalar::Lit(eta)) if eta < 1.0 => vec![f64::from(eta).asin() / 2.0],
-        _ => Vec::new(),
+        Some(Scalar::Lit(eta)) if eta < 1.0 => Some((1.0 - f64::from(eta).powi(2)).sqrt()),
+        _ => None,
     }
 }
 
@@ -290,11 +290,11 @@ pub fn run(sweep: &Sweep, method: Method, eval: &mut Evaluator<'_>, refine: bool
     for &value in &sweep.values {
         let material = sweep.material(method, value);
         let alpha = sharpest_alpha(&material);
-        let breaks = critical_breaks(&material);
+        let jump = critical_cosine(&material);
         // One batch per material: every column's pairs, then every column's albedo nodes.
         let mut pairs: Vec<(Vec3, Vec3)> = (0..COLUMNS).flat_map(column_pairs).collect();
         let nodes: Vec<Vec<(DVec3, f64)>> = (0..COLUMNS)
-            .map(|c| quadrature::albedo_nodes_with_breaks(column_direction(c).as_dvec3(), alpha, &breaks))
+            .map(|c| quadrature::albedo_nodes_with_jump(column_direction(c).as_dvec3(), alpha, jump))
             .collect();
         for (c, column_nodes) in nodes.iter().enumerate() {
             let wo = column_direction(c);

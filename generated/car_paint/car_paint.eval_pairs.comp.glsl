@@ -19,7 +19,7 @@ const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
-const vec3 layer1_r_return = vec3(0.59634066, 0.59634066, 0.59634066);
+const vec3 layer1_r_return = vec3(0.59634465, 0.59634465, 0.59634465);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 
@@ -350,14 +350,14 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     vec3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
     float _e142 = (1.0 - layer2_transmit_l);
-    vec3 _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0.0)) * vec3(0.40606117))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e163 / vec3(0.4036593));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e163) / vec3(0.59634066)), vec3(0.0)), vec3(1.0));
+    vec3 _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0.0)) * vec3(0.40605718))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e163 / vec3(0.40365535));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e163) / vec3(0.59634465)), vec3(0.0)), vec3(1.0));
     float _e180 = (1.0 - layer2_transmit_v);
-    vec3 _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0.0)) * vec3(0.40606117))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e201 / vec3(0.4036593));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e201) / vec3(0.59634066)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9958361, 0.9941891, 0.99203014), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    vec3 _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0.0)) * vec3(0.40605718))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e201 / vec3(0.40365535));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e201) / vec3(0.59634465)), vec3(0.0)), vec3(1.0));
+    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.99583596, 0.9941892, 0.9920301), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

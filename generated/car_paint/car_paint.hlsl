@@ -29,7 +29,7 @@ static const float3 layer2_rho = float3(0.85015357, 0.863715, 0.863715);
 static const float layer2_trapped_escape = 1.0;
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 layer1_rho = float3(0.70837235, 0.054159977, 0.024499279);
-static const float3 layer1_r_return = float3(0.59634066, 0.59634066, 0.59634066);
+static const float3 layer1_r_return = float3(0.59634465, 0.59634465, 0.59634465);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
@@ -394,14 +394,14 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     const float3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
     float _e142 = (1.0 - layer2_transmit_l);
-    float3 _e163 = min(max(((((_e142 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e142).xxx), (0.0).xxx) * (0.40606117).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e163 / (0.4036593).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e163) / (0.59634066).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e163 = min(max(((((_e142 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e142).xxx), (0.0).xxx) * (0.40605718).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e163 / (0.40365535).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e163) / (0.59634465).xxx), (0.0).xxx), (1.0).xxx);
     float _e180 = (1.0 - layer2_transmit_v);
-    float3 _e201 = min(max(((((_e180 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e180).xxx), (0.0).xxx) * (0.40606117).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e201 / (0.4036593).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e201) / (0.59634066).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.9958361, 0.9941891, 0.99203014), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    float3 _e201 = min(max(((((_e180 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e180).xxx), (0.0).xxx) * (0.40605718).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e201 / (0.40365535).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e201) / (0.59634465).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.99583596, 0.9941892, 0.9920301), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }

@@ -12,7 +12,7 @@ const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
-const vec3 layer1_r_return = vec3(0.59634066, 0.59634066, 0.59634066);
+const vec3 layer1_r_return = vec3(0.59634465, 0.59634465, 0.59634465);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

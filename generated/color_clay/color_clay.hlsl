@@ -24,7 +24,7 @@ struct PreviewVarying {
 static const float3 tau_1 = float3(0.025, 0.025, 0.025);
 static const float3 layer1_rho_ms = float3(0.28973147, 0.0132765025, 0.009134458);
 static const float3 layer1_rho = float3(0.5261278, 0.110294394, 0.09139683);
-static const float3 layer1_r_return = float3(0.4151085, 0.4151085, 0.4151085);
+static const float3 layer1_r_return = float3(0.4153186, 0.4153186, 0.4153186);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);
@@ -359,12 +359,12 @@ float3 color_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e106 = albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
     const float _e108 = e_fon(layer1_path_cos_l_1, 0.5);
     float3 layer1_first_escape_l = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e108)) * (0.23442543).xxx) / max(_e106, (1e-6).xxx)));
-    float3 layer1_first_return_l = min(max((((1.0).xxx - (layer1_first_escape_l * (0.5335142).xxx)) / (0.4664858).xxx), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_return_l = min(max((((1.0).xxx - (layer1_first_escape_l * (0.5333226).xxx)) / (0.46667743).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e143 = albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
     const float _e145 = e_fon(layer1_path_cos_v_1, 0.5);
     float3 layer1_first_escape_v = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e145)) * (0.23442543).xxx) / max(_e143, (1e-6).xxx)));
-    float3 layer1_first_return_v = min(max((((1.0).xxx - (layer1_first_escape_v * (0.5335142).xxx)) / (0.4664858).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(float3(0.9825304, 0.99613893, 0.9967925), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
+    float3 layer1_first_return_v = min(max((((1.0).xxx - (layer1_first_escape_v * (0.5333226).xxx)) / (0.46667743).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(float3(0.9825438, 0.9961419, 0.99679494), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }

@@ -7,7 +7,7 @@ struct PreviewLight {
 const vec3 tau_1 = vec3(0.025, 0.025, 0.025);
 const vec3 layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
 const vec3 layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
-const vec3 layer1_r_return = vec3(0.4151085, 0.4151085, 0.4151085);
+const vec3 layer1_r_return = vec3(0.4153186, 0.4153186, 0.4153186);
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 
@@ -309,12 +309,12 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e106 = albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
     float _e108 = e_fon(layer1_path_cos_l_1, 0.5);
     vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e108)) * vec3(0.23442543)) / max(_e106, vec3(1e-6))));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5335142))) / vec3(0.4664858)), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5333226))) / vec3(0.46667743)), vec3(0.0)), vec3(1.0));
     vec3 _e143 = albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
     float _e145 = e_fon(layer1_path_cos_v_1, 0.5);
     vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e145)) * vec3(0.23442543)) / max(_e143, vec3(1e-6))));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5335142))) / vec3(0.4664858)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825304, 0.99613893, 0.9967925), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5333226))) / vec3(0.46667743)), vec3(0.0)), vec3(1.0));
+    vec3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825438, 0.9961419, 0.99679494), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }

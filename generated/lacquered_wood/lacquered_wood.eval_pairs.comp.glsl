@@ -12,7 +12,7 @@ struct EvalDispatch {
     uint pair_count;
 };
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.1900985, 0.09112888, 0.038870092);
+const vec3 under = vec3(0.19010091, 0.09112959, 0.038870268);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 

@@ -22,7 +22,7 @@ struct PreviewVarying {
 };
 
 static const float3 tau_1 = float3(0.04, 0.12, 0.35);
-static const float3 under = float3(0.1900985, 0.09112888, 0.038870092);
+static const float3 under = float3(0.19010091, 0.09112959, 0.038870268);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);

@@ -5,7 +5,7 @@ struct PreviewLight {
     vec4 radiance;
 };
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.1900985, 0.09112888, 0.038870092);
+const vec3 under = vec3(0.19010091, 0.09112959, 0.038870268);
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 

@@ -5,7 +5,7 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 tau = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.1900985, 0.09112888, 0.038870092);
+const vec3 under = vec3(0.19010091, 0.09112959, 0.038870268);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -19,7 +19,7 @@ struct PreviewVarying {
 }
 
 const tau_1: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
-const under: vec3<f32> = vec3<f32>(0.1900985f, 0.09112888f, 0.038870092f);
+const under: vec3<f32> = vec3<f32>(0.19010091f, 0.09112959f, 0.038870268f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;

@@ -11,7 +11,7 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-const vec3 under = vec3(0.29391497, 0.016393924, 0.01303676);
+const vec3 under = vec3(0.29396534, 0.01639408, 0.013036859);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 

@@ -21,7 +21,7 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-static const float3 under = float3(0.29391497, 0.016393924, 0.01303676);
+static const float3 under = float3(0.29396534, 0.01639408, 0.013036859);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);

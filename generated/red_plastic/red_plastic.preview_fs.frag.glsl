@@ -4,7 +4,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const vec3 under = vec3(0.29391497, 0.016393924, 0.01303676);
+const vec3 under = vec3(0.29396534, 0.01639408, 0.013036859);
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 

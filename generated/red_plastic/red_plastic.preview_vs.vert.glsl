@@ -4,7 +4,7 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 under = vec3(0.29391497, 0.016393924, 0.01303676);
+const vec3 under = vec3(0.29396534, 0.01639408, 0.013036859);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

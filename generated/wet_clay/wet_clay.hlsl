@@ -23,7 +23,7 @@ struct PreviewVarying {
 
 static const float3 tau_1 = float3(0.32000002, 0.32000002, 0.32000002);
 static const float3 layer1_rho = float3(0.5876322, 0.34278542, 0.24484675);
-static const float3 layer1_r_return = float3(0.11650884, 0.11650884, 0.11650884);
+static const float3 layer1_r_return = float3(0.11658996, 0.11658996, 0.11658996);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
 ByteAddressBuffer pairs : register(t0);

@@ -45,6 +45,9 @@ pub struct Report {
     /// Largest deviation of the walks' single-event reflection share from the quadrature E_ss,
     /// in standard errors (a check of both).
     pub max_single_event_sigma: f64,
+    /// Largest amount by which the interpolated single-scattering deficit exceeded the true one
+    /// between its nodes before [`make_deficit_conservative`] lowered them.
+    pub max_deficit_excess: f64,
 }
 
 /// One column of a table (every node along its first axis) at an (r, η) node pair.
@@ -164,6 +167,11 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
         .map(|e| f64::from(crate::math::terms::eon_escape_shape_exact::<f32>(node(Axis::Ior, e, n_eta) as f32)))
         .collect();
     put(TableId::EonEscapeShape, 0, &shape);
+    report.max_deficit_excess = make_deficit_conservative(&mut tables[TableId::CoatDeficit as usize], &deficit);
+    let columns = tables[TableId::CoatDeficit as usize].chunks(deficit[0]);
+    let averages: Vec<f32> =
+        columns.map(|c| curve_average(&c.iter().map(|&v| f64::from(v)).collect::<Vec<_>>()) as f32).collect();
+    tables[TableId::CoatDeficitAvg as usize] = averages;
     let (albedo, average) = ggx_albedo(TableId::GgxAlbedo.spec());
     tables[TableId::GgxAlbedo as usize] = albedo;
     tables[TableId::GgxAlbedoAvg as usize] = average;
@@ -357,6 +365,120 @@ fn smooth_transmission_average(eta: f64) -> f64 {
         }
     }
     total
+}
+
+/// Where [`make_deficit_conservative`] compares the table with the true deficit inside each
+/// cell, in node units along the cosine and roughness axes, and along the IOR axis.
+const DEFICIT_PROBES: [f64; 3] = [0.25, 0.5, 0.75];
+const DEFICIT_PROBES_IOR: [f64; 4] = [0.0, 0.25, 0.5, 0.75];
+
+/// The single-scattering deficit G(μ) = F(μ) − E_ss(μ) at any argument (0 for η = 1, no
+/// interface); `None` below [`SMOOTH_ALPHA`], where the nodes hold the smooth interface's 0 and
+/// the quadrature does not resolve the lobe.
+fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
+    let alpha = roughness * roughness;
+    if alpha < SMOOTH_ALPHA {
+        return None;
+    }
+    if eta == 1.0 {
+        return Some(0.0);
+    }
+    let mu = mu.max(GRAZING_COSINE);
+    Some(fresnel_dielectric(mu, eta) - single_scattering_albedo(mu, eta, alpha))
+}
+
+/// The argument of an axis at a fractional node position `x` (the inverse of its coordinate).
+fn argument_at(axis: Axis, x: f64, n: usize) -> f64 {
+    let u = x / (n - 1) as f64;
+    match axis {
+        Axis::Cosine => {
+            let root = f64::from(crate::math::tables::COSINE_FLOOR_ROOT);
+            (root + (1.0 - root) * u).powi(4)
+        }
+        Axis::Roughness => u * u,
+        Axis::Ior => (2.0 + u) / (2.0 - u),
+        Axis::Depth => u / (1.0 - u),
+    }
+}
+
+/// Makes the deficit table never overestimate: the transmission T = 1 − F + G − E_ms must not
+/// exceed what the analytic single-scattering lobe beside it leaves (1 − E_ss − E_ms), or a
+/// white stack reflects more than it receives. Near grazing incidence, where α ≈ μ, G bends
+/// sharply between nodes and the multilinear lookup overshoots it by up to 3·10⁻³ (the energy
+/// gains of README "Stability"). Each cell is probed at [`DEFICIT_PROBES`] ×
+/// [`DEFICIT_PROBES`] × [`DEFICIT_PROBES_IOR`] against the true deficit (quadrature; probes
+/// with α below [`SMOOTH_ALPHA`] are skipped, as the nodes there are), and
+/// every node is lowered by the largest overshoot found in any cell it is a corner of: the
+/// lookup is a convex combination of corners, so at every probe it then lies at or below the
+/// truth. Returns the largest overshoot found. Costs a little energy where it lowers (the
+/// lookup undershoots instead), never adds any.
+fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
+    let (n_mu, n_r, n_eta) = (dims[0], dims[1], dims[2]);
+    let index = |i: usize, j: usize, k: usize| i + n_mu * (j + n_r * k);
+    let cells: Vec<(usize, usize, usize)> =
+        (0..n_eta - 1).flat_map(|k| (0..n_r - 1).flat_map(move |j| (0..n_mu - 1).map(move |i| (i, j, k)))).collect();
+    let snapshot: Vec<f64> = table.iter().map(|&v| f64::from(v)).collect();
+    let overshoot_of = |&(i, j, k): &(usize, usize, usize)| -> f64 {
+        let mut worst: f64 = 0.0;
+        for &se in &DEFICIT_PROBES_IOR {
+            for &sr in &DEFICIT_PROBES {
+                for &sm in &DEFICIT_PROBES {
+                    let mut interpolated = 0.0;
+                    for corner in 0..8 {
+                        let (di, dj, dk) = (corner & 1, (corner >> 1) & 1, corner >> 2);
+                        let w = (if di == 1 { sm } else { 1.0 - sm })
+                            * (if dj == 1 { sr } else { 1.0 - sr })
+                            * (if dk == 1 { se } else { 1.0 - se });
+                        interpolated += w * snapshot[index(i + di, j + dj, k + dk)];
+                    }
+                    let truth = deficit_at(
+                        argument_at(Axis::Cosine, i as f64 + sm, n_mu),
+                        argument_at(Axis::Roughness, j as f64 + sr, n_r),
+                        argument_at(Axis::Ior, k as f64 + se, n_eta),
+                    );
+                    if let Some(truth) = truth {
+                        worst = worst.max(interpolated - truth);
+                    }
+                }
+            }
+        }
+        worst
+    };
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let overshoots = Mutex::new(vec![0.0; cells.len()]);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| {
+                loop {
+                    let c = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(cell) = cells.get(c) else { break };
+                    let o = overshoot_of(cell);
+                    if let Ok(mut all) = overshoots.lock() {
+                        all[c] = o;
+                    }
+                }
+            });
+        }
+    });
+    let overshoots = overshoots.into_inner().unwrap_or_default();
+    let mut lower = vec![0.0_f64; table.len()];
+    for (&(i, j, k), &o) in cells.iter().zip(&overshoots) {
+        for corner in 0..8 {
+            let at = index(i + (corner & 1), j + ((corner >> 1) & 1), k + (corner >> 2));
+            lower[at] = lower[at].max(o);
+        }
+    }
+    for (value, l) in table.iter_mut().zip(&lower) {
+        // Rounded down to f32, so that the stored node stays at or below the lowered value.
+        let lowered = f64::from(*value) - l;
+        let mut stored = lowered as f32;
+        if f64::from(stored) > lowered {
+            stored = f32::from_bits(if stored > 0.0 { stored.to_bits() - 1 } else { stored.to_bits() + 1 });
+        }
+        *value = stored;
+    }
+    overshoots.into_iter().fold(0.0, f64::max)
 }
 
 /// ∫₀¹ 2μ c(μ) dμ for a curve stored at the nodes of a cosine axis and interpolated linearly

@@ -26,7 +26,7 @@ const layer2_rho: vec3<f32> = vec3<f32>(0.85015357f, 0.863715f, 0.863715f);
 const layer2_trapped_escape: f32 = 1f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.70837235f, 0.054159977f, 0.024499279f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.59634066f, 0.59634066f, 0.59634066f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.59634465f, 0.59634465f, 0.59634465f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
@@ -363,14 +363,14 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
     let _e142 = (1f - layer2_transmit_l);
-    let _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0f)) * vec3(0.40606117f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e163 / vec3(0.4036593f));
-    let first_return_l = min(max(((vec3(1f) - _e163) / vec3(0.59634066f)), vec3(0f)), vec3(1f));
+    let _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0f)) * vec3(0.40605718f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e163 / vec3(0.40365535f));
+    let first_return_l = min(max(((vec3(1f) - _e163) / vec3(0.59634465f)), vec3(0f)), vec3(1f));
     let _e180 = (1f - layer2_transmit_v);
-    let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40606117f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e201 / vec3(0.4036593f));
-    let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.59634066f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.9958361f, 0.9941891f, 0.99203014f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40605718f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e201 / vec3(0.40365535f));
+    let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.59634465f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.99583596f, 0.9941892f, 0.9920301f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }

@@ -18,7 +18,7 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
-const under: vec3<f32> = vec3<f32>(0.29391497f, 0.016393924f, 0.01303676f);
+const under: vec3<f32> = vec3<f32>(0.29396534f, 0.01639408f, 0.013036859f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;

@@ -21,7 +21,7 @@ struct PreviewVarying {
 const tau_1: vec3<f32> = vec3<f32>(0.025f, 0.025f, 0.025f);
 const layer1_rho_ms: vec3<f32> = vec3<f32>(0.28973147f, 0.0132765025f, 0.009134458f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5261278f, 0.110294394f, 0.09139683f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.4151085f, 0.4151085f, 0.4151085f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.4153186f, 0.4153186f, 0.4153186f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
@@ -319,12 +319,12 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e102 = albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
     let _e104 = e_fon(layer1_path_cos_l_1, 0.5f);
     let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e104)) * vec3(0.23442543f)) / max(_e102, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5335142f))) / vec3(0.4664858f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333226f))) / vec3(0.46667743f)), vec3(0f)), vec3(1f));
     let _e139 = albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
     let _e141 = e_fon(layer1_path_cos_v_1, 0.5f);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e141)) * vec3(0.23442543f)) / max(_e139, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5335142f))) / vec3(0.4664858f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825304f, 0.99613893f, 0.9967925f), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333226f))) / vec3(0.46667743f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825438f, 0.9961419f, 0.99679494f), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }

@@ -23,7 +23,7 @@ struct PreviewVarying {
 }
 
 const tau_1: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.31952125f, 0.48717165f, 0.54591167f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.31961632f, 0.4872433f, 0.5459751f);
 
 @group(0) @binding(4) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
@@ -333,14 +333,14 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e92 = albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
     let _e94 = e_fon(layer1_path_cos_l_1, 0.5f);
     let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e94)) * vec3(0.27190173f)) / max(_e92, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.3924114f))) / vec3(0.6075886f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39235657f))) / vec3(0.6076434f)), vec3(0f)), vec3(1f));
     let _e124 = albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
     let _e126 = e_fon(layer1_path_cos_v_1, 0.5f);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e126)) * vec3(0.27190173f)) / max(_e124, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.3924114f))) / vec3(0.6075886f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.39235657f))) / vec3(0.6076434f)), vec3(0f)), vec3(1f));
     let _e157 = albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
     let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190173f)) / max(_e157, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.3924114f))) / vec3(0.6075886f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.39235657f))) / vec3(0.6076434f)), vec3(0f)), vec3(1f));
     let under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));

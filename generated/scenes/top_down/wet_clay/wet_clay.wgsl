@@ -20,7 +20,7 @@ struct PreviewVarying {
 
 const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.11650884f, 0.11650884f, 0.11650884f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.11658996f, 0.11658996f, 0.11658996f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
