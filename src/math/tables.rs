@@ -461,8 +461,10 @@ mod tests {
         assert_eq!(tables.len(), SPECS.len());
         assert!(total_bytes() <= 64 * 1024, "{} bytes", total_bytes());
         for (spec, values) in SPECS.iter().zip(&tables) {
-            // The deficit may be slightly negative; the normalised slab tables exceed 1.
-            let range = if spec.name == "coat_deficit_table" { -1.0..=1.0 } else { 0.0..=100.0 };
+            // The deficit (and so its average) may be slightly negative: the table is lowered
+            // until its lookup never overshoots (`accuracy::tables`). The normalised slab tables
+            // exceed 1.
+            let range = if spec.name.starts_with("coat_deficit") { -1.0..=1.0 } else { 0.0..=100.0 };
             assert!(values.iter().all(|v| v.is_finite() && range.contains(v)), "{}", spec.name);
         }
         assert_eq!(encode(&tables), TABLE_FILE);
