@@ -125,6 +125,11 @@ codes! {
     DuplicateMaterial = "E0218",
     /// More runtime parameters than `model::MAX_PARAMS`.
     TooManyParams = "E0219",
+    /// More textures than `model::MAX_TEXTURES`.
+    TooManyTextures = "E0220",
+    /// A texture read without the `range` its slot needs, or with a `uv_scale` that is not a
+    /// positive number.
+    TextureRange = "E0221",
     /// A scene's number outside its range (angle, tolerance, exposure, light, distance).
     SceneRange = "E0301",
     /// `Range(lo, hi)` with lo > hi.

@@ -298,6 +298,10 @@ enum Command {
         /// Before/after: each material beside its simplification for this scene.
         #[arg(long, value_name = "SCENE.ron")]
         scene: Option<PathBuf>,
+        /// An image for a texture the materials read (`Texture("name", …)`), as linear data;
+        /// repeatable. A texture without one is constant at its parameters' default values.
+        #[arg(long = "texture", value_name = "NAME=FILE.png")]
+        textures: Vec<String>,
         #[arg(long, value_enum, default_value = "human")]
         message_format: MessageFormat,
     },
@@ -399,6 +403,7 @@ fn main() -> ExitCode {
             exposure,
             columns,
             scene,
+            textures,
             message_format,
         } => {
             let environment = match env {
@@ -407,8 +412,15 @@ fn main() -> ExitCode {
                 EnvironmentArg::Studio => glazec::run::preview::Environment::Studio,
             };
             parse_vec3(&light).map_err(Failure::Usage).and_then(|light| {
-                let options =
-                    glazec::run::preview::PreviewOptions { size, light, light_radiance, environment, exposure };
+                let textures = read_textures(&textures)?;
+                let options = glazec::run::preview::PreviewOptions {
+                    size,
+                    light,
+                    light_radiance,
+                    environment,
+                    exposure,
+                    textures,
+                };
                 preview(&inputs, &out, &options, columns, scene.as_deref(), message_format)
             })
         }
@@ -425,6 +437,20 @@ fn main() -> ExitCode {
             ExitCode::from(3)
         }
     }
+}
+
+/// `NAME=FILE.png` arguments of `preview --texture`.
+fn read_textures(args: &[String]) -> Result<Vec<(String, glazec::run::textures::TextureImage)>, Failure> {
+    args.iter()
+        .map(|arg| {
+            let Some((name, file)) = arg.split_once('=') else {
+                return Err(Failure::Usage(anyhow::anyhow!("--texture takes NAME=FILE.png, got `{arg}`")));
+            };
+            let image = glazec::run::textures::TextureImage::read_png(Path::new(file))
+                .map_err(|e| Failure::Usage(anyhow::anyhow!("cannot read texture `{name}`: {e}")))?;
+            Ok((name.trim().to_string(), image))
+        })
+        .collect()
 }
 
 /// Reads files and directories of materials (see `glazec::project::read`).
@@ -734,6 +760,15 @@ fn preview(
     use glazec::run::preview;
     let files = read_inputs(inputs)?;
     let compiled = compile_all(&files, format)?;
+    for (name, _) in &options.textures {
+        if !compiled.iter().any(|c| c.material.textures().contains(&name.as_str())) {
+            let read: Vec<&str> = compiled.iter().flat_map(|c| c.material.textures()).collect();
+            return Err(Failure::Usage(anyhow::anyhow!(
+                "--texture {name}: no material reads a texture of that name (they read: {})",
+                if read.is_empty() { "none".to_string() } else { read.join(", ") }
+            )));
+        }
+    }
     let simplified = match scene {
         Some(path) => {
             let options = SceneOptions { path: path.to_path_buf(), explain: false, throughput: false };

@@ -191,11 +191,87 @@ pub enum Color {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ParamId(pub u16);
 
-/// A named runtime parameter: one member of the material's uniform struct.
+/// A named runtime parameter: one member of the material's uniform struct, or a value read from
+/// a texture at each shading point.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Param {
     pub name: String,
+    /// Its value when nothing else is given. A texture read's default is the value of a
+    /// mid-grey texel (0.5 in every channel): the middle of its range.
     pub default: ParamValue,
+    pub source: ParamSource,
+}
+
+/// Where a runtime parameter's value comes from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum ParamSource {
+    /// A member of the uniform struct `<Material>Params`.
+    #[default]
+    Uniform,
+    /// A texture channel, sampled at the shading point's uv (`Texture(name, channel, uv_scale)`).
+    Texture(TextureRead),
+}
+
+/// One channel of a texture, mapped onto a parameter's range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureRead {
+    /// The texture's name: it names its binding in generated code.
+    pub texture: String,
+    pub channel: Channel,
+    /// The texture repeats this many times across uv ∈ [0, 1].
+    pub uv_scale: f32,
+    /// The parameter's values at texel values 0 and 1 (linear in between).
+    pub range: [f32; 2],
+}
+
+impl TextureRead {
+    /// The parameter's value at texel value `t`.
+    pub fn value(&self, t: f32) -> f32 {
+        self.range[0] + (self.range[1] - self.range[0]) * t
+    }
+
+    /// The texel value that gives the parameter value `x` (0 for an empty range).
+    pub fn texel(&self, x: f32) -> f32 {
+        let width = self.range[1] - self.range[0];
+        if width == 0.0 { 0.0 } else { (x - self.range[0]) / width }
+    }
+}
+
+/// A texture channel: one of R, G, B, A (a scalar; grey in a colour slot) or all of RGB.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Channel {
+    R,
+    G,
+    B,
+    A,
+    Rgb,
+}
+
+impl Channel {
+    pub const NAMES: &'static [&'static str] = &["R", "G", "B", "A", "Rgb"];
+    pub const ALL: [Channel; 5] = [Channel::R, Channel::G, Channel::B, Channel::A, Channel::Rgb];
+
+    /// The channel's index in an RGBA texel; `None` for RGB.
+    pub fn index(self) -> Option<u32> {
+        match self {
+            Channel::R => Some(0),
+            Channel::G => Some(1),
+            Channel::B => Some(2),
+            Channel::A => Some(3),
+            Channel::Rgb => None,
+        }
+    }
+
+    /// The suffix of a texture-read parameter's name: `clay_maps` channel G is `clay_maps_g`.
+    pub fn suffix(self) -> &'static str {
+        match self {
+            Channel::R => "r",
+            Channel::G => "g",
+            Channel::B => "b",
+            Channel::A => "a",
+            Channel::Rgb => "rgb",
+        }
+    }
 }
 
 /// A parameter's value; its variant is the parameter's type.
@@ -236,6 +312,15 @@ impl Material {
 
     /// The struct name used for the uniform block in generated code (`wet_clay` → `WetClayParams`).
     pub fn params_struct_name(&self) -> String {
+        self.struct_name("Params")
+    }
+
+    /// The struct name of the texture-read values in generated code (`WetClayTextures`).
+    pub fn textures_struct_name(&self) -> String {
+        self.struct_name("Textures")
+    }
+
+    fn struct_name(&self, suffix: &str) -> String {
         let mut out = String::new();
         for part in self.name.split('_').filter(|p| !p.is_empty()) {
             let mut chars = part.chars();
@@ -244,8 +329,32 @@ impl Material {
                 out.push_str(chars.as_str());
             }
         }
-        out.push_str("Params");
+        out.push_str(suffix);
         out
+    }
+
+    /// The parameters held in the uniform struct, with their indices in [`Self::params`].
+    pub fn uniform_params(&self) -> impl Iterator<Item = (usize, &Param)> {
+        self.params.iter().enumerate().filter(|(_, p)| p.source == ParamSource::Uniform)
+    }
+
+    /// The parameters read from textures, with their indices in [`Self::params`] and reads.
+    pub fn texture_params(&self) -> impl Iterator<Item = (usize, &Param, &TextureRead)> {
+        self.params.iter().enumerate().filter_map(|(i, p)| match &p.source {
+            ParamSource::Texture(read) => Some((i, p, read)),
+            ParamSource::Uniform => None,
+        })
+    }
+
+    /// The textures the material reads, each once, in order of first use: their bindings.
+    pub fn textures(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = Vec::new();
+        for (_, _, read) in self.texture_params() {
+            if !names.contains(&read.texture.as_str()) {
+                names.push(&read.texture);
+            }
+        }
+        names
     }
 }
 
@@ -256,6 +365,10 @@ pub const MAX_COATS: usize = 16;
 /// Most runtime parameters a material may declare (one uniform struct member each; 64 members
 /// are at most 1 KiB of uniform data).
 pub const MAX_PARAMS: usize = 64;
+
+/// Most textures a material may read (each is one binding; wgpu's default limit is 16 sampled
+/// textures per shader stage, and image-based lighting needs some of them).
+pub const MAX_TEXTURES: usize = 8;
 
 /// F0 of a dielectric interface with relative IOR η: ((η − 1)/(η + 1))² (normal incidence).
 pub fn f0_from_ior(ior: f32) -> f32 {

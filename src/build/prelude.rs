@@ -21,6 +21,10 @@ pub mod glazec_layout {
         Tables,
         /// `light`: the preview's directional light (uniform `PreviewLight`).
         Light,
+        /// `glazec_sampler`: the sampler of the material's texture reads (group 1, binding 0).
+        Sampler,
+        /// A texture the material reads (`texture_2d<f32>`, group 1, named after the texture).
+        Texture,
     }
 
     /// How a binding is accessed.
@@ -29,6 +33,8 @@ pub mod glazec_layout {
         Uniform,
         StorageReadOnly,
         StorageReadWrite,
+        /// A sampler or a sampled texture (no buffer).
+        Handle,
     }
 
     /// The shader stages that use a binding.

@@ -125,19 +125,23 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
     if let Some(ty) = params {
         let doc = "The runtime parameters: the shader's uniform struct, member for member (`Default` holds the \
                    material's defaults).";
-        let defaults: Vec<String> = c.material.params.iter().map(|p| default_literal(p.default)).collect();
+        let defaults: Vec<String> = c.material.uniform_params().map(|(_, p)| default_literal(p.default)).collect();
         write_struct(out, &c.module, ty, &c.material.params_struct_name(), doc, Some(&defaults), bytemuck, "    ");
         let _ = writeln!(out, "    pub type Params = {};\n", c.material.params_struct_name());
         write_params_info(out, c, ty);
     }
-    write_bindings(out, c, "EVAL_PAIRS_BINDINGS", "The bind group (0) of the `eval_pairs` compute pipeline.", |s| {
-        s == ShaderStage::Compute
-    });
+    write_bindings(
+        out,
+        c,
+        "EVAL_PAIRS_BINDINGS",
+        "The bind groups (0, and 1 for a material that reads textures) of the `eval_pairs` compute pipeline.",
+        |s| s == ShaderStage::Compute,
+    );
     write_bindings(
         out,
         c,
         "PREVIEW_BINDINGS",
-        "The bind group (0) of the `preview_vs` + `preview_fs` render pipeline.",
+        "The bind groups (0, and 1 for a material that reads textures) of the `preview_vs` + `preview_fs` render pipeline.",
         |s| matches!(s, ShaderStage::Vertex | ShaderStage::Fragment),
     );
     let _ = writeln!(out, "    pub const INFO: MaterialInfo = MaterialInfo {{");
@@ -190,9 +194,7 @@ fn write_freshness_checks(out: &mut String, m: &MaterialInput<'_>, text_consts: 
 
 /// The material's `<Name>Params` struct type, when it has runtime parameters.
 fn params_struct(c: &Compiled) -> Option<Handle<Type>> {
-    if c.material.params.is_empty() {
-        return None;
-    }
+    c.material.uniform_params().next()?;
     named_struct(&c.module, &c.material.params_struct_name())
 }
 
@@ -361,7 +363,7 @@ fn write_bindings(out: &mut String, c: &Compiled, constant: &str, doc: &str, sel
     let mut layouter = naga::proc::Layouter::default();
     // The module validated, so its types lay out; a failure here would leave sizes at 0.
     let _ = layouter.update(module.to_ctx());
-    let mut rows: Vec<(u32, String)> = Vec::new();
+    let mut rows: Vec<((u32, u32), String)> = Vec::new();
     for (handle, var) in module.global_variables.iter() {
         let Some(binding) = var.binding else { continue };
         let mut stages = [false; 3];
@@ -378,17 +380,20 @@ fn write_bindings(out: &mut String, c: &Compiled, constant: &str, doc: &str, sel
             continue;
         }
         let name = var.name.clone().unwrap_or_default();
-        let role = match name.as_str() {
-            "pairs" => "Pairs",
-            "values" => "Values",
-            "dispatch" => "Dispatch",
-            "params" => "Params",
-            "light" => "Light",
+        let role = match (&module.types[var.ty].inner, name.as_str()) {
+            (TypeInner::Sampler { .. }, _) => "Sampler",
+            (TypeInner::Image { .. }, _) => "Texture",
+            (_, "pairs") => "Pairs",
+            (_, "values") => "Values",
+            (_, "dispatch") => "Dispatch",
+            (_, "params") => "Params",
+            (_, "light") => "Light",
             _ => "Tables",
         };
         let access = match var.space {
             AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => "StorageReadWrite",
             AddressSpace::Storage { .. } => "StorageReadOnly",
+            AddressSpace::Handle => "Handle",
             _ => "Uniform",
         };
         let min_size = match module.types[var.ty].inner {
@@ -397,7 +402,7 @@ fn write_bindings(out: &mut String, c: &Compiled, constant: &str, doc: &str, sel
         };
         let [vertex, fragment, compute] = stages;
         rows.push((
-            binding.binding,
+            (binding.group, binding.binding),
             format!(
                 "        Binding {{ name: {name:?}, role: Role::{role}, group: {}, binding: {}, access: Access::{access}, \
                  min_size: {min_size}, stages: Stages {{ vertex: {vertex}, fragment: {fragment}, compute: {compute} }} }},",

@@ -408,7 +408,7 @@ impl ModuleBuilder {
         }
     }
 
-    fn math(&self, fun: MathFunction, args: &[Handle<Expression>]) -> Handle<Expression> {
+    pub(crate) fn math(&self, fun: MathFunction, args: &[Handle<Expression>]) -> Handle<Expression> {
         self.append(Expression::Math {
             fun,
             arg: args[0],

@@ -23,6 +23,7 @@
 //! addresses), so emitted files are byte-identical across runs.
 
 pub mod builder;
+pub mod textures;
 
 use naga::{
     AddressSpace, Binding, BuiltIn, EntryPoint, Expression, Function, FunctionArgument, FunctionResult, GlobalVariable,
@@ -32,7 +33,7 @@ use naga::{
 
 use crate::math::layering::{self, Inputs};
 use crate::math::{Named, Real, Slot, Vector};
-use crate::model::{Material, ParamValue};
+use crate::model::{Material, ParamSource, ParamValue};
 use builder::{Expr, ModuleBuilder};
 
 /// The resource bindings of generated modules (all in bind group 0).
@@ -125,12 +126,14 @@ pub struct ParamLayout {
 }
 
 /// The uniform block of a material's runtime parameters for `values` (one per parameter, in
-/// declaration order): little-endian f32 at [`params_layout`]'s offsets, padding zeroed.
+/// declaration order; texture reads are skipped): little-endian f32 at [`params_layout`]'s
+/// offsets, padding zeroed.
 /// Extra or missing values are the caller's to check.
 pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Vec<u8> {
     let (layout, size) = params_layout(material);
     let mut bytes = vec![0u8; size as usize];
-    for (slot, value) in layout.iter().zip(values) {
+    let uniform_values = material.uniform_params().filter_map(|(i, _)| values.get(i));
+    for (slot, value) in layout.iter().zip(uniform_values) {
         let components: &[f32] = match value {
             ParamValue::Scalar(x) => std::slice::from_ref(x),
             ParamValue::Rgb(c) => c,
@@ -148,7 +151,7 @@ pub fn params_layout(material: &Material) -> (Vec<ParamLayout>, u32) {
     let mut offset: u32 = 0;
     let mut layout = Vec::new();
     let mut align_max = 4;
-    for p in &material.params {
+    for (_, p) in material.uniform_params() {
         let (align, size, wgsl_type) = match p.default {
             ParamValue::Scalar(_) => (4, 4, "f32"),
             ParamValue::Rgb(_) => (16, 12, "vec3<f32>"),
@@ -204,20 +207,28 @@ pub fn static_cost(module: &naga::Module) -> (usize, usize) {
 pub fn lower(material: &Material) -> Module {
     let b = ModuleBuilder::new();
     let params_ty = params_type(&b, material);
-    let brdf = brdf_function(&b, material, params_ty);
-    let eval = eval_function(&b, material, params_ty, brdf);
+    let reads = textures::build(&b, material);
+    let inputs = InputTypes { params: params_ty, textures: reads.as_ref().map(|r| r.ty) };
+    let brdf = brdf_function(&b, material, inputs);
+    let eval = eval_function(&b, material, inputs, brdf);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
-    eval_pairs_entry(&b, brdf, params_var);
-    preview_entries(&b, eval, params_var);
+    let sample = reads.as_ref().map(|r| r.sample);
+    eval_pairs_entry(&b, brdf, params_var, sample);
+    preview_entries(&b, eval, params_var, sample);
     let mut module = b.finish();
     bindings::assign(&mut module);
     module
 }
 
+/// The optional struct arguments of `<material>_brdf` and `<material>_eval`.
+#[derive(Clone, Copy)]
+struct InputTypes {
+    params: Option<Handle<Type>>,
+    textures: Option<Handle<Type>>,
+}
+
 fn params_type(b: &ModuleBuilder, material: &Material) -> Option<Handle<Type>> {
-    if material.params.is_empty() {
-        return None;
-    }
+    material.uniform_params().next()?;
     let (layout, span) = params_layout(material);
     let members = layout
         .iter()
@@ -260,12 +271,16 @@ fn argument(name: &str, ty: Handle<Type>, binding: Option<Binding>) -> FunctionA
     FunctionArgument { name: Some(name.to_string()), ty, binding }
 }
 
-/// The `n`, `v`, `l` (and `params`) arguments shared by `<material>_brdf` and `<material>_eval`.
-fn direction_arguments(b: &ModuleBuilder, params_ty: Option<Handle<Type>>) -> Vec<FunctionArgument> {
+/// The `n`, `v`, `l` (and `params`, `textures`) arguments shared by `<material>_brdf` and
+/// `<material>_eval`.
+fn direction_arguments(b: &ModuleBuilder, inputs: InputTypes) -> Vec<FunctionArgument> {
     let mut arguments =
         vec![argument("n", b.types.vec3, None), argument("v", b.types.vec3, None), argument("l", b.types.vec3, None)];
-    if let Some(ty) = params_ty {
+    if let Some(ty) = inputs.params {
         arguments.push(argument("params", ty, None));
+    }
+    if let Some(ty) = inputs.textures {
+        arguments.push(argument("textures", ty, None));
     }
     arguments
 }
@@ -275,29 +290,33 @@ fn add(b: &ModuleBuilder, function: Function) -> Handle<Function> {
 }
 
 /// `<material>_brdf(n, v, l[, params])`: the layering method run on the IR builder.
-fn brdf_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handle<Type>>) -> Handle<Function> {
+fn brdf_function(b: &ModuleBuilder, material: &Material, inputs: InputTypes) -> Handle<Function> {
     let result = FunctionResult { ty: b.types.vec3, binding: None };
-    b.begin_function(&format!("{}_brdf", material.name), direction_arguments(b, params_ty), Some(result));
+    b.begin_function(&format!("{}_brdf", material.name), direction_arguments(b, inputs), Some(result));
     let n = b.vector(b.argument(0));
     let v = b.vector(b.argument(1));
     let l = b.vector(b.argument(2));
-    let params = if params_ty.is_some() {
-        let params = b.argument(3);
-        material
-            .params
-            .iter()
-            .enumerate()
-            .map(|(index, p)| {
-                let h = b.append(Expression::AccessIndex { base: params, index: index as u32 });
-                match p.default {
-                    ParamValue::Scalar(_) => Slot::S(b.scalar(h)),
-                    ParamValue::Rgb(_) => Slot::V(b.vector(h)),
-                }
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let params_arg = inputs.params.map(|_| b.argument(3));
+    let textures_arg = inputs.textures.map(|_| b.argument(3 + u32::from(inputs.params.is_some())));
+    // Members of each struct in declaration order: the uniform ones, the texture reads.
+    let (mut next_uniform, mut next_read) = (0, 0);
+    let params = material
+        .params
+        .iter()
+        .map(|p| {
+            let (base, counter) = match p.source {
+                ParamSource::Uniform => (params_arg, &mut next_uniform),
+                ParamSource::Texture(_) => (textures_arg, &mut next_read),
+            };
+            let Some(base) = base else { unreachable!("a parameter's struct is an argument") };
+            let h = b.append(Expression::AccessIndex { base, index: *counter });
+            *counter += 1;
+            match p.default {
+                ParamValue::Scalar(_) => Slot::S(b.scalar(h)),
+                ParamValue::Rgb(_) => Slot::V(b.vector(h)),
+            }
+        })
+        .collect();
     let inputs = Inputs::new(b, params);
     let f = layering::brdf(material, &inputs, n, v, l);
     let value = f.handle();
@@ -309,11 +328,11 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, params_ty: Option<Handl
 fn eval_function(
     b: &ModuleBuilder,
     material: &Material,
-    params_ty: Option<Handle<Type>>,
+    inputs: InputTypes,
     brdf: Handle<Function>,
 ) -> Handle<Function> {
     let result = FunctionResult { ty: b.types.vec3, binding: None };
-    let arguments = direction_arguments(b, params_ty);
+    let arguments = direction_arguments(b, inputs);
     let count = arguments.len() as u32;
     b.begin_function(&format!("{}_eval", material.name), arguments, Some(result));
     let handles: Vec<_> = (0..count).map(|i| b.argument(i)).collect();
@@ -372,7 +391,12 @@ fn runtime_array(b: &ModuleBuilder, base: Handle<Type>, stride: u32) -> Handle<T
 }
 
 /// `eval_pairs`: values[i] = f(pairs[i].wi, pairs[i].wo) for i < dispatch.pair_count.
-fn eval_pairs_entry(b: &ModuleBuilder, brdf: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
+fn eval_pairs_entry(
+    b: &ModuleBuilder,
+    brdf: Handle<Function>,
+    params_var: Option<Handle<GlobalVariable>>,
+    sample: Option<Handle<Function>>,
+) {
     let pair_ty =
         struct_type(b, "DirectionPair", &[("wi", b.types.vec4, 0, None), ("wo", b.types.vec4, 16, None)], PAIR_STRIDE);
     let pairs_ty = runtime_array(b, pair_ty, PAIR_STRIDE);
@@ -419,6 +443,19 @@ fn eval_pairs_entry(b: &ModuleBuilder, brdf: Handle<Function>, params_var: Optio
     if let Some(var) = params_var {
         let ptr = b.append(Expression::GlobalVariable(var));
         arguments.push(b.append(Expression::Load { pointer: ptr }));
+    }
+    if let Some(sample) = sample {
+        // The texture coordinates ride in the pairs' spare fourth components: (wi.w, wo.w).
+        let w = |member: u32| {
+            let v4 = b.append(Expression::AccessIndex { base: pair, index: member });
+            b.append(Expression::AccessIndex { base: v4, index: 3 })
+        };
+        let (u, v) = (w(0), w(1));
+        let uv = b.append(Expression::Compose { ty: b.types.vec2, components: vec![u, v] });
+        b.name(uv, "uv");
+        let textures = b.call(sample, vec![uv]);
+        b.name(textures, "textures");
+        arguments.push(textures);
     }
     let f = b.call(brdf, arguments);
     b.name(f, "f");
@@ -478,7 +515,12 @@ fn varying(location: u32) -> Binding {
 /// `preview_vs` (a full-screen triangle passing its clip-space position on) and `preview_fs` (a
 /// unit sphere seen along −z, shaded by `<material>_eval` under the directional light in the
 /// `light` uniform; alpha is the sphere's coverage, and outside it the output is 0).
-fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option<Handle<GlobalVariable>>) {
+fn preview_entries(
+    b: &ModuleBuilder,
+    eval: Handle<Function>,
+    params_var: Option<Handle<GlobalVariable>>,
+    sample: Option<Handle<Function>>,
+) {
     let light_ty = struct_type(
         b,
         "PreviewLight",
@@ -543,6 +585,13 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
         let ptr = b.append(Expression::GlobalVariable(var));
         arguments.push(b.append(Expression::Load { pointer: ptr }));
     }
+    if let Some(sample) = sample {
+        let uv = sphere_uv(b, px, py, nz);
+        b.name(uv, "uv");
+        let textures = b.call(sample, vec![uv]);
+        b.name(textures, "textures");
+        arguments.push(textures);
+    }
     let reflected = b.call(eval, arguments);
     b.name(reflected, "reflected");
     let radiance = b.vector(reflected) * light_radiance;
@@ -555,4 +604,22 @@ fn preview_entries(b: &ModuleBuilder, eval: Handle<Function>, params_var: Option
         b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), coverage.handle()] });
     b.statement(Statement::Return { value: Some(color4) });
     push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
+}
+
+/// The sphere's texture coordinates at normal (x, y, z) (y up, z towards the viewer): longitude
+/// u = ½ + atan2(x, z)/2π (½ facing the viewer) and latitude v = ½ − asin(y)/π (0 at the top).
+fn sphere_uv<'a>(
+    b: &'a ModuleBuilder,
+    x: builder::Expr<'a>,
+    y: builder::Expr<'a>,
+    z: builder::Expr<'a>,
+) -> Handle<Expression> {
+    use std::f32::consts::PI;
+    // Guard: asin of |y| ≤ 1 only; on the disk's rim rounding can put y a hair outside.
+    let y = y.clamp(-1.0, 1.0);
+    let longitude = b.scalar(b.math(naga::MathFunction::Atan2, &[x.handle(), z.handle()]));
+    let latitude = b.scalar(b.math(naga::MathFunction::Asin, &[y.handle()]));
+    let u = (longitude * (0.5 / PI) + 0.5).handle();
+    let v = (latitude * (-1.0 / PI) + 0.5).handle();
+    b.append(Expression::Compose { ty: b.types.vec2, components: vec![u, v] })
 }

@@ -6,6 +6,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::shader::{self, ShaderPath};
+use super::textures;
 use super::{Gpu, RunError};
 use crate::Compiled;
 use crate::eval::Pair;
@@ -20,6 +21,8 @@ pub struct EvalKernel {
     pub path: ShaderPath,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    /// Group 1, for a material that reads textures (constant textures: see `super::textures`).
+    textures: Option<wgpu::BindGroupLayout>,
     bindings: bindings::Layout,
     material: Material,
 }
@@ -90,11 +93,16 @@ fn pipeline(
     module: &wgpu::ShaderModule,
     entry: &str,
     optional: &bindings::Layout,
+    textures: Option<&wgpu::BindGroupLayout>,
 ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), RunError> {
     let layout = kernel_layout(gpu, optional);
+    let mut groups = vec![Some(&layout)];
+    if textures.is_some() {
+        groups.push(textures);
+    }
     let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("eval_pairs"),
-        bind_group_layouts: &[Some(&layout)],
+        bind_group_layouts: &groups,
         immediate_size: 0,
     });
     let pipeline = gpu.checked(what, || {
@@ -113,6 +121,7 @@ fn pipeline(
 /// Buffers and bind group for one dispatch.
 struct Batch {
     bind_group: wgpu::BindGroup,
+    textures: Option<wgpu::BindGroup>,
     values: wgpu::Buffer,
     count: usize,
 }
@@ -126,8 +135,14 @@ impl EvalKernel {
         let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
         let optional = bindings::layout(&compiled.module);
         let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
-        let pipeline_and_layout = pipeline(gpu, &what, &loaded.module, &loaded.entry, &optional)?;
-        Ok(EvalKernel::assemble(path, pipeline_and_layout, optional, compiled.material.clone()))
+        let material = &compiled.material;
+        let constants = textures::constant_textures(material, &material.default_values());
+        let texture_layout = textures::layout(gpu, material, &constants, wgpu::ShaderStages::COMPUTE);
+        let pipeline_and_layout =
+            pipeline(gpu, &what, &loaded.module, &loaded.entry, &optional, texture_layout.as_ref())?;
+        let mut kernel = EvalKernel::assemble(path, pipeline_and_layout, optional, material.clone());
+        kernel.textures = texture_layout;
+        Ok(kernel)
     }
 
     /// A kernel from WGSL text written by hand with `eval_pairs`'s interface (`pairs`,
@@ -145,7 +160,7 @@ impl EvalKernel {
             })
         })?;
         let optional = bindings::Layout::default();
-        let pipeline_and_layout = pipeline(gpu, &what, &module, entry_points::EVAL_PAIRS, &optional)?;
+        let pipeline_and_layout = pipeline(gpu, &what, &module, entry_points::EVAL_PAIRS, &optional, None)?;
         // No parameters: an empty stand-in material gives `eval` an empty uniform.
         let material = Material {
             name: label.to_string(),
@@ -163,10 +178,10 @@ impl EvalKernel {
         bindings: bindings::Layout,
         material: Material,
     ) -> EvalKernel {
-        EvalKernel { path, pipeline, layout, bindings, material }
+        EvalKernel { path, pipeline, layout, textures: None, bindings, material }
     }
 
-    fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8]) -> Batch {
+    fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8], param_values: &[ParamValue]) -> Batch {
         let init = |label, contents: &[u8], usage| {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
@@ -198,7 +213,11 @@ impl EvalKernel {
             layout: &self.layout,
             entries: &entries,
         });
-        Batch { bind_group, values, count: pairs.len() }
+        let textures = self.textures.as_ref().map(|layout| {
+            let constants = textures::constant_textures(&self.material, param_values);
+            textures::bind_group(gpu, layout, &self.material, &constants)
+        });
+        Batch { bind_group, textures, values, count: pairs.len() }
     }
 
     fn dispatch(&self, gpu: &Gpu, batch: &Batch) {
@@ -207,6 +226,9 @@ impl EvalKernel {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &batch.bind_group, &[]);
+            if let Some(textures) = &batch.textures {
+                pass.set_bind_group(1, textures, &[]);
+            }
             pass.dispatch_workgroups((batch.count as u32).div_ceil(EVAL_WORKGROUP_SIZE), 1, 1);
         }
         gpu.queue.submit([encoder.finish()]);
@@ -217,10 +239,11 @@ impl EvalKernel {
     /// # Errors
     /// A wrong number of parameter values, or a failure to read the results back.
     pub fn eval(&self, gpu: &Gpu, pairs: &[Pair], params: &[ParamValue]) -> Result<Vec<Vec3>, RunError> {
+        let values = params;
         let params = params_bytes(&self.material, params)?;
         let mut out = Vec::with_capacity(pairs.len());
         for chunk in pairs.chunks(MAX_PAIRS_PER_DISPATCH) {
-            let batch = self.batch(gpu, chunk, &params);
+            let batch = self.batch(gpu, chunk, &params, values);
             self.dispatch(gpu, &batch);
             let bytes = gpu.read_buffer(&batch.values, (chunk.len() * 16) as u64)?;
             out.extend(bytes.chunks_exact(16).map(|v| {
@@ -243,9 +266,10 @@ impl EvalKernel {
         params: &[ParamValue],
         repeats: usize,
     ) -> Result<Vec<Duration>, RunError> {
+        let values = params;
         let params = params_bytes(&self.material, params)?;
         let pairs = &pairs[..pairs.len().min(MAX_PAIRS_PER_DISPATCH)];
-        let batch = self.batch(gpu, pairs, &params);
+        let batch = self.batch(gpu, pairs, &params, values);
         self.dispatch(gpu, &batch);
         gpu.wait()?;
         let mut times = Vec::with_capacity(repeats);

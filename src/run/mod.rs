@@ -20,6 +20,7 @@ mod device;
 mod kernel;
 pub mod preview;
 mod shader;
+pub mod textures;
 
 pub use device::{ADAPTER_ENV, Gpu};
 pub use kernel::{EvalKernel, pairs_bytes, params_bytes};

@@ -66,6 +66,9 @@ pub struct PreviewOptions {
     pub environment: Environment,
     /// Linear scale applied before sRGB encoding.
     pub exposure: f32,
+    /// Images for the material's textures, by name; a texture without one is constant at the
+    /// value of its parameters (`super::textures::constant_textures`).
+    pub textures: Vec<(String, super::textures::TextureImage)>,
 }
 
 impl Default for PreviewOptions {
@@ -76,6 +79,7 @@ impl Default for PreviewOptions {
             light_radiance: 2.5,
             environment: Environment::Sky,
             exposure: 1.0,
+            textures: Vec::new(),
         }
     }
 }
@@ -140,9 +144,23 @@ pub fn render(
     let layout = gpu
         .device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("preview"), entries: &entries });
+    let material = &compiled.material;
+    let mut images = options.textures.clone();
+    for (name, constant) in super::textures::constant_textures(material, values) {
+        if !images.iter().any(|(n, _)| *n == name) {
+            images.push((name, constant));
+        }
+    }
+    let texture_layout = super::textures::layout(gpu, material, &images, wgpu::ShaderStages::FRAGMENT);
+    let texture_group =
+        texture_layout.as_ref().map(|layout| super::textures::bind_group(gpu, layout, material, &images));
+    let mut group_layouts = vec![Some(&layout)];
+    if texture_layout.is_some() {
+        group_layouts.push(texture_layout.as_ref());
+    }
     let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("preview"),
-        bind_group_layouts: &[Some(&layout)],
+        bind_group_layouts: &group_layouts,
         immediate_size: 0,
     });
     let add = wgpu::BlendComponent {
@@ -235,6 +253,9 @@ pub fn render(
         });
         pass.set_pipeline(&pipeline);
         pass.set_vertex_buffer(0, corner_buffer.slice(..));
+        if let Some(textures) = &texture_group {
+            pass.set_bind_group(1, textures, &[]);
+        }
         for group in &groups {
             pass.set_bind_group(0, group, &[]);
             pass.draw(0..3, 0..1);

@@ -85,10 +85,23 @@ pub struct SpherePipeline {
 
 /// The wgpu layout entry for one generated binding description.
 fn layout_entry(binding: &glazec_layout::Binding) -> wgpu::BindGroupLayoutEntry {
-    let ty = match binding.access {
-        glazec_layout::Access::Uniform => wgpu::BufferBindingType::Uniform,
-        glazec_layout::Access::StorageReadOnly => wgpu::BufferBindingType::Storage { read_only: true },
-        glazec_layout::Access::StorageReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+    let buffer = |ty| wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: false,
+        min_binding_size: wgpu::BufferSize::new(binding.min_size),
+    };
+    let ty = match (binding.access, binding.role) {
+        (glazec_layout::Access::Uniform, _) => buffer(wgpu::BufferBindingType::Uniform),
+        (glazec_layout::Access::StorageReadOnly, _) => buffer(wgpu::BufferBindingType::Storage { read_only: true }),
+        (glazec_layout::Access::StorageReadWrite, _) => buffer(wgpu::BufferBindingType::Storage { read_only: false }),
+        (glazec_layout::Access::Handle, glazec_layout::Role::Sampler) => {
+            wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)
+        }
+        (glazec_layout::Access::Handle, _) => wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
     };
     let mut visibility = wgpu::ShaderStages::NONE;
     for (used, stage) in [
@@ -100,16 +113,7 @@ fn layout_entry(binding: &glazec_layout::Binding) -> wgpu::BindGroupLayoutEntry 
             visibility |= stage;
         }
     }
-    wgpu::BindGroupLayoutEntry {
-        binding: binding.binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: wgpu::BufferSize::new(binding.min_size),
-        },
-        count: None,
-    }
+    wgpu::BindGroupLayoutEntry { binding: binding.binding, visibility, ty, count: None }
 }
 
 impl SpherePipeline {

@@ -1,0 +1,212 @@
+//! Texture-read parameters in generated code (`Texture(name, channel, uv_scale)` in a material).
+//!
+//! A material that reads textures gets, besides its uniform struct:
+//!
+//! * bind group [`GROUP`](bindings::GROUP): `glazec_sampler: sampler` at binding 0 and one
+//!   `texture_2d<f32>` per texture at bindings 1, 2, … in order of first use
+//!   ([`Material::textures`]), named after the texture;
+//! * a plain struct `<Material>Textures` with one member per texture-read parameter (`f32`, or
+//!   `vec3<f32>` for an `Rgb` read), named `<texture>_<channel>`;
+//! * `<material>_textures(uv: vec2<f32>) -> <Material>Textures`, which samples every read at
+//!   `uv · uv_scale` (mip level 0, so it is valid in every stage) and maps the texel onto the
+//!   parameter's range: lo + (hi − lo)·t.
+//!
+//! HLSL declares textures at `register(t<binding>, space1)`; naga 30 writes samplers for D3D12's
+//! sampler heap (`nagaSamplerHeap` plus the index buffer `nagaGroup1SamplerIndexArray`), the
+//! layout wgpu's DX12 backend binds. GLSL: see [`bindings::GLSL_OFFSET`].
+//!
+//! `<material>_brdf` and `<material>_eval` take the struct as their last argument, so the BRDF
+//! itself touches no resources: a renderer may fill the struct from its own samplers (with
+//! derivatives, anisotropic filtering, …) and call the BRDF anywhere.
+
+use naga::{
+    AddressSpace, Expression, FunctionResult, GlobalVariable, Handle, ImageClass, ImageDimension, MemoryDecorations,
+    ResourceBinding, SampleLevel, ScalarKind, Span, Statement, StructMember, SwizzleComponent, Type, TypeInner,
+    VectorSize,
+};
+
+use super::builder::ModuleBuilder;
+use crate::model::{Channel, Material, TextureRead};
+
+/// The resource bindings of texture reads.
+pub mod bindings {
+    /// Textures and their sampler live in their own bind group, so that group 0's numbering
+    /// (which depends on the optional uniforms) does not move them.
+    pub const GROUP: u32 = 1;
+    /// `var glazec_sampler: sampler` (wrap addressing in glazec's renderers).
+    pub const SAMPLER: u32 = 0;
+    /// The first texture's binding; the others follow in order of first use.
+    pub const FIRST_TEXTURE: u32 = 1;
+    /// The sampler's name in generated code.
+    pub const SAMPLER_NAME: &str = "glazec_sampler";
+    /// GLSL has one binding space per descriptor set and naga's GLSL backend writes none, so
+    /// group 1 moves up by this much there: a texture at binding b is `layout(binding = 16 + b)`
+    /// (combined with the sampler into a `sampler2D`, which is how naga writes GLSL).
+    pub const GLSL_OFFSET: u32 = 16;
+}
+
+/// What `lower` needs of a material's texture reads.
+pub struct TextureReads {
+    /// `<Material>Textures`.
+    pub ty: Handle<Type>,
+    /// `<material>_textures(uv)`.
+    pub sample: Handle<naga::Function>,
+}
+
+/// Builds the struct, the resources and the sampling function; `None` without texture reads.
+pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
+    let reads: Vec<_> = material.texture_params().collect();
+    if reads.is_empty() {
+        return None;
+    }
+    let ty = struct_type(b, material);
+    let sampler_ty = b.with_module(|m| {
+        m.types.insert(Type { name: None, inner: TypeInner::Sampler { comparison: false } }, Span::UNDEFINED)
+    });
+    let image_ty = b.with_module(|m| {
+        let inner = TypeInner::Image {
+            dim: ImageDimension::D2,
+            arrayed: false,
+            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+        };
+        m.types.insert(Type { name: None, inner }, Span::UNDEFINED)
+    });
+    let sampler = global(b, bindings::SAMPLER_NAME, bindings::SAMPLER, sampler_ty);
+    let images: Vec<(String, Handle<GlobalVariable>)> = material
+        .textures()
+        .iter()
+        .enumerate()
+        .map(|(i, name)| (name.to_string(), global(b, name, bindings::FIRST_TEXTURE + i as u32, image_ty)))
+        .collect();
+
+    let uv = super::argument("uv", b.types.vec2, None);
+    let name = format!("{}_textures", material.name);
+    b.begin_function(&name, vec![uv], Some(FunctionResult { ty, binding: None }));
+    let uv = b.argument(0);
+    let mut components = Vec::new();
+    // One sample per texture and scale: channels of a packed texture share it.
+    let mut samples: Vec<((&str, u32), Handle<Expression>)> = Vec::new();
+    for (_, param, read) in &reads {
+        let key = (read.texture.as_str(), read.uv_scale.to_bits());
+        if let Some(&(_, texel)) = samples.iter().find(|(k, _)| *k == key) {
+            components.push(channel_value(b, texel, read, &param.name));
+            continue;
+        }
+        let Some(&(_, image)) = images.iter().find(|(n, _)| *n == read.texture) else {
+            unreachable!("every read's texture has a binding")
+        };
+        let image = b.append(Expression::GlobalVariable(image));
+        let sampler = b.append(Expression::GlobalVariable(sampler));
+        let coordinate = if read.uv_scale == 1.0 {
+            uv
+        } else {
+            let scale = b.constant(read.uv_scale).handle();
+            b.append(Expression::Binary { op: naga::BinaryOperator::Multiply, left: uv, right: scale })
+        };
+        let zero = b.constant(0.0).handle();
+        let texel = b.append(Expression::ImageSample {
+            image,
+            sampler,
+            gather: None,
+            coordinate,
+            array_index: None,
+            offset: None,
+            level: SampleLevel::Exact(zero),
+            depth_ref: None,
+            clamp_to_edge: false,
+        });
+        b.name(texel, &format!("{}_texel", read.texture));
+        samples.push((key, texel));
+        components.push(channel_value(b, texel, read, &param.name));
+    }
+    let result = b.append(Expression::Compose { ty, components });
+    b.statement(Statement::Return { value: Some(result) });
+    let doc = [
+        "The material's texture-read parameters at `uv`: each texture sampled at uv · uv_scale (mip",
+        "level 0) and its texel t mapped onto the parameter's range, lo + (hi − lo)·t.",
+    ];
+    let sample = b.add_function(b.end_function(), &doc);
+    Some(TextureReads { ty, sample })
+}
+
+/// A read's channel of a sampled texel, mapped onto its range and named after the parameter.
+fn channel_value(b: &ModuleBuilder, texel: Handle<Expression>, read: &TextureRead, name: &str) -> Handle<Expression> {
+    let value = match read.channel.index() {
+        Some(index) => {
+            let t = b.scalar(b.append(Expression::AccessIndex { base: texel, index }));
+            remap(t, read.range).handle()
+        }
+        None => {
+            let rgb = b.vector(b.append(Expression::Swizzle {
+                size: VectorSize::Tri,
+                vector: texel,
+                pattern: [SwizzleComponent::X, SwizzleComponent::Y, SwizzleComponent::Z, SwizzleComponent::X],
+            }));
+            remap_vec(b, rgb, read.range).handle()
+        }
+    };
+    b.name(value, name);
+    value
+}
+
+/// lo + (hi − lo)·t, folded to t for the range [0, 1].
+fn remap(t: super::builder::Expr<'_>, [lo, hi]: [f32; 2]) -> super::builder::Expr<'_> {
+    if lo == 0.0 && hi == 1.0 { t } else { t * (hi - lo) + lo }
+}
+
+fn remap_vec<'a>(
+    b: &'a ModuleBuilder,
+    t: super::builder::ExprVec<'a>,
+    [lo, hi]: [f32; 2],
+) -> super::builder::ExprVec<'a> {
+    use crate::math::Real;
+    if lo == 0.0 && hi == 1.0 { t } else { t * (hi - lo) + b.constant(lo).splat() }
+}
+
+/// `<Material>Textures`: one member per texture read, laid out like the uniform struct.
+fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
+    let mut offset: u32 = 0;
+    let mut members = Vec::new();
+    for (_, param, read) in material.texture_params() {
+        let (align, size, ty) = if read.channel == Channel::Rgb { (16, 12, b.types.vec3) } else { (4, 4, b.types.f32) };
+        offset = offset.next_multiple_of(align);
+        members.push(StructMember { name: Some(param.name.clone()), ty, binding: None, offset });
+        offset += size;
+    }
+    let span = offset.next_multiple_of(16);
+    let name = material.textures_struct_name();
+    b.with_module(|m| {
+        m.types.insert(Type { name: Some(name), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
+    })
+}
+
+fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
+    b.with_module(|m| {
+        m.global_variables.append(
+            GlobalVariable {
+                name: Some(name.to_string()),
+                space: AddressSpace::Handle,
+                binding: Some(ResourceBinding { group: bindings::GROUP, binding }),
+                ty,
+                init: None,
+                memory_decorations: MemoryDecorations::empty(),
+            },
+            Span::UNDEFINED,
+        )
+    })
+}
+
+/// The texture bindings of a module built by `lower`: (name, binding) in group
+/// [`bindings::GROUP`], the sampler first.
+pub fn layout(module: &naga::Module) -> Vec<(String, u32)> {
+    let mut out: Vec<(String, u32)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| match (&v.binding, &v.name) {
+            (Some(rb), Some(name)) if rb.group == bindings::GROUP => Some((name.clone(), rb.binding)),
+            _ => None,
+        })
+        .collect();
+    out.sort_by_key(|(_, binding)| *binding);
+    out
+}
