@@ -17,6 +17,18 @@ pub fn brdf(material: &Material, values: &[ParamValue], wi: Vec3, wo: Vec3) -> V
     layering::brdf(material, &inputs(values), Vec3::Z, wo, wi)
 }
 
+/// [`brdf`] with shading normals for the layers that have normal maps: (layer, unit normal in
+/// the local frame, n = +z); coats are layers 0…, the base is layer `coats.len()`.
+pub fn brdf_with_normals(
+    material: &Material,
+    values: &[ParamValue],
+    normals: &[(usize, Vec3)],
+    wi: Vec3,
+    wo: Vec3,
+) -> Vec3 {
+    layering::brdf(material, &inputs(values).with_normals(normals.to_vec()), Vec3::Z, wo, wi)
+}
+
 /// The reflectance of the material's mirror (delta) lobe towards `wo` (see
 /// [`layering::mirror_reflectance`]).
 pub fn mirror_reflectance(material: &Material, values: &[ParamValue], wo: Vec3) -> Vec3 {

@@ -26,6 +26,20 @@ pub struct Material {
     pub base: Base,
     /// Runtime parameters in order of first use; they become one uniform struct.
     pub params: Vec<Param>,
+    /// Normal maps, by layer (index into the coats; `coats.len()` is the base), in layer order.
+    /// A layer without one uses the surface normal.
+    pub normals: Vec<(usize, NormalMap)>,
+}
+
+/// A tangent-space normal map on one layer, optionally blended with a detail map by reoriented
+/// normal mapping (Barré-Brisebois & Hill 2012, "Blending in Detail").
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalMap {
+    /// The texture (RGB = tangent-space normal · ½ + ½, as normal maps are stored).
+    pub texture: String,
+    pub uv_scale: f32,
+    /// A second map, blended onto the first: (texture, uv_scale).
+    pub detail: Option<(String, f32)>,
 }
 
 /// How a stack of layers is combined into one BRDF.
@@ -346,15 +360,31 @@ impl Material {
         })
     }
 
-    /// The textures the material reads, each once, in order of first use: their bindings.
+    /// The textures the material reads, each once: its parameters' textures in order of first
+    /// use, then its normal maps' in layer order. Their bindings follow this order.
     pub fn textures(&self) -> Vec<&str> {
         let mut names: Vec<&str> = Vec::new();
-        for (_, _, read) in self.texture_params() {
-            if !names.contains(&read.texture.as_str()) {
-                names.push(&read.texture);
+        let reads = self.texture_params().map(|(_, _, read)| read.texture.as_str());
+        let maps = self
+            .normals
+            .iter()
+            .flat_map(|(_, m)| std::iter::once(m.texture.as_str()).chain(m.detail.as_ref().map(|(t, _)| t.as_str())));
+        for name in reads.chain(maps) {
+            if !names.contains(&name) {
+                names.push(name);
             }
         }
         names
+    }
+
+    /// The normal map of layer `layer` (coats first, then the base at `coats.len()`).
+    pub fn normal_map(&self, layer: usize) -> Option<&NormalMap> {
+        self.normals.iter().find(|(l, _)| *l == layer).map(|(_, m)| m)
+    }
+
+    /// A layer's name in generated code: `coat0`, `coat1`, …, `base`.
+    pub fn layer_name(&self, layer: usize) -> String {
+        if layer < self.coats.len() { format!("coat{layer}") } else { "base".to_string() }
     }
 }
 
@@ -400,6 +430,7 @@ mod tests {
             coats: vec![],
             base: Base::Lambert { albedo: Color::Lit([0.5; 3]) },
             params: vec![],
+            normals: vec![],
         };
         assert_eq!(m.params_struct_name(), "WetClay2Params");
     }

@@ -87,7 +87,14 @@ fn ggx(roughness: f32) -> Lobe {
 }
 
 fn over_white(method: Method, coats: Vec<Coat>) -> Material {
-    Material { name: "sweep".into(), method, coats, base: Base::Lambert { albedo: white() }, params: vec![] }
+    Material {
+        name: "sweep".into(),
+        method,
+        coats,
+        base: Base::Lambert { albedo: white() },
+        params: vec![],
+        normals: vec![],
+    }
 }
 
 /// The sweeps; `reduced` takes fewer values per sweep (for the tests).

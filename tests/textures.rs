@@ -48,7 +48,7 @@ fn texture_reads_become_parameters_with_their_ranges() {
     let (m, _) = glazec::load(&textured_clay()).expect("checks");
     let names: Vec<&str> = m.params.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(names, ["clay_maps_g", "clay_maps_b", "clay_albedo_rgb"]);
-    assert_eq!(m.textures(), ["clay_maps", "clay_albedo"]);
+    assert_eq!(m.textures(), ["clay_maps", "clay_albedo", "clay_bumps", "clay_pores"]);
     // Defaults: a mid-grey texel, the middle of each range.
     assert_eq!(m.default_values()[0], ParamValue::Scalar(0.3));
     assert_eq!(m.default_values()[2], ParamValue::Rgb([0.5; 3]));
@@ -102,7 +102,11 @@ fn every_backend_declares_the_documented_bindings() {
     let layout = glazec::lower::textures::layout(&compiled.module);
     assert_eq!(
         layout,
-        [("glazec_sampler".to_string(), 0), ("clay_maps".to_string(), 1), ("clay_albedo".to_string(), 2)]
+        ["glazec_sampler", "clay_maps", "clay_albedo", "clay_bumps", "clay_pores"]
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.to_string(), i as u32))
+            .collect::<Vec<_>>()
     );
     let artifacts = compiled.emit(&[Target::Wgsl, Target::Glsl, Target::Hlsl]).expect("emits");
     let text = |suffix: &str| {
@@ -249,8 +253,129 @@ fn preview_rejects_an_image_for_a_texture_no_material_reads() {
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("no material reads a texture of that name (they read: clay_maps, clay_albedo)"),
+        stderr.contains(
+            "no material reads a texture of that name (they read: clay_maps, clay_albedo, clay_bumps, clay_pores)"
+        ),
         "{stderr}"
     );
     assert!(!out.path().join("p.png").exists(), "nothing is written");
+}
+
+// ---- normal maps ---------------------------------------------------------------------------
+
+/// Reoriented normal mapping written from the paper (Barré-Brisebois & Hill 2012, listing
+/// "RNM"), in f64: independent of `glazec::math::terms::rnm_blend`.
+fn rnm_f64(base: glam::DVec3, detail: glam::DVec3) -> glam::DVec3 {
+    let t = base + glam::DVec3::Z;
+    let u = detail * glam::DVec3::new(-1.0, -1.0, 1.0);
+    (t * t.dot(u) / t.z - u).normalize()
+}
+
+/// A unit normal within 50° of +z, from a seed.
+fn tilted(seed: u32) -> glam::DVec3 {
+    let a = f64::from(seed).mul_add(2.399_963, 0.3);
+    let tilt = (0.1 + 0.8 * f64::from(seed % 7) / 7.0).min(0.87);
+    glam::DVec3::new(tilt * a.cos(), tilt * a.sin(), 1.0).normalize()
+}
+
+/// Blending tolerance against the f64 formula (f32 arithmetic on unit vectors).
+const BLEND_TOLERANCE: f32 = 2e-6;
+
+#[test]
+fn rnm_blending_matches_the_papers_formula_and_its_identities() {
+    use glazec::math::terms::rnm_blend;
+    for i in 0..64 {
+        let (base, detail) = (tilted(i), tilted(i * 31 + 5));
+        let ours = rnm_blend::<f32>(base.as_vec3(), detail.as_vec3());
+        let theirs = rnm_f64(base, detail).as_vec3();
+        assert!((ours - theirs).abs().max_element() < BLEND_TOLERANCE, "{ours} against {theirs}");
+        // A flat detail leaves the base; a flat base takes the detail.
+        let flat = rnm_blend::<f32>(base.as_vec3(), Vec3::Z);
+        assert!((flat - base.as_vec3()).abs().max_element() < BLEND_TOLERANCE);
+        let onto_flat = rnm_blend::<f32>(Vec3::Z, detail.as_vec3());
+        assert!((onto_flat - detail.as_vec3()).abs().max_element() < BLEND_TOLERANCE);
+    }
+}
+
+#[test]
+fn normal_maps_are_read_per_layer() {
+    let (m, _) = glazec::load(&textured_clay()).expect("checks");
+    assert_eq!(m.normals.len(), 1);
+    let (layer, map) = &m.normals[0];
+    assert_eq!(*layer, 1, "the base (the film has none)");
+    assert_eq!(map.texture, "clay_bumps");
+    assert_eq!(map.detail, Some(("clay_pores".to_string(), 4.0)));
+    assert_eq!(codes(&material(r#"Lambert(albedo: 0.5, normal: Bump("x"))"#)), [Code::UnknownVariant]);
+    assert_eq!(codes(&material(r#"Lambert(albedo: 0.5, normal: NormalMap("x", 0.0))"#)), [Code::TextureRange]);
+    assert_eq!(codes(&material(r#"Lambert(albedo: 0.5, normal: NormalMap("X y"))"#)), [Code::BadName]);
+    let coats: Vec<String> =
+        (0..8).map(|i| format!(r#"Coat(lobe: Ggx(0.2), ior: 1.5, normal: NormalMap("n{i}", 1.0))"#)).collect();
+    let nine = format!(r#"{}, Lambert(albedo: 0.5, normal: NormalMap("n8"))"#, coats.join(", "));
+    assert_eq!(codes(&material(&nine)), [Code::TooManyTextures]);
+}
+
+/// A 4 × 4 normal map of tilted normals (texels exact in f32).
+fn normal_image(seed: u32) -> (TextureImage, Vec<glam::DVec3>) {
+    let normals: Vec<glam::DVec3> = (0..16).map(|i| tilted(seed + i)).collect();
+    let texels = normals
+        .iter()
+        .map(|n| {
+            let t = n.as_vec3() * 0.5 + Vec3::splat(0.5);
+            [t.x, t.y, t.z, 1.0]
+        })
+        .collect();
+    (TextureImage { width: 4, height: 4, texels }, normals)
+}
+
+#[test]
+fn normal_mapped_shading_matches_the_cpu_on_the_gpu() {
+    let Some(gpu) = common::open_gpu() else { return };
+    let gpu = &gpu;
+    let text = r#"Material(
+        name: "bumpy",
+        layers: [
+            Coat(lobe: Ggx(0.25), ior: 1.5, absorption: 0.2, thickness: 0.5),
+            Eon(albedo: (0.7, 0.5, 0.4), roughness: 0.5, normal: NormalMap(texture: "bumps", uv_scale: 1.0, detail: "pores", detail_scale: 1.0)),
+        ],
+    )"#;
+    let compiled = glazec::compile(text).expect("compiles");
+    let (bumps, bump_normals) = normal_image(3);
+    let (pores, pore_normals) = normal_image(101);
+    let images = vec![("bumps".to_string(), bumps), ("pores".to_string(), pores)];
+    // Every texel centre, each with several direction pairs.
+    let all = pairs();
+    let (mut pairs_at, mut uvs, mut expected) = (Vec::new(), Vec::new(), Vec::new());
+    for texel in 0..16 {
+        let uv = [((texel % 4) as f32 + 0.5) / 4.0, ((texel / 4) as f32 + 0.5) / 4.0];
+        // The local frame is the identity (t = x, b = y, n = z): the blended normal as it is.
+        let decoded = |n: glam::DVec3| (n.as_vec3() * 0.5 + Vec3::splat(0.5)) * 2.0 - Vec3::ONE;
+        let normal = rnm_f64(decoded(bump_normals[texel]).as_dvec3(), decoded(pore_normals[texel]).as_dvec3());
+        for p in all.iter().skip(texel % 3).step_by(3) {
+            pairs_at.push(*p);
+            uvs.push(uv);
+            expected.push(glazec::eval::brdf_with_normals(
+                &compiled.material,
+                &[],
+                &[(1, normal.as_vec3())],
+                p.wi,
+                p.wo,
+            ));
+        }
+    }
+    let max = expected.iter().map(|v| v.max_element()).fold(0.0, f32::max);
+    let flat: Vec<Vec3> = pairs_at.iter().map(|p| glazec::eval::brdf(&compiled.material, &[], p.wi, p.wo)).collect();
+    let changed =
+        expected.iter().zip(&flat).filter(|(a, b)| (**a - **b).abs().max_element() > 0.02 * b.max_element()).count();
+    eprintln!("normal maps change {changed} of {} values by more than 2%", expected.len());
+    assert!(changed > expected.len() / 4, "the normal maps should change the BRDF");
+    for path in [ShaderPath::NagaIr, ShaderPath::Wgsl] {
+        let kernel = glazec::run::EvalKernel::new(gpu, &compiled, path).expect("kernel");
+        let values = kernel.eval_textured(gpu, &pairs_at, &uvs, &[], &images).expect("runs");
+        for ((v, e), uv) in values.iter().zip(&expected).zip(&uvs) {
+            for c in 0..3 {
+                assert!(common::agreement::agrees(e[c], v[c], max), "{path} at uv {uv:?}: {v} against {e}");
+            }
+        }
+    }
+    eprintln!("normal maps: {} pairs over 16 texels × 2 paths agree with the CPU", pairs_at.len());
 }

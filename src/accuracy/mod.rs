@@ -85,7 +85,7 @@ impl Case {
                 },
             }
         };
-        Material { name: "case".into(), method, coats: vec![coat], base, params: vec![] }
+        Material { name: "case".into(), method, coats: vec![coat], base, params: vec![], normals: vec![] }
     }
 
     /// The smallest GGX α among the case's lobes (for the albedo quadrature).

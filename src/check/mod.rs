@@ -67,17 +67,32 @@ const COAT_FIELDS: &[FieldSpec] = &[
     req("ior", "1.5"),
     opt("absorption", "(0.1, 0.2, 0.4)"),
     opt("thickness", "0.5"),
+    opt("normal", "NormalMap(\"clay_normal\", 1.0)"),
 ];
 const ROUGH_LOBE_FIELDS: &[FieldSpec] = &[req("roughness", "0.2")];
-const LAMBERT_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.5, 0.3)")];
-const ROUGH_DIFFUSE_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.5, 0.3)"), req("roughness", "0.5")];
+const LAMBERT_FIELDS: &[FieldSpec] =
+    &[req("albedo", "(0.8, 0.5, 0.3)"), opt("normal", "NormalMap(\"clay_normal\", 1.0)")];
+const ROUGH_DIFFUSE_FIELDS: &[FieldSpec] =
+    &[req("albedo", "(0.8, 0.5, 0.3)"), req("roughness", "0.5"), opt("normal", "NormalMap(\"clay_normal\", 1.0)")];
 const CONDUCTOR_FIELDS: &[FieldSpec] = &[
     req("roughness", "0.3"),
     opt("f0", "(0.95, 0.64, 0.54)"),
     opt("eta", "(0.2, 0.92, 1.1)"),
     opt("k", "(3.9, 2.45, 2.14)"),
+    opt("normal", "NormalMap(\"clay_normal\", 1.0)"),
 ];
-const PLASTIC_FIELDS: &[FieldSpec] = &[req("albedo", "(0.8, 0.1, 0.1)"), req("roughness", "0.3"), req("ior", "1.5")];
+const PLASTIC_FIELDS: &[FieldSpec] = &[
+    req("albedo", "(0.8, 0.1, 0.1)"),
+    req("roughness", "0.3"),
+    req("ior", "1.5"),
+    opt("normal", "NormalMap(\"clay_normal\", 1.0)"),
+];
+const NORMAL_MAP_FIELDS: &[FieldSpec] = &[
+    req("texture", "\"clay_normal\""),
+    opt("uv_scale", "1.0"),
+    opt("detail", "\"clay_pores\""),
+    opt("detail_scale", "8.0"),
+];
 const INTERFACED_FIELDS: &[FieldSpec] = &[opt("fresnel", "Schlick"), opt("multiple_scattering", "false")];
 const FRESNEL_NAMES: &[&str] = &["Exact", "Schlick"];
 const PARAM_FIELDS: &[FieldSpec] = &[req("name", "\"roughness\""), req("default", "0.5")];
@@ -237,6 +252,10 @@ impl Rule {
 struct Checker {
     errors: Vec<Diagnostic>,
     params: Vec<Param>,
+    /// Normal maps by layer, and the span of each `NormalMap(…)`.
+    normals: Vec<(usize, NormalMap, Span)>,
+    /// The normal map of the layer being checked, until `layers` knows its index.
+    layer_normal: Option<(NormalMap, Span)>,
     param_spans: Vec<Span>,
     param_ids: HashMap<String, ParamId>,
     name_span: Option<Span>,
@@ -597,7 +616,11 @@ impl Checker {
         };
         let stack = f.get(2).and_then(|v| self.layers(v));
         let (coats, base) = stack?;
-        Some(Material { name: name?, method: method?, coats, base, params: std::mem::take(&mut self.params) })
+        let normals: Vec<(usize, NormalMap)> = self.normals.iter().map(|(l, m, _)| (*l, m.clone())).collect();
+        let material =
+            Material { name: name?, method: method?, coats, base, params: std::mem::take(&mut self.params), normals };
+        self.texture_count(&material)?;
+        Some(material)
     }
 
     fn string<'v>(&mut self, v: &'v Spanned<Value>) -> Option<&'v str> {
@@ -704,7 +727,11 @@ impl Checker {
         let mut ok = true;
         let mut checked_coats = Vec::new();
         for item in coats {
-            match self.layer(item) {
+            let layer = self.layer(item);
+            if let Some((map, span)) = self.layer_normal.take() {
+                self.normals.push((checked_coats.len(), map, span));
+            }
+            match layer {
                 Some(Layer::Coat(c)) => checked_coats.push(c),
                 Some(Layer::Base(_)) => {
                     ok = false;
@@ -721,7 +748,11 @@ impl Checker {
                 None => ok = false,
             }
         }
-        let base = match self.layer(last) {
+        let base_layer = self.layer(last);
+        if let Some((map, span)) = self.layer_normal.take() {
+            self.normals.push((checked_coats.len(), map, span));
+        }
+        let base = match base_layer {
             Some(Layer::Base(b)) => Some(b),
             Some(Layer::Coat(_)) => {
                 self.error(
@@ -761,10 +792,12 @@ impl Checker {
             "Coat" => Layer::Coat(self.coat(name, args, v.span)?),
             "Lambert" => {
                 let f = self.fields(name, args, v.span, LAMBERT_FIELDS);
+                self.normal_map(f.get(1))?;
                 Layer::Base(Base::Lambert { albedo: self.color(f.get(0), Rule::Albedo)? })
             }
             "OrenNayar" | "Eon" => {
                 let f = self.fields(name, args, v.span, ROUGH_DIFFUSE_FIELDS);
+                self.normal_map(f.get(2))?;
                 let sigma_rule = if name.node == "OrenNayar" { Rule::Sigma } else { Rule::Roughness };
                 let albedo = self.color(f.get(0), Rule::Albedo);
                 let roughness = self.scalar(f.get(1), sigma_rule);
@@ -779,6 +812,7 @@ impl Checker {
             "Measured" => Layer::Base(self.measured(name, args, v.span)?),
             _ => {
                 let f = self.fields(name, args, v.span, PLASTIC_FIELDS);
+                self.normal_map(f.get(3))?;
                 let albedo = self.color(f.get(0), Rule::Albedo);
                 let roughness = self.scalar(f.get(1), Rule::Roughness);
                 let ior = self.scalar(f.get(2), Rule::Ior);
@@ -790,6 +824,7 @@ impl Checker {
 
     fn coat(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) -> Option<Coat> {
         let f = self.fields(name, args, whole, COAT_FIELDS);
+        self.normal_map(f.get(4))?;
         let lobe = f.get(0).and_then(|v| self.lobe(v));
         let ior = self.scalar(f.get(1), Rule::Ior);
         let absorption = match f.get(2) {
@@ -816,6 +851,7 @@ impl Checker {
 
     fn conductor(&mut self, name: &Spanned<String>, args: Option<&[Arg]>, whole: Span) -> Option<Base> {
         let f = self.fields(name, args, whole, CONDUCTOR_FIELDS);
+        self.normal_map(f.get(4))?;
         let roughness = self.scalar(f.get(0), Rule::Roughness);
         let fresnel = match (f.get(1), f.get(2), f.get(3)) {
             (Some(f0), None, None) => self.color(Some(f0), Rule::Reflectance).map(ConductorFresnel::F0),
@@ -1114,6 +1150,49 @@ impl Checker {
         self.params.push(param);
         self.param_spans.push(whole);
         Some(id)
+    }
+
+    /// A layer's `normal: NormalMap("texture", uv_scale, detail: "texture", detail_scale)`;
+    /// `None` if it is malformed (reported), else remembered for `layers`.
+    fn normal_map(&mut self, v: Option<&Spanned<Value>>) -> Option<()> {
+        let Some(v) = v else { return Some(()) };
+        let (name, args) = self.constructor(v, "normal map", &["NormalMap"])?;
+        let f = self.fields(name, args, v.span, NORMAL_MAP_FIELDS);
+        let texture = f.get(0).and_then(|t| self.identifier(t, "texture"));
+        let uv_scale = f.get(1).map_or(Some(1.0), |x| self.uv_scale(x));
+        let detail = f.get(2).map(|t| self.identifier(t, "texture"));
+        let detail_scale = f.get(3).map_or(Some(1.0), |x| self.uv_scale(x));
+        let detail = match detail {
+            Some(t) => Some((t?, detail_scale?)),
+            None => None,
+        };
+        self.layer_normal = Some((NormalMap { texture: texture?, uv_scale: uv_scale?, detail }, v.span));
+        Some(())
+    }
+
+    /// At most [`MAX_TEXTURES`] textures, counting normal maps (E0220 at the first one too many).
+    fn texture_count(&mut self, material: &Material) -> Option<()> {
+        let textures = material.textures();
+        if textures.len() <= MAX_TEXTURES {
+            return Some(());
+        }
+        let extra = textures[MAX_TEXTURES];
+        let span = self
+            .normals
+            .iter()
+            .find(|(_, m, _)| m.texture == extra || m.detail.as_ref().is_some_and(|(t, _)| t == extra))
+            .map(|(_, _, s)| *s);
+        let Some(span) = span else { return Some(()) }; // (texture reads are counted as they are read)
+        self.error(
+            Diagnostic::error(
+                Code::TooManyTextures,
+                format!("more than {MAX_TEXTURES} textures"),
+                span,
+                format!("texture `{extra}` is one too many"),
+            )
+            .with_help("pack scalar maps into the channels of one texture (R, G, B, A)"),
+        );
+        None
     }
 
     fn texture_names(&self) -> Vec<&str> {

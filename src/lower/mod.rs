@@ -212,12 +212,19 @@ pub fn lower(material: &Material) -> Module {
     let brdf = brdf_function(&b, material, inputs);
     let eval = eval_function(&b, material, inputs, brdf);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
-    let sample = reads.as_ref().map(|r| r.sample);
+    let sample = reads.as_ref().map(|r| Sampling { function: r.sample, frame: !material.normals.is_empty() });
     eval_pairs_entry(&b, brdf, params_var, sample);
     preview_entries(&b, eval, params_var, sample);
     let mut module = b.finish();
     bindings::assign(&mut module);
     module
+}
+
+/// `<material>_textures` and whether it takes the surface frame (n, t, b) after `uv`.
+#[derive(Clone, Copy)]
+struct Sampling {
+    function: Handle<Function>,
+    frame: bool,
 }
 
 /// The optional struct arguments of `<material>_brdf` and `<material>_eval`.
@@ -317,7 +324,18 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, inputs: InputTypes) -> 
             }
         })
         .collect();
-    let inputs = Inputs::new(b, params);
+    // Normal-mapped layers' shading normals: the textures struct's members after the reads.
+    let reads = material.texture_params().count() as u32;
+    let normals = material
+        .normals
+        .iter()
+        .enumerate()
+        .map(|(i, (layer, _))| {
+            let Some(base) = textures_arg else { unreachable!("normal maps come with the textures struct") };
+            (*layer, b.vector(b.append(Expression::AccessIndex { base, index: reads + i as u32 })))
+        })
+        .collect();
+    let inputs = Inputs::new(b, params).with_normals(normals);
     let f = layering::brdf(material, &inputs, n, v, l);
     let value = f.handle();
     b.statement(Statement::Return { value: Some(value) });
@@ -395,7 +413,7 @@ fn eval_pairs_entry(
     b: &ModuleBuilder,
     brdf: Handle<Function>,
     params_var: Option<Handle<GlobalVariable>>,
-    sample: Option<Handle<Function>>,
+    sample: Option<Sampling>,
 ) {
     let pair_ty =
         struct_type(b, "DirectionPair", &[("wi", b.types.vec4, 0, None), ("wo", b.types.vec4, 16, None)], PAIR_STRIDE);
@@ -453,7 +471,15 @@ fn eval_pairs_entry(
         let (u, v) = (w(0), w(1));
         let uv = b.append(Expression::Compose { ty: b.types.vec2, components: vec![u, v] });
         b.name(uv, "uv");
-        let textures = b.call(sample, vec![uv]);
+        let mut sample_arguments = vec![uv];
+        if sample.frame {
+            // The local frame: n = +z, tangent +x, bitangent +y.
+            let c = |x: f32| b.constant(x);
+            for (x, y, z) in [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)] {
+                sample_arguments.push(Expr::vec3(c(x), c(y), c(z)).handle());
+            }
+        }
+        let textures = b.call(sample.function, sample_arguments);
         b.name(textures, "textures");
         arguments.push(textures);
     }
@@ -519,7 +545,7 @@ fn preview_entries(
     b: &ModuleBuilder,
     eval: Handle<Function>,
     params_var: Option<Handle<GlobalVariable>>,
-    sample: Option<Handle<Function>>,
+    sample: Option<Sampling>,
 ) {
     let light_ty = struct_type(
         b,
@@ -588,7 +614,12 @@ fn preview_entries(
     if let Some(sample) = sample {
         let uv = sphere_uv(b, px, py, nz);
         b.name(uv, "uv");
-        let textures = b.call(sample, vec![uv]);
+        let mut sample_arguments = vec![uv];
+        if sample.frame {
+            let (t, bitangent) = sphere_frame(b, n);
+            sample_arguments.extend([n.handle(), t.handle(), bitangent.handle()]);
+        }
+        let textures = b.call(sample.function, sample_arguments);
         b.name(textures, "textures");
         arguments.push(textures);
     }
@@ -622,4 +653,14 @@ fn sphere_uv<'a>(
     let u = (longitude * (0.5 / PI) + 0.5).handle();
     let v = (latitude * (-1.0 / PI) + 0.5).handle();
     b.append(Expression::Compose { ty: b.types.vec2, components: vec![u, v] })
+}
+
+/// The sphere's tangent frame at normal `n` along its uv: t = ∂P/∂u ∝ (n.z, 0, −n.x) (east), and
+/// b = n × t (north, texture +y up, the OpenGL normal-map convention). Guard: |(n.z, 0, −n.x)|
+/// ≥ 10⁻⁶ at the poles, where longitude has no direction.
+fn sphere_frame<'a>(b: &'a ModuleBuilder, n: builder::ExprVec<'a>) -> (builder::ExprVec<'a>, builder::ExprVec<'a>) {
+    let east = Expr::vec3(n.z(), b.constant(0.0), -n.x());
+    let t = (east / east.dot(east).sqrt().at_least(1e-6)).named("tangent");
+    let bitangent = n.cross(t).named("bitangent");
+    (t, bitangent)
 }

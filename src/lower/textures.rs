@@ -25,7 +25,9 @@ use naga::{
     VectorSize,
 };
 
-use super::builder::ModuleBuilder;
+use super::builder::{Expr, ExprVec, ModuleBuilder};
+use crate::math::Named;
+use crate::math::terms::{normal_from_texel, rnm_blend, tangent_to_world};
 use crate::model::{Channel, Material, TextureRead};
 
 /// The resource bindings of texture reads.
@@ -56,7 +58,7 @@ pub struct TextureReads {
 /// Builds the struct, the resources and the sampling function; `None` without texture reads.
 pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
     let reads: Vec<_> = material.texture_params().collect();
-    if reads.is_empty() {
+    if reads.is_empty() && material.normals.is_empty() {
         return None;
     }
     let ty = struct_type(b, material);
@@ -79,28 +81,31 @@ pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
         .map(|(i, name)| (name.to_string(), global(b, name, bindings::FIRST_TEXTURE + i as u32, image_ty)))
         .collect();
 
-    let uv = super::argument("uv", b.types.vec2, None);
-    let name = format!("{}_textures", material.name);
-    b.begin_function(&name, vec![uv], Some(FunctionResult { ty, binding: None }));
-    let uv = b.argument(0);
-    let mut components = Vec::new();
-    // One sample per texture and scale: channels of a packed texture share it.
-    let mut samples: Vec<((&str, u32), Handle<Expression>)> = Vec::new();
-    for (_, param, read) in &reads {
-        let key = (read.texture.as_str(), read.uv_scale.to_bits());
-        if let Some(&(_, texel)) = samples.iter().find(|(k, _)| *k == key) {
-            components.push(channel_value(b, texel, read, &param.name));
-            continue;
+    let mut arguments = vec![super::argument("uv", b.types.vec2, None)];
+    if !material.normals.is_empty() {
+        for frame in ["n", "t", "b"] {
+            arguments.push(super::argument(frame, b.types.vec3, None));
         }
-        let Some(&(_, image)) = images.iter().find(|(n, _)| *n == read.texture) else {
-            unreachable!("every read's texture has a binding")
+    }
+    let name = format!("{}_textures", material.name);
+    b.begin_function(&name, arguments, Some(FunctionResult { ty, binding: None }));
+    let uv = b.argument(0);
+    // One sample per texture and scale: channels of a packed texture share it.
+    let mut samples: Vec<((String, u32), Handle<Expression>)> = Vec::new();
+    let mut sample = |texture: &str, uv_scale: f32| -> Handle<Expression> {
+        let key = (texture.to_string(), uv_scale.to_bits());
+        if let Some(&(_, texel)) = samples.iter().find(|(k, _)| *k == key) {
+            return texel;
+        }
+        let Some(&(_, image)) = images.iter().find(|(n, _)| *n == texture) else {
+            unreachable!("every texture has a binding")
         };
         let image = b.append(Expression::GlobalVariable(image));
         let sampler = b.append(Expression::GlobalVariable(sampler));
-        let coordinate = if read.uv_scale == 1.0 {
+        let coordinate = if uv_scale == 1.0 {
             uv
         } else {
-            let scale = b.constant(read.uv_scale).handle();
+            let scale = b.constant(uv_scale).handle();
             b.append(Expression::Binary { op: naga::BinaryOperator::Multiply, left: uv, right: scale })
         };
         let zero = b.constant(0.0).handle();
@@ -115,18 +120,49 @@ pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
             depth_ref: None,
             clamp_to_edge: false,
         });
-        b.name(texel, &format!("{}_texel", read.texture));
+        b.name(texel, &format!("{texture}_texel"));
         samples.push((key, texel));
+        texel
+    };
+    let mut components = Vec::new();
+    for (_, param, read) in &reads {
+        let texel = sample(&read.texture, read.uv_scale);
         components.push(channel_value(b, texel, read, &param.name));
+    }
+    if !material.normals.is_empty() {
+        let frame: Vec<ExprVec<'_>> = (1..4).map(|i| b.vector(b.argument(i))).collect();
+        for (layer, map) in &material.normals {
+            let layer_name = material.layer_name(*layer);
+            let tangent = |texel: Handle<Expression>| normal_from_texel::<Expr<'_>>(rgb(b, texel));
+            let mut m = tangent(sample(&map.texture, map.uv_scale)).named(&format!("{layer_name}_tangent_normal"));
+            if let Some((detail, scale)) = &map.detail {
+                let d = tangent(sample(detail, *scale)).named(&format!("{layer_name}_detail_normal"));
+                m = rnm_blend::<Expr<'_>>(m, d).named(&format!("{layer_name}_blended_normal"));
+            }
+            let world =
+                tangent_to_world::<Expr<'_>>(m, frame[1], frame[2], frame[0]).named(&format!("{layer_name}_normal"));
+            components.push(world.handle());
+        }
     }
     let result = b.append(Expression::Compose { ty, components });
     b.statement(Statement::Return { value: Some(result) });
     let doc = [
         "The material's texture-read parameters at `uv`: each texture sampled at uv · uv_scale (mip",
-        "level 0) and its texel t mapped onto the parameter's range, lo + (hi − lo)·t.",
+        "level 0) and its texel t mapped onto the parameter's range, lo + (hi − lo)·t; and each",
+        "normal-mapped layer's shading normal in the frame (t, b, n): the map's tangent-space normal,",
+        "blended with its detail map by reoriented normal mapping (Barré-Brisebois & Hill 2012).",
     ];
     let sample = b.add_function(b.end_function(), &doc);
     Some(TextureReads { ty, sample })
+}
+
+/// The RGB of a sampled texel.
+fn rgb(b: &ModuleBuilder, texel: Handle<Expression>) -> ExprVec<'_> {
+    b.vector(b.append(Expression::Swizzle {
+        size: VectorSize::Tri,
+        vector: texel,
+        pattern: [SwizzleComponent::X, SwizzleComponent::Y, SwizzleComponent::Z, SwizzleComponent::X],
+    }))
 }
 
 /// A read's channel of a sampled texel, mapped onto its range and named after the parameter.
@@ -172,6 +208,12 @@ fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
         offset = offset.next_multiple_of(align);
         members.push(StructMember { name: Some(param.name.clone()), ty, binding: None, offset });
         offset += size;
+    }
+    for (layer, _) in &material.normals {
+        offset = offset.next_multiple_of(16);
+        let name = format!("{}_normal", material.layer_name(*layer));
+        members.push(StructMember { name: Some(name), ty: b.types.vec3, binding: None, offset });
+        offset += 12;
     }
     let span = offset.next_multiple_of(16);
     let name = material.textures_struct_name();

@@ -57,12 +57,25 @@ const GTR1_SMITH_ROUGHNESS: f32 = 0.25;
 pub struct Inputs<F: Real> {
     ctx: F::Ctx,
     params: Vec<Slot<F>>,
+    /// Per-layer shading normals (coats, then the base), for layers with a normal map.
+    normals: Vec<(usize, F::Vec)>,
 }
 
 impl<F: Real> Inputs<F> {
     /// `params` holds one value per [`Material::params`] entry, in order.
     pub fn new(ctx: F::Ctx, params: Vec<Slot<F>>) -> Self {
-        Inputs { ctx, params }
+        Inputs { ctx, params, normals: Vec::new() }
+    }
+
+    /// The shading normals of layers with a normal map: (layer, unit normal in the frame of
+    /// `n`, `v`, `l`); coats are layers 0…, the base is layer `coats.len()`.
+    pub fn with_normals(mut self, normals: Vec<(usize, F::Vec)>) -> Self {
+        self.normals = normals;
+        self
+    }
+
+    fn layer_normal(&self, layer: usize) -> Option<F::Vec> {
+        self.normals.iter().find(|(l, _)| *l == layer).map(|(_, n)| *n)
     }
 
     pub fn lit(&self, x: f32) -> F {
@@ -99,14 +112,27 @@ impl<F: Real> Inputs<F> {
 /// (both directions pointing away from the surface). Zero when either lies below the horizon.
 pub fn brdf<F: Real>(material: &Material, inputs: &Inputs<F>, n: F::Vec, v: F::Vec, l: F::Vec) -> F::Vec {
     let (coats, body) = expand(material);
-    let top = Geometry::new(n, v, l, 0);
+    // Each level's normal: its layer's normal map, or the surface normal. (A plastic base expands
+    // to a coat and a body: both take the base's map.)
+    let levels: Vec<(F::Vec, bool)> = (0..=coats.len())
+        .map(|level| match inputs.layer_normal(level.min(material.coats.len())) {
+            Some(mapped) => (mapped.named(&level_name("shading_normal", level)), true),
+            None => (n, false),
+        })
+        .collect();
+    let top_normal = if levels[0].1 { facing::<F>(levels[0].0, v, 0) } else { levels[0].0 };
+    let surface = levels.iter().any(|&(_, mapped)| mapped).then_some(n);
+    let top = Geometry::new(top_normal, v, l, 0).with_levels(std::rc::Rc::from(levels), surface);
     let f = match material.method {
         Method::Additive => additive(&coats, &body, inputs, &top),
         Method::WeidlichWilkie => weidlich_wilkie(&coats, &body, inputs, &top, 0, None),
         Method::Interfaced(approx) => interfaced(&coats, &body, inputs, &top, 0, None, None, false, approx).f,
     };
     // A one-sided BRDF: nothing is reflected from or towards below the horizon.
-    let above = top.raw_n_dot_v.gt_lit(0.0) & top.raw_n_dot_l.gt_lit(0.0);
+    // (Against the surface normal: a normal map tilts the shading, not the horizon.)
+    let (surface_v, surface_l) =
+        if inputs.normals.is_empty() { (top.raw_n_dot_v, top.raw_n_dot_l) } else { (n.dot(v), n.dot(l)) };
+    let above = surface_v.gt_lit(0.0) & surface_l.gt_lit(0.0);
     F::Vec::select(above, f.named("f"), inputs.zero())
 }
 
@@ -159,6 +185,18 @@ fn expand(material: &Material) -> (Vec<Coat>, Body<'_>) {
     (coats, body)
 }
 
+/// Cosine below which a mapped normal is bent towards the viewer (see [`facing`]).
+const FACING_EPSILON: f32 = 0.05;
+
+/// A normal-mapped shading normal that faces away from the (refracted) view direction `v` shows
+/// a facet the viewer cannot see, which renders as black specks on steep bumps; it is bent
+/// towards `v` just enough that n·v = ε: n′ = normalize(n + v (ε − n·v)) when n·v < ε (the usual
+/// horizon fix for normal maps, cf. Jimenez et al. 2016 on normal/view mismatch).
+fn facing<F: Real>(n: F::Vec, v: F::Vec, level: usize) -> F::Vec {
+    let deficit = (n.dot(v) * -1.0 + FACING_EPSILON).at_least(0.0);
+    (n + v * deficit).normalize().named(&level_name("facing_normal", level))
+}
+
 /// The directions at one level of the stack and the cosines derived from them.
 struct Geometry<F: Real> {
     n: F::Vec,
@@ -171,6 +209,13 @@ struct Geometry<F: Real> {
     n_dot_l: F,
     level: usize,
     half: OnceCell<Half<F>>,
+    /// Every level's normal, and whether it comes from a normal map (see [`brdf`]).
+    levels: std::rc::Rc<[(F::Vec, bool)]>,
+    /// Whether this level's normal comes from a normal map: its BRDF is then zero for
+    /// directions below its own horizon, which the surface's horizon does not exclude.
+    mapped: bool,
+    /// The surface normal (before any normal map), where it differs from `n`.
+    surface: Option<F::Vec>,
 }
 
 /// The half vector h = (v + l)/|v + l| at one level, through the quantities the lobes use.
@@ -205,7 +250,46 @@ impl<F: Real> Geometry<F> {
             n_dot_l: raw_n_dot_l.at_least(COS_EPSILON).named(&level_name("cos_l", level)),
             level,
             half: OnceCell::new(),
+            levels: std::rc::Rc::from(Vec::new()),
+            mapped: false,
+            surface: None,
         }
+    }
+
+    /// For a level whose normal comes from a normal map, the light's cosine to that normal over
+    /// its cosine to the surface normal, max(n_s·l, 0)/max(n·l, ε): the mapped facet receives
+    /// irradiance by its own cosine while `<material>_eval` multiplies by the surface's. This is
+    /// the shading-normal BRDF of Veach 1997 §5.3 (not reciprocal, as no normal map is); it is
+    /// what makes a bumpy Lambertian body look bumpy at all (its f alone is constant).
+    fn shading_cosine_ratio(&self) -> Option<F> {
+        if !self.mapped {
+            return None;
+        }
+        let surface = self.surface?;
+        Some(
+            (self.raw_n_dot_l.at_least(0.0) / surface.dot(self.l).at_least(COS_EPSILON))
+                .named(&level_name("shading_ratio", self.level)),
+        )
+    }
+
+    fn with_levels(mut self, levels: std::rc::Rc<[(F::Vec, bool)]>, surface: Option<F::Vec>) -> Self {
+        self.mapped = levels.get(self.level).is_some_and(|&(_, mapped)| mapped);
+        self.levels = levels;
+        self.surface = surface;
+        self
+    }
+
+    /// The same directions seen by the layer of level `level` (its normal), for methods that
+    /// evaluate every layer at the outer directions (`Additive`); `self` if it has no map.
+    fn facing_level(&self, level: usize) -> Option<Geometry<F>> {
+        let &(n, mapped) = self.levels.get(level)?;
+        if !mapped || level == self.level {
+            return None;
+        }
+        let mut g = Geometry::new(n, self.v, self.l, self.level);
+        g.mapped = true;
+        g.surface = self.surface;
+        Some(g)
     }
 
     fn v_dot_l(&self) -> F {
@@ -226,14 +310,22 @@ impl<F: Real> Geometry<F> {
         let level = self.level + 1;
         let v = refract_down(self.v, self.n, eta).named(&level_name("v", level));
         let l = refract_down(self.l, self.n, eta).named(&level_name("l", level));
-        Geometry::new(self.n, v, l, level)
+        let n = match self.levels.get(level) {
+            Some(&(n, true)) => facing::<F>(n, v, level),
+            Some(&(n, false)) => n,
+            None => self.n,
+        };
+        Geometry::new(n, v, l, level).with_levels(self.levels.clone(), self.surface)
     }
 }
 
 fn additive<F: Real>(coats: &[Coat], body: &Body<'_>, inputs: &Inputs<F>, g: &Geometry<F>) -> F::Vec {
-    let mut f = base_brdf(body, inputs, g, None, None).named("f_base");
-    for coat in coats {
-        if let Some(lobe) = seed_lobe(&coat.lobe, inputs.scalar(coat.ior), inputs, g) {
+    // Every layer at the outer directions, each with its own normal where it has a map.
+    let base_g = g.facing_level(coats.len());
+    let mut f = base_brdf(body, inputs, base_g.as_ref().unwrap_or(g), None, None).named("f_base");
+    for (k, coat) in coats.iter().enumerate() {
+        let coat_g = g.facing_level(k);
+        if let Some(lobe) = seed_lobe(&coat.lobe, inputs.scalar(coat.ior), inputs, coat_g.as_ref().unwrap_or(g)) {
             f = f + lobe.specular;
         }
     }
@@ -805,6 +897,23 @@ fn base_brdf<F: Real>(
     n_medium: Option<F>,
     blur: Option<F>,
 ) -> F::Vec {
+    let f = unguarded_base_brdf(body, inputs, g, n_medium, blur);
+    match g.shading_cosine_ratio() {
+        Some(ratio) => {
+            let above = g.raw_n_dot_v.gt_lit(0.0);
+            F::Vec::select(above, f * ratio, inputs.zero())
+        }
+        None => f,
+    }
+}
+
+fn unguarded_base_brdf<F: Real>(
+    body: &Body<'_>,
+    inputs: &Inputs<F>,
+    g: &Geometry<F>,
+    n_medium: Option<F>,
+    blur: Option<F>,
+) -> F::Vec {
     match body {
         Body::Lambert(albedo) => fd_lambert::<F>(inputs.color(*albedo)),
         Body::OrenNayar(albedo, sigma) => {
@@ -859,6 +968,12 @@ fn body_albedo<F: Real>(
             };
             (at(g.n_dot_l), at(g.n_dot_v))
         }
+    };
+    // The light's first hit on a normal-mapped body scales with its own cosine (see
+    // `Geometry::shading_cosine_ratio`), and so does all that follows from it.
+    let e_l = match g.shading_cosine_ratio() {
+        Some(ratio) => e_l * ratio,
+        None => e_l,
     };
     Albedo { e_l: e_l.named(&name("albedo_l")), e_v: e_v.named(&name("albedo_v")), mean }
 }

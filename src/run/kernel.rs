@@ -48,6 +48,17 @@ pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Result<Vec<u8
 }
 
 /// The `pairs` buffer: per pair `wi.xyz, 0, wo.xyz, 0` as little-endian f32.
+/// [`pairs_bytes`] with texture coordinates in the spare components: uv = (wi.w, wo.w).
+pub fn pairs_bytes_at(pairs: &[Pair], uvs: &[[f32; 2]]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(pairs.len() * PAIR_STRIDE as usize);
+    for (p, [u, v]) in pairs.iter().zip(uvs) {
+        for x in [p.wi.x, p.wi.y, p.wi.z, *u, p.wo.x, p.wo.y, p.wo.z, *v] {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    bytes
+}
+
 pub fn pairs_bytes(pairs: &[Pair]) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(pairs.len() * PAIR_STRIDE as usize);
     for p in pairs {
@@ -136,8 +147,7 @@ impl EvalKernel {
         let optional = bindings::layout(&compiled.module);
         let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
         let material = &compiled.material;
-        let constants = textures::constant_textures(material, &material.default_values());
-        let texture_layout = textures::layout(gpu, material, &constants, wgpu::ShaderStages::COMPUTE);
+        let texture_layout = textures::layout(gpu, material, false, wgpu::ShaderStages::COMPUTE);
         let pipeline_and_layout =
             pipeline(gpu, &what, &loaded.module, &loaded.entry, &optional, texture_layout.as_ref())?;
         let mut kernel = EvalKernel::assemble(path, pipeline_and_layout, optional, material.clone());
@@ -168,6 +178,7 @@ impl EvalKernel {
             coats: Vec::new(),
             base: crate::model::Base::Lambert { albedo: crate::model::Color::Lit([0.0; 3]) },
             params: Vec::new(),
+            normals: Vec::new(),
         };
         Ok(EvalKernel::assemble(ShaderPath::Wgsl, pipeline_and_layout, optional, material))
     }
@@ -182,16 +193,28 @@ impl EvalKernel {
     }
 
     fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8], param_values: &[ParamValue]) -> Batch {
+        let constants = textures::constant_textures(&self.material, param_values);
+        self.batch_with(gpu, &pairs_bytes(pairs), pairs.len(), params, &constants)
+    }
+
+    fn batch_with(
+        &self,
+        gpu: &Gpu,
+        pairs_bytes: &[u8],
+        count: usize,
+        params: &[u8],
+        images: &[(String, textures::TextureImage)],
+    ) -> Batch {
         let init = |label, contents: &[u8], usage| {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
-        let pairs_buffer = init("pairs", &pairs_bytes(pairs), wgpu::BufferUsages::STORAGE);
+        let pairs_buffer = init("pairs", pairs_bytes, wgpu::BufferUsages::STORAGE);
         let mut dispatch = [0u8; 16];
-        dispatch[..4].copy_from_slice(&(pairs.len() as u32).to_le_bytes());
+        dispatch[..4].copy_from_slice(&(count as u32).to_le_bytes());
         let dispatch_buffer = init("dispatch", &dispatch, wgpu::BufferUsages::UNIFORM);
         let values = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("values"),
-            size: (pairs.len().max(1) * 16) as u64,
+            size: (count.max(1) * 16) as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
@@ -213,11 +236,9 @@ impl EvalKernel {
             layout: &self.layout,
             entries: &entries,
         });
-        let textures = self.textures.as_ref().map(|layout| {
-            let constants = textures::constant_textures(&self.material, param_values);
-            textures::bind_group(gpu, layout, &self.material, &constants)
-        });
-        Batch { bind_group, textures, values, count: pairs.len() }
+        let textures =
+            self.textures.as_ref().map(|layout| textures::bind_group(gpu, layout, &self.material, images, false));
+        Batch { bind_group, textures, values, count }
     }
 
     fn dispatch(&self, gpu: &Gpu, batch: &Batch) {
@@ -252,6 +273,38 @@ impl EvalKernel {
             }));
         }
         Ok(out)
+    }
+
+    /// f(wi, wo) for every pair with the material's textures bound to `images` (exact texels,
+    /// nearest sampling, wrap), each pair sampling them at its `uvs` entry.
+    ///
+    /// # Errors
+    /// A wrong number of parameter values or uvs, or a failure to read the results back.
+    pub fn eval_textured(
+        &self,
+        gpu: &Gpu,
+        pairs: &[Pair],
+        uvs: &[[f32; 2]],
+        params: &[ParamValue],
+        images: &[(String, textures::TextureImage)],
+    ) -> Result<Vec<Vec3>, RunError> {
+        if uvs.len() != pairs.len() || pairs.len() > MAX_PAIRS_PER_DISPATCH {
+            return Err(RunError::ParamCount { expected: pairs.len(), got: uvs.len() });
+        }
+        let bytes = params_bytes(&self.material, params)?;
+        let mut constants = textures::constant_textures(&self.material, params);
+        constants.retain(|(name, _)| !images.iter().any(|(n, _)| n == name));
+        constants.extend(images.iter().cloned());
+        let batch = self.batch_with(gpu, &pairs_bytes_at(pairs, uvs), pairs.len(), &bytes, &constants);
+        self.dispatch(gpu, &batch);
+        let out = gpu.read_buffer(&batch.values, (pairs.len() * 16) as u64)?;
+        Ok(out
+            .chunks_exact(16)
+            .map(|v| {
+                let f = |i: usize| f32::from_le_bytes([v[i], v[i + 1], v[i + 2], v[i + 3]]);
+                Vec3::new(f(0), f(4), f(8))
+            })
+            .collect())
     }
 
     /// Wall-clock time of `repeats` dispatches over `pairs` (at most one dispatch's worth), each

@@ -151,9 +151,10 @@ pub fn render(
             images.push((name, constant));
         }
     }
-    let texture_layout = super::textures::layout(gpu, material, &images, wgpu::ShaderStages::FRAGMENT);
+    let filtering = super::textures::filtered(&images);
+    let texture_layout = super::textures::layout(gpu, material, filtering, wgpu::ShaderStages::FRAGMENT);
     let texture_group =
-        texture_layout.as_ref().map(|layout| super::textures::bind_group(gpu, layout, material, &images));
+        texture_layout.as_ref().map(|layout| super::textures::bind_group(gpu, layout, material, &images, filtering));
     let mut group_layouts = vec![Some(&layout)];
     if texture_layout.is_some() {
         group_layouts.push(texture_layout.as_ref());

@@ -68,13 +68,13 @@ impl TextureImage {
 }
 
 /// 1 × 1 textures that make each texture read of `material` equal its value in `values` (one
-/// per parameter, in order); channels no read uses hold 0.5.
+/// per parameter, in order); channels no read uses hold 0.5, and a normal map a flat normal.
 pub fn constant_textures(material: &Material, values: &[ParamValue]) -> Vec<(String, TextureImage)> {
     material
         .textures()
         .iter()
         .map(|&name| {
-            let mut texel = [0.5_f32; 4];
+            let mut texel = neutral_texel(material, name);
             for (i, _, read) in material.texture_params().filter(|(_, _, r)| r.texture == name) {
                 let value = values.get(i).copied().unwrap_or(material.params[i].default);
                 match (read.channel.index(), value) {
@@ -93,23 +93,33 @@ pub fn constant_textures(material: &Material, values: &[ParamValue]) -> Vec<(Str
         .collect()
 }
 
-/// Whether a set of textures needs filtering (any larger than one texel).
-fn filtered(images: &[(String, TextureImage)]) -> bool {
+/// The texel a texture holds when nothing is said about it: a flat normal (0, 0, 1) for a
+/// normal map, mid-grey otherwise.
+fn neutral_texel(material: &Material, name: &str) -> [f32; 4] {
+    let normal_map =
+        material.normals.iter().any(|(_, m)| m.texture == name || m.detail.as_ref().is_some_and(|(t, _)| t == name));
+    if normal_map { [0.5, 0.5, 1.0, 1.0] } else { [0.5; 4] }
+}
+
+/// Whether a set of textures needs filtering (any larger than one texel): glazec's preview
+/// filters images and reads constants exactly.
+pub(crate) fn filtered(images: &[(String, TextureImage)]) -> bool {
     images.iter().any(|(_, i)| i.width * i.height > 1)
 }
 
 /// The group-1 layout for a material's textures, or `None` if it reads none.
+/// `filtering`: bilinear `Rgba16Float` textures and a filtering sampler, or exact
+/// `Rgba32Float` texels read by nearest sampling.
 pub(crate) fn layout(
     gpu: &Gpu,
     material: &Material,
-    images: &[(String, TextureImage)],
+    filtering: bool,
     visibility: wgpu::ShaderStages,
 ) -> Option<wgpu::BindGroupLayout> {
     let names = material.textures();
     if names.is_empty() {
         return None;
     }
-    let filtering = filtered(images);
     let mut entries = vec![wgpu::BindGroupLayoutEntry {
         binding: bindings::SAMPLER,
         visibility,
@@ -145,14 +155,14 @@ pub(crate) fn bind_group(
     layout: &wgpu::BindGroupLayout,
     material: &Material,
     images: &[(String, TextureImage)],
+    filtering: bool,
 ) -> wgpu::BindGroup {
-    let filtering = filtered(images);
-    let grey = TextureImage::uniform([0.5; 4]);
     let views: Vec<wgpu::TextureView> = material
         .textures()
         .iter()
         .map(|name| {
-            let image = images.iter().find(|(n, _)| n == name).map_or(&grey, |(_, i)| i);
+            let neutral = TextureImage::uniform(neutral_texel(material, name));
+            let image = images.iter().find(|(n, _)| n == name).map_or(&neutral, |(_, i)| i);
             upload(gpu, name, image, filtering).create_view(&Default::default())
         })
         .collect();
