@@ -25,6 +25,10 @@ pub const SHIPPED: &[&str] = &[
     include_str!("../materials/wet_clay.ron"),
 ];
 
+/// Examples outside `materials/` that [`mutate_shipped`] also starts from: the one that reads
+/// textures and normal maps.
+pub const EXAMPLES: &[&str] = &[include_str!("../examples/textures/textured_clay.ron")];
+
 /// Parses and checks `text` as a material and as a scene.
 ///
 /// # Panics
@@ -100,10 +104,11 @@ const EXTREME_NUMBERS: &[&str] = &[
     "99999999999999999999",
 ];
 
-/// A shipped material chosen by `data[0]`, changed by the rest of `data`, two bytes per change.
+/// A shipped material or example ([`SHIPPED`], [`EXAMPLES`]) chosen by `data[0]`, changed by the rest of `data`, two bytes per change.
 pub fn mutate_shipped(data: &[u8]) -> String {
     let Some((&pick, rest)) = data.split_first() else { return SHIPPED[0].to_string() };
-    let mut text = SHIPPED[pick as usize % SHIPPED.len()].to_string();
+    let pick = pick as usize % (SHIPPED.len() + EXAMPLES.len());
+    let mut text = SHIPPED.get(pick).unwrap_or_else(|| &EXAMPLES[pick - SHIPPED.len()]).to_string();
     for pair in rest.chunks(2) {
         let (op, arg) = (pair[0], pair.get(1).copied().unwrap_or(0) as usize);
         match op % 7 {
