@@ -63,7 +63,7 @@ pub fn albedo_nodes(wo: DVec3, sharpest_alpha: f64) -> Vec<(DVec3, f64)> {
 }
 
 /// Probes per θh panel when looking for where f jumps ([`albedo_nodes_with_jump`]).
-const JUMP_PROBES: usize = 8;
+pub const JUMP_PROBES: usize = 8;
 
 /// [`albedo_nodes`] for an f that jumps where the light direction's cosine crosses `jump`: a
 /// coat optically thinner than the medium above (η < 1) cuts its transmission off at its

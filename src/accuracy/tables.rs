@@ -46,7 +46,7 @@ pub struct Report {
     /// in standard errors (a check of both).
     pub max_single_event_sigma: f64,
     /// Largest amount by which the interpolated single-scattering deficit exceeded the true one
-    /// between its nodes before [`make_deficit_conservative`] lowered them.
+    /// between its nodes before generation lowered them (see `glazec tables`).
     pub max_deficit_excess: f64,
 }
 

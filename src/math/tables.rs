@@ -121,8 +121,10 @@ pub enum TableId {
 }
 
 /// The single-scattering deficit decides the energy balance and switches on sharply near
-/// grazing incidence (where α ≈ μ): it gets 32 × 32 (μ, r) nodes, which keep its interpolation
-/// error near 10⁻³. The smoother terms share a coarser grid.
+/// grazing incidence (where α ≈ μ): it gets 32 × 32 (μ, r) nodes, and its nodes are lowered
+/// until the lookup never overshoots the quadrature between them (up to 7·10⁻³ before;
+/// `accuracy::tables`), so that a rough coat never transmits more than its lobe leaves. The
+/// smoother terms share a coarser grid.
 const DEFICIT_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 32), (Axis::Roughness, 32), (Axis::Ior, 8)];
 const EXTRA_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 16), (Axis::Ior, 8)];
 const PATH_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 12), (Axis::Roughness, 12), (Axis::Ior, 8)];
