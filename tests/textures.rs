@@ -130,6 +130,7 @@ fn every_backend_declares_the_documented_bindings() {
     assert!(hlsl.contains("Texture2D<float4> clay_maps : register(t1, space1);"));
 }
 
+/// glslang on every GLSL stage and every HLSL entry point, spirv-val on the SPIR-V.
 #[test]
 fn textured_shaders_pass_the_external_validators() {
     if !common::tool_available("glslangValidator") {
@@ -137,21 +138,41 @@ fn textured_shaders_pass_the_external_validators() {
     }
     let compiled = glazec::compile(&textured_clay()).expect("compiles");
     let dir = tempfile::tempdir().expect("temp dir");
+    let mut runs: Vec<(String, Vec<String>)> = Vec::new();
     for artifact in compiled.emit(&[Target::Glsl, Target::Hlsl]).expect("emits") {
         let path = dir.path().join(&artifact.file_name);
         std::fs::write(&path, &artifact.contents).expect("write");
-        let args: Vec<String> = match &artifact.stage {
-            Some((stage, _)) => vec!["-V".into(), "-S".into(), glazec::emit::stage_suffix(*stage).into()],
-            None => vec!["-D".into(), "-V".into(), "-S".into(), "frag".into(), "-e".into(), "preview_fs".into()],
-        };
+        let file = path.to_string_lossy().to_string();
+        match &artifact.stage {
+            Some((stage, _)) => {
+                runs.push((file, vec!["-V".into(), "-S".into(), glazec::emit::stage_suffix(*stage).into()]))
+            }
+            // HLSL: every entry point of the one file.
+            None => {
+                for (stage, entry) in [("comp", "eval_pairs"), ("vert", "preview_vs"), ("frag", "preview_fs")] {
+                    let args = ["-D", "-V", "-S", stage, "-e", entry].map(String::from).to_vec();
+                    runs.push((file.clone(), args));
+                }
+            }
+        }
+    }
+    assert_eq!(runs.len(), 6, "three GLSL stages and three HLSL entry points");
+    if common::tool_available("spirv-val") {
+        let spv = compiled.emit(&[Target::Spv]).expect("emits").remove(0);
+        let path = dir.path().join(&spv.file_name);
+        std::fs::write(&path, &spv.contents).expect("write");
+        let out = std::process::Command::new("spirv-val").arg(&path).output().expect("runs");
+        assert!(out.status.success(), "spirv-val: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    for (file, args) in runs {
         let out = std::process::Command::new("glslangValidator")
             .args(&args)
-            .arg(&path)
+            .arg(&file)
             .arg("-o")
             .arg(dir.path().join("out.spv"))
             .output()
             .expect("runs");
-        assert!(out.status.success(), "{}: {}", artifact.file_name, String::from_utf8_lossy(&out.stdout));
+        assert!(out.status.success(), "{file} {args:?}: {}", String::from_utf8_lossy(&out.stdout));
     }
 }
 
