@@ -31,6 +31,23 @@ pub struct Material {
     pub normals: Vec<(usize, NormalMap)>,
 }
 
+/// The textures that `params` read and `normals` use, each once: the reads in order of first
+/// use, then the maps in order (their bindings follow this order).
+pub fn distinct_textures<'a>(params: &'a [Param], normals: &'a [(usize, NormalMap)]) -> Vec<&'a str> {
+    let reads = params.iter().filter_map(|p| match &p.source {
+        ParamSource::Texture(read) => Some(read.texture.as_str()),
+        ParamSource::Uniform => None,
+    });
+    let maps = normals.iter().flat_map(|(_, m)| m.textures());
+    let mut names: Vec<&str> = Vec::new();
+    for name in reads.chain(maps) {
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    names
+}
+
 /// A tangent-space normal map on one layer, optionally blended with a detail map by reoriented
 /// normal mapping (Barré-Brisebois & Hill 2012, "Blending in Detail").
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +57,13 @@ pub struct NormalMap {
     pub uv_scale: f32,
     /// A second map, blended onto the first: (texture, uv_scale).
     pub detail: Option<(String, f32)>,
+}
+
+impl NormalMap {
+    /// The map's texture, then its detail map's.
+    pub fn textures(&self) -> impl Iterator<Item = &str> {
+        std::iter::once(self.texture.as_str()).chain(self.detail.as_ref().map(|(t, _)| t.as_str()))
+    }
 }
 
 /// How a stack of layers is combined into one BRDF.
@@ -363,18 +387,7 @@ impl Material {
     /// The textures the material reads, each once: its parameters' textures in order of first
     /// use, then its normal maps' in layer order. Their bindings follow this order.
     pub fn textures(&self) -> Vec<&str> {
-        let mut names: Vec<&str> = Vec::new();
-        let reads = self.texture_params().map(|(_, _, read)| read.texture.as_str());
-        let maps = self
-            .normals
-            .iter()
-            .flat_map(|(_, m)| std::iter::once(m.texture.as_str()).chain(m.detail.as_ref().map(|(t, _)| t.as_str())));
-        for name in reads.chain(maps) {
-            if !names.contains(&name) {
-                names.push(name);
-            }
-        }
-        names
+        distinct_textures(&self.params, &self.normals)
     }
 
     /// The normal map of layer `layer` (coats first, then the base at `coats.len()`).

@@ -118,6 +118,37 @@ pub fn standard_set() -> Vec<Case> {
     cases
 }
 
+/// `f(0)`, …, `f(count − 1)` computed on every available core, in index order (each result
+/// depends only on its index, so the output does not depend on scheduling); `progress(i)` after
+/// each.
+pub(crate) fn parallel_map<R: Send>(
+    count: usize,
+    f: impl Fn(usize) -> R + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Vec<R> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results = std::sync::Mutex::new((0..count).map(|_| None).collect::<Vec<Option<R>>>());
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    if i >= count {
+                        break;
+                    }
+                    let r = f(i);
+                    if let Ok(mut all) = results.lock() {
+                        all[i] = Some(r);
+                    }
+                    progress(i);
+                }
+            });
+        }
+    });
+    results.into_inner().unwrap_or_default().into_iter().flatten().collect()
+}
+
 fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
     DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
@@ -171,42 +202,25 @@ impl ReferenceData {
         progress: &(dyn Fn(usize) + Sync),
     ) -> ReferenceData {
         let pairs = grid();
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let results = std::sync::Mutex::new(vec![None; cases.len()]);
-        std::thread::scope(|scope| {
-            for _ in 0..threads {
-                scope.spawn(|| {
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        if i >= cases.len() {
-                            break;
-                        }
-                        let stack = Stack::from_material(&cases[i].material(Method::INTERFACED, false), &[]);
-                        let f_opts = reference::Options { mode, samples, seed: i as u64, ..Default::default() };
-                        let a_opts = reference::Options { mode, samples: walks, seed: i as u64, ..Default::default() };
-                        let estimates: Vec<_> = pairs.iter().map(|(wi, wo)| stack.f_under(*wi, *wo, &f_opts)).collect();
-                        let (mut sq_err, mut sq_val) = (0.0, 0.0);
-                        for ((wi, wo), e) in pairs.iter().zip(&estimates) {
-                            let w = wi.z * wo.z;
-                            sq_err += w * e.std_err.length_squared();
-                            sq_val += w * e.mean.length_squared();
-                        }
-                        let under = estimates.iter().map(|e| e.mean).collect();
-                        let noise = if sq_val > 0.0 { (sq_err / sq_val).sqrt() } else { 0.0 };
-                        let albedo =
-                            ALBEDO_THETAS.iter().map(|&t| stack.albedo(direction(t, 0.0), &a_opts).mean).collect();
-                        if let Ok(mut r) = results.lock() {
-                            r[i] = Some((under, albedo, noise));
-                        }
-                        progress(i);
-                    }
-                });
+        let compute_case = |i: usize| {
+            let stack = Stack::from_material(&cases[i].material(Method::INTERFACED, false), &[]);
+            let f_opts = reference::Options { mode, samples, seed: i as u64, ..Default::default() };
+            let a_opts = reference::Options { mode, samples: walks, seed: i as u64, ..Default::default() };
+            let estimates: Vec<_> = pairs.iter().map(|(wi, wo)| stack.f_under(*wi, *wo, &f_opts)).collect();
+            let (mut sq_err, mut sq_val) = (0.0, 0.0);
+            for ((wi, wo), e) in pairs.iter().zip(&estimates) {
+                let w = wi.z * wo.z;
+                sq_err += w * e.std_err.length_squared();
+                sq_val += w * e.mean.length_squared();
             }
-        });
-        let results = results.into_inner().unwrap_or_default();
+            let under = estimates.iter().map(|e| e.mean).collect();
+            let noise = if sq_val > 0.0 { (sq_err / sq_val).sqrt() } else { 0.0 };
+            let albedo = ALBEDO_THETAS.iter().map(|&t| stack.albedo(direction(t, 0.0), &a_opts).mean).collect();
+            (under, albedo, noise)
+        };
+        let results = parallel_map(cases.len(), compute_case, progress);
         let (mut under, mut albedo, mut noise) = (Vec::new(), Vec::new(), Vec::new());
-        for (u, a, n) in results.into_iter().flatten() {
+        for (u, a, n) in results {
             under.push(u);
             albedo.push(a);
             noise.push(n);

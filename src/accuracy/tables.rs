@@ -19,8 +19,6 @@
 //! Smooth columns (α < 10⁻³, as in the reference) and η = 1 (no interface) are exact: Fresnel's
 //! equations. Cosine axes start at μ = [`GRAZING_COSINE`], where the lobes clamp their cosines.
 
-use std::sync::Mutex;
-
 use glam::DVec3;
 
 use super::quadrature::{directional_albedo_f64, gauss_legendre_16};
@@ -91,44 +89,25 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
     for e in 0..path[2] {
         jobs.extend((0..path[1]).map(|r| Job::Path(r, e)));
     }
-    let results: Mutex<Vec<Option<Column>>> = Mutex::new((0..jobs.len()).map(|_| None).collect());
-    let next = std::sync::atomic::AtomicUsize::new(0);
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| {
-                loop {
-                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(&job) = jobs.get(k) else { break };
-                    let seed = k as u64;
-                    let column = match job {
-                        Job::Deficit(r, e) => deficit_column(
-                            node(Axis::Roughness, r, deficit[1]),
-                            node(Axis::Ior, e, deficit[2]),
-                            deficit[0],
-                        ),
-                        Job::ExtraAndSlab(r, e) => {
-                            let (roughness, eta) = (node(Axis::Roughness, r, extra[1]), node(Axis::Ior, e, extra[2]));
-                            extra_and_slab_column(roughness, eta, extra[0], slab[0], walks, seed)
-                        }
-                        Job::Path(r, e) => path_column(
-                            node(Axis::Roughness, r, path[1]),
-                            node(Axis::Ior, e, path[2]),
-                            path[0],
-                            walks,
-                            seed,
-                        ),
-                    };
-                    if let Ok(mut c) = results.lock() {
-                        c[k] = Some(column);
-                    }
-                    progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len());
-                }
-            });
+    let run = |k: usize| {
+        let seed = k as u64;
+        match jobs[k] {
+            Job::Deficit(r, e) => {
+                deficit_column(node(Axis::Roughness, r, deficit[1]), node(Axis::Ior, e, deficit[2]), deficit[0])
+            }
+            Job::ExtraAndSlab(r, e) => {
+                let (roughness, eta) = (node(Axis::Roughness, r, extra[1]), node(Axis::Ior, e, extra[2]));
+                extra_and_slab_column(roughness, eta, extra[0], slab[0], walks, seed)
+            }
+            Job::Path(r, e) => {
+                path_column(node(Axis::Roughness, r, path[1]), node(Axis::Ior, e, path[2]), path[0], walks, seed)
+            }
         }
+    };
+    let results = super::parallel_map(jobs.len(), run, |_| {
+        progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len())
     });
-    let results: Vec<Option<Column>> = results.into_inner().unwrap_or_default();
     let mut tables: Vec<Vec<f32>> = TableId::ALL.iter().map(|id| vec![0.0; id.spec().len()]).collect();
     let mut report = Report::default();
     let mut put = |id: TableId, column: usize, values: &[f64]| {
@@ -137,7 +116,7 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
             tables[id as usize][i + n * column] = *v as f32;
         }
     };
-    for (job, column) in jobs.iter().zip(results.into_iter().flatten()) {
+    for (job, column) in jobs.iter().zip(results) {
         match (*job, column) {
             (Job::Deficit(r, e), Column::Deficit { values, average }) => {
                 put(TableId::CoatDeficit, r + deficit[1] * e, &values);
@@ -444,24 +423,7 @@ fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
         }
         worst
     };
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let overshoots = Mutex::new(vec![0.0; cells.len()]);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| {
-                loop {
-                    let c = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(cell) = cells.get(c) else { break };
-                    let o = overshoot_of(cell);
-                    if let Ok(mut all) = overshoots.lock() {
-                        all[c] = o;
-                    }
-                }
-            });
-        }
-    });
-    let overshoots = overshoots.into_inner().unwrap_or_default();
+    let overshoots = super::parallel_map(cells.len(), |c| overshoot_of(&cells[c]), |_| {});
     let mut lower = vec![0.0_f64; table.len()];
     for (&(i, j, k), &o) in cells.iter().zip(&overshoots) {
         for corner in 0..8 {

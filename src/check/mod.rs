@@ -1115,7 +1115,7 @@ impl Checker {
             );
             return None;
         }
-        let textures: Vec<&str> = self.texture_names();
+        let textures = distinct_textures(&self.params, &[]);
         if !textures.contains(&read.texture.as_str()) && textures.len() == MAX_TEXTURES {
             self.error(
                 Diagnostic::error(
@@ -1177,11 +1177,7 @@ impl Checker {
             return Some(());
         }
         let extra = textures[MAX_TEXTURES];
-        let span = self
-            .normals
-            .iter()
-            .find(|(_, m, _)| m.texture == extra || m.detail.as_ref().is_some_and(|(t, _)| t == extra))
-            .map(|(_, _, s)| *s);
+        let span = self.normals.iter().find(|(_, m, _)| m.textures().any(|t| t == extra)).map(|(_, _, s)| *s);
         let Some(span) = span else { return Some(()) }; // (texture reads are counted as they are read)
         self.error(
             Diagnostic::error(
@@ -1193,18 +1189,6 @@ impl Checker {
             .with_help("pack scalar maps into the channels of one texture (R, G, B, A)"),
         );
         None
-    }
-
-    fn texture_names(&self) -> Vec<&str> {
-        let mut names: Vec<&str> = Vec::new();
-        for p in &self.params {
-            if let ParamSource::Texture(read) = &p.source {
-                if !names.contains(&read.texture.as_str()) {
-                    names.push(&read.texture);
-                }
-            }
-        }
-        names
     }
 
     /// A channel `R`, `G`, `B`, `A` or (in a colour slot) `Rgb`.

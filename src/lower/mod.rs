@@ -148,21 +148,35 @@ pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Vec<u8> {
 
 /// The uniform struct's layout (WGSL uniform rules; naga reproduces it in every backend).
 pub fn params_layout(material: &Material) -> (Vec<ParamLayout>, u32) {
+    let params: Vec<_> = material.uniform_params().map(|(_, p)| p).collect();
+    let (offsets, span) = member_offsets(params.iter().map(|p| matches!(p.default, ParamValue::Rgb(_))));
+    let layout = params
+        .iter()
+        .zip(offsets)
+        .map(|(p, offset)| {
+            let (size, wgsl_type) = match p.default {
+                ParamValue::Scalar(_) => (4, "f32"),
+                ParamValue::Rgb(_) => (12, "vec3<f32>"),
+            };
+            ParamLayout { name: p.name.clone(), wgsl_type, offset, size }
+        })
+        .collect();
+    (layout, span)
+}
+
+/// Offsets of a struct's `f32` (false) and `vec3<f32>` (true) members under WGSL's uniform
+/// rules (vec3 aligned to 16), and its size padded to 16 bytes so that it can be bound in
+/// every backend.
+pub(crate) fn member_offsets(vec3: impl IntoIterator<Item = bool>) -> (Vec<u32>, u32) {
     let mut offset: u32 = 0;
-    let mut layout = Vec::new();
-    let mut align_max = 4;
-    for (_, p) in material.uniform_params() {
-        let (align, size, wgsl_type) = match p.default {
-            ParamValue::Scalar(_) => (4, 4, "f32"),
-            ParamValue::Rgb(_) => (16, 12, "vec3<f32>"),
-        };
-        align_max = u32::max(align_max, align);
+    let mut offsets = Vec::new();
+    for is_vec3 in vec3 {
+        let (align, size) = if is_vec3 { (16, 12) } else { (4, 4) };
         offset = offset.next_multiple_of(align);
-        layout.push(ParamLayout { name: p.name.clone(), wgsl_type, offset, size });
+        offsets.push(offset);
         offset += size;
     }
-    // Uniform structs are padded to 16 bytes so that they can be bound in every backend.
-    (layout, offset.next_multiple_of(align_max.max(16)))
+    (offsets, offset.next_multiple_of(16))
 }
 
 /// Expressions and transcendental calls (exp, log, pow, sqrt, trigonometry) over the module's
@@ -259,12 +273,23 @@ fn global(
     binding: u32,
     ty: Handle<Type>,
 ) -> Handle<GlobalVariable> {
+    global_in(b, name, space, ResourceBinding { group: bindings::GROUP, binding }, ty)
+}
+
+/// A module-scope resource at `binding` (any group).
+fn global_in(
+    b: &ModuleBuilder,
+    name: &str,
+    space: AddressSpace,
+    binding: ResourceBinding,
+    ty: Handle<Type>,
+) -> Handle<GlobalVariable> {
     b.with_module(|m| {
         m.global_variables.append(
             GlobalVariable {
                 name: Some(name.to_string()),
                 space,
-                binding: Some(ResourceBinding { group: bindings::GROUP, binding }),
+                binding: Some(binding),
                 ty,
                 init: None,
                 memory_decorations: MemoryDecorations::empty(),

@@ -20,9 +20,8 @@
 //! derivatives, anisotropic filtering, …) and call the BRDF anywhere.
 
 use naga::{
-    AddressSpace, Expression, FunctionResult, GlobalVariable, Handle, ImageClass, ImageDimension, MemoryDecorations,
-    ResourceBinding, SampleLevel, ScalarKind, Span, Statement, StructMember, SwizzleComponent, Type, TypeInner,
-    VectorSize,
+    AddressSpace, Expression, FunctionResult, GlobalVariable, Handle, ImageClass, ImageDimension, ResourceBinding,
+    SampleLevel, ScalarKind, Span, Statement, StructMember, SwizzleComponent, Type, TypeInner, VectorSize,
 };
 
 use super::builder::{Expr, ExprVec, ModuleBuilder};
@@ -172,14 +171,7 @@ fn channel_value(b: &ModuleBuilder, texel: Handle<Expression>, read: &TextureRea
             let t = b.scalar(b.append(Expression::AccessIndex { base: texel, index }));
             remap(t, read.range).handle()
         }
-        None => {
-            let rgb = b.vector(b.append(Expression::Swizzle {
-                size: VectorSize::Tri,
-                vector: texel,
-                pattern: [SwizzleComponent::X, SwizzleComponent::Y, SwizzleComponent::Z, SwizzleComponent::X],
-            }));
-            remap_vec(b, rgb, read.range).handle()
-        }
+        None => remap_vec(b, rgb(b, texel), read.range).handle(),
     };
     b.name(value, name);
     value
@@ -201,21 +193,18 @@ fn remap_vec<'a>(
 
 /// `<Material>Textures`: one member per texture read, laid out like the uniform struct.
 fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
-    let mut offset: u32 = 0;
-    let mut members = Vec::new();
-    for (_, param, read) in material.texture_params() {
-        let (align, size, ty) = if read.channel == Channel::Rgb { (16, 12, b.types.vec3) } else { (4, 4, b.types.f32) };
-        offset = offset.next_multiple_of(align);
-        members.push(StructMember { name: Some(param.name.clone()), ty, binding: None, offset });
-        offset += size;
-    }
-    for (layer, _) in &material.normals {
-        offset = offset.next_multiple_of(16);
-        let name = format!("{}_normal", material.layer_name(*layer));
-        members.push(StructMember { name: Some(name), ty: b.types.vec3, binding: None, offset });
-        offset += 12;
-    }
-    let span = offset.next_multiple_of(16);
+    let reads = material.texture_params().map(|(_, param, read)| (param.name.clone(), read.channel == Channel::Rgb));
+    let normals = material.normals.iter().map(|(layer, _)| (format!("{}_normal", material.layer_name(*layer)), true));
+    let fields: Vec<(String, bool)> = reads.chain(normals).collect();
+    let (offsets, span) = super::member_offsets(fields.iter().map(|&(_, is_vec3)| is_vec3));
+    let members = fields
+        .into_iter()
+        .zip(offsets)
+        .map(|((name, is_vec3), offset)| {
+            let ty = if is_vec3 { b.types.vec3 } else { b.types.f32 };
+            StructMember { name: Some(name), ty, binding: None, offset }
+        })
+        .collect();
     let name = material.textures_struct_name();
     b.with_module(|m| {
         m.types.insert(Type { name: Some(name), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
@@ -223,19 +212,7 @@ fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
 }
 
 fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
-    b.with_module(|m| {
-        m.global_variables.append(
-            GlobalVariable {
-                name: Some(name.to_string()),
-                space: AddressSpace::Handle,
-                binding: Some(ResourceBinding { group: bindings::GROUP, binding }),
-                ty,
-                init: None,
-                memory_decorations: MemoryDecorations::empty(),
-            },
-            Span::UNDEFINED,
-        )
-    })
+    super::global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
 
 /// The texture bindings of a module built by `lower`: (name, binding) in group

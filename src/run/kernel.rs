@@ -47,7 +47,6 @@ pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Result<Vec<u8
     Ok(crate::lower::params_bytes(material, values))
 }
 
-/// The `pairs` buffer: per pair `wi.xyz, 0, wo.xyz, 0` as little-endian f32.
 /// [`pairs_bytes`] with texture coordinates in the spare components: uv = (wi.w, wo.w).
 pub fn pairs_bytes_at(pairs: &[Pair], uvs: &[[f32; 2]]) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(pairs.len() * PAIR_STRIDE as usize);
@@ -59,14 +58,9 @@ pub fn pairs_bytes_at(pairs: &[Pair], uvs: &[[f32; 2]]) -> Vec<u8> {
     bytes
 }
 
+/// The `pairs` buffer: per pair `wi.xyz, 0, wo.xyz, 0` as little-endian f32.
 pub fn pairs_bytes(pairs: &[Pair]) -> Vec<u8> {
-    let mut bytes = Vec::with_capacity(pairs.len() * PAIR_STRIDE as usize);
-    for p in pairs {
-        for x in [p.wi.x, p.wi.y, p.wi.z, 0.0, p.wo.x, p.wo.y, p.wo.z, 0.0] {
-            bytes.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    bytes
+    pairs_bytes_at(pairs, &vec![[0.0; 2]; pairs.len()])
 }
 
 fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
@@ -260,19 +254,8 @@ impl EvalKernel {
     /// # Errors
     /// A wrong number of parameter values, or a failure to read the results back.
     pub fn eval(&self, gpu: &Gpu, pairs: &[Pair], params: &[ParamValue]) -> Result<Vec<Vec3>, RunError> {
-        let values = params;
-        let params = params_bytes(&self.material, params)?;
-        let mut out = Vec::with_capacity(pairs.len());
-        for chunk in pairs.chunks(MAX_PAIRS_PER_DISPATCH) {
-            let batch = self.batch(gpu, chunk, &params, values);
-            self.dispatch(gpu, &batch);
-            let bytes = gpu.read_buffer(&batch.values, (chunk.len() * 16) as u64)?;
-            out.extend(bytes.chunks_exact(16).map(|v| {
-                let f = |i: usize| f32::from_le_bytes([v[i], v[i + 1], v[i + 2], v[i + 3]]);
-                Vec3::new(f(0), f(4), f(8))
-            }));
-        }
-        Ok(out)
+        let bytes = params_bytes(&self.material, params)?;
+        self.run_chunks(gpu, pairs.len(), |range| self.batch(gpu, &pairs[range], &bytes, params))
     }
 
     /// f(wi, wo) for every pair with the material's textures bound to `images` (exact texels,
@@ -288,23 +271,39 @@ impl EvalKernel {
         params: &[ParamValue],
         images: &[(String, textures::TextureImage)],
     ) -> Result<Vec<Vec3>, RunError> {
-        if uvs.len() != pairs.len() || pairs.len() > MAX_PAIRS_PER_DISPATCH {
-            return Err(RunError::ParamCount { expected: pairs.len(), got: uvs.len() });
+        if uvs.len() != pairs.len() {
+            return Err(RunError::UvCount { pairs: pairs.len(), uvs: uvs.len() });
         }
         let bytes = params_bytes(&self.material, params)?;
-        let mut constants = textures::constant_textures(&self.material, params);
-        constants.retain(|(name, _)| !images.iter().any(|(n, _)| n == name));
-        constants.extend(images.iter().cloned());
-        let batch = self.batch_with(gpu, &pairs_bytes_at(pairs, uvs), pairs.len(), &bytes, &constants);
-        self.dispatch(gpu, &batch);
-        let out = gpu.read_buffer(&batch.values, (pairs.len() * 16) as u64)?;
-        Ok(out
-            .chunks_exact(16)
-            .map(|v| {
+        let mut bound = textures::constant_textures(&self.material, params);
+        bound.retain(|(name, _)| !images.iter().any(|(n, _)| n == name));
+        bound.extend(images.iter().cloned());
+        self.run_chunks(gpu, pairs.len(), |range| {
+            let count = range.len();
+            self.batch_with(gpu, &pairs_bytes_at(&pairs[range.clone()], &uvs[range]), count, &bytes, &bound)
+        })
+    }
+
+    /// Dispatches `count` pairs in chunks of at most one dispatch, each prepared by `batch_for`,
+    /// and reads the values back in order.
+    fn run_chunks(
+        &self,
+        gpu: &Gpu,
+        count: usize,
+        mut batch_for: impl FnMut(std::ops::Range<usize>) -> Batch,
+    ) -> Result<Vec<Vec3>, RunError> {
+        let mut out = Vec::with_capacity(count);
+        for start in (0..count).step_by(MAX_PAIRS_PER_DISPATCH) {
+            let end = (start + MAX_PAIRS_PER_DISPATCH).min(count);
+            let batch = batch_for(start..end);
+            self.dispatch(gpu, &batch);
+            let bytes = gpu.read_buffer(&batch.values, ((end - start) * 16) as u64)?;
+            out.extend(bytes.chunks_exact(16).map(|v| {
                 let f = |i: usize| f32::from_le_bytes([v[i], v[i + 1], v[i + 2], v[i + 3]]);
                 Vec3::new(f(0), f(4), f(8))
-            })
-            .collect())
+            }));
+        }
+        Ok(out)
     }
 
     /// Wall-clock time of `repeats` dispatches over `pairs` (at most one dispatch's worth), each

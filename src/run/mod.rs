@@ -55,6 +55,9 @@ pub enum RunError {
     /// The number of parameter values does not match the material.
     #[error("expected {expected} parameter values, got {got}")]
     ParamCount { expected: usize, got: usize },
+    /// `EvalKernel::eval_textured` needs one uv per direction pair.
+    #[error("expected one uv per direction pair ({pairs}), got {uvs}")]
+    UvCount { pairs: usize, uvs: usize },
     #[error(transparent)]
     Emit(#[from] crate::emit::EmitError),
     #[error(transparent)]

@@ -96,8 +96,7 @@ pub fn constant_textures(material: &Material, values: &[ParamValue]) -> Vec<(Str
 /// The texel a texture holds when nothing is said about it: a flat normal (0, 0, 1) for a
 /// normal map, mid-grey otherwise.
 fn neutral_texel(material: &Material, name: &str) -> [f32; 4] {
-    let normal_map =
-        material.normals.iter().any(|(_, m)| m.texture == name || m.detail.as_ref().is_some_and(|(t, _)| t == name));
+    let normal_map = material.normals.iter().any(|(_, m)| m.textures().any(|t| t == name));
     if normal_map { [0.5, 0.5, 1.0, 1.0] } else { [0.5; 4] }
 }
 
