@@ -114,6 +114,12 @@ pub fn brdf<F: Real>(material: &Material, inputs: &Inputs<F>, n: F::Vec, v: F::V
     let (coats, body) = expand(material);
     // Each level's normal: its layer's normal map, or the surface normal. (A plastic base expands
     // to a coat and a body: both take the base's map.)
+    // Without normal maps every level has the surface normal: no per-level table (this runs for
+    // every evaluation on the CPU).
+    if inputs.normals.is_empty() {
+        let top = Geometry::new(n, v, l, 0);
+        return finish_brdf(material, &coats, &body, inputs, &top, (top.raw_n_dot_v, top.raw_n_dot_l));
+    }
     let levels: Vec<(F::Vec, bool)> = (0..=coats.len())
         .map(|level| match inputs.layer_normal(level.min(material.coats.len())) {
             Some(mapped) => (mapped.named(&level_name("shading_normal", level)), true),
@@ -123,15 +129,26 @@ pub fn brdf<F: Real>(material: &Material, inputs: &Inputs<F>, n: F::Vec, v: F::V
     let top_normal = if levels[0].1 { facing::<F>(levels[0].0, v, 0) } else { levels[0].0 };
     let surface = levels.iter().any(|&(_, mapped)| mapped).then_some(n);
     let top = Geometry::new(top_normal, v, l, 0).with_levels(std::rc::Rc::from(levels), surface);
+    // (The horizon is the surface normal's: a normal map tilts the shading, not the horizon.)
+    finish_brdf(material, &coats, &body, inputs, &top, (n.dot(v), n.dot(l)))
+}
+
+/// Runs the material's method from the top level and makes f one-sided: zero unless both
+/// cosines to the surface normal, `(n·v, n·l)`, are positive.
+fn finish_brdf<F: Real>(
+    material: &Material,
+    coats: &[Coat],
+    body: &Body<'_>,
+    inputs: &Inputs<F>,
+    top: &Geometry<F>,
+    (surface_v, surface_l): (F, F),
+) -> F::Vec {
     let f = match material.method {
-        Method::Additive => additive(&coats, &body, inputs, &top),
-        Method::WeidlichWilkie => weidlich_wilkie(&coats, &body, inputs, &top, 0, None),
-        Method::Interfaced(approx) => interfaced(&coats, &body, inputs, &top, 0, None, None, false, approx).f,
+        Method::Additive => additive(coats, body, inputs, top),
+        Method::WeidlichWilkie => weidlich_wilkie(coats, body, inputs, top, 0, None),
+        Method::Interfaced(approx) => interfaced(coats, body, inputs, top, 0, None, None, false, approx).f,
     };
     // A one-sided BRDF: nothing is reflected from or towards below the horizon.
-    // (Against the surface normal: a normal map tilts the shading, not the horizon.)
-    let (surface_v, surface_l) =
-        if inputs.normals.is_empty() { (top.raw_n_dot_v, top.raw_n_dot_l) } else { (n.dot(v), n.dot(l)) };
     let above = surface_v.gt_lit(0.0) & surface_l.gt_lit(0.0);
     F::Vec::select(above, f.named("f"), inputs.zero())
 }
@@ -197,6 +214,9 @@ fn facing<F: Real>(n: F::Vec, v: F::Vec, level: usize) -> F::Vec {
     (n + v * deficit).normalize().named(&level_name("facing_normal", level))
 }
 
+/// Every level's normal and whether it comes from a normal map (see [`brdf`]).
+type Levels<F> = std::rc::Rc<[(<F as Real>::Vec, bool)]>;
+
 /// The directions at one level of the stack and the cosines derived from them.
 struct Geometry<F: Real> {
     n: F::Vec,
@@ -210,7 +230,7 @@ struct Geometry<F: Real> {
     level: usize,
     half: OnceCell<Half<F>>,
     /// Every level's normal, and whether it comes from a normal map (see [`brdf`]).
-    levels: std::rc::Rc<[(F::Vec, bool)]>,
+    levels: Option<Levels<F>>,
     /// Whether this level's normal comes from a normal map: its BRDF is then zero for
     /// directions below its own horizon, which the surface's horizon does not exclude.
     mapped: bool,
@@ -250,7 +270,7 @@ impl<F: Real> Geometry<F> {
             n_dot_l: raw_n_dot_l.at_least(COS_EPSILON).named(&level_name("cos_l", level)),
             level,
             half: OnceCell::new(),
-            levels: std::rc::Rc::from(Vec::new()),
+            levels: None,
             mapped: false,
             surface: None,
         }
@@ -274,7 +294,7 @@ impl<F: Real> Geometry<F> {
 
     fn with_levels(mut self, levels: std::rc::Rc<[(F::Vec, bool)]>, surface: Option<F::Vec>) -> Self {
         self.mapped = levels.get(self.level).is_some_and(|&(_, mapped)| mapped);
-        self.levels = levels;
+        self.levels = Some(levels);
         self.surface = surface;
         self
     }
@@ -282,7 +302,7 @@ impl<F: Real> Geometry<F> {
     /// The same directions seen by the layer of level `level` (its normal), for methods that
     /// evaluate every layer at the outer directions (`Additive`); `self` if it has no map.
     fn facing_level(&self, level: usize) -> Option<Geometry<F>> {
-        let &(n, mapped) = self.levels.get(level)?;
+        let &(n, mapped) = self.levels.as_ref()?.get(level)?;
         if !mapped || level == self.level {
             return None;
         }
@@ -310,12 +330,13 @@ impl<F: Real> Geometry<F> {
         let level = self.level + 1;
         let v = refract_down(self.v, self.n, eta).named(&level_name("v", level));
         let l = refract_down(self.l, self.n, eta).named(&level_name("l", level));
-        let n = match self.levels.get(level) {
+        let Some(levels) = &self.levels else { return Geometry::new(self.n, v, l, level) };
+        let n = match levels.get(level) {
             Some(&(n, true)) => facing::<F>(n, v, level),
             Some(&(n, false)) => n,
             None => self.n,
         };
-        Geometry::new(n, v, l, level).with_levels(self.levels.clone(), self.surface)
+        Geometry::new(n, v, l, level).with_levels(levels.clone(), self.surface)
     }
 }
 
