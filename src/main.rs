@@ -83,6 +83,15 @@ enum EnvironmentArg {
     Studio,
 }
 
+#[cfg(feature = "gpu")]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum LightingArg {
+    /// Image-based lighting: each lobe reads the environment prefiltered for it (reflections).
+    Ibl,
+    /// The environment as 256 directional lights through the BRDF (no sharp reflections).
+    Samples,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum SlabModelArg {
     Exponential,
@@ -289,6 +298,13 @@ enum Command {
         light_radiance: f32,
         #[arg(long, value_enum, default_value = "sky")]
         env: EnvironmentArg,
+        /// An equirectangular Radiance `.hdr` image to light with instead of `--env` (image-based
+        /// lighting; y up, the image's centre behind the viewer).
+        #[arg(long, value_name = "FILE.hdr")]
+        env_image: Option<PathBuf>,
+        /// How the environment lights the sphere.
+        #[arg(long, value_enum, default_value = "ibl")]
+        lighting: LightingArg,
         /// Linear scale before sRGB encoding.
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
@@ -400,6 +416,8 @@ fn main() -> ExitCode {
             light,
             light_radiance,
             env,
+            env_image,
+            lighting,
             exposure,
             columns,
             scene,
@@ -413,11 +431,13 @@ fn main() -> ExitCode {
             };
             parse_vec3(&light).map_err(Failure::Usage).and_then(|light| {
                 let textures = read_textures(&textures)?;
+                let lighting = preview_lighting(environment, env_image.as_deref(), lighting)?;
                 let options = glazec::run::preview::PreviewOptions {
                     size,
                     light,
                     light_radiance,
                     environment,
+                    lighting,
                     exposure,
                     textures,
                 };
@@ -437,6 +457,32 @@ fn main() -> ExitCode {
             ExitCode::from(3)
         }
     }
+}
+
+/// The preview's lighting: the environment (an `.hdr` image, or the analytic one rasterised)
+/// prefiltered for image-based lighting, or the analytic one's samples.
+#[cfg(feature = "gpu")]
+fn preview_lighting(
+    environment: glazec::run::preview::Environment,
+    image: Option<&Path>,
+    lighting: LightingArg,
+) -> Result<glazec::run::preview::Lighting, Failure> {
+    use glazec::run::environment::{BASE_WIDTH, EnvironmentImage, prefilter};
+    let image = match (image, lighting) {
+        (Some(_), LightingArg::Samples) => {
+            return Err(Failure::Usage(anyhow::anyhow!("--env-image needs --lighting ibl")));
+        }
+        (Some(path), LightingArg::Ibl) => Some(
+            EnvironmentImage::read_hdr(path)
+                .map_err(|e| Failure::Usage(anyhow::anyhow!("cannot read the environment image: {e}")))?,
+        ),
+        (None, LightingArg::Ibl) => environment.image(2 * BASE_WIDTH),
+        (None, LightingArg::Samples) => None,
+    };
+    Ok(match image {
+        Some(image) => glazec::run::preview::Lighting::Image(std::sync::Arc::new(prefilter(&image))),
+        None => glazec::run::preview::Lighting::Samples,
+    })
 }
 
 /// `NAME=FILE.png` arguments of `preview --texture`.

@@ -28,22 +28,34 @@ static const float layer2_mu_c = 0.19705611;
 static const float3 layer2_rho = float3(0.85015357, 0.863715, 0.863715);
 static const float layer2_trapped_escape = 1.0;
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
+static const float layer1_mu_c = 0.745356;
 static const float3 layer1_rho = float3(0.70837235, 0.054159977, 0.024499279);
-static const float3 layer1_r_return = float3(0.59634465, 0.59634465, 0.59634465);
+static const float layer1_trapped_escape = 0.15678635;
+static const float base_roughness = 0.37185615;
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -86,9 +98,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_4 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_5);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -319,17 +331,6 @@ float3 interfaced_albedo_glossy(float t, float3 a, float3 e_below)
     return (((((a * a) * e_below) * (t * t)) / ((1.0).xxx - _e11)) + ((1.0 - t)).xxx);
 }
 
-// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
-// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
-// back down (R, the slab's diffuse return reflectance) and that then bounces between body
-// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
-float3 interfaced_diffuse_under(float3 f_below_1, float3 e_i_3, float3 e_o_3, float3 rho_below, float3 r_return)
-{
-    float3 _e7 = (rho_below * r_return);
-    return (f_below_1 + (((e_i_3 * e_o_3) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
-}
-
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
@@ -393,15 +394,13 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
     const float3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     const float3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    float _e142 = (1.0 - layer2_transmit_l);
-    float3 _e163 = min(max(((((_e142 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e142).xxx), (0.0).xxx) * (0.40605718).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e163 / (0.40365535).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e163) / (0.59634465).xxx), (0.0).xxx), (1.0).xxx);
-    float _e180 = (1.0 - layer2_transmit_v);
-    float3 _e201 = min(max(((((_e180 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e180).xxx), (0.0).xxx) * (0.40605718).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e201 / (0.40365535).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e201) / (0.59634465).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(float3(0.99583596, 0.9941892, 0.9920301), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    float3 inner_l = ((1.0).xxx * (1.0 - layer1_transmit_l));
+    float3 inner_v = ((1.0).xxx * (1.0 - layer1_transmit_v));
+    const float3 _e151 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    const float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha);
+    const float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha);
+    const float3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, (1.0).xxx, layer1_rho, layer1_trapped_escape);
+    float3 under = (_e151 + trapped);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
@@ -411,6 +410,91 @@ float3 car_paint_eval(float3 n_2, float3 v_2, float3 l_2)
 {
     const float3 f = car_paint_brdf(n_2, v_2, l_2);
     return (f * max(dot(n_2, l_2), 0.0));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_3)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_3 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
+{
+    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r * t_1));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 car_paint_ibl(float3 n_4, float3 v_4)
+{
+    float n_dot_v_3 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_3, 0.0001);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5);
+    const float _e11 = coat_deficit(n_dot_v_3, 0.04, 1.5);
+    const float layer1_restored_l = coat_extra(n_dot_v_3, 0.04, 1.5);
+    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_v = refract_down(v_4, n_4, 1.5);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1.02);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_l);
+    const float3 layer2_v = refract_down(layer1_v, n_4, 1.02);
+    float layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
+    const float3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
+    const float _e48 = ggx_albedo(layer2_cos_v_1, 0.3006279);
+    const float3 _e50 = f_schlick(f0_under_coat, layer2_cos_v_1);
+    float3 layer2_albedo_l_1 = (_e50 * _e48);
+    float3 layer2_albedo_v_1 = (_e50 * _e48);
+    const float3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l_1);
+    const float3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v_1);
+    const float3 albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l);
+    const float3 albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, 0.0016);
+    const float3 reflected_1 = specular_dominant_direction(n_4, v_4, 0.138277);
+    bool _e75 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, 0.04);
+    const float3 light_b = glazec_environment(reflected_1, base_roughness);
+    return (((_e75 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e75 ? under_albedo : (0.0).xxx) * light_b));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
@@ -450,13 +534,23 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = car_paint_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    const float3 reflected = car_paint_eval(n_5, float3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = car_paint_ibl(n_6, float3(0.0, 0.0, 1.0));
+    bool _e18 = (r2_1 < 1.0);
+    return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

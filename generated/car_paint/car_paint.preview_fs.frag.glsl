@@ -11,8 +11,10 @@ const float layer2_mu_c = 0.19705611;
 const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
+const float layer1_mu_c = 0.745356;
 const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
-const vec3 layer1_r_return = vec3(0.59634465, 0.59634465, 0.59634465);
+const float layer1_trapped_escape = 0.15678635;
+const float base_roughness = 0.37185615;
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 
@@ -269,15 +271,6 @@ vec3 interfaced_albedo_glossy(float t, vec3 a, vec3 e_below) {
     return (((((a * a) * e_below) * (t * t)) / (vec3(1.0) - (e_below * k))) + vec3((1.0 - t)));
 }
 
-// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
-// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
-// back down (R, the slab's diffuse return reflectance) and that then bounces between body
-// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
-vec3 interfaced_diffuse_under(vec3 f_below_1, vec3 e_i_3, vec3 e_o_3, vec3 rho_below, vec3 r_return) {
-    return (f_below_1 + (((e_i_3 * e_o_3) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
-}
-
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_v_2 = dot(n_1, v_1);
@@ -340,15 +333,13 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
     vec3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     vec3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    float _e142 = (1.0 - layer2_transmit_l);
-    vec3 _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0.0)) * vec3(0.40605718))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e163 / vec3(0.40365535));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e163) / vec3(0.59634465)), vec3(0.0)), vec3(1.0));
-    float _e180 = (1.0 - layer2_transmit_v);
-    vec3 _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0.0)) * vec3(0.40605718))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e201 / vec3(0.40365535));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e201) / vec3(0.59634465)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.99583596, 0.9941892, 0.9920301), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
+    vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
+    vec3 _e151 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha);
+    float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha);
+    vec3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1.0), layer1_rho, layer1_trapped_escape);
+    vec3 under = (_e151 + trapped);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

@@ -11,8 +11,10 @@ const float layer2_mu_c = 0.19705611;
 const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
+const float layer1_mu_c = 0.745356;
 const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
-const vec3 layer1_r_return = vec3(0.59634465, 0.59634465, 0.59634465);
+const float layer1_trapped_escape = 0.15678635;
+const float base_roughness = 0.37185615;
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

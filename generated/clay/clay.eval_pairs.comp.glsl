@@ -11,6 +11,8 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
+const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
+
 layout(std430, binding = 0) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_0_cs[]; };
 
 layout(std430, binding = 1) buffer type_6_block_1Compute { vec4 _group_0_binding_1_cs[]; };

@@ -21,18 +21,30 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+static const float3 layer1_albedo_v = float3(0.5876322, 0.34278542, 0.24484675);
+
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b3) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -144,9 +156,9 @@ float3 ww_layer(float3 f_top, float3 t12_, float3 absorption, float3 inner, floa
 // The BRDF f(l, v) of material `clay` (WeidlichWilkie layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 clay_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 h = half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
@@ -165,7 +177,7 @@ float3 clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 inner = ww_inner_reflection(g, transmission);
     const float3 layer1_f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 f = ww_layer(specular, transmission, absorption, inner, layer1_f_base);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
@@ -173,6 +185,84 @@ float3 clay_eval(float3 n_2, float3 v_2, float3 l_2)
 {
     const float3 f = clay_brdf(n_2, v_2, l_2);
     return (f * max(dot(n_2, l_2), 0.0));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_1)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_1 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
+// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
+// roughness r (α = r²), returned as (A, B, 0).
+float3 dfg_lazarov(float roughness_2, float n_dot_v_3)
+{
+    float rx = ((roughness_2 * -1.0) + 1.0);
+    float ry = ((roughness_2 * -0.0275) + 0.0425);
+    float rz = ((roughness_2 * -0.572) + 1.04);
+    float rw = ((roughness_2 * 0.022) - 0.04);
+    float a004_ = ((min((rx * rx), exp((n_dot_v_3 * -6.4324055))) * rx) + ry);
+    return float3(((a004_ * -1.04) + rz), ((a004_ * 1.04) + rw), 0.0);
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_1)
+{
+    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
+    float t = (smoothness * (sqrt(smoothness) + alpha_1));
+    float3 d_2 = ((n_3 * (1.0 - t)) + (r * t));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 clay_ibl(float3 n_4, float3 v_4)
+{
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
+    const float3 _e6 = dfg_lazarov(0.35, cos_v_1);
+    float3 coat_albedo = (((0.040000003).xxx * _e6.x) + (_e6.y).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, 0.122499995);
+    const float3 layer1_v = refract_down(v_4, n_4, 1.5);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float3 _e24 = absorption_ww((0.8).xxx, 0.25, layer1_cos_v_1, layer1_cos_v_1);
+    bool _e34 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, 0.35);
+    const float3 light_b = glazec_irradiance_at(n_4);
+    return (((_e34 ? coat_albedo : (0.0).xxx) * light_a) + ((_e34 ? ((((1.0).xxx - coat_albedo) * _e24) * layer1_albedo_v) : (0.0).xxx) * light_b));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
@@ -212,13 +302,23 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = clay_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    const float3 reflected = clay_eval(n_5, float3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = clay_ibl(n_6, float3(0.0, 0.0, 1.0));
+    bool _e18 = (r2_1 < 1.0);
+    return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

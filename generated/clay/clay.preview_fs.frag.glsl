@@ -4,6 +4,8 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
+
 layout(std140, binding = 3) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_3_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;

@@ -25,20 +25,31 @@ static const float layer1_alpha = 0.06485702;
 static const float layer1_mu_c = 0.745356;
 static const float3 layer1_rho = float3(0.9215437, 0.7375736, 0.3030111);
 static const float layer1_trapped_escape = 0.1150567;
+static const float base_roughness = 0.31190628;
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -61,8 +72,8 @@ float3 half_vector(float3 v, float3 l)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha)
 {
-    float a = max(alpha, 0.001);
-    float a_sq = (a * a);
+    float a_1 = max(alpha, 0.001);
+    float a_sq = (a_1 * a_1);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -81,9 +92,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_4 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_5);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -219,8 +230,8 @@ float3 fr_conductor(float cos_i_1, float3 eta_4, float3 k)
     float3 t0_ = ((eta2_ - k2_) - (sin2_).xxx);
     float3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * (4.0).xxx)));
     float3 t1_ = (a2_plus_b2_ + (cos2_).xxx);
-    float3 a_1 = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
-    float3 t2_ = (a_1 * (sqrt(cos2_) * 2.0));
+    float3 a_2 = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
+    float3 t2_ = (a_2 * (sqrt(cos2_) * 2.0));
     float3 r_s = ((t1_ - t2_) / (t1_ + t2_));
     float3 t3_ = ((a2_plus_b2_ * cos2_) + ((sin2_ * sin2_)).xxx);
     float3 t4_ = (t2_ * sin2_);
@@ -370,6 +381,91 @@ float3 coated_gold_eval(float3 n_2, float3 v_2, float3 l_2)
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_3)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_3 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// The directional albedo seen above a coat over a glossy body (same model as
+// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+float3 interfaced_albedo_glossy(float t, float3 a, float3 e_below)
+{
+    float3 k_1 = ((a * a) * (1.0 - t));
+    float3 _e11 = (e_below * k_1);
+    return (((((a * a) * e_below) * (t * t)) / ((1.0).xxx - _e11)) + ((1.0 - t)).xxx);
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
+{
+    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r * t_1));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 coated_gold_ibl(float3 n_4, float3 v_4)
+{
+    float n_dot_v_3 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_3, 0.0001);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5);
+    const float _e11 = coat_deficit(n_dot_v_3, 0.1, 1.5);
+    const float layer1_restored_l = coat_extra(n_dot_v_3, 0.1, 1.5);
+    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_v = refract_down(v_4, n_4, 1.5);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float _e35 = ggx_albedo(layer1_cos_v_1, 0.2546704);
+    const float3 _e44 = fr_conductor(layer1_cos_v_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    float3 layer1_albedo_l_1 = (_e44 * _e35);
+    float3 layer1_albedo_v_1 = (_e44 * _e35);
+    const float3 albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l_1);
+    const float3 albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v_1);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, 0.010000001);
+    const float3 reflected_1 = specular_dominant_direction(n_4, v_4, 0.097285524);
+    bool _e67 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, 0.1);
+    const float3 light_b = glazec_environment(reflected_1, base_roughness);
+    return (((_e67 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e67 ? under_albedo : (0.0).xxx) * light_b));
+}
+
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;
     ret.wi = arg0;
@@ -407,13 +503,23 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = coated_gold_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    const float3 reflected = coated_gold_eval(n_5, float3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = coated_gold_ibl(n_6, float3(0.0, 0.0, 1.0));
+    bool _e18 = (r2_1 < 1.0);
+    return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

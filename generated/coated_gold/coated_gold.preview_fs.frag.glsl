@@ -8,6 +8,7 @@ const float layer1_alpha = 0.06485702;
 const float layer1_mu_c = 0.745356;
 const vec3 layer1_rho = vec3(0.9215437, 0.7375736, 0.3030111);
 const float layer1_trapped_escape = 0.1150567;
+const float base_roughness = 0.31190628;
 
 layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
 

@@ -8,6 +8,7 @@ const float layer1_alpha = 0.06485702;
 const float layer1_mu_c = 0.745356;
 const vec3 layer1_rho = vec3(0.9215437, 0.7375736, 0.3030111);
 const float layer1_trapped_escape = 0.1150567;
+const float base_roughness = 0.31190628;
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

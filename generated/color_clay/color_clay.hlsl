@@ -27,18 +27,28 @@ static const float3 layer1_rho = float3(0.5261278, 0.110294394, 0.09139683);
 static const float3 layer1_r_return = float3(0.4153186, 0.4153186, 0.4153186);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -61,8 +71,8 @@ float3 half_vector(float3 v, float3 l)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha)
 {
-    float a = max(alpha, 0.001);
-    float a_sq = (a * a);
+    float a_1 = max(alpha, 0.001);
+    float a_sq = (a_1 * a_1);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -81,9 +91,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_3 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_3);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_3);
+    float alpha_4 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -376,6 +386,104 @@ float3 color_clay_eval(float3 n_2, float3 v_2, float3 l_2)
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_3)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_3 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+float3 interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
+{
+    float3 _e10 = (rho_below_1 * r_return_1);
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
+{
+    float3 r_4 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_4 * t_1));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 color_clay_ibl(float3 n_4, float3 v_4)
+{
+    float n_dot_v_4 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_4, 1.33);
+    const float _e11 = coat_deficit(n_dot_v_4, 0.3, 1.33);
+    const float layer1_restored_l = coat_extra(n_dot_v_4, 0.3, 1.33);
+    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_v = refract_down(v_4, n_4, 1.33);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float _e36 = coat_path(n_dot_v_4, 0.3, 1.33);
+    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e36);
+    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e36);
+    const float3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l_2);
+    const float3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v_2);
+    const float3 layer1_albedo_l = albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v_1);
+    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e36);
+    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e36);
+    const float3 _e56 = albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_3);
+    const float _e58 = e_fon(layer1_path_cos_l_3, 0.5);
+    float3 layer1_first_escape_l_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e58)) * (0.23442543).xxx) / max(_e56, (1e-6).xxx)));
+    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - (layer1_first_escape_l_1 * (0.5333226).xxx)) / (0.46667743).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 _e93 = albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
+    const float _e95 = e_fon(layer1_path_cos_v_3, 0.5);
+    float3 layer1_first_escape_v_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e95)) * (0.23442543).xxx) / max(_e93, (1e-6).xxx)));
+    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - (layer1_first_escape_v_1 * (0.5333226).xxx)) / (0.46667743).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, (0.5168715).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return, (0.5168715).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, 0.09);
+    bool _e147 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, 0.3);
+    const float3 light_b = glazec_irradiance_at(n_4);
+    return (((_e147 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e147 ? under_albedo : (0.0).xxx) * light_b));
+}
+
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;
     ret.wi = arg0;
@@ -413,13 +521,23 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = color_clay_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    const float3 reflected = color_clay_eval(n_5, float3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = color_clay_ibl(n_6, float3(0.0, 0.0, 1.0));
+    bool _e18 = (r2_1 < 1.0);
+    return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

@@ -35,18 +35,28 @@ static const float3 layer1_rho = float3(0.24385336, 0.38261434, 0.59591997);
 static const float3 layer1_r_return = float3(0.5949663, 0.5949663, 0.5949663);
 
 cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -63,8 +73,8 @@ float d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
-    return ((alpha > 0.9999) ? 0.31830987 : d_1);
+    float d_2 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
+    return ((alpha > 0.9999) ? 0.31830987 : d_2);
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
@@ -81,9 +91,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_4 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_5);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -497,6 +507,147 @@ float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_3)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_3 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
+{
+    float3 r_4 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_4 * t_1));
+    return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 four_layer_ibl(float3 n_4, float3 v_4)
+{
+    float n_dot_v_4 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_4, 1.5);
+    const float _e11 = coat_deficit(n_dot_v_4, 0.2, 1.5);
+    const float layer1_restored_l = coat_extra(n_dot_v_4, 0.2, 1.5);
+    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_v = refract_down(v_4, n_4, 1.5);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1.0);
+    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_l);
+    const float3 layer2_v = refract_down(layer1_v, n_4, 1.0);
+    float layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
+    const float3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
+    const float layer3_fresnel_l = fr_dielectric(layer2_n_dot_v_1, 1.1);
+    const float _e53 = coat_deficit(layer2_n_dot_v_1, 0.3, 1.1);
+    const float layer3_restored_l = coat_extra(layer2_n_dot_v_1, 0.3, 1.1);
+    float layer3_transmit_l_1 = min(max((((1.0 - layer3_fresnel_l) + _e53) - layer3_restored_l), 0.0), 1.0);
+    float layer3_transmit_v_1 = min(max((((1.0 - layer3_fresnel_l) + _e53) - layer3_restored_l), 0.0), 1.0);
+    const float3 layer3_v = refract_down(layer2_v, n_4, 1.1);
+    float layer3_n_dot_v_1 = dot(n_4, layer3_v);
+    float layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001);
+    const float _e78 = coat_path(layer2_n_dot_v_1, 0.3, 1.1);
+    float layer3_path_cos_l_1 = (layer3_cos_v_1 / _e78);
+    float layer3_path_cos_v_1 = (layer3_cos_v_1 / _e78);
+    const float3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_path_cos_l_1);
+    const float3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_path_cos_v_1);
+    const float layer4_fresnel_l = fr_dielectric(layer3_n_dot_v_1, 1.2);
+    const float _e91 = coat_deficit(layer3_n_dot_v_1, 0.5, 1.2);
+    const float layer4_restored_l = coat_extra(layer3_n_dot_v_1, 0.5, 1.2);
+    float layer4_transmit_l_1 = min(max((((1.0 - layer4_fresnel_l) + _e91) - layer4_restored_l), 0.0), 1.0);
+    float layer4_transmit_v_1 = min(max((((1.0 - layer4_fresnel_l) + _e91) - layer4_restored_l), 0.0), 1.0);
+    const float3 layer4_v = refract_down(layer3_v, n_4, 1.2);
+    float layer4_n_dot_v_1 = dot(n_4, layer4_v);
+    float layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001);
+    const float3 layer4_albedo_l = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v_1);
+    const float _e122 = coat_path(layer3_n_dot_v_1, 0.5, 1.2);
+    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e122);
+    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e122);
+    const float3 _e130 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
+    const float _e132 = e_fon(layer4_path_cos_l_1, 0.4);
+    float3 layer4_first_escape_l_1 = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e132)) * (0.18698311).xxx) / max(_e130, (1e-6).xxx)));
+    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 _e167 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
+    const float _e169 = e_fon(layer4_path_cos_v_1, 0.4);
+    float3 layer4_first_escape_v_1 = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e169)) * (0.18698311).xxx) / max(_e167, (1e-6).xxx)));
+    float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
+    float _e214 = (1.0 - layer4_transmit_l_1);
+    float3 _e235 = min(max(((((_e214 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e214).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l_1 = (_e235 / (0.8096479).xxx);
+    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e235) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
+    float _e252 = (1.0 - layer4_transmit_v_1);
+    float3 _e273 = min(max(((((_e252 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e252).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v_1 = (_e273 / (0.8096479).xxx);
+    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e273) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_l_1, layer2_first_return_l_1);
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_v_1, layer2_first_return_v_1);
+    float _e304 = (1.0 - layer3_transmit_l_1);
+    float3 _e322 = min(max(((((_e304 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e304).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l_1 = (_e322 / (0.9999998).xxx);
+    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - _e322) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e339 = (1.0 - layer3_transmit_v_1);
+    float3 _e357 = min(max(((((_e339 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e339).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v_1 = (_e357 / (0.9999998).xxx);
+    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e357) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
+    const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
+    float _e384 = (1.0 - layer2_transmit_l_1);
+    float3 _e405 = min(max(((((_e384 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e384).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e405 / (0.40503368).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e405) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
+    float _e422 = (1.0 - layer2_transmit_v_1);
+    float3 _e443 = min(max(((((_e422 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e422).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e443 / (0.40503368).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e443) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_rho, layer1_r_return, (0.40503368).xxx, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, layer1_rho, layer1_r_return, (0.40503368).xxx, first_escape_v_1, first_return_v_1);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, 0.040000003);
+    bool _e485 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, 0.2);
+    const float3 light_b = glazec_irradiance_at(n_4);
+    return (((_e485 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e485 ? under_albedo : (0.0).xxx) * light_b));
+}
+
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;
     ret.wi = arg0;
@@ -534,13 +685,23 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
     float3 l_3 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = four_layer_eval(n_3, float3(0.0, 0.0, 1.0), l_3);
+    const float3 reflected = four_layer_eval(n_5, float3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = four_layer_ibl(n_6, float3(0.0, 0.0, 1.0));
+    bool _e18 = (r2_1 < 1.0);
+    return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

@@ -13,6 +13,10 @@ struct EvalDispatch {
 };
 const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
 const vec3 under = vec3(0.19010091, 0.09112959, 0.038870268);
+const vec3 layer1_albedo_l = vec3(0.46, 0.26, 0.12);
+const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
+const vec3 layer1_r_return = vec3(0.49948704, 0.35321748, 0.14430135);
+const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 

@@ -12,6 +12,10 @@ struct EvalDispatch {
     uint pair_count;
 };
 const vec3 under = vec3(0.29396534, 0.01639408, 0.013036859);
+const vec3 layer1_albedo_l = vec3(0.6, 0.05, 0.04);
+const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
+const vec3 layer1_r_return = vec3(0.5838523, 0.5838523, 0.5838523);
+const vec3 layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 

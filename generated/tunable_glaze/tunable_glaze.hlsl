@@ -33,19 +33,29 @@ struct PreviewVarying {
 };
 
 cbuffer glazec_tables : register(b4) { float4 glazec_tables[4060]; }
-cbuffer params_2 : register(b3) { TunableGlazeParams params_2; }
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> glazec_radiance : register(t1, space2);
+Texture2D<float4> glazec_irradiance : register(t2, space2);
+cbuffer params_3 : register(b3) { TunableGlazeParams params_3; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b5) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_1 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_2 : LOC0;
+    float2 p_3 : LOC0;
+};
+
+struct FragmentInput_preview_ibl_fs {
+    float2 p_4 : LOC0;
 };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -68,8 +78,8 @@ float3 half_vector(float3 v, float3 l)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha)
 {
-    float a = max(alpha, 0.001);
-    float a_sq = (a * a);
+    float a_1 = max(alpha, 0.001);
+    float a_sq = (a_1 * a_1);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -88,9 +98,9 @@ float lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_3 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_3);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_3);
+    float alpha_4 = max(alpha_2, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_4);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -674,6 +684,155 @@ float3 tunable_glaze_eval(float3 n_2, float3 v_2, float3 l_2, TunableGlazeParams
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 glazec_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 glazec_environment(float3 direction, float roughness_7)
+{
+    const float2 uv = glazec_equirect_uv(direction);
+    float lod = (roughness_7 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 glazec_irradiance_at(float3 direction_1)
+{
+    const float2 uv = glazec_equirect_uv(direction_1);
+    float4 _e5 = glazec_irradiance.SampleLevel(glazec_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+float3 interfaced_albedo_dir(float t_1, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
+{
+    float3 _e10 = (rho_below_1 * r_return_1);
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t_1) + ((1.0 - t_1)).xxx);
+}
+
+// The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
+// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
+// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
+float3 interfaced_albedo(float eta_14, float e_escape_clear, float3 e_escape_1, float3 r_return_2, float3 rho_below_2)
+{
+    float eta_sq = (eta_14 * eta_14);
+    float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
+    float3 _e12 = (rho_below_2 * r_return_2);
+    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / ((1.0).xxx - _e12)) + (e_fresnel).xxx);
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
+{
+    float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
+    float t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float3 d_2 = ((n_3 * (1.0 - t_2)) + (r_5 * t_2));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 tunable_glaze_ibl(float3 n_4, float3 v_4, TunableGlazeParams params_2)
+{
+    float n_dot_v_4 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float3 tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_4, params_2.glaze_ior);
+    float _e15 = (1.0 - layer1_fresnel_l);
+    const float _e16 = coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    const float layer1_restored_l = coat_extra(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max(((_e15 + _e16) - layer1_restored_l), 0.0), 1.0));
+    float _e28 = (1.0 - layer1_fresnel_l);
+    float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e28 : min(max(((_e28 + _e16) - layer1_restored_l), 0.0), 1.0));
+    const float3 layer1_v = refract_down(v_4, n_4, params_2.glaze_ior);
+    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    const float _e42 = coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_path_cos_l_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
+    float layer1_path_cos_v_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
+    const float3 absorb_l = slab_transmittance(tau_9, layer1_path_cos_l_2);
+    const float3 absorb_v = slab_transmittance(tau_9, layer1_path_cos_v_2);
+    float blur_1 = ((abs((1.0 - (1.0 / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677);
+    const float3 layer1_rho = albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
+    const float3 layer1_albedo_l = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
+    const float _e64 = fresnel_transmit_avg(params_2.glaze_ior);
+    const float _e65 = coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e66 = coat_extra_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_transmit_avg_2 = ((_e64 + _e65) - _e66);
+    float _e70 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
+    const float _e72 = coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e74 = coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e76 = coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    float3 _e78 = (float3(_e72, _e74, _e76) * _e70);
+    const float _e87 = coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e89 = coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e91 = coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    bool _e95 = (params_2.glaze_ior < 1.0);
+    const float3 _e96 = slab_return(params_2.glaze_ior, tau_9);
+    const float3 _e97 = slab_escape(params_2.glaze_ior, tau_9);
+    float3 layer1_r_return_2 = (_e95 ? _e96 : max(((1.0).xxx - _e78), (0.0).xxx));
+    float3 _e99 = (_e95 ? _e97 : (float3(_e87, _e89, _e91) * _e70));
+    float layer1_transmit_avg_3 = ((_e64 + _e65) - _e66);
+    float _e103 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
+    float3 _e104 = (_e103).xxx;
+    bool _e114 = (params_2.glaze_ior < 1.0);
+    const float3 _e117 = slab_return(params_2.glaze_ior, (0.0).xxx);
+    const float3 _e120 = slab_escape(params_2.glaze_ior, (0.0).xxx);
+    float3 layer1_r_return_3 = (_e114 ? _e117 : max(((1.0).xxx - _e104), (0.0).xxx));
+    float3 _e122 = (_e114 ? _e120 : (_e103).xxx);
+    const float layer1_eon_escape_shape = eon_escape_shape(params_2.glaze_ior);
+    const float3 layer1_rho_ms = eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
+    float layer1_path_cos_l_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
+    float layer1_path_cos_v_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
+    const float3 _e135 = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    const float _e136 = e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    float3 layer1_first_escape_l_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e136)) * (layer1_eon_escape_shape - 1.0)) / max(_e135, (1e-6).xxx)));
+    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - (layer1_first_escape_l_1 * _e122.x)) / (max(layer1_r_return_3.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 _e164 = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    const float _e165 = e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    float3 layer1_first_escape_v_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e165)) * (layer1_eon_escape_shape - 1.0)) / max(_e164, (1e-6).xxx)));
+    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - (layer1_first_escape_v_1 * _e122.x)) / (max(layer1_r_return_3.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    float _e200 = sqrt(max((1.0 - (1.0 / (params_2.glaze_ior * params_2.glaze_ior))), 0.0));
+    float _e216 = min(max((((1.0 - ((_e200 * _e200) * _e200)) / max((1.0 - (_e200 * _e200)), 1e-6)) * 0.6666667), 0.0), 1.0);
+    const float3 _e217 = albedo_eon(params_2.body_albedo, params_2.body_roughness, _e216);
+    const float _e218 = e_fon(_e216, params_2.body_roughness);
+    float3 layer1_first_escape_cone_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e218)) * (layer1_eon_escape_shape - 1.0)) / max(_e217, (1e-6).xxx)));
+    float3 layer1_first_return_cone_1 = min(max((((1.0).xxx - (layer1_first_escape_cone_1 * _e122.x)) / (max(layer1_r_return_3.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_l_1, layer1_first_return_l_1);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_v_1, layer1_first_return_v_1);
+    const float3 rho = interfaced_albedo(params_2.glaze_ior, _e122.x, _e99, layer1_r_return_2, layer1_rho);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float3 reflected = specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
+    float blur_2 = ((abs((1.0 - (1.0 / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677);
+    bool _e274 = (dot(n_4, v_4) > 0.0);
+    const float3 light_a = glazec_environment(reflected, params_2.glaze_roughness);
+    const float3 light_b = glazec_irradiance_at(n_4);
+    return (((_e274 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e274 ? under_albedo : (0.0).xxx) * light_b));
+}
+
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;
     ret.wi = arg0;
@@ -690,7 +849,7 @@ void eval_pairs(uint3 id : SV_DispatchThreadID)
         return;
     }
     DirectionPair pair = ConstructDirectionPair(asfloat(pairs.Load4(index*32+0)), asfloat(pairs.Load4(index*32+16)));
-    TunableGlazeParams _e18 = params_2;
+    TunableGlazeParams _e18 = params_3;
     const float3 f = tunable_glaze_brdf(float3(0.0, 0.0, 1.0), pair.wo.xyz, pair.wi.xyz, _e18);
     values.Store4(index*16, asuint(float4(f, 0.0)));
     return;
@@ -712,14 +871,25 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_2;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_3 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    float4 _e14 = light.direction;
-    float3 l_3 = _e14.xyz;
-    float4 _e17 = light.radiance;
-    TunableGlazeParams _e24 = params_2;
-    const float3 reflected = tunable_glaze_eval(n_3, float3(0.0, 0.0, 1.0), l_3, _e24);
+    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    TunableGlazeParams _e13 = params_3;
+    float4 _e16 = light.direction;
+    float3 l_3 = _e16.xyz;
+    float4 _e19 = light.radiance;
+    const float3 reflected = tunable_glaze_eval(n_5, float3(0.0, 0.0, 1.0), l_3, _e13);
     bool _e28 = (r2_ < 1.0);
-    return float4((_e28 ? (reflected * _e17.xyz) : (0.0).xxx), (_e28 ? 1.0 : 0.0));
+    return float4((_e28 ? (reflected * _e19.xyz) : (0.0).xxx), (_e28 ? 1.0 : 0.0));
+}
+
+float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
+{
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
+    float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    TunableGlazeParams _e13 = params_3;
+    const float3 reflected = tunable_glaze_ibl(n_6, float3(0.0, 0.0, 1.0), _e13);
+    bool _e20 = (r2_1 < 1.0);
+    return float4((_e20 ? reflected : (0.0).xxx), (_e20 ? 1.0 : 0.0));
 }

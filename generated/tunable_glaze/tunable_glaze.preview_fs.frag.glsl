@@ -609,13 +609,13 @@ void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     vec3 n_3 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    vec4 _e14 = _group_0_binding_5_fs.direction;
-    vec3 l_3 = _e14.xyz;
-    vec4 _e17 = _group_0_binding_5_fs.radiance;
-    TunableGlazeParams _e24 = _group_0_binding_3_fs;
-    vec3 reflected = tunable_glaze_eval(n_3, vec3(0.0, 0.0, 1.0), l_3, _e24);
+    TunableGlazeParams _e13 = _group_0_binding_3_fs;
+    vec4 _e16 = _group_0_binding_5_fs.direction;
+    vec3 l_3 = _e16.xyz;
+    vec4 _e19 = _group_0_binding_5_fs.radiance;
+    vec3 reflected = tunable_glaze_eval(n_3, vec3(0.0, 0.0, 1.0), l_3, _e13);
     bool _e28 = (r2_ < 1.0);
-    _fs2p_location0 = vec4((_e28 ? (reflected * _e17.xyz) : vec3(0.0)), (_e28 ? 1.0 : 0.0));
+    _fs2p_location0 = vec4((_e28 ? (reflected * _e19.xyz) : vec3(0.0)), (_e28 ? 1.0 : 0.0));
     return;
 }
 

@@ -14,6 +14,8 @@ struct EvalDispatch {
 const vec3 tau_1 = vec3(0.32000002, 0.32000002, 0.32000002);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_r_return = vec3(0.11658996, 0.11658996, 0.11658996);
+const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
 

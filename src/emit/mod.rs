@@ -152,10 +152,8 @@ fn write_glsl(module: &Module, info: &ModuleInfo, stage: ShaderStage, entry: &st
     let glsl_error = |source| EmitError::Glsl { entry: entry.to_string(), source };
     // Vulkan GLSL: naga's GLSL backend never writes `set =`, so every resource lives in set 0
     // (research/probe.md §3, gotcha 10) with its WGSL binding number.
-    use crate::lower::textures::bindings::{GLSL_OFFSET, GROUP as TEXTURE_GROUP};
-    let glsl_binding = |rb: naga::ResourceBinding| {
-        if rb.group == TEXTURE_GROUP { GLSL_OFFSET + rb.binding } else { rb.binding }
-    };
+    use crate::lower::textures::bindings::GLSL_OFFSET;
+    let glsl_binding = |rb: naga::ResourceBinding| GLSL_OFFSET * rb.group + rb.binding;
     let binding_map = module
         .global_variables
         .iter()

@@ -23,6 +23,7 @@
 //! addresses), so emitted files are byte-identical across runs.
 
 pub mod builder;
+pub mod environment;
 pub mod textures;
 
 use naga::{
@@ -107,6 +108,8 @@ pub mod entry_points {
     pub const EVAL_PAIRS: &str = "eval_pairs";
     pub const PREVIEW_VS: &str = "preview_vs";
     pub const PREVIEW_FS: &str = "preview_fs";
+    /// The preview sphere lit by the environment (`<material>_ibl`).
+    pub const PREVIEW_IBL_FS: &str = "preview_ibl_fs";
 }
 
 /// Workgroup size of `eval_pairs`.
@@ -225,10 +228,13 @@ pub fn lower(material: &Material) -> Module {
     let inputs = InputTypes { params: params_ty, textures: reads.as_ref().map(|r| r.ty) };
     let brdf = brdf_function(&b, material, inputs);
     let eval = eval_function(&b, material, inputs, brdf);
+    let lookups = environment::build_lookups(&b);
+    let ibl = ibl_function(&b, material, inputs, lookups);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     let sample = reads.as_ref().map(|r| Sampling { function: r.sample, frame: !material.normals.is_empty() });
     eval_pairs_entry(&b, brdf, params_var, sample);
     preview_entries(&b, eval, params_var, sample);
+    preview_ibl_entry(&b, ibl, params_var, sample);
     let mut module = b.finish();
     bindings::assign(&mut module);
     module
@@ -328,8 +334,19 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, inputs: InputTypes) -> 
     let n = b.vector(b.argument(0));
     let v = b.vector(b.argument(1));
     let l = b.vector(b.argument(2));
-    let params_arg = inputs.params.map(|_| b.argument(3));
-    let textures_arg = inputs.textures.map(|_| b.argument(3 + u32::from(inputs.params.is_some())));
+    let inputs = function_inputs(b, material, inputs, 3);
+    let f = layering::brdf(material, &inputs, n, v, l);
+    let value = f.handle();
+    b.statement(Statement::Return { value: Some(value) });
+    add(b, b.end_function())
+}
+
+/// The material's inputs inside a generated function whose optional `params` and `textures`
+/// arguments start at argument `first`: the parameters (uniform members, texture reads) and the
+/// normal-mapped layers' shading normals.
+fn function_inputs<'a>(b: &'a ModuleBuilder, material: &Material, inputs: InputTypes, first: u32) -> Inputs<Expr<'a>> {
+    let params_arg = inputs.params.map(|_| b.argument(first));
+    let textures_arg = inputs.textures.map(|_| b.argument(first + u32::from(inputs.params.is_some())));
     // Members of each struct in declaration order: the uniform ones, the texture reads.
     let (mut next_uniform, mut next_read) = (0, 0);
     let params = material
@@ -360,11 +377,32 @@ fn brdf_function(b: &ModuleBuilder, material: &Material, inputs: InputTypes) -> 
             (*layer, b.vector(b.append(Expression::AccessIndex { base, index: reads + i as u32 })))
         })
         .collect();
-    let inputs = Inputs::new(b, params).with_normals(normals);
-    let f = layering::brdf(material, &inputs, n, v, l);
-    let value = f.handle();
+    Inputs::new(b, params).with_normals(normals)
+}
+
+/// `<material>_ibl(n, v[, params][, textures])`: the radiance reflected towards `v` from the
+/// environment (see [`environment`]).
+fn ibl_function(
+    b: &ModuleBuilder,
+    material: &Material,
+    inputs: InputTypes,
+    lookups: environment::Lookups,
+) -> Handle<Function> {
+    let result = FunctionResult { ty: b.types.vec3, binding: None };
+    let mut arguments = direction_arguments(b, inputs);
+    arguments.remove(2);
+    b.begin_function(&format!("{}_ibl", material.name), arguments, Some(result));
+    let n = b.vector(b.argument(0));
+    let v = b.vector(b.argument(1));
+    let material_inputs = function_inputs(b, material, inputs, 2);
+    let value = environment::reflected(b, lookups, material, &material_inputs, n, v).handle();
     b.statement(Statement::Return { value: Some(value) });
-    add(b, b.end_function())
+    let doc = [
+        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's",
+        "directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance",
+        "over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.",
+    ];
+    b.add_function(b.end_function(), &doc)
 }
 
 /// `<material>_eval(n, v, l[, params])` = brdf · max(n·l, 0).
@@ -605,20 +643,9 @@ fn preview_entries(
     b.statement(Statement::Return { value: Some(out) });
     push_entry(b, entry_points::PREVIEW_VS, ShaderStage::Vertex, b.end_function());
 
-    // Fragment: at clip-space position p, on the disk |p| ≤ 1, the normal is (p, √(1 − |p|²)).
-    let p_arg = argument("p", b.types.vec2, Some(varying(0)));
-    let output = FunctionResult { ty: b.types.vec4, binding: Some(location(0)) };
-    b.begin_function(entry_points::PREVIEW_FS, vec![p_arg], Some(output));
-    let p = b.argument(0);
-    let px = b.scalar(b.append(Expression::AccessIndex { base: p, index: 0 }));
-    let py = b.scalar(b.append(Expression::AccessIndex { base: p, index: 1 }));
-    let r2 = (px * px + py * py).named("r2");
-    // Guard: outside the disk the square root would be of a negative number; the select below
-    // discards those pixels anyway.
-    let nz = r2.one_minus().at_least(0.0).sqrt();
-    let n = Expr::vec3(px, py, nz).named("n");
-    let c = |x: f32| b.constant(x);
-    let v = Expr::vec3(c(0.0), c(0.0), c(1.0));
+    // Fragment: the sphere under the light.
+    begin_sphere_fragment(b, entry_points::PREVIEW_FS);
+    let point = sphere_point(b, params_var, sample);
     let light_ptr = b.append(Expression::GlobalVariable(light));
     let member = |index: u32| {
         let ptr = b.append(Expression::AccessIndex { base: light_ptr, index });
@@ -631,10 +658,72 @@ fn preview_entries(
     };
     let l = member(0).named("l");
     let light_radiance = member(1);
-    let mut arguments = vec![n.handle(), v.handle(), l.handle()];
+    let mut arguments = vec![point.n.handle(), point.v.handle(), l.handle()];
+    arguments.extend(point.material_arguments.iter().copied());
+    let reflected = b.call(eval, arguments);
+    b.name(reflected, "reflected");
+    let radiance = b.vector(reflected) * light_radiance;
+    return_sphere_color(b, &point, radiance);
+    push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
+}
+
+/// `preview_ibl_fs`: the preview sphere lit by the environment through `<material>_ibl`.
+fn preview_ibl_entry(
+    b: &ModuleBuilder,
+    ibl: Handle<Function>,
+    params_var: Option<Handle<GlobalVariable>>,
+    sample: Option<Sampling>,
+) {
+    begin_sphere_fragment(b, entry_points::PREVIEW_IBL_FS);
+    let point = sphere_point(b, params_var, sample);
+    let mut arguments = vec![point.n.handle(), point.v.handle()];
+    arguments.extend(point.material_arguments.iter().copied());
+    let reflected = b.call(ibl, arguments);
+    b.name(reflected, "reflected");
+    return_sphere_color(b, &point, b.vector(reflected));
+    push_entry(b, entry_points::PREVIEW_IBL_FS, ShaderStage::Fragment, b.end_function());
+}
+
+/// Starts a preview fragment entry point: clip-space position `p` in, colour out.
+fn begin_sphere_fragment(b: &ModuleBuilder, name: &str) {
+    let p_arg = argument("p", b.types.vec2, Some(varying(0)));
+    let output = FunctionResult { ty: b.types.vec4, binding: Some(location(0)) };
+    b.begin_function(name, vec![p_arg], Some(output));
+}
+
+/// The preview sphere's point under the fragment (unit sphere seen along −z, orthographic).
+struct SpherePoint<'a> {
+    /// |p|²: the point is on the sphere where it is below 1.
+    r2: Expr<'a>,
+    n: builder::ExprVec<'a>,
+    /// The view direction, +z.
+    v: builder::ExprVec<'a>,
+    /// The material's `params` and `textures` arguments (those it has).
+    material_arguments: Vec<Handle<Expression>>,
+}
+
+/// At clip-space position p, on the disk |p| ≤ 1, the normal is (p, √(1 − |p|²)); the material's
+/// arguments are loaded (params) and sampled (textures at the sphere's uv, normal maps in its
+/// tangent frame).
+fn sphere_point<'a>(
+    b: &'a ModuleBuilder,
+    params_var: Option<Handle<GlobalVariable>>,
+    sample: Option<Sampling>,
+) -> SpherePoint<'a> {
+    let p = b.argument(0);
+    let px = b.scalar(b.append(Expression::AccessIndex { base: p, index: 0 }));
+    let py = b.scalar(b.append(Expression::AccessIndex { base: p, index: 1 }));
+    let r2 = (px * px + py * py).named("r2");
+    // Guard: outside the disk the square root would be of a negative number; the select in
+    // `return_sphere_color` discards those pixels anyway.
+    let nz = r2.one_minus().at_least(0.0).sqrt();
+    let n = Expr::vec3(px, py, nz).named("n");
+    let c = |x: f32| b.constant(x);
+    let v = Expr::vec3(c(0.0), c(0.0), c(1.0));
+    let mut material_arguments = Vec::new();
     if let Some(var) = params_var {
         let ptr = b.append(Expression::GlobalVariable(var));
-        arguments.push(b.append(Expression::Load { pointer: ptr }));
+        material_arguments.push(b.append(Expression::Load { pointer: ptr }));
     }
     if let Some(sample) = sample {
         let uv = sphere_uv(b, px, py, nz);
@@ -646,20 +735,21 @@ fn preview_entries(
         }
         let textures = b.call(sample.function, sample_arguments);
         b.name(textures, "textures");
-        arguments.push(textures);
+        material_arguments.push(textures);
     }
-    let reflected = b.call(eval, arguments);
-    b.name(reflected, "reflected");
-    let radiance = b.vector(reflected) * light_radiance;
-    // Outside the disk: transparent black, so that light passes add up and the host can put a
-    // background behind the sphere.
-    let inside = r2.lt(c(1.0));
+    SpherePoint { r2, n, v, material_arguments }
+}
+
+/// Returns (radiance, coverage) on the sphere and transparent black outside it, so that passes
+/// add up and the host can put a background behind the sphere.
+fn return_sphere_color<'a>(b: &'a ModuleBuilder, point: &SpherePoint<'a>, radiance: builder::ExprVec<'a>) {
+    let c = |x: f32| b.constant(x);
+    let inside = point.r2.lt(c(1.0));
     let color = <builder::ExprVec as Vector>::select(inside, radiance, c(0.0).splat());
     let coverage = Expr::select(inside, c(1.0), c(0.0));
     let color4 =
         b.append(Expression::Compose { ty: b.types.vec4, components: vec![color.handle(), coverage.handle()] });
     b.statement(Statement::Return { value: Some(color4) });
-    push_entry(b, entry_points::PREVIEW_FS, ShaderStage::Fragment, b.end_function());
 }
 
 /// The sphere's texture coordinates at normal (x, y, z) (y up, z towards the viewer): longitude

@@ -41,8 +41,9 @@ pub mod bindings {
     /// The sampler's name in generated code.
     pub const SAMPLER_NAME: &str = "glazec_sampler";
     /// GLSL has one binding space per descriptor set and naga's GLSL backend writes none, so
-    /// group 1 moves up by this much there: a texture at binding b is `layout(binding = 16 + b)`
-    /// (combined with the sampler into a `sampler2D`, which is how naga writes GLSL).
+    /// group g moves up by g times this much there: a texture at binding b of group 1 is
+    /// `layout(binding = 16 + b)`, the environment's (group 2) `32 + b` (combined with the
+    /// sampler into a `sampler2D`, which is how naga writes GLSL).
     pub const GLSL_OFFSET: u32 = 16;
 }
 
@@ -61,17 +62,7 @@ pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
         return None;
     }
     let ty = struct_type(b, material);
-    let sampler_ty = b.with_module(|m| {
-        m.types.insert(Type { name: None, inner: TypeInner::Sampler { comparison: false } }, Span::UNDEFINED)
-    });
-    let image_ty = b.with_module(|m| {
-        let inner = TypeInner::Image {
-            dim: ImageDimension::D2,
-            arrayed: false,
-            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
-        };
-        m.types.insert(Type { name: None, inner }, Span::UNDEFINED)
-    });
+    let (sampler_ty, image_ty) = sampler_and_image_types(b);
     let sampler = global(b, bindings::SAMPLER_NAME, bindings::SAMPLER, sampler_ty);
     let images: Vec<(String, Handle<GlobalVariable>)> = material
         .textures()
@@ -153,6 +144,22 @@ pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
     ];
     let sample = b.add_function(b.end_function(), &doc);
     Some(TextureReads { ty, sample })
+}
+
+/// The module's `sampler` and `texture_2d<f32>` types.
+pub(super) fn sampler_and_image_types(b: &ModuleBuilder) -> (Handle<Type>, Handle<Type>) {
+    let sampler = b.with_module(|m| {
+        m.types.insert(Type { name: None, inner: TypeInner::Sampler { comparison: false } }, Span::UNDEFINED)
+    });
+    let image = b.with_module(|m| {
+        let inner = TypeInner::Image {
+            dim: ImageDimension::D2,
+            arrayed: false,
+            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+        };
+        m.types.insert(Type { name: None, inner }, Span::UNDEFINED)
+    });
+    (sampler, image)
 }
 
 /// The RGB of a sampled texel.

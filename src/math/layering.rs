@@ -40,6 +40,8 @@
 
 use std::cell::OnceCell;
 
+pub mod environment;
+
 use super::tables::{self, TableId};
 use super::terms::*;
 use super::{Named, Real, Slot, Vector};
@@ -236,6 +238,9 @@ struct Geometry<F: Real> {
     mapped: bool,
     /// The surface normal (before any normal map), where it differs from `n`.
     surface: Option<F::Vec>,
+    /// Only the directional albedos are wanted (image-based lighting, [`environment`]): the
+    /// methods skip f itself, which would be dead code in the generated function.
+    albedo_only: bool,
 }
 
 /// The half vector h = (v + l)/|v + l| at one level, through the quantities the lobes use.
@@ -273,6 +278,30 @@ impl<F: Real> Geometry<F> {
             levels: None,
             mapped: false,
             surface: None,
+            albedo_only: false,
+        }
+    }
+
+    /// The geometry of an albedo-only evaluation ([`environment`]): no light direction, so l = v
+    /// with the very same values (the generated code computes each cosine once, and term calls
+    /// on the light's side are the view's).
+    fn albedo_only(n: F::Vec, v: F::Vec, level: usize) -> Self {
+        let raw_n_dot_v = n.dot(v).named(&level_name("n_dot_v", level));
+        let n_dot_v = raw_n_dot_v.at_least(COS_EPSILON).named(&level_name("cos_v", level));
+        Geometry {
+            n,
+            v,
+            l: v,
+            raw_n_dot_v,
+            raw_n_dot_l: raw_n_dot_v,
+            n_dot_v,
+            n_dot_l: n_dot_v,
+            level,
+            half: OnceCell::new(),
+            levels: None,
+            mapped: false,
+            surface: None,
+            albedo_only: true,
         }
     }
 
@@ -329,6 +358,9 @@ impl<F: Real> Geometry<F> {
     fn refracted(&self, eta: F) -> Geometry<F> {
         let level = self.level + 1;
         let v = refract_down(self.v, self.n, eta).named(&level_name("v", level));
+        if self.albedo_only {
+            return Geometry::albedo_only(self.n, v, level);
+        }
         let l = refract_down(self.l, self.n, eta).named(&level_name("l", level));
         let Some(levels) = &self.levels else { return Geometry::new(self.n, v, l, level) };
         let n = match levels.get(level) {
@@ -451,6 +483,17 @@ struct Albedo<F: Real> {
 /// gives a lobe error of 9–14%; the earlier ½ (a guess) gave 14–20%.
 const BLUR_WIDTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
 
+/// The blur a coat of roughness `roughness` (α = r²) and relative IOR `eta` adds to the `blur`
+/// of the coats above it (see [`BLUR_WIDTH`]); a smooth coat adds none.
+fn coat_blur<F: Real>(roughness: Option<F>, eta: F, blur: Option<F>, k: usize) -> Option<F> {
+    let Some(r) = roughness else { return blur };
+    // |1 − 1/η|: a coat optically thinner than the medium above (η < 1) spreads rays too (and a
+    // negative width would make α negative).
+    let spread = eta.recip().one_minus().abs();
+    let added = (spread * r.sq() * BLUR_WIDTH).named(&level_name("blur", k));
+    Some(blur.map_or(added, |b| b + added))
+}
+
 /// The interfaced method from coat `k` down. `blur` is the GGX α that rough coats above add to a
 /// conductor's lobe (see [`BLUR_WIDTH`]).
 #[allow(clippy::too_many_arguments)]
@@ -466,7 +509,11 @@ fn interfaced<F: Real>(
     approx: Approximations,
 ) -> Level<F> {
     let Some(coat) = coats.get(k) else {
-        let f = base_brdf(body, inputs, g, n_medium, blur).named(&level_name("f_base", g.level));
+        let f = if g.albedo_only {
+            inputs.zero()
+        } else {
+            base_brdf(body, inputs, g, n_medium, blur).named(&level_name("f_base", g.level))
+        };
         let albedo = want_albedo.then(|| body_albedo(body, inputs, g, n_medium, blur));
         let alpha = match body {
             Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur, g.level)),
@@ -478,8 +525,11 @@ fn interfaced<F: Real>(
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&name("tau"));
     let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
-    let f_top =
-        (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + interface.restored_lobe(g)).named(&name("specular"));
+    let f_top = if g.albedo_only {
+        inputs.zero()
+    } else {
+        (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + interface.restored_lobe(g)).named(&name("specular"))
+    };
     let t_l = interface.transmission(g.raw_n_dot_l, "l");
     let t_v = interface.transmission(g.raw_n_dot_v, "v");
     let below = g.refracted(eta);
@@ -495,16 +545,7 @@ fn interfaced<F: Real>(
         )
     };
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));
-    let blur_below = match interface.roughness {
-        Some(r) => {
-            // |1 − 1/η|: a coat optically thinner than the medium above (η < 1) spreads rays
-            // too (and a negative width would make α negative).
-            let spread = eta.recip().one_minus().abs();
-            let added = (spread * r.sq() * BLUR_WIDTH).named(&name("blur"));
-            Some(blur.map_or(added, |b| b + added))
-        }
-        None => blur,
-    };
+    let blur_below = coat_blur(interface.roughness, eta, blur, k);
     let lower = interfaced(coats, body, inputs, &below, k + 1, n_below, blur_below, true, approx);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
     let (r_return, e_escape) = interface.slab(tau);
@@ -516,7 +557,9 @@ fn interfaced<F: Real>(
         _ => first_pass(coats, k, &interface, &lower, &albedo, (t_l, t_v), &clear, inputs),
     });
     let boost = first.as_ref().map_or(inputs.lit(1.0), |p| p.boost);
-    let f_under: F::Vec = if lower.glossy {
+    let f_under: F::Vec = if g.albedo_only {
+        inputs.zero()
+    } else if lower.glossy {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         let glossy = interfaced_glossy_under::<F>(lower.f, albedo.e_l, k_l, albedo.e_v, k_v);
@@ -531,7 +574,11 @@ fn interfaced<F: Real>(
     } else {
         unreachable!("a layer that is not glossy has its first pass")
     };
-    let f = interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"));
+    let f = if g.albedo_only {
+        inputs.zero()
+    } else {
+        interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"))
+    };
     let albedo = want_albedo.then(|| {
         let directional =
             |t: F, a: F::Vec, e: F::Vec, escape: Option<F::Vec>, back: Option<F::Vec>| match (escape, back) {
@@ -550,7 +597,7 @@ fn interfaced<F: Real>(
         let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
         Albedo { e_l, e_v, mean }
     });
-    Level { f, albedo, glossy: false, alpha: None, boost, transmission: Some((t_l, t_v)) }
+    Level { f, albedo, glossy: lower.glossy, alpha: lower.alpha, boost, transmission: Some((t_l, t_v)) }
 }
 
 /// How the first reflection off the layer under coat `k` differs from a diffusing body's, per

@@ -720,3 +720,32 @@ shading_fn! {
         (t * m.x() + b * m.y() + n * m.z()).normalize()
     }
 }
+
+shading_fn! {
+    /// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+    /// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+    /// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+    /// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+    /// and |mix| ≥ TINY.
+    pub fn specular_dominant_direction(n: V, v: V, alpha: S) -> V {
+        let r = n * (n.dot(v).at_least(0.0) * 2.0) - v;
+        let smoothness = alpha.one_minus().clamp(0.0, 1.0);
+        let t = smoothness * (smoothness.sqrt() + alpha);
+        let d = n * t.one_minus() + r * t;
+        d / d.dot(d).at_least(TINY).sqrt()
+    }
+}
+
+shading_fn! {
+    /// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
+    /// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
+    /// roughness r (α = r²), returned as (A, B, 0).
+    pub fn dfg_lazarov(roughness: S, n_dot_v: S) -> V {
+        let rx = roughness * -1.0 + 1.0;
+        let ry = roughness * -0.0275 + 0.0425;
+        let rz = roughness * -0.572 + 1.04;
+        let rw = roughness * 0.022 - 0.04;
+        let a004 = (rx * rx).min((n_dot_v * (-9.28 * std::f32::consts::LN_2)).exp()) * rx + ry;
+        F::vec3(a004 * -1.04 + rz, a004 * 1.04 + rw, rx.lit(0.0))
+    }
+}

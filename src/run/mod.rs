@@ -12,11 +12,14 @@
 //!   the naga module itself, WGSL text through wgpu's front end, GLSL compiled by
 //!   `glslangValidator -V`, and HLSL compiled by glslang's HLSL front end (`-D`), the last as
 //!   passthrough SPIR-V because naga's SPIR-V reader rejects glslang's HLSL output.
+//! * [`environment`] prefilters environment images for image-based lighting (`<material>_ibl`),
+//!   which [`preview`] renders with.
 //!
 //! **Invariant:** all paths use one explicit bind-group layout (the one in
 //! [`crate::lower::bindings`]), so a kernel behaves the same whichever language it came from.
 
 mod device;
+pub mod environment;
 mod kernel;
 pub mod preview;
 mod shader;

@@ -6,11 +6,19 @@
 //! lights (a Fibonacci sphere; each carries L_env(ω)·4π/256). On the host, the sphere is laid
 //! over a background, multiplied by the exposure, clamped and encoded as sRGB.
 //!
-//! The environments are analytic: `sky` (a blue zenith fading to a pale horizon above, a dark
+//! The environment lights the sphere in one of two ways ([`Lighting`]):
+//!
+//! * **image-based** (the CLI's default): one more pass, `preview_ibl_fs`, adds
+//!   `<material>_ibl` — each lobe's albedo times the environment prefiltered for it
+//!   ([`super::environment`]), so a glossy or smooth coat shows the environment's reflection;
+//! * **samples**: the environment sampled as 256 directional lights through `preview_fs`, the
+//!   BRDF itself (a brute-force reference on the device, but point lights cannot show a
+//!   reflection in a sharp lobe: a very glossy coat reflects them as small dots, and a smooth
+//!   coat's delta lobe shows nothing).
+//!
+//! The analytic environments are `sky` (a blue zenith fading to a pale horizon above, a dark
 //! warm ground below) and `studio` (a soft grey dome over a dark floor); `none` leaves the key
-//! light alone. Point lights cannot show an environment's *reflection* in a sharp lobe: a very
-//! glossy coat reflects the samples as small dots, and a smooth coat's delta lobe shows nothing
-//! (image-based lighting, which samples the lobe instead, is a later issue).
+//! light alone. Image-based lighting also takes any equirectangular image (a `.hdr` file).
 
 use std::f32::consts::PI;
 use std::path::Path;
@@ -37,7 +45,23 @@ pub enum Environment {
     Studio,
 }
 
+/// How the environment lights a preview.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Lighting {
+    /// 256 directional lights sampling the analytic [`Environment`].
+    Samples,
+    /// Image-based lighting from a prefiltered environment (see [`Environment::image`] and
+    /// [`super::environment::prefilter`]).
+    Image(std::sync::Arc<super::environment::Prefiltered>),
+}
+
 impl Environment {
+    /// The environment as an equirectangular image `width` texels wide (`None` for
+    /// [`Environment::None`]).
+    pub fn image(self, width: u32) -> Option<super::environment::EnvironmentImage> {
+        (self != Environment::None).then(|| super::environment::EnvironmentImage::from_fn(width, |d| self.radiance(d)))
+    }
+
     /// Radiance arriving from direction `d` (view space: y up, z towards the viewer).
     pub fn radiance(self, d: Vec3) -> Vec3 {
         match self {
@@ -63,7 +87,9 @@ pub struct PreviewOptions {
     pub light: Vec3,
     /// Radiance of the key light (it is a directional light: irradiance at normal incidence).
     pub light_radiance: f32,
+    /// The analytic environment of [`Lighting::Samples`].
     pub environment: Environment,
+    pub lighting: Lighting,
     /// Linear scale applied before sRGB encoding.
     pub exposure: f32,
     /// Images for the material's textures, by name; a texture without one is constant at the
@@ -78,6 +104,7 @@ impl Default for PreviewOptions {
             light: Vec3::new(-0.5, 0.6, 0.62),
             light_radiance: 2.5,
             environment: Environment::Sky,
+            lighting: Lighting::Samples,
             exposure: 1.0,
             textures: Vec::new(),
         }
@@ -96,7 +123,7 @@ pub struct Image {
 /// The lights of one preview: (direction, radiance × solid angle) per pass.
 pub fn lights(options: &PreviewOptions) -> Vec<(Vec3, Vec3)> {
     let mut lights = vec![(options.light.normalize_or(Vec3::Z), Vec3::splat(options.light_radiance))];
-    if options.environment != Environment::None {
+    if options.environment != Environment::None && options.lighting == Lighting::Samples {
         let weight = 4.0 * PI / ENVIRONMENT_SAMPLES as f32;
         let golden = PI * (3.0 - 5.0_f32.sqrt());
         for i in 0..ENVIRONMENT_SAMPLES {
@@ -155,52 +182,69 @@ pub fn render(
     let texture_layout = super::textures::layout(gpu, material, filtering, wgpu::ShaderStages::FRAGMENT);
     let texture_group =
         texture_layout.as_ref().map(|layout| super::textures::bind_group(gpu, layout, material, &images, filtering));
-    let mut group_layouts = vec![Some(&layout)];
-    if texture_layout.is_some() {
-        group_layouts.push(texture_layout.as_ref());
-    }
-    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("preview"),
-        bind_group_layouts: &group_layouts,
-        immediate_size: 0,
-    });
     let add = wgpu::BlendComponent {
         src_factor: wgpu::BlendFactor::One,
         dst_factor: wgpu::BlendFactor::One,
         operation: wgpu::BlendOperation::Add,
     };
     let corner = [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x2, offset: 0, shader_location: 0 }];
-    let vertex_layout =
-        wgpu::VertexBufferLayout { array_stride: 8, step_mode: wgpu::VertexStepMode::Vertex, attributes: &corner };
     let targets = [Some(wgpu::ColorTargetState {
         format: TARGET_FORMAT,
         blend: Some(wgpu::BlendState { color: add, alpha: add }),
         write_mask: wgpu::ColorWrites::ALL,
     })];
-    let what = format!("preview pipeline of `{name}`");
-    let pipeline = gpu.checked(&what, || {
-        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&what),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &vertex.module,
-                entry_point: Some(&vertex.entry),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout)],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &fragment.module,
-                entry_point: Some(&fragment.entry),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
+    // One pipeline per fragment entry point, all adding into the same target.
+    let make_pipeline = |fragment: &shader::Loaded, group_layouts: &[Option<&wgpu::BindGroupLayout>]| {
+        let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("preview"),
+            bind_group_layouts: group_layouts,
+            immediate_size: 0,
+        });
+        let vertex_layout =
+            wgpu::VertexBufferLayout { array_stride: 8, step_mode: wgpu::VertexStepMode::Vertex, attributes: &corner };
+        let what = format!("preview pipeline of `{name}` ({})", fragment.entry);
+        gpu.checked(&what, || {
+            gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&what),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &vertex.module,
+                    entry_point: Some(&vertex.entry),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(vertex_layout)],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &fragment.module,
+                    entry_point: Some(&fragment.entry),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
         })
-    })?;
+    };
+    let pipeline = make_pipeline(&fragment, &[Some(&layout), texture_layout.as_ref()])?;
+    // Image-based lighting: `preview_ibl_fs` with the environment in group 2.
+    let ibl = match &options.lighting {
+        Lighting::Image(prefiltered) => {
+            let fragment = shader::load(
+                gpu,
+                compiled,
+                ShaderPath::NagaIr,
+                naga::ShaderStage::Fragment,
+                entry_points::PREVIEW_IBL_FS,
+            )?;
+            let environment_layout = super::environment::layout(gpu, wgpu::ShaderStages::FRAGMENT);
+            let pipeline =
+                make_pipeline(&fragment, &[Some(&layout), texture_layout.as_ref(), Some(&environment_layout)])?;
+            Some((pipeline, super::environment::bind_group(gpu, &environment_layout, prefiltered)))
+        }
+        Lighting::Samples => None,
+    };
 
     let corners: [f32; 6] = [-1.0, -1.0, 3.0, -1.0, -1.0, 3.0];
     let init = |label, contents: &[u8], usage| {
@@ -259,6 +303,12 @@ pub fn render(
         }
         for group in &groups {
             pass.set_bind_group(0, group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        if let (Some((pipeline, environment)), Some(group)) = (&ibl, groups.first()) {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.set_bind_group(2, environment, &[]);
             pass.draw(0..3, 0..1);
         }
     }

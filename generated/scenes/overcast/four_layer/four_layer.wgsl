@@ -33,6 +33,12 @@ const layer1_r_return: vec3<f32> = vec3<f32>(0.5949663f, 0.5949663f, 0.5949663f)
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+@group(2) @binding(0) 
+var glazec_environment_sampler: sampler;
+@group(2) @binding(1) 
+var glazec_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -54,8 +60,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
-    return select(d_1, 0.31830987f, (alpha > 0.9999f));
+    let d_2 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
+    return select(d_2, 0.31830987f, (alpha > 0.9999f));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
@@ -70,9 +76,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -464,6 +470,136 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
     return (f * max(dot(n_2, l_2), 0f));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn glazec_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction);
+    let _e3 = textureNumLevels(glazec_radiance);
+    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
+    let r_4 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    let d_3 = ((n_3 * (1f - t_1)) + (r_4 * t_1));
+    return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn four_layer_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_4 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let layer1_fresnel_l = fr_dielectric(n_dot_v_4, 1.5f);
+    let _e11 = coat_deficit(n_dot_v_4, 0.2f, 1.5f);
+    let layer1_restored_l = coat_extra(n_dot_v_4, 0.2f, 1.5f);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_v = refract_down(v_4, n_4, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1f);
+    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_l);
+    let layer2_v = refract_down(layer1_v, n_4, 1f);
+    let layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
+    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
+    let layer3_fresnel_l = fr_dielectric(layer2_n_dot_v_1, 1.1f);
+    let _e53 = coat_deficit(layer2_n_dot_v_1, 0.3f, 1.1f);
+    let layer3_restored_l = coat_extra(layer2_n_dot_v_1, 0.3f, 1.1f);
+    let layer3_transmit_l_1 = min(max((((1f - layer3_fresnel_l) + _e53) - layer3_restored_l), 0f), 1f);
+    let layer3_transmit_v_1 = min(max((((1f - layer3_fresnel_l) + _e53) - layer3_restored_l), 0f), 1f);
+    let layer3_v = refract_down(layer2_v, n_4, 1.1f);
+    let layer3_n_dot_v_1 = dot(n_4, layer3_v);
+    let layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001f);
+    let _e78 = coat_path(layer2_n_dot_v_1, 0.3f, 1.1f);
+    let layer3_path_cos_l_1 = (layer3_cos_v_1 / _e78);
+    let layer3_path_cos_v_1 = (layer3_cos_v_1 / _e78);
+    let layer2_absorb_l = slab_transmittance(layer2_tau, layer3_path_cos_l_1);
+    let layer2_absorb_v = slab_transmittance(layer2_tau, layer3_path_cos_v_1);
+    let layer4_fresnel_l = fr_dielectric(layer3_n_dot_v_1, 1.2f);
+    let _e91 = coat_deficit(layer3_n_dot_v_1, 0.5f, 1.2f);
+    let layer4_restored_l = coat_extra(layer3_n_dot_v_1, 0.5f, 1.2f);
+    let layer4_transmit_l_1 = min(max((((1f - layer4_fresnel_l) + _e91) - layer4_restored_l), 0f), 1f);
+    let layer4_transmit_v_1 = min(max((((1f - layer4_fresnel_l) + _e91) - layer4_restored_l), 0f), 1f);
+    let layer4_v = refract_down(layer3_v, n_4, 1.2f);
+    let layer4_n_dot_v_1 = dot(n_4, layer4_v);
+    let layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001f);
+    let layer4_albedo_l = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v_1);
+    let _e122 = coat_path(layer3_n_dot_v_1, 0.5f, 1.2f);
+    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e122);
+    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e122);
+    let _e130 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
+    let _e132 = e_fon(layer4_path_cos_l_1, 0.4f);
+    let layer4_first_escape_l_1 = (vec3(1f) + (((layer4_rho_ms * (1f - _e132)) * vec3(0.18698311f)) / max(_e130, vec3(0.000001f))));
+    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
+    let _e167 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
+    let _e169 = e_fon(layer4_path_cos_v_1, 0.4f);
+    let layer4_first_escape_v_1 = (vec3(1f) + (((layer4_rho_ms * (1f - _e169)) * vec3(0.18698311f)) / max(_e167, vec3(0.000001f))));
+    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_l_1, layer4_first_return_l_1);
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_v_1, layer4_first_return_v_1);
+    let _e214 = (1f - layer4_transmit_l_1);
+    let _e235 = min(max(((vec3((_e214 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e214)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e235 / vec3(0.8096479f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e235) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
+    let _e252 = (1f - layer4_transmit_v_1);
+    let _e273 = min(max(((vec3((_e252 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e252)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e273 / vec3(0.8096479f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e273) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_v_1, layer2_first_return_v_1);
+    let _e304 = (1f - layer3_transmit_l_1);
+    let _e322 = min(max(((vec3((_e304 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e304)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l_1 = (_e322 / vec3(0.9999998f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e322) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e339 = (1f - layer3_transmit_v_1);
+    let _e357 = min(max(((vec3((_e339 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e339)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e357 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e357) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let _e384 = (1f - layer2_transmit_l_1);
+    let _e405 = min(max(((vec3((_e384 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e384)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e405 / vec3(0.40503368f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e405) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
+    let _e422 = (1f - layer2_transmit_v_1);
+    let _e443 = min(max(((vec3((_e422 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e422)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e443 / vec3(0.40503368f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e443) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
+    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.40503368f), first_escape_l_1, first_return_l_1);
+    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.40503368f), first_escape_v_1, first_return_v_1);
+    let coat_albedo = (1f - layer1_transmit_v_1);
+    let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
+    let reflected = specular_dominant_direction(n_4, v_4, 0.040000003f);
+    let _e485 = (dot(n_4, v_4) > 0f);
+    let light_a = glazec_environment(reflected, 0.2f);
+    let light_b = glazec_irradiance_at(n_4);
+    return ((select(vec3(0f), vec3(coat_albedo), _e485) * light_a) + (select(vec3(0f), under_albedo, _e485) * light_b));
+}
+
 @compute @workgroup_size(64, 1, 1) 
 fn eval_pairs(@builtin(global_invocation_id) id: vec3<u32>) {
     let index = id.x;
@@ -485,11 +621,20 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_5 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = four_layer_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
+    let reflected = four_layer_eval(n_5, vec3<f32>(0f, 0f, 1f), l_3);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
+}
+
+@fragment 
+fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
+    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    let n_6 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = four_layer_ibl(n_6, vec3<f32>(0f, 0f, 1f));
+    let _e18 = (r2_1 < 1f);
+    return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }

@@ -18,6 +18,12 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+@group(2) @binding(0) 
+var glazec_environment_sampler: sampler;
+@group(2) @binding(1) 
+var glazec_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -76,6 +82,47 @@ fn cork_clay_eval(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     return (f * max(dot(n_1, l_1), 0f));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn glazec_equirect_uv(d: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d.x, d.z) * 0.15915494f) + 0.5f), (acos(min(max(d.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn glazec_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction);
+    let _e3 = textureNumLevels(glazec_radiance);
+    let lod = (roughness * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
+// 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
+fn albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_1: f32) -> vec3<f32> {
+    let e_f = e_fon(mu_1, r_3);
+    let rho_ms = eon_rho_ms(albedo_2, r_3);
+    return ((albedo_2 * e_f) + (rho_ms * (1f - e_f)));
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn cork_clay_ibl(n_2: vec3<f32>, v_2: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_2, v_2);
+    let cos_v_1 = max(n_dot_v_2, 0.0001f);
+    let albedo_l = albedo_eon(vec3<f32>(0.45193905f, 0.3308476f, 0.19974965f), 0.8f, cos_v_1);
+    let light_a = glazec_irradiance_at(n_2);
+    return (select(vec3(0f), albedo_l, (dot(n_2, v_2) > 0f)) * light_a);
+}
+
 @compute @workgroup_size(64, 1, 1) 
 fn eval_pairs(@builtin(global_invocation_id) id: vec3<u32>) {
     let index = id.x;
@@ -97,11 +144,20 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_2 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
     let l_2 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = cork_clay_eval(n_2, vec3<f32>(0f, 0f, 1f), l_2);
+    let reflected = cork_clay_eval(n_3, vec3<f32>(0f, 0f, 1f), l_2);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
+}
+
+@fragment 
+fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
+    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    let n_4 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = cork_clay_ibl(n_4, vec3<f32>(0f, 0f, 1f));
+    let _e18 = (r2_1 < 1f);
+    return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }

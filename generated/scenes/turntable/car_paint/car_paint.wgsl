@@ -25,11 +25,19 @@ const layer2_mu_c: f32 = 0.19705611f;
 const layer2_rho: vec3<f32> = vec3<f32>(0.85015357f, 0.863715f, 0.863715f);
 const layer2_trapped_escape: f32 = 1f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const layer1_mu_c: f32 = 0.745356f;
 const layer1_rho: vec3<f32> = vec3<f32>(0.70837235f, 0.054159977f, 0.024499279f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.59634465f, 0.59634465f, 0.59634465f);
+const layer1_trapped_escape: f32 = 0.15678635f;
+const base_roughness: f32 = 0.37185615f;
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+@group(2) @binding(0) 
+var glazec_environment_sampler: sampler;
+@group(2) @binding(1) 
+var glazec_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -75,9 +83,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -290,16 +298,6 @@ fn interfaced_albedo_glossy(t: f32, a: vec3<f32>, e_below: vec3<f32>) -> vec3<f3
     return (((((a * a) * e_below) * (t * t)) / (vec3(1f) - _e11)) + vec3((1f - t)));
 }
 
-// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
-// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
-// back down (R, the slab's diffuse return reflectance) and that then bounces between body
-// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
-fn interfaced_diffuse_under(f_below_1: vec3<f32>, e_i_3: vec3<f32>, e_o_3: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below_1 + (((e_i_3 * e_o_3) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
-}
-
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let n_dot_v_2 = dot(n_1, v_1);
@@ -362,15 +360,13 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02f);
     let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
     let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
-    let _e142 = (1f - layer2_transmit_l);
-    let _e163 = min(max(((vec3((_e142 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e142)), vec3(0f)) * vec3(0.40605718f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e163 / vec3(0.40365535f));
-    let first_return_l = min(max(((vec3(1f) - _e163) / vec3(0.59634465f)), vec3(0f)), vec3(1f));
-    let _e180 = (1f - layer2_transmit_v);
-    let _e201 = min(max(((vec3((_e180 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e180)), vec3(0f)) * vec3(0.40605718f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e201 / vec3(0.40365535f));
-    let first_return_v = min(max(((vec3(1f) - _e201) / vec3(0.59634465f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3<f32>(0.99583596f, 0.9941892f, 0.9920301f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
+    let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
+    let _e151 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha);
+    let layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha);
+    let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, layer1_trapped_escape);
+    let under = (_e151 + trapped);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -379,6 +375,80 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
 fn car_paint_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
     let f = car_paint_brdf(n_2, v_2, l_2);
     return (f * max(dot(n_2, l_2), 0f));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn glazec_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction);
+    let _e3 = textureNumLevels(glazec_radiance);
+    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
+    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    let d_2 = ((n_3 * (1f - t_1)) + (r * t_1));
+    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_3 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_3, 0.0001f);
+    let layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5f);
+    let _e11 = coat_deficit(n_dot_v_3, 0.04f, 1.5f);
+    let layer1_restored_l = coat_extra(n_dot_v_3, 0.04f, 1.5f);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_v = refract_down(v_4, n_4, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1.02f);
+    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_l);
+    let layer2_v = refract_down(layer1_v, n_4, 1.02f);
+    let layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
+    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
+    let _e48 = ggx_albedo(layer2_cos_v_1, 0.3006279f);
+    let _e50 = f_schlick(f0_under_coat, layer2_cos_v_1);
+    let layer2_albedo_l_1 = (_e50 * _e48);
+    let layer2_albedo_v_1 = (_e50 * _e48);
+    let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l_1);
+    let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v_1);
+    let albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l);
+    let albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_v);
+    let coat_albedo = (1f - layer1_transmit_v_1);
+    let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
+    let reflected = specular_dominant_direction(n_4, v_4, 0.0016f);
+    let reflected_1 = specular_dominant_direction(n_4, v_4, 0.138277f);
+    let _e75 = (dot(n_4, v_4) > 0f);
+    let light_a = glazec_environment(reflected, 0.04f);
+    let light_b = glazec_environment(reflected_1, base_roughness);
+    return ((select(vec3(0f), vec3(coat_albedo), _e75) * light_a) + (select(vec3(0f), under_albedo, _e75) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 
@@ -402,11 +472,20 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_5 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = car_paint_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
+    let reflected = car_paint_eval(n_5, vec3<f32>(0f, 0f, 1f), l_3);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
+}
+
+@fragment 
+fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
+    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    let n_6 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = car_paint_ibl(n_6, vec3<f32>(0f, 0f, 1f));
+    let _e18 = (r2_1 < 1f);
+    return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }

@@ -25,6 +25,12 @@ const layer1_r_return: vec3<f32> = vec3<f32>(0.4153186f, 0.4153186f, 0.4153186f)
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+@group(2) @binding(0) 
+var glazec_environment_sampler: sampler;
+@group(2) @binding(1) 
+var glazec_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -52,8 +58,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a = max(alpha, 0.001f);
-    let a_sq = (a * a);
+    let a_1 = max(alpha, 0.001f);
+    let a_sq = (a_1 * a_1);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -70,9 +76,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_3 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_3);
-    let _e6 = lambda_ggx(n_dot_l, alpha_3);
+    let alpha_4 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_4);
+    let _e6 = lambda_ggx(n_dot_l, alpha_4);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -345,6 +351,92 @@ fn color_clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
     return (f * max(dot(n_2, l_2), 0f));
 }
 
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn glazec_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction);
+    let _e3 = textureNumLevels(glazec_radiance);
+    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
+    let _e10 = (rho_below_1 * r_return_1);
+    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
+    return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+    let r_4 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let smoothness = min(max((1f - alpha_3), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let d_2 = ((n_3 * (1f - t_1)) + (r_4 * t_1));
+    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn color_clay_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_4 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let layer1_fresnel_l = fr_dielectric(n_dot_v_4, 1.33f);
+    let _e11 = coat_deficit(n_dot_v_4, 0.3f, 1.33f);
+    let layer1_restored_l = coat_extra(n_dot_v_4, 0.3f, 1.33f);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_v = refract_down(v_4, n_4, 1.33f);
+    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
+    let _e36 = coat_path(n_dot_v_4, 0.3f, 1.33f);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e36);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e36);
+    let absorb_l = slab_transmittance(tau_1, layer1_path_cos_l_2);
+    let absorb_v = slab_transmittance(tau_1, layer1_path_cos_v_2);
+    let layer1_albedo_l = albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v_1);
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e36);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e36);
+    let _e56 = albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_3);
+    let _e58 = e_fon(layer1_path_cos_l_3, 0.5f);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e58)) * vec3(0.23442543f)) / max(_e56, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333226f))) / vec3(0.46667743f)), vec3(0f)), vec3(1f));
+    let _e93 = albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
+    let _e95 = e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e95)) * vec3(0.23442543f)) / max(_e93, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333226f))) / vec3(0.46667743f)), vec3(0f)), vec3(1f));
+    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.5168715f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.5168715f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let coat_albedo = (1f - layer1_transmit_v_1);
+    let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
+    let reflected = specular_dominant_direction(n_4, v_4, 0.09f);
+    let _e147 = (dot(n_4, v_4) > 0f);
+    let light_a = glazec_environment(reflected, 0.3f);
+    let light_b = glazec_irradiance_at(n_4);
+    return ((select(vec3(0f), vec3(coat_albedo), _e147) * light_a) + (select(vec3(0f), under_albedo, _e147) * light_b));
+}
+
 @compute @workgroup_size(64, 1, 1) 
 fn eval_pairs(@builtin(global_invocation_id) id: vec3<u32>) {
     let index = id.x;
@@ -366,11 +458,20 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_3 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_5 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = color_clay_eval(n_3, vec3<f32>(0f, 0f, 1f), l_3);
+    let reflected = color_clay_eval(n_5, vec3<f32>(0f, 0f, 1f), l_3);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
+}
+
+@fragment 
+fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
+    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    let n_6 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = color_clay_ibl(n_6, vec3<f32>(0f, 0f, 1f));
+    let _e18 = (r2_1 < 1f);
+    return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }

@@ -18,6 +18,12 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+@group(2) @binding(0) 
+var glazec_environment_sampler: sampler;
+@group(2) @binding(1) 
+var glazec_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -53,8 +59,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
-    return select(d_1, 0.31830987f, (alpha > 0.9999f));
+    let d_2 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
+    return select(d_2, 0.31830987f, (alpha > 0.9999f));
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
@@ -89,9 +95,9 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_2: f32, n_dot_l_2
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n, v_1);
+    let n_dot_v_4 = dot(n, v_1);
     let n_dot_l_3 = dot(n, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
     let h = half_vector(v_1, l_1);
@@ -101,13 +107,75 @@ fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let fresnel = f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     let f = (f_base + specular);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
 fn disney_clay_eval(n_1: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
     let f = disney_clay_brdf(n_1, v_2, l_2);
     return (f * max(dot(n_1, l_2), 0f));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn glazec_environment(direction: vec3<f32>, roughness_1: f32) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction);
+    let _e3 = textureNumLevels(glazec_radiance);
+    let lod = (roughness_1 * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = glazec_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
+// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
+// roughness r (α = r²), returned as (A, B, 0).
+fn dfg_lazarov(roughness_2: f32, n_dot_v_3: f32) -> vec3<f32> {
+    let rx = ((roughness_2 * -1f) + 1f);
+    let ry = ((roughness_2 * -0.0275f) + 0.0425f);
+    let rz = ((roughness_2 * -0.572f) + 1.04f);
+    let rw = ((roughness_2 * 0.022f) - 0.04f);
+    let a004_ = ((min((rx * rx), exp((n_dot_v_3 * -6.4324055f))) * rx) + ry);
+    return vec3<f32>(((a004_ * -1.04f) + rz), ((a004_ * 1.04f) + rw), 0f);
+}
+
+// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+// and |mix| ≥ TINY.
+fn specular_dominant_direction(n_2: vec3<f32>, v_3: vec3<f32>, alpha_1: f32) -> vec3<f32> {
+    let r = ((n_2 * (max(dot(n_2, v_3), 0f) * 2f)) - v_3);
+    let smoothness = min(max((1f - alpha_1), 0f), 1f);
+    let t = (smoothness * (sqrt(smoothness) + alpha_1));
+    let d_3 = ((n_2 * (1f - t)) + (r * t));
+    return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
+// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
+// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn disney_clay_ibl(n_3: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_5 = dot(n_3, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
+    let _e6 = dfg_lazarov(0.14f, cos_v_1);
+    let coat_albedo = ((vec3(0.040000003f) * _e6.x) + vec3(_e6.y));
+    let reflected = specular_dominant_direction(n_3, v_4, 0.0196f);
+    let _e18 = (dot(n_3, v_4) > 0f);
+    let light_a = glazec_environment(reflected, 0.14f);
+    let light_b = glazec_irradiance_at(n_3);
+    return ((select(vec3(0f), coat_albedo, _e18) * light_a) + (select(vec3(0f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), _e18) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 
@@ -131,11 +199,20 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_2 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_4 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
     let l_3 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = disney_clay_eval(n_2, vec3<f32>(0f, 0f, 1f), l_3);
+    let reflected = disney_clay_eval(n_4, vec3<f32>(0f, 0f, 1f), l_3);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
+}
+
+@fragment 
+fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
+    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
+    let n_5 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = disney_clay_ibl(n_5, vec3<f32>(0f, 0f, 1f));
+    let _e18 = (r2_1 < 1f);
+    return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }
