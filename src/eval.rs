@@ -40,8 +40,9 @@ pub fn environment_lobes(
     layering::environment::environment_lobes(material, &inputs(values), n, v)
 }
 
-/// Strata per batch and side of [`environment_integral`]'s sample grids: each strategy draws
-/// `samples` directions as a jittered grid of this many columns.
+/// Independently jittered batches of [`environment_integral`]: each draws `samples / BATCHES`
+/// directions per strategy as a square jittered grid; the spread of the batch means gives the
+/// standard error.
 const BATCHES: u32 = 8;
 
 /// The radiance `material` reflects towards `v` (normal `n`) from an environment of radiance
@@ -49,7 +50,7 @@ const BATCHES: u32 = 8;
 /// cosine-weighted directions and by GGX reflections for each rough lobe of the material
 /// (one-sample multiple importance sampling, balance heuristic; Veach 1997 §9.2), plus the
 /// mirror lobe of a smooth top coat in closed form, R(v)·L(reflect(v)). `samples` directions
-/// per strategy, in [`BATCHES`] independently jittered batches; returns the mean and its
+/// per strategy, in 8 independently jittered batches; returns the mean and its
 /// standard error (the spread of the batch means). Deterministic for a given `seed`.
 pub fn environment_integral(
     material: &Material,

@@ -44,7 +44,7 @@ fn compile_writes_every_target_for_every_material_identically_twice() {
     golden.retain(|path, _| !path.starts_with("scenes/"));
     assert!(first == golden, "the CLI's output differs from generated/");
     let materials = common::material_files().len();
-    for ext in [".wgsl", ".hlsl", ".comp.glsl", ".vert.glsl", ".frag.glsl"] {
+    for ext in [".wgsl", ".hlsl", ".comp.glsl", ".vert.glsl", ".preview_fs.frag.glsl", ".preview_ibl_fs.frag.glsl"] {
         assert_eq!(first.keys().filter(|k| k.ends_with(ext)).count(), materials, "{ext}");
     }
 }

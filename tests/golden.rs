@@ -41,6 +41,7 @@ fn every_material_produces_every_text_target() {
             format!("{name}.eval_pairs.comp.glsl"),
             format!("{name}.preview_vs.vert.glsl"),
             format!("{name}.preview_fs.frag.glsl"),
+            format!("{name}.preview_ibl_fs.frag.glsl"),
         ] {
             assert!(names.contains(&expected.as_str()), "{}: missing {expected} in {names:?}", path.display());
         }

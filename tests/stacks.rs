@@ -70,7 +70,7 @@ fn check_stack(s: &Stack) -> Result<(), TestCaseError> {
         };
         let targets = [glazec::Target::Wgsl, glazec::Target::Glsl, glazec::Target::Hlsl, glazec::Target::Spv];
         let artifacts = compiled.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
-        prop_assert_eq!(artifacts.len(), 6);
+        prop_assert_eq!(artifacts.len(), 7);
         let again = glazec::compile(&text).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         let again = again.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         prop_assert!(artifacts == again, "output is not deterministic\n{}", text);

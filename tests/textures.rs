@@ -149,14 +149,16 @@ fn textured_shaders_pass_the_external_validators() {
             }
             // HLSL: every entry point of the one file.
             None => {
-                for (stage, entry) in [("comp", "eval_pairs"), ("vert", "preview_vs"), ("frag", "preview_fs")] {
+                for (stage, entry) in
+                    [("comp", "eval_pairs"), ("vert", "preview_vs"), ("frag", "preview_fs"), ("frag", "preview_ibl_fs")]
+                {
                     let args = ["-D", "-V", "-S", stage, "-e", entry].map(String::from).to_vec();
                     runs.push((file.clone(), args));
                 }
             }
         }
     }
-    assert_eq!(runs.len(), 6, "three GLSL stages and three HLSL entry points");
+    assert_eq!(runs.len(), 8, "four GLSL entry points and four HLSL entry points");
     if common::tool_available("spirv-val") {
         let spv = compiled.emit(&[Target::Spv]).expect("emits").remove(0);
         let path = dir.path().join(&spv.file_name);

@@ -20,6 +20,7 @@ use naga::{AddressSpace, Handle, Module, ScalarKind, ShaderStage, Type, TypeInne
 
 use crate::Compiled;
 use crate::emit::Artifact;
+use crate::lower::entry_points;
 use crate::model::ParamValue;
 
 /// One material as the generator sees it.
@@ -135,14 +136,14 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
         c,
         "EVAL_PAIRS_BINDINGS",
         "The bind groups (0, and 1 for a material that reads textures) of the `eval_pairs` compute pipeline.",
-        |s| s == ShaderStage::Compute,
+        |ep| ep.stage == ShaderStage::Compute,
     );
     write_bindings(
         out,
         c,
         "PREVIEW_BINDINGS",
         "The bind groups (0, and 1 for a material that reads textures) of the `preview_vs` + `preview_fs` render pipeline.",
-        |s| matches!(s, ShaderStage::Vertex | ShaderStage::Fragment),
+        |ep| [entry_points::PREVIEW_VS, entry_points::PREVIEW_FS].contains(&ep.name.as_str()),
     );
     let _ = writeln!(out, "    pub const INFO: MaterialInfo = MaterialInfo {{");
     let _ = writeln!(out, "        name: NAME,\n        source: SOURCE,\n        source_hash: SOURCE_HASH,");
@@ -357,8 +358,15 @@ fn write_params_info(out: &mut String, c: &Compiled, ty: Handle<Type>) {
     let _ = writeln!(out, "        default_bytes: &{defaults:?},\n    }};\n");
 }
 
-/// The bindings used by the entry points whose stage `selects`, merged (stages or-ed).
-fn write_bindings(out: &mut String, c: &Compiled, constant: &str, doc: &str, selects: impl Fn(ShaderStage) -> bool) {
+/// The bindings used by the entry points `selects` picks, merged (stages or-ed). (The
+/// image-based-lighting pass, `preview_ibl_fs`, adds bind group 2 as README documents it.)
+fn write_bindings(
+    out: &mut String,
+    c: &Compiled,
+    constant: &str,
+    doc: &str,
+    selects: impl Fn(&naga::EntryPoint) -> bool,
+) {
     let module = &c.module;
     let mut layouter = naga::proc::Layouter::default();
     // The module validated, so its types lay out; a failure here would leave sizes at 0.
@@ -368,7 +376,7 @@ fn write_bindings(out: &mut String, c: &Compiled, constant: &str, doc: &str, sel
         let Some(binding) = var.binding else { continue };
         let mut stages = [false; 3];
         for (index, ep) in module.entry_points.iter().enumerate() {
-            if selects(ep.stage) && !c.info.get_entry_point(index)[handle].is_empty() {
+            if selects(ep) && !c.info.get_entry_point(index)[handle].is_empty() {
                 stages[match ep.stage {
                     ShaderStage::Vertex => 0,
                     ShaderStage::Fragment => 1,
