@@ -71,7 +71,8 @@ pub fn environment_integral(
     let alphas: Vec<f32> = environment_lobes(material, values, n, v)
         .iter()
         .filter(|lobe| lobe.lookup == Lookup::Prefiltered && lobe.roughness > 0.0)
-        .map(|lobe| (lobe.roughness * lobe.roughness).max(1e-4))
+        // (No sharper than `d_ggx`'s own floor, so that samples and density agree.)
+        .map(|lobe| (lobe.roughness * lobe.roughness).max(crate::math::terms::ALPHA_MIN))
         .collect();
     let strategies = 1 + alphas.len();
     let per_batch = (samples / BATCHES).max(1);
@@ -121,28 +122,31 @@ fn cosine_direction(u1: f32, u2: f32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
 }
 
-/// The mirror reflection of `v` about a GGX half vector of roughness α (Walter et al. 2007,
-/// eq. 35–36), local frame.
-fn ggx_reflection(v: Vec3, alpha: f32, u1: f32, u2: f32) -> Vec3 {
+/// A GGX half vector of roughness α in the local frame (z = normal), sampled in proportion to
+/// D(h)(n·h) (Walter et al. 2007, eq. 35–36).
+pub(crate) fn ggx_half_vector(alpha: f32, u1: f32, u2: f32) -> Vec3 {
     let a2 = alpha * alpha;
     let cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
     let sin = (1.0 - cos2).max(0.0).sqrt();
     let phi = 2.0 * std::f32::consts::PI * u2;
-    let h = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos2.sqrt());
+    Vec3::new(sin * phi.cos(), sin * phi.sin(), cos2.sqrt())
+}
+
+/// The mirror reflection of `v` about a [`ggx_half_vector`], local frame.
+fn ggx_reflection(v: Vec3, alpha: f32, u1: f32, u2: f32) -> Vec3 {
+    let h = ggx_half_vector(alpha, u1, u2);
     h * (2.0 * v.dot(h)) - v
 }
 
 /// The density of [`ggx_reflection`]'s directions: D(h)(n·h)/(4 v·h) (Walter et al. 2007,
-/// eq. 14 and 38), 0 where v·h ≤ 0.
+/// eq. 14 and 38; D is the shared `d_ggx`), 0 where v·h ≤ 0.
 fn ggx_reflection_pdf(v: Vec3, l: Vec3, alpha: f32) -> f32 {
     let h = (v + l).normalize_or_zero();
     let v_dot_h = v.dot(h);
     if v_dot_h <= 0.0 || h.z <= 0.0 {
         return 0.0;
     }
-    let a2 = alpha * alpha;
-    let d = a2 / (std::f32::consts::PI * (h.z * h.z * (a2 - 1.0) + 1.0).powi(2));
-    d * h.z / (4.0 * v_dot_h)
+    crate::math::terms::d_ggx(h.z, h.x * h.x + h.y * h.y, alpha) * h.z / (4.0 * v_dot_h)
 }
 
 /// The reflectance of the material's mirror (delta) lobe towards `wo` (see

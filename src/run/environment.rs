@@ -249,23 +249,19 @@ fn prefiltered_level(pyramid: &[EnvironmentImage], k: usize, r: f32) -> Environm
 /// The GGX-weighted mean radiance around `r` (n = v = r), Σ L(l) n·l / Σ n·l over GGX samples.
 fn convolve(pyramid: &[EnvironmentImage], r: Vec3, alpha: f32, texel_solid_angle: f32) -> Vec3 {
     let (t, b) = r.any_orthonormal_pair();
-    let a2 = alpha * alpha;
     let mut sum = Vec3::ZERO;
     let mut total = 0.0;
     for i in 0..PREFILTER_SAMPLES {
         let (xi1, xi2) = ((i as f32 + 0.5) / PREFILTER_SAMPLES as f32, radical_inverse(i));
-        // GGX half vector (Walter et al. 2007, eq. 35–36): cos²θh = (1 − ξ)/(1 + (α² − 1)ξ).
-        let cos2 = (1.0 - xi1) / (1.0 + (a2 - 1.0) * xi1);
-        let (cos_h, sin_h) = (cos2.sqrt(), (1.0 - cos2).max(0.0).sqrt());
-        let phi = 2.0 * PI * xi2;
-        let h = t * (sin_h * phi.cos()) + b * (sin_h * phi.sin()) + r * cos_h;
+        let local = crate::eval::ggx_half_vector(alpha, xi1, xi2);
+        let h = t * local.x + b * local.y + r * local.z;
         let l = h * (2.0 * r.dot(h)) - r;
         let n_dot_l = r.dot(l);
         if n_dot_l <= 0.0 {
             continue;
         }
-        // pdf(l) = D(h) (n·h) / (4 v·h) = D(h)/4 with n = v; D of Walter et al. 2007 eq. 33.
-        let d = a2 / (PI * (cos2 * (a2 - 1.0) + 1.0).powi(2));
+        // pdf(l) = D(h) (n·h) / (4 v·h) = D(h)/4 with n = v (D: the shared `d_ggx`).
+        let d = crate::math::terms::d_ggx(local.z, local.x * local.x + local.y * local.y, alpha);
         let sample_solid_angle = 4.0 / (PREFILTER_SAMPLES as f32 * d.max(1e-12));
         // Filtered importance sampling: the level whose texels cover the sample's solid angle
         // (+1: Křivánek & Colbert's bias towards smoother, less noisy reads).
