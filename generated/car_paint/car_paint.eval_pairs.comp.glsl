@@ -15,19 +15,19 @@ const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
 const float layer2_alpha = 0.09037713;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
+const vec3 layer2_rho = vec3(0.8501552, 0.8637166, 0.8637166);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
+const vec3 layer1_rho = vec3(0.7083738, 0.054160066, 0.024499312);
 const float layer1_trapped_escape = 0.15678635;
 const float base_roughness = 0.37185615;
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
 
-layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
+layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
-layout(std430, binding = 1) buffer type_7_block_2Compute { vec4 _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) buffer type_8_block_2Compute { vec4 _group_0_binding_1_cs[]; };
 
 layout(std140, binding = 2) uniform EvalDispatch_block_3Compute { EvalDispatch _group_0_binding_2_cs; };
 
@@ -94,6 +94,14 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_3_cs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -111,22 +119,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_3_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_3_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_3_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_3_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_3_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_3_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_3_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_3_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -156,22 +164,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_3_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_3_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_3_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_3_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_3_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_3_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_3_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_3_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -209,14 +217,14 @@ float ggx_albedo(float cos_theta_3, float roughness_2) {
     float node_roughness_2 = (u_roughness_2 * 15.0);
     float cell_roughness_2 = min(floor(node_roughness_2), 14.0);
     float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    uint _e40 = (uint((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u);
-    float at_ll = _group_0_binding_3_cs[(_e40 >> 2u)][(_e40 & 3u)];
-    uint _e60 = (uint(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u);
-    float at_ul = _group_0_binding_3_cs[(_e60 >> 2u)][(_e60 & 3u)];
-    uint _e81 = (uint((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
-    float at_lu = _group_0_binding_3_cs[(_e81 >> 2u)][(_e81 & 3u)];
-    uint _e102 = (uint(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u);
-    float at_uu = _group_0_binding_3_cs[(_e102 >> 2u)][(_e102 & 3u)];
+    float code_ll = glazec_table_code((uint((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u));
+    float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
+    float code_ul = glazec_table_code((uint(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u));
+    float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
+    float code_lu = glazec_table_code((uint((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
+    float code_uu = glazec_table_code((uint(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
     return ((((at_ll * ((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1.0 - weight_roughness_2)))) + (at_lu * ((1.0 - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
 }
 
@@ -294,7 +302,7 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_restored_l = coat_extra(n_dot_l_2, 0.04, 1.5);
     float layer1_restored_v = coat_extra(n_dot_v_2, 0.04, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.07950045e-5);
+    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
     vec3 specular = (_e21 + vec3(_e29));
     float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
     float _e38 = coat_deficit(n_dot_l_2, 0.04, 1.5);

@@ -8,11 +8,11 @@ const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
 const float layer2_alpha = 0.09037713;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
 const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.85015357, 0.863715, 0.863715);
+const vec3 layer2_rho = vec3(0.8501552, 0.8637166, 0.8637166);
 const float layer2_trapped_escape = 1.0;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.70837235, 0.054159977, 0.024499279);
+const vec3 layer1_rho = vec3(0.7083738, 0.054160066, 0.024499312);
 const float layer1_trapped_escape = 0.15678635;
 const float base_roughness = 0.37185615;
 

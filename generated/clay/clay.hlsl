@@ -29,10 +29,11 @@ StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
 static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
 Texture2D<float4> glazec_radiance : register(t1, space2);
 Texture2D<float4> glazec_irradiance : register(t2, space2);
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
-cbuffer light : register(b3) { PreviewLight light; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_2 : LOC0;
@@ -156,9 +157,9 @@ float3 ww_layer(float3 f_top, float3 t12_, float3 absorption, float3 inner, floa
 // The BRDF f(l, v) of material `clay` (WeidlichWilkie layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 clay_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_4 = dot(n_1, v_1);
+    float n_dot_v_3 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_4, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 h = half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
@@ -177,7 +178,7 @@ float3 clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 inner = ww_inner_reflection(g, transmission);
     const float3 layer1_f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 f = ww_layer(specular, transmission, absorption, inner, layer1_f_base);
-    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
@@ -218,17 +219,66 @@ float3 glazec_irradiance_at(float3 direction_1)
     return _e5.xyz;
 }
 
-// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
-// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
-// roughness r (α = r²), returned as (A, B, 0).
-float3 dfg_lazarov(float roughness_2, float n_dot_v_3)
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry)
 {
-    float rx = ((roughness_2 * -1.0) + 1.0);
-    float ry = ((roughness_2 * -0.0275) + 0.0425);
-    float rz = ((roughness_2 * -0.572) + 1.04);
-    float rw = ((roughness_2 * 0.022) - 0.04);
-    float a004_ = ((min((rx * rx), exp((n_dot_v_3 * -6.4324055))) * rx) + ry);
-    return float3(((a004_ * -1.04) + rz), ((a004_ * 1.04) + rw), 0.0);
+    uint word = (entry >> 1u);
+    uint codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// A(μ; r) of the seed's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
+// albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
+float seed_ggx_dfg_scale(float cos_theta_1, float roughness_2)
+{
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta = (u_cos_theta * 31.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 30.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness = (u_roughness * 31.0);
+    float cell_roughness = min(floor(node_roughness), 30.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta + (cell_roughness * 32.0))) + 16240u));
+    float at_ll = ((code_ll * 1.5258366e-5) + 3.8328602e-5);
+    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta + 1.0) + (cell_roughness * 32.0))) + 16240u));
+    float at_ul = ((code_ul * 1.5258366e-5) + 3.8328602e-5);
+    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta + ((cell_roughness + 1.0) * 32.0))) + 16240u));
+    float at_lu = ((code_lu * 1.5258366e-5) + 3.8328602e-5);
+    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0))) + 16240u));
+    float at_uu = ((code_uu * 1.5258366e-5) + 3.8328602e-5);
+    return ((((at_ll * ((1.0 - weight_cos_theta) * (1.0 - weight_roughness))) + (at_ul * (weight_cos_theta * (1.0 - weight_roughness)))) + (at_lu * ((1.0 - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// B(μ; r) of the seed's GGX coat lobe (see `seed_ggx_dfg_scale`).
+float seed_ggx_dfg_bias(float cos_theta_2, float roughness_3)
+{
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta_1 + (cell_roughness_1 * 32.0))) + 17264u));
+    float at_ll_1 = ((code_ll * 2.319585e-6) + 4.676767e-10);
+    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0))) + 17264u));
+    float at_ul_1 = ((code_ul * 2.319585e-6) + 4.676767e-10);
+    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0))) + 17264u));
+    float at_lu_1 = ((code_lu * 2.319585e-6) + 4.676767e-10);
+    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0))) + 17264u));
+    float at_uu_1 = ((code_uu * 2.319585e-6) + 4.676767e-10);
+    return ((((at_ll_1 * ((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1))) + (at_ul_1 * (weight_cos_theta_1 * (1.0 - weight_roughness_1)))) + (at_lu_1 * ((1.0 - weight_cos_theta_1) * weight_roughness_1))) + (at_uu_1 * (weight_cos_theta_1 * weight_roughness_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -250,10 +300,11 @@ float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_1)
 // over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 float3 clay_ibl(float3 n_4, float3 v_4)
 {
-    float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float3 _e6 = dfg_lazarov(0.35, cos_v_1);
-    float3 coat_albedo = (((0.040000003).xxx * _e6.x) + (_e6.y).xxx);
+    float n_dot_v_4 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float _e6 = seed_ggx_dfg_scale(cos_v_1, 0.35);
+    const float _e8 = seed_ggx_dfg_bias(cos_v_1, 0.35);
+    float3 coat_albedo = (((0.040000003).xxx * _e6) + (_e8).xxx);
     const float3 reflected = specular_dominant_direction(n_4, v_4, 0.122499995);
     const float3 layer1_v = refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);

@@ -6,6 +6,8 @@ layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 
 layout(binding = 34) uniform sampler2D _group_2_binding_2_fs;
 
+layout(std140, binding = 3) uniform type_8_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
@@ -45,16 +47,59 @@ vec3 glazec_irradiance_at(vec3 direction_1) {
     return _e5.xyz;
 }
 
-// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
-// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
-// roughness r (α = r²), returned as (A, B, 0).
-vec3 dfg_lazarov(float roughness_1, float n_dot_v) {
-    float rx = ((roughness_1 * -1.0) + 1.0);
-    float ry = ((roughness_1 * -0.0275) + 0.0425);
-    float rz = ((roughness_1 * -0.572) + 1.04);
-    float rw = ((roughness_1 * 0.022) - 0.04);
-    float a004_ = ((min((rx * rx), exp((n_dot_v * -6.4324055))) * rx) + ry);
-    return vec3(((a004_ * -1.04) + rz), ((a004_ * 1.04) + rw), 0.0);
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// A(μ; r) of the seed's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
+// albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
+float seed_ggx_dfg_scale(float cos_theta, float roughness_1) {
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta = (u_cos_theta * 31.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 30.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness_1, 0.0), 1.0));
+    float node_roughness = (u_roughness * 31.0);
+    float cell_roughness = min(floor(node_roughness), 30.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float code_ll = glazec_table_code((uint((cell_cos_theta + (cell_roughness * 32.0))) + 16240u));
+    float at_ll = ((code_ll * 1.5258366e-5) + 3.8328602e-5);
+    float code_ul = glazec_table_code((uint(((cell_cos_theta + 1.0) + (cell_roughness * 32.0))) + 16240u));
+    float at_ul = ((code_ul * 1.5258366e-5) + 3.8328602e-5);
+    float code_lu = glazec_table_code((uint((cell_cos_theta + ((cell_roughness + 1.0) * 32.0))) + 16240u));
+    float at_lu = ((code_lu * 1.5258366e-5) + 3.8328602e-5);
+    float code_uu = glazec_table_code((uint(((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0))) + 16240u));
+    float at_uu = ((code_uu * 1.5258366e-5) + 3.8328602e-5);
+    return ((((at_ll * ((1.0 - weight_cos_theta) * (1.0 - weight_roughness))) + (at_ul * (weight_cos_theta * (1.0 - weight_roughness)))) + (at_lu * ((1.0 - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// B(μ; r) of the seed's GGX coat lobe (see `seed_ggx_dfg_scale`).
+float seed_ggx_dfg_bias(float cos_theta_1, float roughness_2) {
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    float code_ll = glazec_table_code((uint((cell_cos_theta_1 + (cell_roughness_1 * 32.0))) + 17264u));
+    float at_ll_1 = ((code_ll * 2.319585e-6) + 4.676767e-10);
+    float code_ul = glazec_table_code((uint(((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0))) + 17264u));
+    float at_ul_1 = ((code_ul * 2.319585e-6) + 4.676767e-10);
+    float code_lu = glazec_table_code((uint((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0))) + 17264u));
+    float at_lu_1 = ((code_lu * 2.319585e-6) + 4.676767e-10);
+    float code_uu = glazec_table_code((uint(((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0))) + 17264u));
+    float at_uu_1 = ((code_uu * 2.319585e-6) + 4.676767e-10);
+    return ((((at_ll_1 * ((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1))) + (at_ul_1 * (weight_cos_theta_1 * (1.0 - weight_roughness_1)))) + (at_lu_1 * ((1.0 - weight_cos_theta_1) * weight_roughness_1))) + (at_uu_1 * (weight_cos_theta_1 * weight_roughness_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -74,10 +119,11 @@ vec3 specular_dominant_direction(vec3 n_1, vec3 v, float alpha) {
 // directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
 // over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 vec3 clay_ibl(vec3 n_2, vec3 v_1) {
-    float n_dot_v_1 = dot(n_2, v_1);
-    float cos_v = max(n_dot_v_1, 0.0001);
-    vec3 _e6 = dfg_lazarov(0.35, cos_v);
-    vec3 coat_albedo = ((vec3(0.040000003) * _e6.x) + vec3(_e6.y));
+    float n_dot_v = dot(n_2, v_1);
+    float cos_v = max(n_dot_v, 0.0001);
+    float _e6 = seed_ggx_dfg_scale(cos_v, 0.35);
+    float _e8 = seed_ggx_dfg_bias(cos_v, 0.35);
+    vec3 coat_albedo = ((vec3(0.040000003) * _e6) + vec3(_e8));
     vec3 reflected = specular_dominant_direction(n_2, v_1, 0.122499995);
     vec3 layer1_v = refract_down(v_1, n_2, 1.5);
     float layer1_n_dot_v = dot(n_2, layer1_v);

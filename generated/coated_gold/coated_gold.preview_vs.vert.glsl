@@ -6,7 +6,7 @@ struct PreviewVarying {
 };
 const float layer1_alpha = 0.06485702;
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.9215437, 0.7375736, 0.3030111);
+const vec3 layer1_rho = vec3(0.921543, 0.7375731, 0.30301085);
 const float layer1_trapped_escape = 0.1150567;
 const float base_roughness = 0.31190628;
 

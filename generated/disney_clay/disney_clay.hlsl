@@ -27,10 +27,11 @@ StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
 static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
 Texture2D<float4> glazec_radiance : register(t1, space2);
 Texture2D<float4> glazec_irradiance : register(t2, space2);
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
-cbuffer light : register(b3) { PreviewLight light; }
+cbuffer light : register(b4) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_2 : LOC0;
@@ -115,9 +116,9 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_2, float 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
 {
-    float n_dot_v_4 = dot(n, v_1);
+    float n_dot_v_3 = dot(n, v_1);
     float n_dot_l_3 = dot(n, l_1);
-    float cos_v = max(n_dot_v_4, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 f_base = fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     const float3 h = half_vector(v_1, l_1);
@@ -127,7 +128,7 @@ float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
     const float3 fresnel = f_schlick((0.040000003).xxx, dot(v_1, h));
     const float3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     float3 f = (f_base + specular);
-    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
@@ -168,17 +169,66 @@ float3 glazec_irradiance_at(float3 direction_1)
     return _e5.xyz;
 }
 
-// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
-// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
-// roughness r (α = r²), returned as (A, B, 0).
-float3 dfg_lazarov(float roughness_2, float n_dot_v_3)
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry)
 {
-    float rx = ((roughness_2 * -1.0) + 1.0);
-    float ry = ((roughness_2 * -0.0275) + 0.0425);
-    float rz = ((roughness_2 * -0.572) + 1.04);
-    float rw = ((roughness_2 * 0.022) - 0.04);
-    float a004_ = ((min((rx * rx), exp((n_dot_v_3 * -6.4324055))) * rx) + ry);
-    return float3(((a004_ * -1.04) + rz), ((a004_ * 1.04) + rw), 0.0);
+    uint word = (entry >> 1u);
+    uint codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
+// albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
+float clearcoat_dfg_scale(float cos_theta_1, float roughness_2)
+{
+    float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta = (u_cos_theta * 31.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 30.0);
+    float weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    float u_roughness = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness = (u_roughness * 31.0);
+    float cell_roughness = min(floor(node_roughness), 30.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta + (cell_roughness * 32.0))) + 18288u));
+    float at_ll = ((code_ll * 2.4627496e-5) + 0.23423767);
+    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta + 1.0) + (cell_roughness * 32.0))) + 18288u));
+    float at_ul = ((code_ul * 2.4627496e-5) + 0.23423767);
+    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta + ((cell_roughness + 1.0) * 32.0))) + 18288u));
+    float at_lu = ((code_lu * 2.4627496e-5) + 0.23423767);
+    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0))) + 18288u));
+    float at_uu = ((code_uu * 2.4627496e-5) + 0.23423767);
+    return ((((at_ll * ((1.0 - weight_cos_theta) * (1.0 - weight_roughness))) + (at_ul * (weight_cos_theta * (1.0 - weight_roughness)))) + (at_lu * ((1.0 - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
+float clearcoat_dfg_bias(float cos_theta_2, float roughness_3)
+{
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    float u_roughness_1 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta_1 + (cell_roughness_1 * 32.0))) + 19312u));
+    float at_ll_1 = ((code_ll * 1.2625713e-6) + 1.0785011e-5);
+    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0))) + 19312u));
+    float at_ul_1 = ((code_ul * 1.2625713e-6) + 1.0785011e-5);
+    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0))) + 19312u));
+    float at_lu_1 = ((code_lu * 1.2625713e-6) + 1.0785011e-5);
+    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0))) + 19312u));
+    float at_uu_1 = ((code_uu * 1.2625713e-6) + 1.0785011e-5);
+    return ((((at_ll_1 * ((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1))) + (at_ul_1 * (weight_cos_theta_1 * (1.0 - weight_roughness_1)))) + (at_lu_1 * ((1.0 - weight_cos_theta_1) * weight_roughness_1))) + (at_uu_1 * (weight_cos_theta_1 * weight_roughness_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -200,10 +250,11 @@ float3 specular_dominant_direction(float3 n_2, float3 v_3, float alpha_1)
 // over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 float3 disney_clay_ibl(float3 n_3, float3 v_4)
 {
-    float n_dot_v_5 = dot(n_3, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float3 _e6 = dfg_lazarov(0.14, cos_v_1);
-    float3 coat_albedo = (((0.040000003).xxx * _e6.x) + (_e6.y).xxx);
+    float n_dot_v_4 = dot(n_3, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float _e6 = clearcoat_dfg_scale(cos_v_1, 0.14);
+    const float _e8 = clearcoat_dfg_bias(cos_v_1, 0.14);
+    float3 coat_albedo = (((0.040000003).xxx * _e6) + (_e8).xxx);
     const float3 reflected = specular_dominant_direction(n_3, v_4, 0.0196);
     bool _e18 = (dot(n_3, v_4) > 0.0);
     const float3 light_a = glazec_environment(reflected, 0.14);

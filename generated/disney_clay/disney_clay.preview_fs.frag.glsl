@@ -4,7 +4,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-layout(std140, binding = 3) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_3_fs; };
+layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
@@ -96,9 +96,9 @@ void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     vec3 n_2 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    vec4 _e14 = _group_0_binding_3_fs.direction;
+    vec4 _e14 = _group_0_binding_4_fs.direction;
     vec3 l_3 = _e14.xyz;
-    vec4 _e17 = _group_0_binding_3_fs.radiance;
+    vec4 _e17 = _group_0_binding_4_fs.radiance;
     vec3 reflected = disney_clay_eval(n_2, vec3(0.0, 0.0, 1.0), l_3);
     bool _e26 = (r2_ < 1.0);
     _fs2p_location0 = vec4((_e26 ? (reflected * _e17.xyz) : vec3(0.0)), (_e26 ? 1.0 : 0.0));

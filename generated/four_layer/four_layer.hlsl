@@ -25,16 +25,16 @@ static const float3 layer1_tau = float3(0.02, 0.02, 0.02);
 static const float3 layer2_tau = float3(0.35999998, 0.2, 0.040000003);
 static const float3 layer4_rho_ms = float3(0.8032769, 0.8032769, 0.713542);
 static const float3 layer4_rho = float3(0.89252996, 0.89252996, 0.8394612);
-static const float3 layer4_r_return = float3(0.3224724, 0.3224724, 0.3224724);
-static const float3 layer3_rho = float3(0.8527739, 0.8527739, 0.7852342);
-static const float3 layer3_r_return = float3(0.020908594, 0.056399822, 0.14856565);
-static const float3 layer2_rho = float3(0.2635337, 0.4134936, 0.64401436);
+static const float3 layer4_r_return = float3(0.32247323, 0.32247323, 0.32247323);
+static const float3 layer3_rho = float3(0.85277396, 0.85277396, 0.7852343);
+static const float3 layer3_r_return = float3(0.020906627, 0.056411505, 0.14856523);
+static const float3 layer2_rho = float3(0.26353127, 0.4134952, 0.6440171);
 static const float3 layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer1_rho = float3(0.24385336, 0.38261434, 0.59591997);
-static const float3 layer1_r_return = float3(0.5949663, 0.5949663, 0.5949663);
+static const float3 layer1_rho = float3(0.2438511, 0.38261583, 0.59592247);
+static const float3 layer1_r_return = float3(0.5949677, 0.5949677, 0.5949677);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
@@ -119,6 +119,15 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry)
+{
+    uint word = (entry >> 1u);
+    uint codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 uint naga_f2u32(float value) {
     return uint(clamp(value, 0.0, 4294967000.0));
 }
@@ -141,22 +150,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -188,22 +197,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -258,22 +267,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4)
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -368,7 +377,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_3, 0.2, 1.5);
     const float layer1_restored_v = coat_extra(n_dot_v_3, 0.2, 1.5);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011289268);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
     float3 specular = (_e21 + (_e29).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
     const float _e38 = coat_deficit(n_dot_l_3, 0.2, 1.5);
@@ -402,7 +411,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e102 = f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
     const float layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3, 1.1);
     const float layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3, 1.1);
-    const float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.00071036624);
+    const float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
     float3 layer2_specular = (_e102 + (_e110).xxx);
     const float layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
     const float _e119 = coat_deficit(layer2_n_dot_l, 0.3, 1.1);
@@ -430,7 +439,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e173 = f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
     const float layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5, 1.2);
     const float layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5, 1.2);
-    const float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014620898);
+    const float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
     float3 layer3_specular = (_e173 + (_e181).xxx);
     const float layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
     const float _e190 = coat_deficit(layer3_n_dot_l, 0.5, 1.2);
@@ -454,27 +463,27 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e252 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     const float _e254 = e_fon(layer4_path_cos_l, 0.4);
     float3 layer4_first_escape_l = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e254)) * (0.18698311).xxx) / max(_e252, (1e-6).xxx)));
-    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
+    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.6775268).xxx)) / (0.32247323).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e289 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     const float _e291 = e_fon(layer4_path_cos_v, 0.4);
     float3 layer4_first_escape_v = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e291)) * (0.18698311).xxx) / max(_e289, (1e-6).xxx)));
-    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.96712446, 0.96712446, 0.9689246), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.6775268).xxx)) / (0.32247323).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     const float3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
-    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_l, layer4_first_return_l);
-    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_v, layer4_first_return_v);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775268).xxx, layer4_first_escape_l, layer4_first_return_l);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, layer4_rho, layer4_r_return, (0.6775268).xxx, layer4_first_escape_v, layer4_first_return_v);
     float _e354 = (1.0 - layer4_transmit_l);
-    float3 _e375 = min(max(((((_e354 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e354).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l = (_e375 / (0.8096479).xxx);
-    float3 layer2_first_return_l = min(max((((1.0).xxx - _e375) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e375 = min(max(((((_e354 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e354).xxx), (0.0).xxx) * (0.8201256).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e375 / (0.8096463).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e375) / (0.19035369).xxx), (0.0).xxx), (1.0).xxx);
     float _e392 = (1.0 - layer4_transmit_v);
-    float3 _e413 = min(max(((((_e392 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e392).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v = (_e413 / (0.8096479).xxx);
-    float3 layer2_first_return_v = min(max((((1.0).xxx - _e413) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93227535, 0.93227535, 0.93118817), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
+    float3 _e413 = min(max(((((_e392 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e392).xxx), (0.0).xxx) * (0.8201256).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e413 / (0.8096463).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e413) / (0.19035369).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     const float3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_l, layer2_first_return_l);
-    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_v, layer2_first_return_v);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
     float _e458 = (1.0 - layer3_transmit_l);
     float3 _e476 = min(max(((((_e458 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e458).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l = (_e476 / (0.9999998).xxx);
@@ -488,14 +497,14 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
     float _e551 = (1.0 - layer2_transmit_l);
-    float3 _e572 = min(max(((((_e551 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e551).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e572 / (0.40503368).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e572) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e572 = min(max(((((_e551 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e551).xxx), (0.0).xxx) * (0.41657114).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e572 / (0.40503228).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e572) / (0.5949677).xxx), (0.0).xxx), (1.0).xxx);
     float _e589 = (1.0 - layer2_transmit_v);
-    float3 _e610 = min(max(((((_e589 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e589).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e610 / (0.40503368).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e610) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9805992).xxx, min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    float3 _e610 = min(max(((((_e589 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e589).xxx), (0.0).xxx) * (0.41657114).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e610 / (0.40503228).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e610) / (0.5949677).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9806059).xxx, min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
@@ -602,23 +611,23 @@ float3 four_layer_ibl(float3 n_4, float3 v_4)
     const float3 _e130 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
     const float _e132 = e_fon(layer4_path_cos_l_1, 0.4);
     float3 layer4_first_escape_l_1 = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e132)) * (0.18698311).xxx) / max(_e130, (1e-6).xxx)));
-    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
+    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.6775268).xxx)) / (0.32247323).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e167 = albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
     const float _e169 = e_fon(layer4_path_cos_v_1, 0.4);
     float3 layer4_first_escape_v_1 = ((1.0).xxx + (((layer4_rho_ms * (1.0 - _e169)) * (0.18698311).xxx) / max(_e167, (1e-6).xxx)));
-    float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.6775276).xxx)) / (0.3224724).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
-    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775276).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
+    float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.6775268).xxx)) / (0.32247323).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775268).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
+    const float3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, layer4_rho, layer4_r_return, (0.6775268).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
     float _e214 = (1.0 - layer4_transmit_l_1);
-    float3 _e235 = min(max(((((_e214 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e214).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l_1 = (_e235 / (0.8096479).xxx);
-    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e235) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e235 = min(max(((((_e214 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e214).xxx), (0.0).xxx) * (0.8201256).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l_1 = (_e235 / (0.8096463).xxx);
+    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e235) / (0.19035369).xxx), (0.0).xxx), (1.0).xxx);
     float _e252 = (1.0 - layer4_transmit_v_1);
-    float3 _e273 = min(max(((((_e252 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e252).xxx), (0.0).xxx) * (0.8201332).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v_1 = (_e273 / (0.8096479).xxx);
-    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e273) / (0.19035208).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_l_1, layer2_first_return_l_1);
-    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_v_1, layer2_first_return_v_1);
+    float3 _e273 = min(max(((((_e252 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e252).xxx), (0.0).xxx) * (0.8201256).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v_1 = (_e273 / (0.8096463).xxx);
+    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e273) / (0.19035369).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, float3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l_1, layer2_first_return_l_1);
+    const float3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, float3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v_1, layer2_first_return_v_1);
     float _e304 = (1.0 - layer3_transmit_l_1);
     float3 _e322 = min(max(((((_e304 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e304).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l_1 = (_e322 / (0.9999998).xxx);
@@ -630,15 +639,15 @@ float3 four_layer_ibl(float3 n_4, float3 v_4)
     const float3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v, layer2_rho, layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
     float _e384 = (1.0 - layer2_transmit_l_1);
-    float3 _e405 = min(max(((((_e384 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e384).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e405 / (0.40503368).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e405) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e405 = min(max(((((_e384 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e384).xxx), (0.0).xxx) * (0.41657114).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e405 / (0.40503228).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e405) / (0.5949677).xxx), (0.0).xxx), (1.0).xxx);
     float _e422 = (1.0 - layer2_transmit_v_1);
-    float3 _e443 = min(max(((((_e422 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e422).xxx), (0.0).xxx) * (0.4165765).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e443 / (0.40503368).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e443) / (0.5949663).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_rho, layer1_r_return, (0.40503368).xxx, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, layer1_rho, layer1_r_return, (0.40503368).xxx, first_escape_v_1, first_return_v_1);
+    float3 _e443 = min(max(((((_e422 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e422).xxx), (0.0).xxx) * (0.41657114).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e443 / (0.40503228).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e443) / (0.5949677).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_rho, layer1_r_return, (0.40503228).xxx, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, layer1_rho, layer1_r_return, (0.40503228).xxx, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = specular_dominant_direction(n_4, v_4, 0.040000003);

@@ -8,16 +8,16 @@ const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
-const vec3 layer4_r_return = vec3(0.3224724, 0.3224724, 0.3224724);
-const vec3 layer3_rho = vec3(0.8527739, 0.8527739, 0.7852342);
-const vec3 layer3_r_return = vec3(0.020908594, 0.056399822, 0.14856565);
-const vec3 layer2_rho = vec3(0.2635337, 0.4134936, 0.64401436);
+const vec3 layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
+const vec3 layer3_rho = vec3(0.85277396, 0.85277396, 0.7852343);
+const vec3 layer3_r_return = vec3(0.020906627, 0.056411505, 0.14856523);
+const vec3 layer2_rho = vec3(0.26353127, 0.4134952, 0.6440171);
 const vec3 layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.24385336, 0.38261434, 0.59591997);
-const vec3 layer1_r_return = vec3(0.5949663, 0.5949663, 0.5949663);
+const vec3 layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
+const vec3 layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
 
-layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -78,6 +78,14 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -95,22 +103,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -140,22 +148,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -206,22 +214,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -305,7 +313,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_restored_l = coat_extra(n_dot_l_3, 0.2, 1.5);
     float layer1_restored_v = coat_extra(n_dot_v_3, 0.2, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011289268);
+    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
     vec3 specular = (_e21 + vec3(_e29));
     float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
     float _e38 = coat_deficit(n_dot_l_3, 0.2, 1.5);
@@ -339,7 +347,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e102 = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     float layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3, 1.1);
     float layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3, 1.1);
-    float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.00071036624);
+    float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
     vec3 layer2_specular = (_e102 + vec3(_e110));
     float layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
     float _e119 = coat_deficit(layer2_n_dot_l, 0.3, 1.1);
@@ -367,7 +375,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e173 = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     float layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5, 1.2);
     float layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5, 1.2);
-    float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014620898);
+    float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
     vec3 layer3_specular = (_e173 + vec3(_e181));
     float layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
     float _e190 = coat_deficit(layer3_n_dot_l, 0.5, 1.2);
@@ -391,27 +399,27 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e252 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     float _e254 = e_fon(layer4_path_cos_l, 0.4);
     vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e254)) * vec3(0.18698311)) / max(_e252, vec3(1e-6))));
-    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775276))) / vec3(0.3224724)), vec3(0.0)), vec3(1.0));
+    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
     vec3 _e289 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     float _e291 = e_fon(layer4_path_cos_v, 0.4);
     vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e291)) * vec3(0.18698311)) / max(_e289, vec3(1e-6))));
-    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775276))) / vec3(0.3224724)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.96712446, 0.96712446, 0.9689246), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     vec3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
-    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276), layer4_first_escape_l, layer4_first_return_l);
-    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6775276), layer4_first_escape_v, layer4_first_return_v);
+    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
+    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
     float _e354 = (1.0 - layer4_transmit_l);
-    vec3 _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0.0)) * vec3(0.8201332))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e375 / vec3(0.8096479));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e375) / vec3(0.19035208)), vec3(0.0)), vec3(1.0));
+    vec3 _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e375 / vec3(0.8096463));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e375) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
     float _e392 = (1.0 - layer4_transmit_v);
-    vec3 _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0.0)) * vec3(0.8201332))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e413 / vec3(0.8096479));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e413) / vec3(0.19035208)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93227535, 0.93227535, 0.93118817), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
+    vec3 _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e413 / vec3(0.8096463));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e413) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     vec3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_l, layer2_first_return_l);
-    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_v, layer2_first_return_v);
+    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
     float _e458 = (1.0 - layer3_transmit_l);
     vec3 _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_l = (_e476 / vec3(0.9999998));
@@ -425,14 +433,14 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
     float _e551 = (1.0 - layer2_transmit_l);
-    vec3 _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0.0)) * vec3(0.4165765))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e572 / vec3(0.40503368));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e572) / vec3(0.5949663)), vec3(0.0)), vec3(1.0));
+    vec3 _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e572 / vec3(0.40503228));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e572) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
     float _e589 = (1.0 - layer2_transmit_v);
-    vec3 _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0.0)) * vec3(0.4165765))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e610 / vec3(0.40503368));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e610) / vec3(0.5949663)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9805992), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    vec3 _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e610 / vec3(0.40503228));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e610) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
+    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }

@@ -4,16 +4,16 @@ const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
 const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
-const vec3 layer4_r_return = vec3(0.3224724, 0.3224724, 0.3224724);
-const vec3 layer3_rho = vec3(0.8527739, 0.8527739, 0.7852342);
-const vec3 layer3_r_return = vec3(0.020908594, 0.056399822, 0.14856565);
-const vec3 layer2_rho = vec3(0.2635337, 0.4134936, 0.64401436);
+const vec3 layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
+const vec3 layer3_rho = vec3(0.85277396, 0.85277396, 0.7852343);
+const vec3 layer3_r_return = vec3(0.020906627, 0.056411505, 0.14856523);
+const vec3 layer2_rho = vec3(0.26353127, 0.4134952, 0.6440171);
 const vec3 layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.24385336, 0.38261434, 0.59591997);
-const vec3 layer1_r_return = vec3(0.5949663, 0.5949663, 0.5949663);
+const vec3 layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
+const vec3 layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
 
-layout(std140, binding = 3) uniform type_4_block_0Fragment { vec4 _group_0_binding_3_fs[4060]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
 
 layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 
@@ -36,6 +36,14 @@ float fr_dielectric(float cos_i, float eta) {
     return ((sin2_t < 1.0) ? fresnel : 1.0);
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -53,22 +61,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -90,22 +98,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -141,22 +149,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = _group_0_binding_3_fs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = _group_0_binding_3_fs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = _group_0_binding_3_fs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = _group_0_binding_3_fs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = _group_0_binding_3_fs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = _group_0_binding_3_fs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = _group_0_binding_3_fs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = _group_0_binding_3_fs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -276,23 +284,23 @@ vec3 four_layer_ibl(vec3 n_2, vec3 v_1) {
     vec3 _e130 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
     float _e132 = e_fon(layer4_path_cos_l, 0.4);
     vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e132)) * vec3(0.18698311)) / max(_e130, vec3(1e-6))));
-    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775276))) / vec3(0.3224724)), vec3(0.0)), vec3(1.0));
+    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
     vec3 _e167 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     float _e169 = e_fon(layer4_path_cos_v, 0.4);
     vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e169)) * vec3(0.18698311)) / max(_e167, vec3(1e-6))));
-    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775276))) / vec3(0.3224724)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276), layer4_first_escape_l, layer4_first_return_l);
-    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276), layer4_first_escape_v, layer4_first_return_v);
+    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
+    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
     float _e214 = (1.0 - layer4_transmit_l);
-    vec3 _e235 = min(max(((vec3((_e214 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e214)), vec3(0.0)) * vec3(0.8201332))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e235 / vec3(0.8096479));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e235) / vec3(0.19035208)), vec3(0.0)), vec3(1.0));
+    vec3 _e235 = min(max(((vec3((_e214 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e214)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e235 / vec3(0.8096463));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e235) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
     float _e252 = (1.0 - layer4_transmit_v);
-    vec3 _e273 = min(max(((vec3((_e252 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e252)), vec3(0.0)) * vec3(0.8201332))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e273 / vec3(0.8096479));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e273) / vec3(0.19035208)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_l, layer2_first_return_l);
-    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.4811409, 0.6022485, 0.7614752), layer2_first_escape_v, layer2_first_return_v);
+    vec3 _e273 = min(max(((vec3((_e252 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e252)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e273 / vec3(0.8096463));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e273) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
     float _e304 = (1.0 - layer3_transmit_l);
     vec3 _e322 = min(max(((vec3((_e304 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e304)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_l = (_e322 / vec3(0.9999998));
@@ -304,15 +312,15 @@ vec3 four_layer_ibl(vec3 n_2, vec3 v_1) {
     vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_l, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
     float _e384 = (1.0 - layer2_transmit_l);
-    vec3 _e405 = min(max(((vec3((_e384 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e384)), vec3(0.0)) * vec3(0.4165765))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e405 / vec3(0.40503368));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e405) / vec3(0.5949663)), vec3(0.0)), vec3(1.0));
+    vec3 _e405 = min(max(((vec3((_e384 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e384)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e405 / vec3(0.40503228));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e405) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
     float _e422 = (1.0 - layer2_transmit_v);
-    vec3 _e443 = min(max(((vec3((_e422 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e422)), vec3(0.0)) * vec3(0.4165765))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e443 / vec3(0.40503368));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e443) / vec3(0.5949663)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = interfaced_albedo_dir(layer1_transmit_l, vec3(1.0), layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.40503368), first_escape_l, first_return_l);
-    vec3 albedo_v = interfaced_albedo_dir(layer1_transmit_v, vec3(1.0), layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.40503368), first_escape_v, first_return_v);
+    vec3 _e443 = min(max(((vec3((_e422 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e422)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e443 / vec3(0.40503228));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e443) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
+    vec3 albedo_l = interfaced_albedo_dir(layer1_transmit_l, vec3(1.0), layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.40503228), first_escape_l, first_return_l);
+    vec3 albedo_v = interfaced_albedo_dir(layer1_transmit_v, vec3(1.0), layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.40503228), first_escape_v, first_return_v);
     float coat_albedo = (1.0 - layer1_transmit_v);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = specular_dominant_direction(n_2, v_1, 0.040000003);

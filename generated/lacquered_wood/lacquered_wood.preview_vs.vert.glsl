@@ -5,10 +5,10 @@ struct PreviewVarying {
     vec2 p;
 };
 const vec3 tau = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.19010091, 0.09112959, 0.038870268);
+const vec3 under = vec3(0.19010219, 0.09112962, 0.038870376);
 const vec3 layer1_albedo_l = vec3(0.46, 0.26, 0.12);
 const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 layer1_r_return = vec3(0.49948704, 0.35321748, 0.14430135);
+const vec3 layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
 const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
 layout(location = 0) in vec2 _p2vs_location0;

@@ -21,13 +21,13 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-static const float3 under = float3(0.29396534, 0.01639408, 0.013036859);
+static const float3 under = float3(0.29396582, 0.016394082, 0.01303686);
 static const float3 layer1_albedo_l = float3(0.6, 0.05, 0.04);
 static const float3 layer1_rho = float3(0.6, 0.05, 0.04);
-static const float3 layer1_r_return = float3(0.5838523, 0.5838523, 0.5838523);
+static const float3 layer1_r_return = float3(0.583854, 0.583854, 0.583854);
 static const float3 layer1_albedo_v = float3(0.6, 0.05, 0.04);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
@@ -120,6 +120,15 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry)
+{
+    uint word = (entry >> 1u);
+    uint codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 uint naga_f2u32(float value) {
     return uint(clamp(value, 0.0, 4294967000.0));
 }
@@ -142,22 +151,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -189,22 +198,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -241,7 +250,7 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_2, 0.35, 1.49);
     const float layer1_restored_v = coat_extra(n_dot_v_2, 0.35, 1.49);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0025063772);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0025064705);
     float3 specular = (_e21 + (_e29).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.49);
     const float _e38 = coat_deficit(n_dot_l_2, 0.35, 1.49);
@@ -337,8 +346,8 @@ float3 red_plastic_ibl(float3 n_4, float3 v_4)
     const float3 layer1_v = refract_down(v_4, n_4, 1.49);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_rho, layer1_r_return, (0.41614768).xxx, (1.0).xxx, (1.0).xxx);
-    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, layer1_rho, layer1_r_return, (0.41614768).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_rho, layer1_r_return, (0.41614598).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, layer1_rho, layer1_r_return, (0.41614598).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = specular_dominant_direction(n_4, v_4, 0.122499995);

@@ -4,10 +4,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 under = vec3(0.29396534, 0.01639408, 0.013036859);
+const vec3 under = vec3(0.29396582, 0.016394082, 0.01303686);
 const vec3 layer1_albedo_l = vec3(0.6, 0.05, 0.04);
 const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
-const vec3 layer1_r_return = vec3(0.5838523, 0.5838523, 0.5838523);
+const vec3 layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
 const vec3 layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
 layout(location = 0) in vec2 _p2vs_location0;

@@ -19,13 +19,13 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-layout(std140, binding = 4) uniform type_5_block_0Compute { vec4 _group_0_binding_4_cs[4060]; };
+layout(std140, binding = 4) uniform type_6_block_0Compute { uvec4 _group_0_binding_4_cs[2542]; };
 
 layout(std140, binding = 3) uniform TunableGlazeParams_block_1Compute { TunableGlazeParams _group_0_binding_3_cs; };
 
-layout(std430, binding = 0) readonly buffer type_6_block_2Compute { DirectionPair _group_0_binding_0_cs[]; };
+layout(std430, binding = 0) readonly buffer type_7_block_2Compute { DirectionPair _group_0_binding_0_cs[]; };
 
-layout(std430, binding = 1) buffer type_7_block_3Compute { vec4 _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) buffer type_8_block_3Compute { vec4 _group_0_binding_1_cs[]; };
 
 layout(std140, binding = 2) uniform EvalDispatch_block_4Compute { EvalDispatch _group_0_binding_2_cs; };
 
@@ -92,6 +92,14 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_4_cs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -109,22 +117,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_4_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_4_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_4_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_4_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_4_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_4_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_4_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_4_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -140,14 +148,14 @@ float coat_extra_avg(float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e41 = (uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 11648u);
-    float at_ll = _group_0_binding_4_cs[(_e41 >> 2u)][(_e41 & 3u)];
-    uint _e61 = (uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 11648u);
-    float at_ul = _group_0_binding_4_cs[(_e61 >> 2u)][(_e61 & 3u)];
-    uint _e82 = (uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 11648u);
-    float at_lu = _group_0_binding_4_cs[(_e82 >> 2u)][(_e82 & 3u)];
-    uint _e103 = (uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 11648u);
-    float at_uu = _group_0_binding_4_cs[(_e103 >> 2u)][(_e103 & 3u)];
+    float code_ll = glazec_table_code((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 11648u));
+    float at_ll = (code_ll * 4.36632e-7);
+    float code_ul = glazec_table_code((uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 11648u));
+    float at_ul = (code_ul * 4.36632e-7);
+    float code_lu = glazec_table_code((uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float at_lu = (code_lu * 4.36632e-7);
+    float code_uu = glazec_table_code((uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float at_uu = (code_uu * 4.36632e-7);
     return ((((at_ll * ((1.0 - weight_roughness_1) * (1.0 - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1.0 - weight_eta_1)))) + (at_lu * ((1.0 - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
 }
 
@@ -177,22 +185,22 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_4_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_4_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_4_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_4_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_4_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_4_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_4_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_4_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -222,22 +230,22 @@ float coat_path(float cos_theta_2, float roughness_3, float eta_5) {
     float node_eta_3 = (u_eta_3 * 7.0);
     float cell_eta_3 = min(floor(node_eta_3), 6.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    uint _e64 = (uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_lll_2 = _group_0_binding_4_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_ull_2 = _group_0_binding_4_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_lul_2 = _group_0_binding_4_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u);
-    float at_uul_2 = _group_0_binding_4_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = _group_0_binding_4_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = _group_0_binding_4_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = _group_0_binding_4_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = _group_0_binding_4_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
@@ -303,10 +311,10 @@ float fresnel_transmit_avg(float eta_6) {
     float node_eta_4 = (u_eta_4 * 63.0);
     float cell_eta_4 = min(floor(node_eta_4), 62.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    uint _e23 = (uint(cell_eta_4) + 11776u);
-    float at_l = _group_0_binding_4_cs[(_e23 >> 2u)][(_e23 & 3u)];
-    uint _e37 = (uint((cell_eta_4 + 1.0)) + 11776u);
-    float at_u = _group_0_binding_4_cs[(_e37 >> 2u)][(_e37 & 3u)];
+    float code_l = glazec_table_code((uint(cell_eta_4) + 11776u));
+    float at_l = ((code_l * 4.2145934e-6) + 0.7237966);
+    float code_u = glazec_table_code((uint((cell_eta_4 + 1.0)) + 11776u));
+    float at_u = ((code_u * 4.2145934e-6) + 0.7237966);
     return ((at_l * (1.0 - weight_eta_4)) + (at_u * weight_eta_4));
 }
 
@@ -322,14 +330,14 @@ float coat_deficit_avg(float roughness_4, float eta_7) {
     float node_eta_5 = (u_eta_5 * 7.0);
     float cell_eta_5 = min(floor(node_eta_5), 6.0);
     float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    uint _e41 = (uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11392u);
-    float at_ll_1 = _group_0_binding_4_cs[(_e41 >> 2u)][(_e41 & 3u)];
-    uint _e61 = (uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11392u);
-    float at_ul_1 = _group_0_binding_4_cs[(_e61 >> 2u)][(_e61 & 3u)];
-    uint _e82 = (uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11392u);
-    float at_lu_1 = _group_0_binding_4_cs[(_e82 >> 2u)][(_e82 & 3u)];
-    uint _e103 = (uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11392u);
-    float at_uu_1 = _group_0_binding_4_cs[(_e103 >> 2u)][(_e103 & 3u)];
+    float code_ll = glazec_table_code((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11392u));
+    float at_ll_1 = ((code_ll * 2.646295e-6) + -0.0021989432);
+    float code_ul = glazec_table_code((uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11392u));
+    float at_ul_1 = ((code_ul * 2.646295e-6) + -0.0021989432);
+    float code_lu = glazec_table_code((uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float at_lu_1 = ((code_lu * 2.646295e-6) + -0.0021989432);
+    float code_uu = glazec_table_code((uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float at_uu_1 = ((code_uu * 2.646295e-6) + -0.0021989432);
     return ((((at_ll_1 * ((1.0 - weight_roughness_4) * (1.0 - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1.0 - weight_eta_5)))) + (at_lu_1 * ((1.0 - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
 }
 
@@ -353,22 +361,22 @@ float coat_return(float tau_1, float roughness_5, float eta_8) {
     float node_eta_6 = (u_eta_6 * 7.0);
     float cell_eta_6 = min(floor(node_eta_6), 6.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    uint _e59 = (uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
-    float at_lll_3 = _group_0_binding_4_cs[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
-    float at_ull_3 = _group_0_binding_4_cs[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
-    float at_lul_3 = _group_0_binding_4_cs[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u);
-    float at_uul_3 = _group_0_binding_4_cs[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
-    float at_llu_3 = _group_0_binding_4_cs[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
-    float at_ulu_3 = _group_0_binding_4_cs[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
-    float at_luu_3 = _group_0_binding_4_cs[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u);
-    float at_uuu_3 = _group_0_binding_4_cs[(_e247 >> 2u)][(_e247 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float at_lll_3 = ((code_lll * 0.00017661336) + 1.0);
+    float code_ull = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float at_ull_3 = ((code_ull * 0.00017661336) + 1.0);
+    float code_lul = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float at_lul_3 = ((code_lul * 0.00017661336) + 1.0);
+    float code_uul = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float at_uul_3 = ((code_uul * 0.00017661336) + 1.0);
+    float code_llu = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float at_llu_3 = ((code_llu * 0.00017661336) + 1.0);
+    float code_ulu = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float at_ulu_3 = ((code_ulu * 0.00017661336) + 1.0);
+    float code_luu = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float at_luu_3 = ((code_luu * 0.00017661336) + 1.0);
+    float code_uuu = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float at_uuu_3 = ((code_uuu * 0.00017661336) + 1.0);
     return ((((((((at_lll_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6)))) + (at_lul_3 * (((1.0 - weight_tau) * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_llu_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1.0 - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
 }
 
@@ -390,22 +398,22 @@ float coat_escape(float tau_2, float roughness_6, float eta_9) {
     float node_eta_7 = (u_eta_7 * 7.0);
     float cell_eta_7 = min(floor(node_eta_7), 6.0);
     float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    uint _e59 = (uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
-    float at_lll_4 = _group_0_binding_4_cs[(_e59 >> 2u)][(_e59 & 3u)];
-    uint _e85 = (uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
-    float at_ull_4 = _group_0_binding_4_cs[(_e85 >> 2u)][(_e85 & 3u)];
-    uint _e112 = (uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
-    float at_lul_4 = _group_0_binding_4_cs[(_e112 >> 2u)][(_e112 & 3u)];
-    uint _e139 = (uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u);
-    float at_uul_4 = _group_0_binding_4_cs[(_e139 >> 2u)][(_e139 & 3u)];
-    uint _e166 = (uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
-    float at_llu_4 = _group_0_binding_4_cs[(_e166 >> 2u)][(_e166 & 3u)];
-    uint _e193 = (uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
-    float at_ulu_4 = _group_0_binding_4_cs[(_e193 >> 2u)][(_e193 & 3u)];
-    uint _e220 = (uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
-    float at_luu_4 = _group_0_binding_4_cs[(_e220 >> 2u)][(_e220 & 3u)];
-    uint _e247 = (uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u);
-    float at_uuu_4 = _group_0_binding_4_cs[(_e247 >> 2u)][(_e247 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float at_lll_4 = (code_lll * 1.5259022e-5);
+    float code_ull = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float at_ull_4 = (code_ull * 1.5259022e-5);
+    float code_lul = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float at_lul_4 = (code_lul * 1.5259022e-5);
+    float code_uul = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float at_uul_4 = (code_uul * 1.5259022e-5);
+    float code_llu = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float at_llu_4 = (code_llu * 1.5259022e-5);
+    float code_ulu = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float at_ulu_4 = (code_ulu * 1.5259022e-5);
+    float code_luu = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float at_luu_4 = (code_luu * 1.5259022e-5);
+    float code_uuu = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float at_uuu_4 = (code_uuu * 1.5259022e-5);
     return ((((((((at_lll_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7)))) + (at_lul_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_llu_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
 
@@ -497,10 +505,10 @@ float eon_escape_shape(float eta_12) {
     float node_eta_8 = (u_eta_8 * 31.0);
     float cell_eta_8 = min(floor(node_eta_8), 30.0);
     float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    uint _e23 = (uint(cell_eta_8) + 16208u);
-    float at_l_1 = _group_0_binding_4_cs[(_e23 >> 2u)][(_e23 & 3u)];
-    uint _e37 = (uint((cell_eta_8 + 1.0)) + 16208u);
-    float at_u_1 = _group_0_binding_4_cs[(_e37 >> 2u)][(_e37 & 3u)];
+    float code_l = glazec_table_code((uint(cell_eta_8) + 16208u));
+    float at_l_1 = ((code_l * 4.9967284e-6) + 0.99966115);
+    float code_u = glazec_table_code((uint((cell_eta_8 + 1.0)) + 16208u));
+    float at_u_1 = ((code_u * 4.9967284e-6) + 0.99966115);
     return ((at_l_1 * (1.0 - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
 

@@ -13,15 +13,15 @@ struct EvalDispatch {
 };
 const vec3 tau_1 = vec3(0.32000002, 0.32000002, 0.32000002);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_r_return = vec3(0.11658996, 0.11658996, 0.11658996);
+const vec3 layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);
 const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
-layout(std140, binding = 3) uniform type_5_block_0Compute { vec4 _group_0_binding_3_cs[4060]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
 
-layout(std430, binding = 0) readonly buffer type_6_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
+layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
-layout(std430, binding = 1) buffer type_7_block_2Compute { vec4 _group_0_binding_1_cs[]; };
+layout(std430, binding = 1) buffer type_8_block_2Compute { vec4 _group_0_binding_1_cs[]; };
 
 layout(std140, binding = 2) uniform EvalDispatch_block_3Compute { EvalDispatch _group_0_binding_2_cs; };
 
@@ -88,6 +88,14 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry) {
+    uint word = (entry >> 1u);
+    uint codes = _group_0_binding_3_cs[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -105,22 +113,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = _group_0_binding_3_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = _group_0_binding_3_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = _group_0_binding_3_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = _group_0_binding_3_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = _group_0_binding_3_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = _group_0_binding_3_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = _group_0_binding_3_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = _group_0_binding_3_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -150,22 +158,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = _group_0_binding_3_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = _group_0_binding_3_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = _group_0_binding_3_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = _group_0_binding_3_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = _group_0_binding_3_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = _group_0_binding_3_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = _group_0_binding_3_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = _group_0_binding_3_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -195,22 +203,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = _group_0_binding_3_cs[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = _group_0_binding_3_cs[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = _group_0_binding_3_cs[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = _group_0_binding_3_cs[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = _group_0_binding_3_cs[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = _group_0_binding_3_cs[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = _group_0_binding_3_cs[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = _group_0_binding_3_cs[(_e252 >> 2u)][(_e252 & 3u)];
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -265,7 +273,7 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_restored_l = coat_extra(n_dot_l_3, 0.12, 1.33);
     float layer1_restored_v = coat_extra(n_dot_v_3, 0.12, 1.33);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031296743);
+    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031305003);
     vec3 specular = (_e21 + vec3(_e29));
     float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.33);
     float _e38 = coat_deficit(n_dot_l_3, 0.12, 1.33);

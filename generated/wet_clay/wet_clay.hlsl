@@ -23,11 +23,11 @@ struct PreviewVarying {
 
 static const float3 tau_1 = float3(0.32000002, 0.32000002, 0.32000002);
 static const float3 layer1_rho = float3(0.5876322, 0.34278542, 0.24484675);
-static const float3 layer1_r_return = float3(0.11658996, 0.11658996, 0.11658996);
+static const float3 layer1_r_return = float3(0.11659962, 0.11659962, 0.11659962);
 static const float3 layer1_albedo_l = float3(0.5876322, 0.34278542, 0.24484675);
 static const float3 layer1_albedo_v = float3(0.5876322, 0.34278542, 0.24484675);
 
-cbuffer glazec_tables : register(b3) { float4 glazec_tables[4060]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
@@ -120,6 +120,15 @@ float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+float glazec_table_code(uint entry)
+{
+    uint word = (entry >> 1u);
+    uint codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 uint naga_f2u32(float value) {
     return uint(clamp(value, 0.0, 4294967000.0));
 }
@@ -142,22 +151,22 @@ float coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    uint _e64 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u);
-    float at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u);
-    float at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lll = (code_lll * 1.4542611e-6);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_ull = (code_ull * 1.4542611e-6);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_lul = (code_lul * 1.4542611e-6);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float at_uul = (code_uul * 1.4542611e-6);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_llu = (code_llu * 1.4542611e-6);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_ulu = (code_ulu * 1.4542611e-6);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_luu = (code_luu * 1.4542611e-6);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -189,22 +198,22 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    uint _e64 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u);
-    float at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u);
-    float at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -236,22 +245,22 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4)
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    uint _e64 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    uint _e90 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    uint _e117 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    uint _e144 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u);
-    float at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    uint _e171 = (naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    uint _e198 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    uint _e225 = (naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    uint _e252 = (naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u);
-    float at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -312,7 +321,7 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_restored_l = coat_extra(n_dot_l_3, 0.12, 1.33);
     const float layer1_restored_v = coat_extra(n_dot_v_3, 0.12, 1.33);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031296743);
+    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031305003);
     float3 specular = (_e21 + (_e29).xxx);
     const float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.33);
     const float _e38 = coat_deficit(n_dot_l_3, 0.12, 1.33);
@@ -421,8 +430,8 @@ float3 wet_clay_ibl(float3 n_4, float3 v_4)
     float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e36);
     const float3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l_1);
     const float3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v_1);
-    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, (0.36041173).xxx, (1.0).xxx, (1.0).xxx);
-    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_v, layer1_rho, layer1_r_return, (0.36041173).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, (0.3604128).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_v, layer1_rho, layer1_r_return, (0.3604128).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = specular_dominant_direction(n_4, v_4, 0.0144);

@@ -6,7 +6,7 @@ struct PreviewVarying {
 };
 const vec3 tau = vec3(0.32000002, 0.32000002, 0.32000002);
 const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_r_return = vec3(0.11658996, 0.11658996, 0.11658996);
+const vec3 layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);
 const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 

@@ -20,12 +20,12 @@ struct PreviewVarying {
 
 const tau_1: vec3<f32> = vec3<f32>(0.32000002f, 0.32000002f, 0.32000002f);
 const layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.11658996f, 0.11658996f, 0.11658996f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.11659962f, 0.11659962f, 0.11659962f);
 const layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+var<uniform> glazec_tables: array<vec4<u32>, 2542>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -103,6 +103,14 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn glazec_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -120,22 +128,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lll = (code_lll * 0.0000014542611f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_ull = (code_ull * 0.0000014542611f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lul = (code_lul * 0.0000014542611f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_uul = (code_uul * 0.0000014542611f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_llu = (code_llu * 0.0000014542611f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_ulu = (code_ulu * 0.0000014542611f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_luu = (code_luu * 0.0000014542611f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_uuu = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -165,22 +173,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -210,22 +218,22 @@ fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let _e64 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -281,7 +289,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_3, 0.12f, 1.33f);
     let layer1_restored_v = coat_extra(n_dot_v_3, 0.12f, 1.33f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031296743f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031305003f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.33f);
     let _e38 = coat_deficit(n_dot_l_3, 0.12f, 1.33f);
@@ -377,8 +385,8 @@ fn wet_clay_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e36);
     let absorb_l = slab_transmittance(tau_1, layer1_path_cos_l_1);
     let absorb_v = slab_transmittance(tau_1, layer1_path_cos_v_1);
-    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.36041173f), vec3(1f), vec3(1f));
-    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.36041173f), vec3(1f), vec3(1f));
+    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.3604128f), vec3(1f), vec3(1f));
+    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.3604128f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = specular_dominant_direction(n_4, v_4, 0.0144f);

@@ -154,7 +154,65 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
     let (albedo, average) = ggx_albedo(TableId::GgxAlbedo.spec());
     tables[TableId::GgxAlbedo as usize] = albedo;
     tables[TableId::GgxAlbedoAvg as usize] = average;
+    for (lobe, scale, bias) in [
+        (SeedLobe::Ggx, TableId::SeedGgxDfgScale, TableId::SeedGgxDfgBias),
+        (SeedLobe::Clearcoat, TableId::ClearcoatDfgScale, TableId::ClearcoatDfgBias),
+    ] {
+        let (a, b) = seed_dfg(lobe, scale.spec());
+        tables[scale as usize] = a;
+        tables[bias as usize] = b;
+    }
     (tables, report)
+}
+
+/// The seed's coat lobes (`Lobe::Ggx` and the Disney clear coat's `Lobe::Gtr1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeedLobe {
+    Ggx,
+    Clearcoat,
+}
+
+impl SeedLobe {
+    fn at(self, roughness: f64) -> crate::model::Lobe {
+        let roughness = crate::model::Scalar::Lit(roughness as f32);
+        match self {
+            SeedLobe::Ggx => crate::model::Lobe::Ggx { roughness },
+            SeedLobe::Clearcoat => crate::model::Lobe::Gtr1 { roughness },
+        }
+    }
+}
+
+/// The split-sum DFG (Karis 2013) of a seed coat lobe at cosine `mu` and roughness `roughness`:
+/// (A, B) with the lobe's directional albedo F0·A + B under Schlick's Fresnel, by quadrature of
+/// the lobe itself as the shaders evaluate it (`layering::seed_lobe_white`, the shared terms):
+/// A = ∫ f (1 − (1 − v·h)⁵) cos θl, B = ∫ f (1 − v·h)⁵ cos θl. Not the reference's: these tables
+/// describe the seed's lobe, whatever its physics, so that image-based lighting weighs it by its
+/// own albedo.
+pub fn seed_dfg_at(lobe: SeedLobe, mu: f64, roughness: f64) -> (f64, f64) {
+    let model = lobe.at(roughness);
+    let wo = direction(mu.max(GRAZING_COSINE));
+    let alpha = (roughness * roughness).max(SMOOTH_ALPHA);
+    let (mut a, mut b) = (0.0, 0.0);
+    for (wi, weight) in super::quadrature::albedo_nodes(wo, alpha) {
+        let (v, l) = (wo.as_vec3(), wi.as_vec3());
+        let f = f64::from(crate::math::layering::seed_lobe_white(&model, glam::Vec3::Z, v, l));
+        let h = (v + l).normalize();
+        // Schlick's (1 − v·h)⁵: the shared term at F0 = 0.
+        let bias = f64::from(crate::math::terms::f_schlick::<f32>(glam::Vec3::ZERO, v.dot(h)).x);
+        a += weight * f * (1.0 - bias);
+        b += weight * f * bias;
+    }
+    (a, b)
+}
+
+/// Both DFG tables of a seed lobe on the grid of `spec` (μ fastest, then r).
+fn seed_dfg(lobe: SeedLobe, spec: &TableSpec) -> (Vec<f32>, Vec<f32>) {
+    let (n_mu, n_r) = (spec.axes[0].1, spec.axes[1].1);
+    let nodes: Vec<(f64, f64)> = (0..n_r)
+        .flat_map(|j| (0..n_mu).map(move |i| (Axis::Cosine.node(i, n_mu), Axis::Roughness.node(j, n_r))))
+        .collect();
+    let values = super::parallel_map(nodes.len(), |k| seed_dfg_at(lobe, nodes[k].0, nodes[k].1), |_| ());
+    values.into_iter().map(|(a, b)| (a as f32, b as f32)).unzip()
 }
 
 fn node(axis: Axis, i: usize, n: usize) -> f64 {

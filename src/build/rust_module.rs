@@ -48,7 +48,8 @@ pub(super) fn module_text(materials: &[MaterialInput<'_>], tables: Option<&Path>
         Some(path) => {
             let _ = writeln!(
                 out,
-                "/// The contents of the `glazec_tables` uniform buffer (`array<vec4<f32>, N>`, little-endian f32), for\n\
+                "/// The contents of the `glazec_tables` uniform buffer (`array<vec4<u32>, N>`: 16-bit codes, two to a\n\
+                 /// little-endian u32 word), for\n\
                  /// materials whose `USES_TABLES` is true.\n#[allow(dead_code)]\npub const TABLES: &[u8] = include_bytes!({});\n",
                 literal_path(path)
             );

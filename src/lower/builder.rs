@@ -81,6 +81,9 @@ struct State {
 /// The name of the table buffer in generated code.
 pub const TABLES_BUFFER_NAME: &str = "glazec_tables";
 
+/// The function that reads an entry of the table buffer.
+const TABLE_CODE_FUNCTION: &str = "glazec_table_code";
+
 /// Builds one `naga::Module`; see the module docs.
 pub struct ModuleBuilder {
     state: RefCell<State>,
@@ -294,9 +297,10 @@ impl ModuleBuilder {
         self.append(Expression::Constant(constant))
     }
 
-    /// The table buffer `glazec_tables: array<vec4<f32>, N>` (a uniform buffer; created on
+    /// The table buffer `glazec_tables: array<vec4<u32>, N>` (a uniform buffer; created on
     /// first use; its binding is assigned by `lower` once the module is complete), as a pointer
-    /// expression. Entry i is component i % 4 of element i / 4.
+    /// expression. Entries are 16-bit codes, two to a word (`crate::math::tables::buffer`):
+    /// entry i is the low (i even) or high half of component (i / 2) % 4 of element i / 8.
     ///
     /// Tables are read from a buffer rather than from constant arrays: naga's SPIR-V writer
     /// spills a dynamically indexed array *value* into a local variable at every access and
@@ -314,10 +318,12 @@ impl ModuleBuilder {
                     let module = &mut state.module;
                     // A fixed size, so that a device's bounds checks clamp to a constant
                     // instead of reading the buffer's length at every access.
-                    let entries = std::num::NonZeroU32::new(crate::math::tables::buffer_len().div_ceil(4) as u32)
+                    let entries = std::num::NonZeroU32::new(crate::math::tables::buffer_vec4s() as u32)
                         .unwrap_or_else(|| unreachable!("the tables are not empty"));
                     let size = naga::ArraySize::Constant(entries);
-                    let ty = insert_type(module, None, TypeInner::Array { base: self.types.vec4, size, stride: 16 });
+                    let words = TypeInner::Vector { size: VectorSize::Quad, scalar: NagaScalar::U32 };
+                    let words = insert_type(module, None, words);
+                    let ty = insert_type(module, None, TypeInner::Array { base: words, size, stride: 16 });
                     let global = naga::GlobalVariable {
                         name: Some(TABLES_BUFFER_NAME.to_string()),
                         space: naga::AddressSpace::Uniform,
@@ -333,6 +339,43 @@ impl ModuleBuilder {
             }
         };
         self.append(Expression::GlobalVariable(global))
+    }
+
+    /// `glazec_table_code(entry: u32) -> f32`: the 16-bit code of an entry of the table buffer
+    /// (see [`Self::tables_buffer`]), created once per module.
+    fn table_code_function(&self) -> Handle<Function> {
+        if let Some(&f) = self.state.borrow().terms.get(TABLE_CODE_FUNCTION) {
+            return f;
+        }
+        let argument = FunctionArgument { name: Some("entry".to_string()), ty: self.types.u32, binding: None };
+        let result = FunctionResult { ty: self.types.f32, binding: None };
+        self.begin_function(TABLE_CODE_FUNCTION, vec![argument], Some(result));
+        let entry = self.argument(0);
+        let literal = |x| self.append(Expression::Literal(Literal::U32(x)));
+        let binary = |op, left, right| self.append(Expression::Binary { op, left, right });
+        // Word entry / 2 holds entries entry (low half, entry even) and entry + 1; four words
+        // make an element of the buffer.
+        let word = binary(BinaryOperator::ShiftRight, entry, literal(1));
+        self.name(word, "word");
+        let base = self.tables_buffer();
+        let pointer =
+            self.append(Expression::Access { base, index: binary(BinaryOperator::ShiftRight, word, literal(2)) });
+        let pointer =
+            self.append(Expression::Access { base: pointer, index: binary(BinaryOperator::And, word, literal(3)) });
+        let bits = self.append(Expression::Load { pointer });
+        self.name(bits, "codes");
+        let shift = binary(BinaryOperator::ShiftLeft, binary(BinaryOperator::And, entry, literal(1)), literal(4));
+        let code = binary(BinaryOperator::And, binary(BinaryOperator::ShiftRight, bits, shift), literal(0xffff));
+        let value = self.append(Expression::As { expr: code, kind: naga::ScalarKind::Float, convert: Some(4) });
+        self.statement(Statement::Return { value: Some(value) });
+        let function = self.end_function();
+        let doc = [
+            "The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even",
+            "entry in the low half (`glazec tables`; each lookup scales the code to its table's range).",
+        ];
+        let handle = self.add_function(function, &doc);
+        self.state.borrow_mut().terms.insert(TABLE_CODE_FUNCTION, handle);
+        handle
     }
 
     fn scalar_handle(&self, v: Val, name: Option<ConstName>) -> Handle<Expression> {
@@ -722,21 +765,15 @@ impl<'a> Real for Expr<'a> {
     fn fetch(table: TableId, index: Self) -> Self {
         let b = index.b;
         if let Val::Const(i) = index.v {
-            let values = table.values();
-            return b.constant(values[(i as usize).min(values.len() - 1)]);
+            let codes = table.codes();
+            return b.constant(f32::from(codes[(i as usize).min(codes.len() - 1)]));
         }
         let expr = index.handle();
-        let base = b.tables_buffer();
         let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
         let offset = b.append(Expression::Literal(Literal::U32(table.buffer_offset())));
-        let position = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
-        let two = b.append(Expression::Literal(Literal::U32(2)));
-        let three = b.append(Expression::Literal(Literal::U32(3)));
-        let row = b.append(Expression::Binary { op: BinaryOperator::ShiftRight, left: position, right: two });
-        let lane = b.append(Expression::Binary { op: BinaryOperator::And, left: position, right: three });
-        let pointer = b.append(Expression::Access { base, index: row });
-        let pointer = b.append(Expression::Access { base: pointer, index: lane });
-        index.dynamic(b.append(Expression::Load { pointer }))
+        let entry = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
+        let function = b.table_code_function();
+        index.dynamic(b.call(function, vec![entry]))
     }
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self> {
         let all_const = args.iter().all(|a| match a {

@@ -61,7 +61,7 @@ pub mod bindings {
     pub struct Layout {
         /// `var<uniform> params: <Material>Params`.
         pub params: Option<u32>,
-        /// `var<uniform> glazec_tables: array<vec4<f32>, N>`: the contents of
+        /// `var<uniform> glazec_tables: array<vec4<u32>, N>` (16-bit codes, two to a word): the contents of
         /// `glazec::math::tables::buffer()` (`glazec_tables.bin` beside the generated folders),
         /// bound when a table lookup has an argument known only at run time (a cosine, or a
         /// runtime parameter).

@@ -389,6 +389,7 @@ fn additive<F: Real>(coats: &[Coat], body: &Body<'_>, inputs: &Inputs<F>, g: &Ge
 struct SeedLobe<F: Real> {
     specular: F::Vec,
     fresnel: F::Vec,
+    distribution: F,
     shadowing: F,
 }
 
@@ -410,7 +411,22 @@ fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) 
     let shadowing = g_smith_schlick_ggx(g.n_dot_v, g.n_dot_l, roughness).named(&name("g"));
     let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().v_dot_h).named(&name("fresnel"));
     let specular = f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l).named(&name("specular"));
-    Some(SeedLobe { specular, fresnel, shadowing })
+    Some(SeedLobe { specular, fresnel, distribution, shadowing })
+}
+
+/// The seed's coat lobe without its Fresnel factor, D·G/(4 μv μl), for unit directions in the
+/// frame of `n` (zero below the horizon and for a smooth coat): what `glazec tables` integrates
+/// into the seed lobes' split-sum DFG (`environment`), so that image-based lighting weighs the
+/// lobe the shaders evaluate.
+pub fn seed_lobe_white(lobe: &Lobe, n: glam::Vec3, v: glam::Vec3, l: glam::Vec3) -> f32 {
+    if n.dot(v) <= 0.0 || n.dot(l) <= 0.0 {
+        return 0.0;
+    }
+    let inputs = Inputs::<f32>::new((), Vec::new());
+    let g = Geometry::new(n, v, l, 0);
+    // (The IOR only sets the Fresnel factor, which is left out.)
+    seed_lobe(lobe, 1.5, &inputs, &g)
+        .map_or(0.0, |seed| f_cook_torrance(seed.distribution, seed.shadowing, glam::Vec3::ONE, g.n_dot_v, g.n_dot_l).x)
 }
 
 fn weidlich_wilkie<F: Real>(

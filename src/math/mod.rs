@@ -108,8 +108,9 @@ pub trait Real:
 
     /// The value, if it is known now (always on the CPU; a folded constant in naga).
     fn known(self) -> Option<f32>;
-    /// Entry `index` of a table (in a shader: from the table buffer `glazec_tables`); `index` holds a
-    /// whole number in range (callers clamp).
+    /// The 16-bit code of entry `index` of a table, as a number (in a shader: from the table
+    /// buffer `glazec_tables`; `tables::lookup` scales it to the value); `index` holds a whole
+    /// number in range (callers clamp).
     fn fetch(table: tables::TableId, index: Self) -> Self;
 
     /// Calls (or, on the CPU, simply evaluates) a term. Use [`shading_fn!`] rather than this.

@@ -735,17 +735,3 @@ shading_fn! {
         d / d.dot(d).at_least(TINY).sqrt()
     }
 }
-
-shading_fn! {
-    /// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
-    /// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
-    /// roughness r (α = r²), returned as (A, B, 0).
-    pub fn dfg_lazarov(roughness: S, n_dot_v: S) -> V {
-        let rx = roughness * -1.0 + 1.0;
-        let ry = roughness * -0.0275 + 0.0425;
-        let rz = roughness * -0.572 + 1.04;
-        let rw = roughness * 0.022 - 0.04;
-        let a004 = (rx * rx).min((n_dot_v * (-9.28 * std::f32::consts::LN_2)).exp()) * rx + ry;
-        F::vec3(a004 * -1.04 + rz, a004 * 1.04 + rw, rx.lit(0.0))
-    }
-}

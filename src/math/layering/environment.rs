@@ -24,10 +24,10 @@
 //!   (the method's blur) over a conductor. Light reflected by deeper coats is counted in that
 //!   second part (as diffuse or as the conductor's lobe), not as sharp reflections of its own.
 //! * The seed's methods (Additive, WeidlichWilkie) weigh their Schlick-Fresnel coat lobes by
-//!   the analytic fit of the split-sum DFG of Lazarov 2013 ("Getting More Physical in Call of
-//!   Duty: Black Ops II"), fitted to Karis's table for a GGX lobe — an approximation of the seed's
-//!   own lobe, whose Smith term differs (Burley's k remap); the base weighs its directional
-//!   albedo, unattenuated (Additive) or through each coat's 1 − E and absorption
+//!   the split-sum DFG of the seed's own lobe, E(μ) = F0·A(μ; r) + B(μ; r), which `glazec tables`
+//!   generates by quadrature of that lobe (GGX with Burley's Smith remap k = (r + 1)²/8; GTR1 with
+//!   Smith at α = 0.25); a smooth coat's mirror weighs Schlick's F(μ). The base weighs its
+//!   directional albedo, unattenuated (Additive) or through each coat's 1 − E and absorption
 //!   (WeidlichWilkie, absorption along the refracted view path both ways).
 //!
 //! Specular lobes look up their reflection direction pulled towards the normal as roughness
@@ -101,22 +101,17 @@ fn interfaced_lobes<F: Real>(
     let Some(albedo) = level.albedo else { unreachable!("the albedo was asked for") };
     let total = albedo.e_v.named("stack_albedo");
     let Some(coat) = coats.first() else {
-        return vec![body_lobe(body, inputs, base_normal, v, None, total, inputs.lit(1.0))];
+        return vec![body_lobe(body, inputs, base_normal, v, level.alpha, total, inputs.lit(1.0))];
     };
     let Some((_, t_v)) = level.transmission else { unreachable!("a coated level reports its transmission") };
     let coat_weight = t_v.one_minus().named("coat_albedo");
     let coat_roughness = lobe_roughness(&coat.lobe, inputs);
     let under = (total - coat_weight.splat()).max(inputs.zero()).named("under_albedo");
     let coat_lobe = specular_lobe(coat_weight.splat(), coat_roughness, top_normal, v);
-    // The blur that every rough coat adds to a conductor's lobe, as the method applies it, and
-    // the stack's relative IOR over the body.
-    let mut eta_body = inputs.lit(1.0);
-    let blur = coats.iter().enumerate().fold(None, |blur, (k, coat)| {
-        let interface = CoatInterface::new(&coat.lobe, inputs.scalar(coat.ior), inputs, k, approx);
-        eta_body = eta_body * interface.eta;
-        coat_blur(interface.roughness, interface.eta, blur, k)
-    });
-    vec![coat_lobe, body_lobe(body, inputs, base_normal, v, blur, under, eta_body)]
+    // The stack's relative IOR over the body. (A conductor's α, widened by every rough coat as
+    // the method widens it, comes with the level.)
+    let eta_body = coats.iter().fold(inputs.lit(1.0), |eta, coat| eta * inputs.scalar(coat.ior));
+    vec![coat_lobe, body_lobe(body, inputs, base_normal, v, level.alpha, under, eta_body)]
 }
 
 /// The seed's methods: one Schlick lobe per coat (DFG fit), then the base.
@@ -135,8 +130,7 @@ fn seed_lobes<F: Real>(
         let eta = inputs.scalar(coat.ior);
         let f0 = f0_dielectric(eta).splat();
         let r = lobe_roughness(&coat.lobe, inputs);
-        let dfg = dfg_lazarov(r, g.n_dot_v);
-        let albedo = (f0 * dfg.x() + dfg.y().splat()).named(&level_name("coat_albedo", g.level));
+        let albedo = seed_coat_albedo(&coat.lobe, f0, r, g.n_dot_v).named(&level_name("coat_albedo", g.level));
         lobes.push(specular_lobe(through * albedo, r, g.n, g.v));
         if attenuated {
             let below = g.refracted(eta);
@@ -153,13 +147,33 @@ fn seed_lobes<F: Real>(
     let base = body_albedo(body, inputs, &g, None, None).e_v;
     // The seed's methods evaluate the base at the outer directions (Additive) or refract both
     // (WeidlichWilkie) without η² compression: no widening is applied to their lobes.
-    lobes.push(body_lobe(body, inputs, base_normal, v, None, through * base, inputs.lit(1.0)));
+    let alpha = match body {
+        Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), None, 0)),
+        _ => None,
+    };
+    lobes.push(body_lobe(body, inputs, base_normal, v, alpha, through * base, inputs.lit(1.0)));
     lobes
 }
 
-/// The lobe of the body: irradiance for a diffusing one, a GGX lobe for a conductor (α widened
-/// by `blur`). Seen from outside a stack of relative IOR η over the body, the conductor's lobe is
-/// wider by η: refraction out of the denser medium multiplies small angles from the normal by η
+/// The directional albedo of a seed coat lobe (Schlick's Fresnel from F0) towards a view at cosine
+/// `mu`: F0·A(μ; r) + B(μ; r) from the split-sum DFG tables `glazec tables` generates for the
+/// seed's own lobe (Karis 2013's decomposition; GGX with Burley's Smith remap, or GTR1 with the
+/// fixed Smith α of 0.25), or Schlick's F(μ) itself for a smooth coat's mirror (as
+/// `mirror_reflectance` has it).
+fn seed_coat_albedo<F: Real>(lobe: &Lobe, f0: F::Vec, r: F, mu: F) -> F::Vec {
+    let (scale, bias) = match lobe {
+        Lobe::Smooth => return f_schlick(f0, mu),
+        Lobe::Ggx { .. } => (TableId::SeedGgxDfgScale, TableId::SeedGgxDfgBias),
+        Lobe::Gtr1 { .. } => (TableId::ClearcoatDfgScale, TableId::ClearcoatDfgBias),
+    };
+    let a = tables::lookup(scale, &[mu, r]);
+    let b = tables::lookup(bias, &[mu, r]);
+    f0 * a + b.splat()
+}
+
+/// The lobe of the body: irradiance for a diffusing one, a GGX lobe of α `alpha` for a conductor
+/// (as the method widens it under rough coats). Seen from outside a stack of relative IOR η over
+/// the body, the conductor's lobe is wider by η: refraction out of the denser medium multiplies small angles from the normal by η
 /// (Snell's law near normal incidence; the refraction operator of Belcour 2018, §5.2, scales a
 /// lobe's angular spread the same way), so α_outside = min(η α, 1).
 fn body_lobe<F: Real>(
@@ -167,13 +181,12 @@ fn body_lobe<F: Real>(
     inputs: &Inputs<F>,
     n: F::Vec,
     v: F::Vec,
-    blur: Option<F>,
+    alpha: Option<F>,
     weight: F::Vec,
     eta: F,
 ) -> EnvironmentLobe<F> {
-    match body {
-        Body::Conductor(roughness, _) => {
-            let alpha = conductor_alpha(inputs.scalar(*roughness), blur, 0);
+    match (body, alpha) {
+        (Body::Conductor(..), Some(alpha)) => {
             let outside = (alpha * eta).min(inputs.lit(1.0));
             specular_lobe(weight, outside.sqrt().named("base_roughness"), n, v)
         }

@@ -28,7 +28,7 @@ struct PreviewVarying {
 }
 
 @group(0) @binding(4) 
-var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+var<uniform> glazec_tables: array<vec4<u32>, 2542>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -108,6 +108,14 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn glazec_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -125,22 +133,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lll = (code_lll * 0.0000014542611f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_ull = (code_ull * 0.0000014542611f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lul = (code_lul * 0.0000014542611f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_uul = (code_uul * 0.0000014542611f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_llu = (code_llu * 0.0000014542611f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_ulu = (code_ulu * 0.0000014542611f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_luu = (code_luu * 0.0000014542611f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_uuu = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -156,14 +164,14 @@ fn coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e41 = (u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 11648u);
-    let at_ll = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
-    let _e61 = (u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 11648u);
-    let at_ul = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
-    let _e82 = (u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 11648u);
-    let at_lu = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
-    let _e103 = (u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 11648u);
-    let at_uu = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    let code_ll = glazec_table_code((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 11648u));
+    let at_ll = (code_ll * 0.000000436632f);
+    let code_ul = glazec_table_code((u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 11648u));
+    let at_ul = (code_ul * 0.000000436632f);
+    let code_lu = glazec_table_code((u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 11648u));
+    let at_lu = (code_lu * 0.000000436632f);
+    let code_uu = glazec_table_code((u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 11648u));
+    let at_uu = (code_uu * 0.000000436632f);
     return ((((at_ll * ((1f - weight_roughness_1) * (1f - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1f - weight_eta_1)))) + (at_lu * ((1f - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
 }
 
@@ -193,22 +201,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -238,22 +246,22 @@ fn coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
     let node_eta_3 = (u_eta_3 * 7f);
     let cell_eta_3 = min(floor(node_eta_3), 6f);
     let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let _e64 = (u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u);
-    let at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u);
-    let at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u);
-    let at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u);
-    let at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
-    let at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
-    let at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
-    let at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u);
-    let at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1f - weight_eta_3)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
@@ -320,10 +328,10 @@ fn fresnel_transmit_avg(eta_6: f32) -> f32 {
     let node_eta_4 = (u_eta_4 * 63f);
     let cell_eta_4 = min(floor(node_eta_4), 62f);
     let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let _e23 = (u32(cell_eta_4) + 11776u);
-    let at_l = glazec_tables[(_e23 >> 2u)][(_e23 & 3u)];
-    let _e37 = (u32((cell_eta_4 + 1f)) + 11776u);
-    let at_u = glazec_tables[(_e37 >> 2u)][(_e37 & 3u)];
+    let code_l = glazec_table_code((u32(cell_eta_4) + 11776u));
+    let at_l = ((code_l * 0.0000042145934f) + 0.7237966f);
+    let code_u = glazec_table_code((u32((cell_eta_4 + 1f)) + 11776u));
+    let at_u = ((code_u * 0.0000042145934f) + 0.7237966f);
     return ((at_l * (1f - weight_eta_4)) + (at_u * weight_eta_4));
 }
 
@@ -339,14 +347,14 @@ fn coat_deficit_avg(roughness_4: f32, eta_7: f32) -> f32 {
     let node_eta_5 = (u_eta_5 * 7f);
     let cell_eta_5 = min(floor(node_eta_5), 6f);
     let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let _e41 = (u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11392u);
-    let at_ll_1 = glazec_tables[(_e41 >> 2u)][(_e41 & 3u)];
-    let _e61 = (u32(((cell_roughness_4 + 1f) + (cell_eta_5 * 32f))) + 11392u);
-    let at_ul_1 = glazec_tables[(_e61 >> 2u)][(_e61 & 3u)];
-    let _e82 = (u32((cell_roughness_4 + ((cell_eta_5 + 1f) * 32f))) + 11392u);
-    let at_lu_1 = glazec_tables[(_e82 >> 2u)][(_e82 & 3u)];
-    let _e103 = (u32(((cell_roughness_4 + 1f) + ((cell_eta_5 + 1f) * 32f))) + 11392u);
-    let at_uu_1 = glazec_tables[(_e103 >> 2u)][(_e103 & 3u)];
+    let code_ll = glazec_table_code((u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11392u));
+    let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
+    let code_ul = glazec_table_code((u32(((cell_roughness_4 + 1f) + (cell_eta_5 * 32f))) + 11392u));
+    let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
+    let code_lu = glazec_table_code((u32((cell_roughness_4 + ((cell_eta_5 + 1f) * 32f))) + 11392u));
+    let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
+    let code_uu = glazec_table_code((u32(((cell_roughness_4 + 1f) + ((cell_eta_5 + 1f) * 32f))) + 11392u));
+    let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
     return ((((at_ll_1 * ((1f - weight_roughness_4) * (1f - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1f - weight_eta_5)))) + (at_lu_1 * ((1f - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
 }
 
@@ -370,22 +378,22 @@ fn coat_return(tau_1: f32, roughness_5: f32, eta_8: f32) -> f32 {
     let node_eta_6 = (u_eta_6 * 7f);
     let cell_eta_6 = min(floor(node_eta_6), 6f);
     let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let _e59 = (u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u);
-    let at_lll_3 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u);
-    let at_ull_3 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u);
-    let at_lul_3 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u);
-    let at_uul_3 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
-    let at_llu_3 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
-    let at_ulu_3 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
-    let at_luu_3 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u);
-    let at_uuu_3 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u));
+    let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
+    let code_ull = glazec_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u));
+    let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
+    let code_lul = glazec_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u));
+    let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
+    let code_uul = glazec_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u));
+    let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
+    let code_llu = glazec_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
+    let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
+    let code_ulu = glazec_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
+    let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
+    let code_luu = glazec_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
+    let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
+    let code_uuu = glazec_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
+    let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
     return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * (1f - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * (1f - weight_eta_6)))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * (1f - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1f - weight_eta_6)))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
 }
 
@@ -407,22 +415,22 @@ fn coat_escape(tau_2: f32, roughness_6: f32, eta_9: f32) -> f32 {
     let node_eta_7 = (u_eta_7 * 7f);
     let cell_eta_7 = min(floor(node_eta_7), 6f);
     let weight_eta_7 = (node_eta_7 - cell_eta_7);
-    let _e59 = (u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u);
-    let at_lll_4 = glazec_tables[(_e59 >> 2u)][(_e59 & 3u)];
-    let _e85 = (u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u);
-    let at_ull_4 = glazec_tables[(_e85 >> 2u)][(_e85 & 3u)];
-    let _e112 = (u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u);
-    let at_lul_4 = glazec_tables[(_e112 >> 2u)][(_e112 & 3u)];
-    let _e139 = (u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u);
-    let at_uul_4 = glazec_tables[(_e139 >> 2u)][(_e139 & 3u)];
-    let _e166 = (u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
-    let at_llu_4 = glazec_tables[(_e166 >> 2u)][(_e166 & 3u)];
-    let _e193 = (u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
-    let at_ulu_4 = glazec_tables[(_e193 >> 2u)][(_e193 & 3u)];
-    let _e220 = (u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
-    let at_luu_4 = glazec_tables[(_e220 >> 2u)][(_e220 & 3u)];
-    let _e247 = (u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u);
-    let at_uuu_4 = glazec_tables[(_e247 >> 2u)][(_e247 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u));
+    let at_lll_4 = (code_lll * 0.000015259022f);
+    let code_ull = glazec_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u));
+    let at_ull_4 = (code_ull * 0.000015259022f);
+    let code_lul = glazec_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u));
+    let at_lul_4 = (code_lul * 0.000015259022f);
+    let code_uul = glazec_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u));
+    let at_uul_4 = (code_uul * 0.000015259022f);
+    let code_llu = glazec_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
+    let at_llu_4 = (code_llu * 0.000015259022f);
+    let code_ulu = glazec_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
+    let at_ulu_4 = (code_ulu * 0.000015259022f);
+    let code_luu = glazec_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
+    let at_luu_4 = (code_luu * 0.000015259022f);
+    let code_uuu = glazec_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
+    let at_uuu_4 = (code_uuu * 0.000015259022f);
     return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * (1f - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * (1f - weight_eta_7)))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * (1f - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1f - weight_eta_7)))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
 
@@ -514,10 +522,10 @@ fn eon_escape_shape(eta_12: f32) -> f32 {
     let node_eta_8 = (u_eta_8 * 31f);
     let cell_eta_8 = min(floor(node_eta_8), 30f);
     let weight_eta_8 = (node_eta_8 - cell_eta_8);
-    let _e23 = (u32(cell_eta_8) + 16208u);
-    let at_l_1 = glazec_tables[(_e23 >> 2u)][(_e23 & 3u)];
-    let _e37 = (u32((cell_eta_8 + 1f)) + 16208u);
-    let at_u_1 = glazec_tables[(_e37 >> 2u)][(_e37 & 3u)];
+    let code_l = glazec_table_code((u32(cell_eta_8) + 16208u));
+    let at_l_1 = ((code_l * 0.0000049967284f) + 0.99966115f);
+    let code_u = glazec_table_code((u32((cell_eta_8 + 1f)) + 16208u));
+    let at_u_1 = ((code_u * 0.0000049967284f) + 0.99966115f);
     return ((at_l_1 * (1f - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
 
@@ -765,11 +773,10 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let blur_2 = ((abs((1f - (1f / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
-    let _e274 = (dot(n_4, v_4) > 0f);
+    let _e265 = (dot(n_4, v_4) > 0f);
     let light_a = glazec_environment(reflected, params_2.glaze_roughness);
     let light_b = glazec_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e274) * light_a) + (select(vec3(0f), under_albedo, _e274) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e265) * light_a) + (select(vec3(0f), under_albedo, _e265) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 

@@ -20,12 +20,12 @@ struct PreviewVarying {
 
 const layer1_alpha: f32 = 0.06485702f;
 const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.9215437f, 0.7375736f, 0.3030111f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.921543f, 0.7375731f, 0.30301085f);
 const layer1_trapped_escape: f32 = 0.1150567f;
 const base_roughness: f32 = 0.31190628f;
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+var<uniform> glazec_tables: array<vec4<u32>, 2542>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -103,6 +103,14 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn glazec_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -120,22 +128,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lll = (code_lll * 0.0000014542611f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_ull = (code_ull * 0.0000014542611f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lul = (code_lul * 0.0000014542611f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_uul = (code_uul * 0.0000014542611f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_llu = (code_llu * 0.0000014542611f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_ulu = (code_ulu * 0.0000014542611f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_luu = (code_luu * 0.0000014542611f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_uuu = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -165,22 +173,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -225,14 +233,14 @@ fn ggx_albedo(cos_theta_2: f32, roughness_2: f32) -> f32 {
     let node_roughness_2 = (u_roughness_2 * 15f);
     let cell_roughness_2 = min(floor(node_roughness_2), 14f);
     let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let _e40 = (u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u);
-    let at_ll = glazec_tables[(_e40 >> 2u)][(_e40 & 3u)];
-    let _e60 = (u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u);
-    let at_ul = glazec_tables[(_e60 >> 2u)][(_e60 & 3u)];
-    let _e81 = (u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
-    let at_lu = glazec_tables[(_e81 >> 2u)][(_e81 & 3u)];
-    let _e102 = (u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u);
-    let at_uu = glazec_tables[(_e102 >> 2u)][(_e102 & 3u)];
+    let code_ll = glazec_table_code((u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u));
+    let at_ll = ((code_ll * 0.000010576748f) + 0.30685282f);
+    let code_ul = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u));
+    let at_ul = ((code_ul * 0.000010576748f) + 0.30685282f);
+    let code_lu = glazec_table_code((u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let at_lu = ((code_lu * 0.000010576748f) + 0.30685282f);
+    let code_uu = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let at_uu = ((code_uu * 0.000010576748f) + 0.30685282f);
     return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
 }
 
@@ -305,7 +313,7 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_2, 0.1f, 1.5f);
     let layer1_restored_v = coat_extra(n_dot_v_2, 0.1f, 1.5f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00020991957f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
     let _e38 = coat_deficit(n_dot_l_2, 0.1f, 1.5f);

@@ -24,13 +24,15 @@ var glazec_environment_sampler: sampler;
 var glazec_radiance: texture_2d<f32>;
 @group(2) @binding(2) 
 var glazec_irradiance: texture_2d<f32>;
+@group(0) @binding(3) 
+var<uniform> glazec_tables: array<vec4<u32>, 2542>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
 var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
-@group(0) @binding(3) 
+@group(0) @binding(4) 
 var<uniform> light: PreviewLight;
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
@@ -95,9 +97,9 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_2: f32, n_dot_l_2
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_4 = dot(n, v_1);
+    let n_dot_v_3 = dot(n, v_1);
     let n_dot_l_3 = dot(n, l_1);
-    let cos_v = max(n_dot_v_4, 0.0001f);
+    let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let f_base = fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
     let h = half_vector(v_1, l_1);
@@ -107,7 +109,7 @@ fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let fresnel = f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     let f = (f_base + specular);
-    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
@@ -138,16 +140,59 @@ fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
     return _e5.xyz;
 }
 
-// Lazarov 2013, "Getting More Physical in Call of Duty: Black Ops II" (the analytic fit to
-// Karis 2013's split-sum DFG table of a Schlick-Fresnel GGX lobe): E(μ) ≈ F0·A + B for
-// roughness r (α = r²), returned as (A, B, 0).
-fn dfg_lazarov(roughness_2: f32, n_dot_v_3: f32) -> vec3<f32> {
-    let rx = ((roughness_2 * -1f) + 1f);
-    let ry = ((roughness_2 * -0.0275f) + 0.0425f);
-    let rz = ((roughness_2 * -0.572f) + 1.04f);
-    let rw = ((roughness_2 * 0.022f) - 0.04f);
-    let a004_ = ((min((rx * rx), exp((n_dot_v_3 * -6.4324055f))) * rx) + ry);
-    return vec3<f32>(((a004_ * -1.04f) + rz), ((a004_ * 1.04f) + rw), 0f);
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn glazec_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
+// albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
+fn clearcoat_dfg_scale(cos_theta_1: f32, roughness_2: f32) -> f32 {
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta = (u_cos_theta * 31f);
+    let cell_cos_theta = min(floor(node_cos_theta), 30f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let u_roughness = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness = (u_roughness * 31f);
+    let cell_roughness = min(floor(node_roughness), 30f);
+    let weight_roughness = (node_roughness - cell_roughness);
+    let code_ll = glazec_table_code((u32((cell_cos_theta + (cell_roughness * 32f))) + 18288u));
+    let at_ll = ((code_ll * 0.000024627496f) + 0.23423767f);
+    let code_ul = glazec_table_code((u32(((cell_cos_theta + 1f) + (cell_roughness * 32f))) + 18288u));
+    let at_ul = ((code_ul * 0.000024627496f) + 0.23423767f);
+    let code_lu = glazec_table_code((u32((cell_cos_theta + ((cell_roughness + 1f) * 32f))) + 18288u));
+    let at_lu = ((code_lu * 0.000024627496f) + 0.23423767f);
+    let code_uu = glazec_table_code((u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 32f))) + 18288u));
+    let at_uu = ((code_uu * 0.000024627496f) + 0.23423767f);
+    return ((((at_ll * ((1f - weight_cos_theta) * (1f - weight_roughness))) + (at_ul * (weight_cos_theta * (1f - weight_roughness)))) + (at_lu * ((1f - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
+}
+
+// Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,
+// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
+// B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
+fn clearcoat_dfg_bias(cos_theta_2: f32, roughness_3: f32) -> f32 {
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let u_roughness_1 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let code_ll = glazec_table_code((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 19312u));
+    let at_ll_1 = ((code_ll * 0.0000012625713f) + 0.000010785011f);
+    let code_ul = glazec_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f))) + 19312u));
+    let at_ul_1 = ((code_ul * 0.0000012625713f) + 0.000010785011f);
+    let code_lu = glazec_table_code((u32((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f))) + 19312u));
+    let at_lu_1 = ((code_lu * 0.0000012625713f) + 0.000010785011f);
+    let code_uu = glazec_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f))) + 19312u));
+    let at_uu_1 = ((code_uu * 0.0000012625713f) + 0.000010785011f);
+    return ((((at_ll_1 * ((1f - weight_cos_theta_1) * (1f - weight_roughness_1))) + (at_ul_1 * (weight_cos_theta_1 * (1f - weight_roughness_1)))) + (at_lu_1 * ((1f - weight_cos_theta_1) * weight_roughness_1))) + (at_uu_1 * (weight_cos_theta_1 * weight_roughness_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -167,10 +212,11 @@ fn specular_dominant_direction(n_2: vec3<f32>, v_3: vec3<f32>, alpha_1: f32) -> 
 // directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
 // over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 fn disney_clay_ibl(n_3: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_5 = dot(n_3, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let _e6 = dfg_lazarov(0.14f, cos_v_1);
-    let coat_albedo = ((vec3(0.040000003f) * _e6.x) + vec3(_e6.y));
+    let n_dot_v_4 = dot(n_3, v_4);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let _e6 = clearcoat_dfg_scale(cos_v_1, 0.14f);
+    let _e8 = clearcoat_dfg_bias(cos_v_1, 0.14f);
+    let coat_albedo = ((vec3(0.040000003f) * _e6) + vec3(_e8));
     let reflected = specular_dominant_direction(n_3, v_4, 0.0196f);
     let _e18 = (dot(n_3, v_4) > 0f);
     let light_a = glazec_environment(reflected, 0.14f);

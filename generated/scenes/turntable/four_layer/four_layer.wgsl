@@ -22,17 +22,17 @@ const layer1_tau: vec3<f32> = vec3<f32>(0.02f, 0.02f, 0.02f);
 const layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
 const layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
-const layer4_r_return: vec3<f32> = vec3<f32>(0.3224724f, 0.3224724f, 0.3224724f);
-const layer3_rho: vec3<f32> = vec3<f32>(0.8527739f, 0.8527739f, 0.7852342f);
-const layer3_r_return: vec3<f32> = vec3<f32>(0.020908594f, 0.056399822f, 0.14856565f);
-const layer2_rho: vec3<f32> = vec3<f32>(0.2635337f, 0.4134936f, 0.64401436f);
+const layer4_r_return: vec3<f32> = vec3<f32>(0.32247323f, 0.32247323f, 0.32247323f);
+const layer3_rho: vec3<f32> = vec3<f32>(0.85277396f, 0.85277396f, 0.7852343f);
+const layer3_r_return: vec3<f32> = vec3<f32>(0.020906627f, 0.056411505f, 0.14856523f);
+const layer2_rho: vec3<f32> = vec3<f32>(0.26353127f, 0.4134952f, 0.6440171f);
 const layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_rho: vec3<f32> = vec3<f32>(0.24385336f, 0.38261434f, 0.59591997f);
-const layer1_r_return: vec3<f32> = vec3<f32>(0.5949663f, 0.5949663f, 0.5949663f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.2438511f, 0.38261583f, 0.59592247f);
+const layer1_r_return: vec3<f32> = vec3<f32>(0.5949677f, 0.5949677f, 0.5949677f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<f32>, 4060>;
+var<uniform> glazec_tables: array<vec4<u32>, 2542>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -102,6 +102,14 @@ fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn glazec_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -119,22 +127,22 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let _e64 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lll = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_ull = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_lul = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u);
-    let at_uul = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_llu = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_ulu = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_luu = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u);
-    let at_uuu = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lll = (code_lll * 0.0000014542611f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_ull = (code_ull * 0.0000014542611f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_lul = (code_lul * 0.0000014542611f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let at_uul = (code_uul * 0.0000014542611f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_llu = (code_llu * 0.0000014542611f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_ulu = (code_ulu * 0.0000014542611f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_luu = (code_luu * 0.0000014542611f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let at_uuu = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
 
@@ -164,22 +172,22 @@ fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let _e64 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lll_1 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_ull_1 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_lul_1 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u);
-    let at_uul_1 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_llu_1 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_ulu_1 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_luu_1 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u);
-    let at_uuu_1 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
+    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
+    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
@@ -230,22 +238,22 @@ fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let _e64 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lll_2 = glazec_tables[(_e64 >> 2u)][(_e64 & 3u)];
-    let _e90 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_ull_2 = glazec_tables[(_e90 >> 2u)][(_e90 & 3u)];
-    let _e117 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_lul_2 = glazec_tables[(_e117 >> 2u)][(_e117 & 3u)];
-    let _e144 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u);
-    let at_uul_2 = glazec_tables[(_e144 >> 2u)][(_e144 & 3u)];
-    let _e171 = (u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_llu_2 = glazec_tables[(_e171 >> 2u)][(_e171 & 3u)];
-    let _e198 = (u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_ulu_2 = glazec_tables[(_e198 >> 2u)][(_e198 & 3u)];
-    let _e225 = (u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_luu_2 = glazec_tables[(_e225 >> 2u)][(_e225 & 3u)];
-    let _e252 = (u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u);
-    let at_uuu_2 = glazec_tables[(_e252 >> 2u)][(_e252 & 3u)];
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
@@ -332,7 +340,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = coat_extra(n_dot_l_3, 0.2f, 1.5f);
     let layer1_restored_v = coat_extra(n_dot_v_3, 0.2f, 1.5f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011289268f);
+    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095f);
     let specular = (_e21 + vec3(_e29));
     let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5f);
     let _e38 = coat_deficit(n_dot_l_3, 0.2f, 1.5f);
@@ -366,7 +374,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e102 = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3f, 1.1f);
     let layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3f, 1.1f);
-    let _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.00071036624f);
+    let _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287f);
     let layer2_specular = (_e102 + vec3(_e110));
     let layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1f);
     let _e119 = coat_deficit(layer2_n_dot_l, 0.3f, 1.1f);
@@ -394,7 +402,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e173 = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5f, 1.2f);
     let layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5f, 1.2f);
-    let _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014620898f);
+    let _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245f);
     let layer3_specular = (_e173 + vec3(_e181));
     let layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2f);
     let _e190 = coat_deficit(layer3_n_dot_l, 0.5f, 1.2f);
@@ -418,27 +426,27 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e252 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
     let _e254 = e_fon(layer4_path_cos_l, 0.4f);
     let layer4_first_escape_l = (vec3(1f) + (((layer4_rho_ms * (1f - _e254)) * vec3(0.18698311f)) / max(_e252, vec3(0.000001f))));
-    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
+    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6775268f))) / vec3(0.32247323f)), vec3(0f)), vec3(1f));
     let _e289 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
     let _e291 = e_fon(layer4_path_cos_v, 0.4f);
     let layer4_first_escape_v = (vec3(1f) + (((layer4_rho_ms * (1f - _e291)) * vec3(0.18698311f)) / max(_e289, vec3(0.000001f))));
-    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
-    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.96712446f, 0.96712446f, 0.9689246f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
+    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6775268f))) / vec3(0.32247323f)), vec3(0f)), vec3(1f));
+    let layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671245f, 0.9671245f, 0.96892464f), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
     let layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_l, layer4_first_return_l);
-    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_v, layer4_first_return_v);
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268f), layer4_first_escape_l, layer4_first_return_l);
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6775268f), layer4_first_escape_v, layer4_first_return_v);
     let _e354 = (1f - layer4_transmit_l);
-    let _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e375 / vec3(0.8096479f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e375) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
+    let _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0f)) * vec3(0.8201256f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e375 / vec3(0.8096463f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e375) / vec3(0.19035369f)), vec3(0f)), vec3(1f));
     let _e392 = (1f - layer4_transmit_v);
-    let _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e413 / vec3(0.8096479f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e413) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
-    let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93227535f, 0.93227535f, 0.93118817f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
+    let _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0f)) * vec3(0.8201256f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e413 / vec3(0.8096463f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e413) / vec3(0.19035369f)), vec3(0f)), vec3(1f));
+    let layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9322981f, 0.9322981f, 0.93121034f), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
     let layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_l, layer2_first_return_l);
-    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_v, layer2_first_return_v);
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48113698f, 0.6022451f, 0.7614758f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48113698f, 0.6022451f, 0.7614758f), layer2_first_escape_v, layer2_first_return_v);
     let _e458 = (1f - layer3_transmit_l);
     let _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l = (_e476 / vec3(0.9999998f));
@@ -452,14 +460,14 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
     let _e551 = (1f - layer2_transmit_l);
-    let _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e572 / vec3(0.40503368f));
-    let first_return_l = min(max(((vec3(1f) - _e572) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
+    let _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0f)) * vec3(0.41657114f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e572 / vec3(0.40503228f));
+    let first_return_l = min(max(((vec3(1f) - _e572) / vec3(0.5949677f)), vec3(0f)), vec3(1f));
     let _e589 = (1f - layer2_transmit_v);
-    let _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e610 / vec3(0.40503368f));
-    let first_return_v = min(max(((vec3(1f) - _e610) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9805992f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
+    let _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0f)) * vec3(0.41657114f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e610 / vec3(0.40503228f));
+    let first_return_v = min(max(((vec3(1f) - _e610) / vec3(0.5949677f)), vec3(0f)), vec3(1f));
+    let under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059f), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -554,23 +562,23 @@ fn four_layer_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let _e130 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
     let _e132 = e_fon(layer4_path_cos_l_1, 0.4f);
     let layer4_first_escape_l_1 = (vec3(1f) + (((layer4_rho_ms * (1f - _e132)) * vec3(0.18698311f)) / max(_e130, vec3(0.000001f))));
-    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
+    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.6775268f))) / vec3(0.32247323f)), vec3(0f)), vec3(1f));
     let _e167 = albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
     let _e169 = e_fon(layer4_path_cos_v_1, 0.4f);
     let layer4_first_escape_v_1 = (vec3(1f) + (((layer4_rho_ms * (1f - _e169)) * vec3(0.18698311f)) / max(_e167, vec3(0.000001f))));
-    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.6775276f))) / vec3(0.3224724f)), vec3(0f)), vec3(1f));
-    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_l_1, layer4_first_return_l_1);
-    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775276f), layer4_first_escape_v_1, layer4_first_return_v_1);
+    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.6775268f))) / vec3(0.32247323f)), vec3(0f)), vec3(1f));
+    let layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268f), layer4_first_escape_l_1, layer4_first_return_l_1);
+    let layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268f), layer4_first_escape_v_1, layer4_first_return_v_1);
     let _e214 = (1f - layer4_transmit_l_1);
-    let _e235 = min(max(((vec3((_e214 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e214)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e235 / vec3(0.8096479f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e235) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
+    let _e235 = min(max(((vec3((_e214 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e214)), vec3(0f)) * vec3(0.8201256f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e235 / vec3(0.8096463f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e235) / vec3(0.19035369f)), vec3(0f)), vec3(1f));
     let _e252 = (1f - layer4_transmit_v_1);
-    let _e273 = min(max(((vec3((_e252 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e252)), vec3(0f)) * vec3(0.8201332f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e273 / vec3(0.8096479f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e273) / vec3(0.19035208f)), vec3(0f)), vec3(1f));
-    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_l_1, layer2_first_return_l_1);
-    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.4811409f, 0.6022485f, 0.7614752f), layer2_first_escape_v_1, layer2_first_return_v_1);
+    let _e273 = min(max(((vec3((_e252 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e252)), vec3(0f)) * vec3(0.8201256f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e273 / vec3(0.8096463f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e273) / vec3(0.19035369f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3<f32>(0.48113698f, 0.6022451f, 0.7614758f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3<f32>(0.48113698f, 0.6022451f, 0.7614758f), layer2_first_escape_v_1, layer2_first_return_v_1);
     let _e304 = (1f - layer3_transmit_l_1);
     let _e322 = min(max(((vec3((_e304 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e304)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l_1 = (_e322 / vec3(0.9999998f));
@@ -582,15 +590,15 @@ fn four_layer_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e384 = (1f - layer2_transmit_l_1);
-    let _e405 = min(max(((vec3((_e384 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e384)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e405 / vec3(0.40503368f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e405) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
+    let _e405 = min(max(((vec3((_e384 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e384)), vec3(0f)) * vec3(0.41657114f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e405 / vec3(0.40503228f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e405) / vec3(0.5949677f)), vec3(0f)), vec3(1f));
     let _e422 = (1f - layer2_transmit_v_1);
-    let _e443 = min(max(((vec3((_e422 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e422)), vec3(0f)) * vec3(0.4165765f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e443 / vec3(0.40503368f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e443) / vec3(0.5949663f)), vec3(0f)), vec3(1f));
-    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.40503368f), first_escape_l_1, first_return_l_1);
-    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.40503368f), first_escape_v_1, first_return_v_1);
+    let _e443 = min(max(((vec3((_e422 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e422)), vec3(0f)) * vec3(0.41657114f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e443 / vec3(0.40503228f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e443) / vec3(0.5949677f)), vec3(0f)), vec3(1f));
+    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, layer1_rho, layer1_r_return, vec3(0.40503228f), first_escape_l_1, first_return_l_1);
+    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, layer1_rho, layer1_r_return, vec3(0.40503228f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = specular_dominant_direction(n_4, v_4, 0.040000003f);
