@@ -12,7 +12,7 @@ use glam::Vec3;
 const U_STEPS: usize = 1500;
 const PHI_STEPS: usize = 600;
 /// View angles (degrees).
-const ANGLES: [f32; 8] = [0.0, 30.0, 45.0, 60.0, 70.0, 75.0, 80.0, 85.0];
+const ANGLES: [f32; 9] = [0.0, 30.0, 45.0, 60.0, 70.0, 75.0, 80.0, 85.0, 89.0];
 
 fn main() {
     let Some(text) = std::env::args().nth(1) else {
