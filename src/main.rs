@@ -224,6 +224,14 @@ enum Command {
         /// Microsurface random walks per rough-interface entry.
         #[arg(long, default_value_t = 20_000)]
         walks: u32,
+        /// White random walks through coat and conductor per node of the glossy level's tables
+        /// (a conductor under a coat).
+        #[arg(long, default_value_t = 20_000)]
+        glossy_walks: u32,
+        /// Regenerate only the glossy level's tables, keeping the others of the existing table
+        /// file at --out (a full run reproduces them exactly).
+        #[arg(long)]
+        glossy_only: bool,
         /// Where to write the table file (it is compiled into glazec: rebuild afterwards).
         #[arg(short, long, default_value = "data/tables.bin")]
         out: PathBuf,
@@ -362,7 +370,7 @@ fn main() -> ExitCode {
             };
             accuracy(mode, data, regenerate_reference, samples, walks, &markdown, &csv)
         }
-        Command::Tables { walks, out } => tables(walks, &out),
+        Command::Tables { walks, glossy_walks, glossy_only, out } => tables(walks, glossy_walks, glossy_only, &out),
         #[cfg(feature = "gpu")]
         Command::Bench { materials, out, chart } => bench(&materials, &out, chart.as_deref()),
         #[cfg(feature = "gpu")]
@@ -940,10 +948,16 @@ fn reference_path(mode: glazec::reference::InterfaceMode) -> PathBuf {
     }
 }
 
-fn tables(walks: u32, out: &Path) -> Result<(), Failure> {
+fn tables(walks: u32, glossy_walks: u32, glossy_only: bool, out: &Path) -> Result<(), Failure> {
     let start = std::time::Instant::now();
-    let progress = |done: usize, total: usize| eprint!("\rtables: {done}/{total} interface columns");
-    let (tables, report) = glazec::accuracy::tables::generate(walks, &progress);
+    let progress = |done: usize, total: usize| eprint!("\rtables: {done}/{total} columns");
+    let (tables, report) = if glossy_only {
+        let existing = std::fs::read(out).with_context(|| format!("cannot read {}", out.display()))?;
+        glazec::accuracy::tables::generate_glossy_only(glazec::math::tables::decode_by_name(&existing), glossy_walks, &progress)
+            .map_err(|e| anyhow::anyhow!(e))?
+    } else {
+        glazec::accuracy::tables::generate(walks, glossy_walks, &progress)
+    };
     eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
     eprintln!(
         "flux identity η²⟨T_int⟩ = ⟨T⟩: max error {:.2e}; single-event share vs quadrature: max {:.2} σ",
@@ -952,6 +966,10 @@ fn tables(walks: u32, out: &Path) -> Result<(), Failure> {
     eprintln!(
         "single-scattering deficit: the lookup overshot the truth by up to {:.2e} between nodes (nodes lowered)",
         report.max_deficit_excess
+    );
+    eprintln!(
+        "glossy level: fitted trapped-light generating function within {:.1e} of the walks'; lobe scale misses its target by up to {:.1e}",
+        report.glossy.max_tail_fit_error, report.glossy.max_scale_miss
     );
     let bytes = glazec::math::tables::encode(&tables);
     glazec::output::write_all(&[glazec::output::OutputFile { path: out.to_path_buf(), contents: bytes }])

@@ -46,6 +46,8 @@ pub struct Report {
     /// Largest amount by which the interpolated single-scattering deficit exceeded the true one
     /// between its nodes before generation lowered them (see `glazec tables`).
     pub max_deficit_excess: f64,
+    /// What the glossy level's tables measured about themselves.
+    pub glossy: super::glossy::GlossyReport,
 }
 
 /// One column of a table (every node along its first axis) at an (r, η) node pair.
@@ -74,8 +76,9 @@ enum Job {
     Path(usize, usize),
 }
 
-/// Computes every table. `walks` microsurface walks per rough entry; `progress(done, total)`.
-pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Vec<f32>>, Report) {
+/// Computes every table. `walks` microsurface walks per rough entry, `glossy_walks` white walks
+/// per node of the glossy level's tables; `progress(done, total)`.
+pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Vec<f32>>, Report) {
     let dims = |id: TableId| -> Vec<usize> { id.spec().axes.iter().map(|&(_, n)| n).collect() };
     let (deficit, extra, path, slab) =
         (dims(TableId::CoatDeficit), dims(TableId::CoatExtra), dims(TableId::CoatPath), dims(TableId::CoatReturn));
@@ -162,7 +165,31 @@ pub fn generate(walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Ve
         tables[scale as usize] = a;
         tables[bias as usize] = b;
     }
+    report.glossy = super::glossy::generate(&mut tables, glossy_walks, progress);
     (tables, report)
+}
+
+/// Only the glossy level's tables, every other table taken from `existing` (values per table
+/// in `SPECS` order, as `math::tables::decode_by_name` reads them from a table file; a full
+/// generation reproduces them exactly, its walks being seeded by their nodes).
+///
+/// # Errors
+/// A table other than the glossy level's is missing from `existing`.
+pub fn generate_glossy_only(
+    existing: Vec<Option<Vec<f32>>>,
+    glossy_walks: u32,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(Vec<Vec<f32>>, Report), String> {
+    let mut tables = Vec::new();
+    for (id, values) in TableId::ALL.iter().zip(existing) {
+        match values {
+            Some(values) => tables.push(values),
+            None if id.is_glossy() => tables.push(vec![0.0; id.spec().len()]),
+            None => return Err(format!("the table file has no {} table; run a full `glazec tables`", id.spec().name)),
+        }
+    }
+    let glossy = super::glossy::generate(&mut tables, glossy_walks, progress);
+    Ok((tables, Report { glossy, ..Report::default() }))
 }
 
 /// The seed's coat lobes (`Lobe::Ggx` and the Disney clear coat's `Lobe::Gtr1`).
@@ -435,6 +462,7 @@ fn argument_at(axis: Axis, x: f64, n: usize) -> f64 {
         Axis::Roughness => u * u,
         Axis::Ior => (2.0 + u) / (2.0 - u),
         Axis::Depth => u / (1.0 - u),
+        Axis::RootCosine => u * u,
     }
 }
 

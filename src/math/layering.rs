@@ -41,6 +41,9 @@
 use std::cell::OnceCell;
 
 pub mod environment;
+mod glossy;
+
+pub use glossy::{glossy_coat_transmission, glossy_cone_share, glossy_lobe_white};
 
 use super::tables::{self, TableId};
 use super::terms::*;
@@ -537,6 +540,11 @@ fn interfaced<F: Real>(
         };
         return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0), transmission: None };
     };
+    // A conductor directly under this coat: the glossy level.
+    if let (None, Body::Conductor(roughness, fresnel)) = (coats.get(k + 1), body) {
+        let conductor = (*roughness, *fresnel);
+        return glossy::glossy_level(coat, conductor, inputs, g, k, n_medium, blur, want_albedo, approx);
+    }
     let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&name("tau"));

@@ -58,6 +58,10 @@ pub enum Axis {
     Roughness,
     /// A relative IOR η ∈ [1, 3]: u = 2(η − 1)/(η + 1).
     Ior,
+    /// A cosine μ ∈ [0, 1]: u = √μ. For the statistics of light under a coat over a conductor,
+    /// which change over the whole range of μ, fastest (but not as fast as a rough interface's
+    /// albedo) towards grazing.
+    RootCosine,
     /// An optical depth τ ∈ [0, ∞]: u = τ/(1 + τ).
     Depth,
 }
@@ -76,6 +80,7 @@ impl Axis {
                 let tau = x.at_least(0.0);
                 tau / (tau + 1.0)
             }
+            Axis::RootCosine => x.clamp(0.0, 1.0).sqrt(),
         }
     }
 
@@ -92,6 +97,7 @@ impl Axis {
             Axis::Ior => (2.0 + u) / (2.0 - u),
             Axis::Depth if i + 1 == n => f64::INFINITY,
             Axis::Depth => u / (1.0 - u),
+            Axis::RootCosine => u * u,
         }
     }
 }
@@ -183,6 +189,15 @@ pub enum TableId {
     SeedGgxDfgBias,
     ClearcoatDfgScale,
     ClearcoatDfgBias,
+    GlossyBlur,
+    GlossyScale,
+    GlossySingle,
+    GlossyNext,
+    GlossyQuick,
+    GlossySteady,
+    GlossySlowRetention,
+    GlossyPoolCosine,
+    GlossyPath,
 }
 
 /// The single-scattering deficit decides the energy balance and switches on sharply near
@@ -198,12 +213,28 @@ const SLAB_GRID: [(Axis, usize); 3] = [(Axis::Depth, 16), (Axis::Roughness, 16),
 /// The split-sum DFG of the seed's coat lobes (image-based lighting): smooth in both arguments.
 const DFG_GRID: [(Axis, usize); 2] = [(Axis::Cosine, 32), (Axis::Roughness, 32)];
 
+/// A conductor under a coat (`layering`'s glossy level): per direction μ (outside the coat),
+/// the conductor's roughness, the coat's roughness and its IOR. What these tables hold changes
+/// over the whole range of μ (the share of the conductor's lobe that the escape cone cuts), so
+/// μ is spaced in √μ rather than μ^¼.
+pub const GLOSSY_GRID: [(Axis, usize); 4] =
+    [(Axis::RootCosine, 8), (Axis::Roughness, 6), (Axis::Roughness, 6), (Axis::Ior, 6)];
+/// The pool of light trapped under a coat over a conductor: no direction (it has forgotten it).
+pub const GLOSSY_POOL_GRID: [(Axis, usize); 3] = [(Axis::Roughness, 6), (Axis::Roughness, 6), (Axis::Ior, 6)];
+/// The path of light that leaves a coat over a mirror after one reflection: per direction, per
+/// optical depth (the Laplace transform of its path length), coat roughness and IOR.
+pub const GLOSSY_PATH_GRID: [(Axis, usize); 4] = [(Axis::RootCosine, 8), (Axis::Depth, 4), (Axis::Roughness, 6), (Axis::Ior, 6)];
+
 const S: Kind = Kind::Scalar;
 /// Parameter lists of the lookup functions, one parameter per axis.
 const COAT_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("roughness", S), ("eta", S)];
 const SLAB_PARAMS: &[(&str, Kind)] = &[("tau", S), ("roughness", S), ("eta", S)];
 const COAT_AVG_PARAMS: &[(&str, Kind)] = &[("roughness", S), ("eta", S)];
 const DFG_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("roughness", S)];
+const GLOSSY_PARAMS: &[(&str, Kind)] =
+    &[("cos_theta", S), ("conductor_roughness", S), ("roughness", S), ("eta", S)];
+const GLOSSY_POOL_PARAMS: &[(&str, Kind)] = &[("conductor_roughness", S), ("roughness", S), ("eta", S)];
+const GLOSSY_PATH_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("tau", S), ("roughness", S), ("eta", S)];
 
 /// The first doc line of every lookup function.
 macro_rules! table_doc {
@@ -211,6 +242,17 @@ macro_rules! table_doc {
         &[
             "Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);",
             "multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.",
+            $($line),*
+        ]
+    };
+}
+
+/// The first doc lines of the glossy level's lookup functions.
+macro_rules! glossy_doc {
+    ($($line:literal),* $(,)?) => {
+        &[
+            "Tabulated by `glazec tables` from white random walks through the reference's coat and",
+            "conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).",
             $($line),*
         ]
     };
@@ -249,7 +291,7 @@ const fn rounded_down(spec: TableSpec) -> TableSpec {
 
 /// Every table's layout. Changing one invalidates `data/tables.bin` (regenerate it with
 /// `glazec tables`).
-pub const SPECS: [TableSpec; 15] = [
+pub const SPECS: [TableSpec; 24] = [
     rounded_down(table(
         "coat_deficit_table",
         &DEFICIT_GRID,
@@ -383,10 +425,93 @@ pub const SPECS: [TableSpec; 15] = [
         DFG_PARAMS,
         dfg_doc!["B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).",],
     ),
+    table(
+        "glossy_blur_table",
+        &GLOSSY_GRID,
+        "glossy_blur",
+        GLOSSY_PARAMS,
+        glossy_doc![
+            "σ(μ; r_c, r, η): how much a rough coat widens the conductor's lobe under it, per crossing",
+            "(α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's peak seen",
+            "through the coat's transmission from μ, tapered towards grazing (`layering::GLOSSY_TAPER`).",
+        ],
+    ),
+    table(
+        "glossy_scale_table",
+        &GLOSSY_GRID,
+        "glossy_scale",
+        GLOSSY_PARAMS,
+        glossy_doc![
+            "s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)",
+            "reflect what leaves after exactly one conductor event (`glossy_single`), for a white",
+            "conductor under a clear coat (solved over μ at each node; 1 where nothing is cut).",
+        ],
+    ),
+    table(
+        "glossy_single_table",
+        &GLOSSY_GRID,
+        "glossy_single",
+        GLOSSY_PARAMS,
+        glossy_doc![
+            "P₁(μ; r_c, r, η)/c(μ′; r_c, η): the share of the light entering the coat at μ that leaves",
+            "it after exactly one event on a white conductor, over the share c = 1 − trapped_share of",
+            "the conductor's lobe inside the escape cone (which carries P₁'s steep dependence on r_c).",
+        ],
+    ),
+    table(
+        "glossy_next_table",
+        &GLOSSY_GRID,
+        "glossy_next",
+        GLOSSY_PARAMS,
+        glossy_doc!["w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.",],
+    ),
+    table(
+        "glossy_quick_table",
+        &GLOSSY_GRID,
+        "glossy_quick",
+        GLOSSY_PARAMS,
+        glossy_doc!["w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.",],
+    ),
+    table(
+        "glossy_steady_table",
+        &GLOSSY_GRID,
+        "glossy_steady",
+        GLOSSY_PARAMS,
+        glossy_doc![
+            "w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the",
+            "rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).",
+        ],
+    ),
+    table(
+        "glossy_slow_retention_table",
+        &GLOSSY_POOL_GRID,
+        "glossy_slow_retention",
+        GLOSSY_POOL_PARAMS,
+        glossy_doc!["B_s(r_c, r, η): the share of the slowest part of the trapped light that stays per event.",],
+    ),
+    table(
+        "glossy_pool_cosine_table",
+        &GLOSSY_POOL_GRID,
+        "glossy_pool_cosine",
+        GLOSSY_POOL_PARAMS,
+        glossy_doc!["μ*(r_c, r, η): the mean cosine at which trapped light meets the conductor.",],
+    ),
+    table(
+        "glossy_path_table",
+        &GLOSSY_PATH_GRID,
+        "glossy_path",
+        GLOSSY_PATH_PARAMS,
+        &[
+            "Tabulated by `glazec tables` from random walks through the reference's coat over a mirror",
+            "(f64); multilinear in √μ, τ/(1 + τ), √r, 2(η − 1)/(η + 1).",
+            "q(μ; τ, r, η) ≥ 0: the light that enters at μ and leaves after one reflection keeps",
+            "e^(−τ q/μ′) of itself per crossing (μ′: Snell's cosine; q = 1 for a smooth coat).",
+        ],
+    ),
 ];
 
 impl TableId {
-    pub const ALL: [TableId; 15] = [
+    pub const ALL: [TableId; 24] = [
         TableId::CoatDeficit,
         TableId::CoatExtra,
         TableId::CoatPath,
@@ -402,7 +527,22 @@ impl TableId {
         TableId::SeedGgxDfgBias,
         TableId::ClearcoatDfgScale,
         TableId::ClearcoatDfgBias,
+        TableId::GlossyBlur,
+        TableId::GlossyScale,
+        TableId::GlossySingle,
+        TableId::GlossyNext,
+        TableId::GlossyQuick,
+        TableId::GlossySteady,
+        TableId::GlossySlowRetention,
+        TableId::GlossyPoolCosine,
+        TableId::GlossyPath,
     ];
+
+    /// Whether the table belongs to the glossy level (a conductor under a coat;
+    /// `accuracy::glossy`).
+    pub fn is_glossy(self) -> bool {
+        self.spec().name.starts_with("glossy_")
+    }
 
     pub fn spec(self) -> &'static TableSpec {
         &SPECS[self as usize]
@@ -465,7 +605,34 @@ struct Stored {
     values: Arc<[f32]>,
 }
 
+/// Tables that replace the compiled-in ones on the CPU ([`evaluate_on_cpu_with`]); null: none.
+static OVERRIDE: std::sync::atomic::AtomicPtr<Vec<Stored>> = std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
+
+/// Makes every CPU evaluation in this process read `tables` (values per table, in [`SPECS`]
+/// order, stored as [`encode`] would store them) instead of the compiled-in file. For
+/// `glazec tables`, whose later tables are defined through the compiled math evaluated with the
+/// tables it has just computed (`accuracy::tables`); shaders are not affected. Each call leaks
+/// its tables (a few tens of kilobytes, a handful of times per generation).
+pub fn evaluate_on_cpu_with(tables: &[Vec<f32>]) {
+    let stored: Vec<Stored> = SPECS
+        .iter()
+        .zip(tables)
+        .map(|(spec, values)| {
+            let quantization = Quantization::spanning(values);
+            let codes: Vec<u16> = values.iter().map(|&v| quantization.encode(v, spec.rounding)).collect();
+            let values = codes.iter().map(|&u| quantization.decode(u)).collect();
+            Stored { codes, quantization, values }
+        })
+        .collect();
+    OVERRIDE.store(Box::into_raw(Box::new(stored)), std::sync::atomic::Ordering::Release);
+}
+
 fn stored() -> &'static [Stored] {
+    let replaced = OVERRIDE.load(std::sync::atomic::Ordering::Acquire);
+    if !replaced.is_null() {
+        // SAFETY: set only by `evaluate_on_cpu_with` from a leaked box, never freed.
+        return unsafe { &*replaced };
+    }
     static TABLES: OnceLock<Vec<Stored>> = OnceLock::new();
     TABLES.get_or_init(|| match decode_codes(TABLE_FILE) {
         Ok(tables) => tables
@@ -504,6 +671,34 @@ pub fn encode(tables: &[Vec<f32>]) -> Vec<u8> {
 /// Reads a table file, checking it against [`SPECS`]: the decoded values.
 pub fn decode(bytes: &[u8]) -> Result<Vec<Vec<f32>>, String> {
     Ok(decode_codes(bytes)?.into_iter().map(|(q, codes)| codes.iter().map(|&u| q.decode(u)).collect()).collect())
+}
+
+/// Reads the tables a table file holds by name, whatever its layout: for every table of [`SPECS`],
+/// its decoded values if the file has a table of that name and size (`glazec tables
+/// --glossy-only` keeps the others of an existing file).
+pub fn decode_by_name(bytes: &[u8]) -> Vec<Option<Vec<f32>>> {
+    let mut found: Vec<Option<Vec<f32>>> = vec![None; SPECS.len()];
+    let mut at = 12;
+    let word = |b: &[u8]| u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    if bytes.get(..8) != Some(MAGIC.as_slice()) {
+        return found;
+    }
+    while at < bytes.len() {
+        let Some(&name_len) = bytes.get(at) else { break };
+        let Some(name) = bytes.get(at + 1..at + 1 + name_len as usize) else { break };
+        at += 1 + name_len as usize;
+        let Some(header) = bytes.get(at..at + 12) else { break };
+        let (len, offset, scale) = (word(header) as usize, f32::from_bits(word(&header[4..])), f32::from_bits(word(&header[8..])));
+        at += 12;
+        let Some(codes) = bytes.get(at..at + 2 * len) else { break };
+        at += 2 * len;
+        let q = Quantization { offset, scale };
+        let values: Vec<f32> = codes.chunks_exact(2).map(|c| q.decode(u16::from_le_bytes([c[0], c[1]]))).collect();
+        if let Some(i) = SPECS.iter().position(|spec| spec.name.as_bytes() == name && spec.len() == len) {
+            found[i] = Some(values);
+        }
+    }
+    found
 }
 
 /// Reads a table file: each table's encoding and codes.
@@ -724,7 +919,7 @@ mod tests {
 
     #[test]
     fn axis_nodes_invert_coordinates() {
-        for axis in [Axis::Cosine, Axis::Roughness, Axis::Ior, Axis::Depth] {
+        for axis in [Axis::Cosine, Axis::Roughness, Axis::Ior, Axis::Depth, Axis::RootCosine] {
             for i in 0..11 {
                 let x = axis.node(i, 12);
                 let u = axis.coordinate(x as f32);

@@ -1,0 +1,572 @@
+//! `glazec tables`, the glossy level: what light does under a coat over a conductor.
+//!
+//! Light that a conductor reflects under a coat either leaves through the coat's escape cone at
+//! once or is sent back down (by total internal reflection, or by the coat's Fresnel
+//! reflection) and meets the conductor again, many times for a smooth conductor under a smooth
+//! coat. The default method (`layering`'s glossy level) splits what comes back out into the
+//! light that left after exactly one conductor event, a lobe, and the rest, a separable
+//! remainder whose colour depends on how many events it took. These tables hold what that needs,
+//! all measured by **white** walks (the conductor's colour is applied at run time):
+//!
+//! * per direction μ outside the coat, conductor roughness r_c, coat roughness r and IOR η
+//!   (`GLOSSY_GRID`): the share P₁ that leaves after one event (stored over the analytic share
+//!   of the conductor's lobe inside the escape cone, `layering::glossy_cone_share`, which
+//!   carries its steep dependence on r_c); and the rest, the trapped light,
+//!   as a mixture of four geometric event counts: weights w₀…w₃ (w ≥ 0, Σw = 1) on the
+//!   retentions B = 0 (it leaves at the next event), ½, 0.8 and a slow B_s. The share leaving
+//!   after k events then has the generating function P₁c + (1 − P₁) c Σⱼ wⱼ γ(Bⱼ, c),
+//!   γ(B, c) = c(1 − B)/(1 − Bc), for any per-event survival c. B_s is fitted per (r_c, r, η)
+//!   over every direction and over c ∈ [0.3, 0.99] (the trapped light forgets where it came
+//!   from, so its slowest rate does not depend on μ), the weights per direction by
+//!   simplex-constrained least squares. With fixed retentions the weights are linear in the
+//!   generating function, so interpolating them between nodes interpolates it (two fitted rates
+//!   per node did not: they trade off against each other from node to node);
+//! * μ*: the mean cosine at which the trapped light meets the conductor (where the method
+//!   evaluates its Fresnel factor for the events after the first);
+//! * σ: how much the coat's two crossings widen the conductor's lobe, the GGX width whose peak
+//!   matches the conductor's peak seen through the coat's transmission (quadrature of the
+//!   conductor's distribution over the walks' transmitted directions), tapered towards grazing;
+//! * s: the per-direction scale that makes the method's widened lobe reflect exactly P₁·T(μ) of
+//!   a white conductor under a clear coat. This one is defined through the compiled lobe itself
+//!   (the shared math, with the tables just computed), solved over μ at each node by the
+//!   symmetric Sinkhorn iteration s_i ← s_i √(target_i / achieved_i);
+//! * q(μ; τ, r, η) (`GLOSSY_PATH_GRID`): the path factor of light that leaves after one reflection
+//!   off a mirror under the coat, e^(−2τ q/μ′) = E[e^(−τ L)] over its path lengths L (two
+//!   crossings): the Laplace transform of L, kept at four depths so that Jensen's gap between
+//!   E[e^(−τL)] and e^(−τE[L]) (15% at τ = ½ under a coat of roughness ½) is interpolated, not
+//!   ignored.
+//!
+//! Walks are the reference's own (Heitz et al. 2016 microsurfaces for rough interfaces and the
+//! conductor, exact Fresnel for smooth interfaces), in f64 with deterministic seeds.
+
+use glam::DVec3;
+
+use crate::math::tables::{Axis, GLOSSY_GRID, GLOSSY_PATH_GRID, TableId};
+use crate::reference::microsurface::{RoughConductor, RoughDielectric};
+use crate::reference::{Rng, fresnel_dielectric};
+
+/// GGX α below which an interface or conductor is smooth (the reference's threshold).
+const SMOOTH_ALPHA: f64 = 1e-3;
+
+/// Conductor events after which a walk is ended and counted as leaving then: a light path this
+/// long keeps c^EVENT_CAP ≤ 0.99^600 = 0.2% of itself for any conductor that is not white, and a
+/// white conductor returns all of it whenever it leaves.
+const EVENT_CAP: usize = 600;
+
+/// Per-event survivals over which the retention rates are fitted (the conductor's Fresnel factor
+/// times the slab's round trip).
+const FIT_SURVIVALS: [f64; 15] = [0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 0.99];
+
+/// The blur is tapered towards grazing by 1 − (1 − μ)^GLOSSY_TAPER_POWER: the peak-matched width
+/// grows towards grazing (the coat's refraction Jacobian does), but the reference's
+/// single-event lobes there are much narrower in azimuth than an isotropic widening makes them.
+/// Fitted once against reference single-event lobes (conductor α 0.09 under coats of roughness
+/// 0.2 and 0.5, η 1.33, 1.5, 2): the best per-direction widths, divided by the peak-matched ones,
+/// follow this curve within 0.05 from 5° to 65°.
+pub const GLOSSY_TAPER_POWER: f64 = 1.6;
+
+/// Every direction node is evaluated at μ ≥ GLOSSY_GRAZING: at grazing incidence itself the
+/// light a rough coat lets in (T → 0) takes strange ways, and the share leaving after one event
+/// jumps there (0.33 at μ = 10⁻⁴ against 0.25 at μ = 0.02, coat roughness ½); the node stands
+/// for the limit the nodes beside it approach, and whatever it holds is weighed by T(μ) → 0.
+const GLOSSY_GRAZING: f64 = 0.005;
+
+/// The smallest conductor α the peak matching uses (a mirror has no peak to match).
+const PEAK_ALPHA_MIN: f64 = 0.01;
+
+/// What white walks from one direction show.
+#[derive(Clone, Debug, Default)]
+pub struct EventCounts {
+    /// Walks that entered the coat.
+    pub entered: u64,
+    /// `events[k]`: walks that entered and left after k + 1 conductor events (the last bin
+    /// holds the walks cut at [`EVENT_CAP`]).
+    pub events: Vec<u64>,
+    /// Σ and count of the incidence cosines of conductor events after the first.
+    pub pool_cosine_sum: f64,
+    pub pool_events: u64,
+}
+
+impl EventCounts {
+    /// The share of entering light leaving after exactly k + 1 events.
+    fn share(&self, k: usize) -> f64 {
+        self.events.get(k).map_or(0.0, |&n| n as f64 / self.entered.max(1) as f64)
+    }
+
+    /// Σ_{k ≥ 2} P_k c^(k−1): the trapped light's generating function, exactly.
+    fn trapped(&self, c: f64) -> f64 {
+        let mut total = 0.0;
+        let mut power = c;
+        for k in 1..self.events.len() {
+            total += self.share(k) * power;
+            power *= c;
+        }
+        total
+    }
+}
+
+/// Samples a coat interface of relative IOR `eta` (below / above) and GGX α from direction `w`
+/// (pointing away from it, on either side): the new direction and whether it crossed. The
+/// reference's interface in its `multiple` mode (exact Fresnel when smooth).
+fn coat_sample(eta: f64, alpha: f64, w: DVec3, rng: &mut Rng) -> (DVec3, bool) {
+    let below = w.z < 0.0;
+    let (w_up, eta) = if below { (DVec3::new(w.x, w.y, -w.z), 1.0 / eta) } else { (w, eta) };
+    let out = if alpha < SMOOTH_ALPHA {
+        if rng.uniform() < fresnel_dielectric(w_up.z, eta) {
+            DVec3::new(-w_up.x, -w_up.y, w_up.z)
+        } else {
+            let sin2 = (1.0 - w_up.z * w_up.z) / (eta * eta);
+            DVec3::new(-w_up.x / eta, -w_up.y / eta, -(1.0 - sin2).max(0.0).sqrt()).normalize()
+        }
+    } else {
+        RoughDielectric { eta, alpha }.sample_multiple(w_up, rng)
+    };
+    let crossed = out.z < 0.0;
+    (if below { DVec3::new(out.x, out.y, -out.z) } else { out }, crossed)
+}
+
+/// The conductor reflecting a ray that arrives from `w` (pointing away from it, above it): the
+/// direction it leaves in. White (every event keeps all the light); a mirror below SMOOTH_ALPHA.
+fn conductor_sample(alpha: f64, w: DVec3, rng: &mut Rng) -> DVec3 {
+    if alpha < SMOOTH_ALPHA {
+        return DVec3::new(-w.x, -w.y, w.z);
+    }
+    RoughConductor { alpha }.sample_multiple(w, &|_| DVec3::ONE, rng).0
+}
+
+fn direction(mu: f64) -> DVec3 {
+    DVec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
+}
+
+/// One white walk from `wo` (above the coat) into a slab of thickness 1 over the conductor:
+/// `None` if the coat reflects it at once, else the cosines of its slab crossings and of its
+/// conductor events (in order) until it leaves or is cut.
+fn walk(eta: f64, alpha: f64, alpha_c: f64, wo: DVec3, rng: &mut Rng) -> Option<(Vec<f64>, Vec<f64>)> {
+    let (mut w, crossed) = coat_sample(eta, alpha, wo, rng);
+    if !crossed {
+        return None;
+    }
+    let (mut crossings, mut events) = (Vec::new(), Vec::new());
+    loop {
+        crossings.push(w.z.abs());
+        if w.z < 0.0 {
+            events.push(-w.z);
+            let up = conductor_sample(alpha_c, -w, rng);
+            if up.z <= 0.0 || events.len() >= EVENT_CAP {
+                // (A conductor walk never leaves below; a cut walk counts as leaving now.)
+                return Some((crossings, events));
+            }
+            w = up;
+        } else {
+            let (next, crossed) = coat_sample(eta, alpha, -w, rng);
+            if crossed {
+                return Some((crossings, events));
+            }
+            w = next;
+        }
+    }
+}
+
+/// Event counts of `walks` white walks from outside cosine `mu`.
+pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> EventCounts {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction(mu.max(GLOSSY_GRAZING));
+    let mut counts = EventCounts { events: vec![0; EVENT_CAP], ..Default::default() };
+    for _ in 0..walks {
+        let Some((_, events)) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
+        counts.entered += 1;
+        counts.events[events.len().clamp(1, EVENT_CAP) - 1] += 1;
+        for &cosine in events.iter().skip(1) {
+            counts.pool_cosine_sum += cosine;
+            counts.pool_events += 1;
+        }
+    }
+    counts
+}
+
+/// γ(B, c) = c(1 − B)/(1 − Bc): the generating function of a geometric count ≥ 1 with
+/// retention B (the share that stays per event).
+fn geometric(retention: f64, c: f64) -> f64 {
+    c * (1.0 - retention) / (1.0 - retention * c)
+}
+
+/// The fixed retentions of the trapped light's basis: leaving at the next event (0), at rate ½
+/// and at rate 0.8; a fourth, slow rate is fitted per node ([`fit_trapped`]).
+pub const TRAPPED_RETENTIONS: [f64; 3] = [0.0, 0.5, 0.8];
+
+/// The simplex-constrained least-squares weights (w ≥ 0, Σw = 1) of `basis[j][i]` (basis j at
+/// survival i) against `target[i]`, by trying every active set (four weights: fifteen sets).
+fn simplex_least_squares(basis: &[Vec<f64>], target: &[f64]) -> Vec<f64> {
+    let n = basis.len();
+    let mut best = (f64::INFINITY, vec![1.0 / n as f64; n]);
+    for mask in 1u32..(1 << n) {
+        let active: Vec<usize> = (0..n).filter(|j| mask >> j & 1 == 1).collect();
+        let m = active.len();
+        // The KKT system of min |Bw − t|² subject to Σw = 1: [2BᵀB 1; 1ᵀ 0][w; λ] = [2Bᵀt; 1].
+        let mut a = vec![vec![0.0; m + 2]; m + 1];
+        for (r, &jr) in active.iter().enumerate() {
+            for (q, &jq) in active.iter().enumerate() {
+                a[r][q] = 2.0 * basis[jr].iter().zip(&basis[jq]).map(|(x, y)| x * y).sum::<f64>();
+            }
+            a[r][m] = 1.0;
+            a[r][m + 1] = 2.0 * basis[jr].iter().zip(target).map(|(x, y)| x * y).sum::<f64>();
+        }
+        a[m][..m].iter_mut().for_each(|x| *x = 1.0);
+        a[m][m + 1] = 1.0;
+        let Some(solution) = solve(a) else { continue };
+        if solution[..m].iter().any(|&w| w < -1e-12) {
+            continue;
+        }
+        let mut w = vec![0.0; n];
+        for (r, &j) in active.iter().enumerate() {
+            w[j] = solution[r].max(0.0);
+        }
+        let error: f64 = (0..target.len())
+            .map(|i| ((0..n).map(|j| w[j] * basis[j][i]).sum::<f64>() - target[i]).powi(2))
+            .sum();
+        if error < best.0 {
+            best = (error, w);
+        }
+    }
+    best.1
+}
+
+/// Gauss–Jordan elimination with partial pivoting of an augmented square system.
+fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
+    let size = a.len();
+    for col in 0..size {
+        let pivot = (col..size).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if a[pivot][col].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(col, pivot);
+        for r in 0..size {
+            if r != col {
+                let factor = a[r][col] / a[col][col];
+                for q in col..=size {
+                    a[r][q] -= factor * a[col][q];
+                }
+            }
+        }
+    }
+    Some((0..size).map(|r| a[r][size] / a[r][r]).collect())
+}
+
+/// The trapped light of one direction as weights on the basis [`TRAPPED_RETENTIONS`] + `slow`:
+/// (weights, largest error of the generating function over [`FIT_SURVIVALS`], in shares of the
+/// entering light).
+fn trapped_weights(counts: &EventCounts, slow: f64) -> (Vec<f64>, f64) {
+    let rest = 1.0 - counts.share(0);
+    let retentions: Vec<f64> = TRAPPED_RETENTIONS.iter().copied().chain([slow]).collect();
+    if rest < 1e-6 {
+        return (vec![0.25; 4], 0.0);
+    }
+    let basis: Vec<Vec<f64>> =
+        retentions.iter().map(|&b| FIT_SURVIVALS.iter().map(|&c| rest * geometric(b, c)).collect()).collect();
+    let target: Vec<f64> = FIT_SURVIVALS.iter().map(|&c| counts.trapped(c)).collect();
+    let w = simplex_least_squares(&basis, &target);
+    let worst = (0..target.len())
+        .map(|i| ((0..4).map(|j| w[j] * basis[j][i]).sum::<f64>() - target[i]).abs())
+        .fold(0.0, f64::max);
+    (w, worst)
+}
+
+/// The slow retention that fits every direction's trapped light best (smallest largest error),
+/// searched over 1 − B from 0.6 down to 10⁻³ on a geometric grid; and that error.
+fn fit_trapped(columns: &[EventCounts]) -> (f64, f64) {
+    let mut best = (f64::INFINITY, 0.9);
+    for k in 0..48 {
+        let slow = 1.0 - 0.6 * (1e-3_f64 / 0.6).powf(f64::from(k) / 47.0);
+        let worst = columns.iter().map(|c| trapped_weights(c, slow).1).fold(0.0, f64::max);
+        if worst < best.0 {
+            best = (worst, slow);
+        }
+    }
+    (best.1, best.0)
+}
+
+/// The peak-matched widening of a conductor lobe (α = `alpha_c`) seen through the coat from
+/// outside cosine `mu`: light refracted into u instead of Snell's direction s′ moves the half
+/// vector between u and the mirror image of s′ off the normal by the slope t; the conductor's
+/// distribution seen through the coat peaks at E[D(t)] = E[α²/(π(α² + |t|²)²)], which a GGX
+/// lobe of α₁² = α² + σ² has: σ² = 1/E[α²/(α² + |t|²)²] − α².
+pub fn peak_blur(mu: f64, alpha_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> f64 {
+    let alpha = r * r;
+    if alpha < SMOOTH_ALPHA || eta == 1.0 {
+        return 0.0;
+    }
+    let a2 = alpha_c.max(PEAK_ALPHA_MIN).powi(2);
+    let wo = direction(mu.max(GLOSSY_GRAZING));
+    // Snell's direction of the refracted ray, reversed to point up (away from the conductor),
+    // and its mirror image: the conductor's lobe peaks at the half vector between u and it.
+    let snell = DVec3::new(wo.x / eta, 0.0, (1.0 - wo.x * wo.x / (eta * eta)).max(0.0).sqrt());
+    let mirror = DVec3::new(-snell.x, -snell.y, snell.z);
+    let mut rng = Rng::seeded(seed);
+    let (mut sum, mut count) = (0.0, 0u64);
+    for _ in 0..walks {
+        let (w, crossed) = coat_sample(eta, alpha, wo, &mut rng);
+        if !crossed {
+            continue;
+        }
+        let h = (-w + mirror).normalize();
+        if h.z <= 1e-9 {
+            count += 1;
+            continue;
+        }
+        let t2 = (h.x * h.x + h.y * h.y) / (h.z * h.z);
+        sum += a2 / (a2 + t2).powi(2);
+        count += 1;
+    }
+    if sum <= 0.0 {
+        return 0.0;
+    }
+    (count as f64 / sum - a2).max(0.0).sqrt()
+}
+
+/// The taper of the blur towards grazing (see [`GLOSSY_TAPER_POWER`]).
+fn taper(mu: f64) -> f64 {
+    1.0 - (1.0 - mu.clamp(0.0, 1.0)).powf(GLOSSY_TAPER_POWER)
+}
+
+/// The path factors q at every depth node of `GLOSSY_PATH_GRID` for light entering at `mu`
+/// that leaves after one reflection off a mirror under the coat.
+fn path_factors(mu: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
+    let n_tau = GLOSSY_PATH_GRID[1].1;
+    let alpha = r * r;
+    if alpha < SMOOTH_ALPHA || eta == 1.0 {
+        return vec![1.0; n_tau];
+    }
+    let mu = mu.max(GLOSSY_GRAZING);
+    let mu_t = (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt();
+    let mut rng = Rng::seeded(seed);
+    let lengths: Vec<f64> = (0..walks)
+        .filter_map(|_| {
+            let (crossings, events) = walk(eta, alpha, 0.0, direction(mu), &mut rng)?;
+            (events.len() == 1).then(|| crossings.iter().map(|c| 1.0 / c.max(1e-6)).sum())
+        })
+        .collect();
+    if lengths.is_empty() {
+        return vec![1.0; n_tau];
+    }
+    let snell = 2.0 / mu_t;
+    (0..n_tau)
+        .map(|i| {
+            let tau = Axis::Depth.node(i, n_tau);
+            if tau == 0.0 {
+                lengths.iter().sum::<f64>() / lengths.len() as f64 / snell
+            } else {
+                // The last node stands for τ → ∞: evaluated at τ = 20, where e^(−τL) keeps only
+                // the shortest paths.
+                let tau = if tau.is_finite() { tau } else { 20.0 };
+                let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+                // E[e^(−τL)] = e^(−τ L_min) E[e^(−τ(L − L_min))], summed without underflow.
+                let mean = lengths.iter().map(|l| (-tau * (l - shortest)).exp()).sum::<f64>() / lengths.len() as f64;
+                (shortest - mean.ln() / tau) / snell
+            }
+        })
+        .collect()
+}
+
+/// The node of `axis` `i` of `n`.
+fn node(axis: Axis, i: usize, n: usize) -> f64 {
+    axis.node(i, n)
+}
+
+/// Everything the walks give for one (r_c, r, η) node: per μ node P₁, p₂, w, σ; and B₁, B₂, μ*.
+struct PoolColumn {
+    single: Vec<f64>,
+    /// P₁ over the conductor lobe's analytic share inside the escape cone (what is stored).
+    single_over_cone: Vec<f64>,
+    /// Per μ node, the weights of the trapped light on the first three retentions (the fourth is
+    /// one minus their sum).
+    weights: Vec<[f64; 3]>,
+    blur: Vec<f64>,
+    slow_retention: f64,
+    pool_cosine: f64,
+    fit_error: f64,
+}
+
+fn pool_column(r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> PoolColumn {
+    let n_mu = GLOSSY_GRID[0].1;
+    let counts: Vec<EventCounts> = (0..n_mu)
+        .map(|i| event_counts(node(Axis::RootCosine, i, n_mu), r_c, r, eta, walks, seed << 8 | i as u64))
+        .collect();
+    let (slow_retention, fit_error) = fit_trapped(&counts);
+    let tails: Vec<(Vec<f64>, f64)> = counts.iter().map(|c| trapped_weights(c, slow_retention)).collect();
+    let (pool_sum, pool_events) = counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
+    let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
+    // Without any trapped light (a mirror under a smooth coat), the TIR cone's middle.
+    let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
+    let blur = (0..n_mu)
+        .map(|i| {
+            let mu = node(Axis::RootCosine, i, n_mu);
+            peak_blur(mu, r_c * r_c, r, eta, walks, seed << 8 | 1 << 7 | i as u64) * taper(mu)
+        })
+        .collect();
+    PoolColumn {
+        single: counts.iter().map(|c| c.share(0)).collect(),
+        single_over_cone: counts
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let cone = crate::math::layering::glossy_cone_share(r_c, eta, node(Axis::RootCosine, i, n_mu).max(GLOSSY_GRAZING));
+                c.share(0) / cone.max(1e-3)
+            })
+            .collect(),
+        weights: tails.iter().map(|(w, _)| [w[0], w[1], w[2]]).collect(),
+        blur,
+        slow_retention,
+        pool_cosine,
+        fit_error,
+    }
+}
+
+/// What generating the glossy tables measured about itself.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GlossyReport {
+    /// Largest error of the fitted generating function of trapped light against the walks'
+    /// own, over directions and survivals c ∈ [0.3, 0.99] (in shares of the entering light).
+    pub max_tail_fit_error: f64,
+    /// Largest relative miss of the solved lobe scale at its nodes: |achieved/target − 1|.
+    pub max_scale_miss: f64,
+}
+
+/// Fills the glossy tables into `tables` (every other table already computed: the scale is
+/// solved through the compiled lobe, which reads the coat's tables).
+pub fn generate(
+    tables: &mut [Vec<f32>],
+    walks: u32,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> GlossyReport {
+    let [(_, n_mu), (_, n_rc), (_, n_r), (_, n_eta)] = GLOSSY_GRID;
+    let combos: Vec<(usize, usize, usize)> =
+        (0..n_eta).flat_map(|e| (0..n_r).flat_map(move |r| (0..n_rc).map(move |c| (c, r, e)))).collect();
+    let path_combos: Vec<(usize, usize)> = (0..n_eta).flat_map(|e| (0..n_r).map(move |r| (r, e))).collect();
+    let total = combos.len() + path_combos.len() + combos.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let tick = || progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, total);
+    let columns = super::parallel_map(
+        combos.len(),
+        |k| {
+            let (c, r, e) = combos[k];
+            let seed = 0x6c05_0000 | k as u64;
+            pool_column(node(Axis::Roughness, c, n_rc), node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta), walks, seed)
+        },
+        |_| tick(),
+    );
+    let n_tau = GLOSSY_PATH_GRID[1].1;
+    let paths = super::parallel_map(
+        path_combos.len(),
+        |k| {
+            let (r, e) = path_combos[k];
+            let (r, eta) = (node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta));
+            (0..n_mu)
+                .map(|i| path_factors(node(Axis::RootCosine, i, n_mu), r, eta, walks, 0x9a70_0000 | (k as u64) << 8 | i as u64))
+                .collect::<Vec<Vec<f64>>>()
+        },
+        |_| tick(),
+    );
+    let mut report = GlossyReport::default();
+    for (k, column) in columns.iter().enumerate() {
+        let at = |i: usize| i + n_mu * k;
+        for i in 0..n_mu {
+            tables[TableId::GlossySingle as usize][at(i)] = column.single_over_cone[i] as f32;
+            tables[TableId::GlossyNext as usize][at(i)] = column.weights[i][0] as f32;
+            tables[TableId::GlossyQuick as usize][at(i)] = column.weights[i][1] as f32;
+            tables[TableId::GlossySteady as usize][at(i)] = column.weights[i][2] as f32;
+            tables[TableId::GlossyBlur as usize][at(i)] = column.blur[i] as f32;
+        }
+        tables[TableId::GlossySlowRetention as usize][k] = column.slow_retention as f32;
+        tables[TableId::GlossyPoolCosine as usize][k] = column.pool_cosine as f32;
+        report.max_tail_fit_error = report.max_tail_fit_error.max(column.fit_error);
+    }
+    // Layout (μ, τ, r, η), μ fastest.
+    for (k, per_mu) in paths.iter().enumerate() {
+        for (i, factors) in per_mu.iter().enumerate() {
+            for (t, &q) in factors.iter().enumerate() {
+                tables[TableId::GlossyPath as usize][i + n_mu * (t + n_tau * k)] = q as f32;
+            }
+        }
+    }
+    // The scale goes through the compiled lobe, which must read the tables just computed.
+    tables[TableId::GlossyScale as usize].iter_mut().for_each(|s| *s = 1.0);
+    crate::math::tables::evaluate_on_cpu_with(tables);
+    let scales = super::parallel_map(
+        combos.len(),
+        |k| {
+            let (c, r, e) = combos[k];
+            let single = &columns[k].single;
+            solve_scale(node(Axis::Roughness, c, n_rc), node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta), single)
+        },
+        |_| tick(),
+    );
+    for (k, (scale, miss)) in scales.into_iter().enumerate() {
+        for (i, s) in scale.into_iter().enumerate() {
+            tables[TableId::GlossyScale as usize][i + n_mu * k] = s as f32;
+        }
+        report.max_scale_miss = report.max_scale_miss.max(miss);
+    }
+    crate::math::tables::evaluate_on_cpu_with(tables);
+    report
+}
+
+/// Sinkhorn iterations of the scale.
+const SCALE_ITERATIONS: usize = 30;
+
+/// The scale s at the μ nodes that makes the compiled lobe's albedo (white conductor, clear coat,
+/// s interpolated along μ as the lookup does) equal T(μ)·P₁(μ) at every node but μ = 0 (where
+/// both vanish; it takes its neighbour's); and the largest relative miss left.
+fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
+    let n_mu = single.len();
+    let mus: Vec<f64> = (0..n_mu).map(|i| node(Axis::RootCosine, i, n_mu)).collect();
+    let lobe = |l: DVec3, v: DVec3| crate::math::layering::glossy_lobe_white(r_c, r, eta, l, v);
+    let sharpest = (r_c * r_c).max(SMOOTH_ALPHA);
+    // Every node's view direction, its quadrature and the lobe at each quadrature node.
+    let columns: Vec<(f64, Vec<(f64, f64)>)> = mus
+        .iter()
+        .enumerate()
+        .map(|(i, &mu)| {
+            let v = direction(mu.max(GLOSSY_GRAZING));
+            let target = crate::math::layering::glossy_coat_transmission(r, eta, v.z) * single[i];
+            let nodes = super::quadrature::albedo_nodes(v, sharpest)
+                .into_iter()
+                .filter_map(|(l, w)| {
+                    let f = lobe(l, v);
+                    (f > 0.0).then_some((l.z, w * f))
+                })
+                .collect();
+            (target, nodes)
+        })
+        .collect();
+    // Interpolated as the lookup does: linearly in u = √μ.
+    let at = |scale: &[f64], mu: f64| -> f64 {
+        let x = mu.clamp(0.0, 1.0).sqrt() * (n_mu - 1) as f64;
+        let i = (x.floor() as usize).min(n_mu - 2);
+        let t = x - i as f64;
+        scale[i] * (1.0 - t) + scale[i + 1] * t
+    };
+    let achieved = |scale: &[f64], i: usize| -> f64 {
+        let (_, nodes) = &columns[i];
+        scale[i] * nodes.iter().map(|&(mu_l, wf)| at(scale, mu_l) * wf).sum::<f64>()
+    };
+    let mut scale = vec![1.0; n_mu];
+    for _ in 0..SCALE_ITERATIONS {
+        let next: Vec<f64> = (0..n_mu)
+            .map(|i| {
+                let (target, _) = columns[i];
+                let got = achieved(&scale, i);
+                if i == 0 || target <= 1e-9 || got <= 1e-12 {
+                    return scale[i];
+                }
+                scale[i] * (target / got).sqrt().clamp(0.5, 2.0)
+            })
+            .collect();
+        scale = next;
+        scale[0] = scale[1];
+    }
+    let miss = (1..n_mu)
+        .filter(|&i| columns[i].0 > 1e-6)
+        .map(|i| (achieved(&scale, i) / columns[i].0 - 1.0).abs())
+        .fold(0.0, f64::max);
+    (scale, miss)
+}

@@ -1,0 +1,341 @@
+//! The glossy level: a conductor directly under a coat, in the interfaced method.
+//!
+//! Light the conductor reflects under a coat leaves through the coat's escape cone, or is sent
+//! back down (total internal reflection beyond the cone, Fresnel reflection inside it) and meets
+//! the conductor again; under a smooth coat a glossy conductor may take dozens of events before
+//! the light drifts back into the cone. How many events it takes sets the colour (each one
+//! multiplies by the conductor's Fresnel factor), and where it leaves sets the shape. The level
+//! is split by that count, with statistics `glazec tables` measures by white random walks through
+//! the reference's own microsurfaces (`crate::accuracy::glossy`):
+//!
+//! * **one event** — a lobe: the conductor's GGX lobe at the refracted directions, widened by
+//!   the coat's two crossings (α² = α_c² + σ(μᵢ)² + σ(μₒ)², σ tabulated: the widening whose peak
+//!   matches the conductor's peak seen through the coat, tapered towards grazing) and scaled by
+//!   s(μᵢ) s(μₒ) (tabulated, solved so that for a white conductor under a clear coat the lobe
+//!   reflects exactly the share P₁(μ)·T(μ) the walks let out after one event), attenuated along
+//!   the paths that light really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]));
+//! * **two or more events** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017) with
+//!   M = T a² F (1 − P₁) Ŷ(c), Ŷ the generating function of the later events (`glossy_trapped`,
+//!   from the walks' event counts), c = F(μ*) e^(−2τ/μ*) the survival of one more event at the
+//!   trapped light's mean cosine μ*.
+//!
+//! A white conductor under a clear coat therefore reflects P₁T + (1 − P₁)T = T: all the light
+//! the coat lets in. Reciprocal by construction (every factor is symmetric in i and o). The lobe
+//! is one GGX evaluation; the coat's own lobe is the other.
+
+use super::*;
+
+/// 6-point Gauss–Legendre nodes and weights on [0, 1] (for ⟨M⟩ and the mean albedo).
+const GAUSS_LEGENDRE_6: [(f32, f32); 6] = [
+    (0.033_765_24, 0.085_662_25),
+    (0.169_395_3, 0.180_380_78),
+    (0.380_690_4, 0.233_956_97),
+    (0.619_309_6, 0.233_956_97),
+    (0.830_604_7, 0.180_380_78),
+    (0.966_234_8, 0.085_662_25),
+];
+
+/// The coat directly over a conductor and the conductor, as the glossy level sees them.
+struct Glossy<'a, 'i, F: Real> {
+    interface: CoatInterface<'i, F>,
+    inputs: &'i Inputs<F>,
+    /// The coat's relative IOR and its slab's optical depth (RGB).
+    eta: F,
+    tau: F::Vec,
+    /// The conductor's roughness r_c (α = r_c²) and Fresnel, and the absolute IOR of the medium
+    /// it sits in.
+    conductor_roughness: F,
+    fresnel: &'a ConductorFresnel,
+    n_medium: Option<F>,
+    /// The coat's roughness (0 for a smooth coat).
+    roughness: F,
+    level: usize,
+}
+
+/// What the level needs to know about one direction (at outer cosine μ).
+struct Side<F: Real> {
+    transmission: F,
+    /// Attenuation along the mean refracted path (diffuse light's, `CoatInterface::path_cosine`)
+    /// and along the paths of light that leaves after one event.
+    absorb: F::Vec,
+    absorb_lobe: F::Vec,
+    /// The conductor's Fresnel factor at the refracted direction.
+    fresnel: F::Vec,
+    single: F,
+    /// Ŷ: what the trapped light's later events return.
+    trapped: F::Vec,
+}
+
+impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
+    fn name(&self, base: &str) -> String {
+        level_name(base, self.level)
+    }
+
+    /// The table arguments after the direction: (r_c, r, η).
+    fn lookup(&self, id: TableId, mu: F) -> F {
+        tables::lookup(id, &[mu, self.conductor_roughness, self.roughness, self.eta])
+    }
+
+    fn pool_lookup(&self, id: TableId) -> F {
+        tables::lookup(id, &[self.conductor_roughness, self.roughness, self.eta])
+    }
+
+    /// σ(μ): how much the coat widens the conductor's lobe from this side (0 when smooth).
+    fn blur(&self, mu: F, side: &str) -> Option<F> {
+        self.interface.roughness?;
+        Some(self.lookup(TableId::GlossyBlur, mu).named(&self.name(&format!("blur_{side}"))))
+    }
+
+    /// The lobe's α: α² = α_c² + σ_l² + σ_v², plus (linearly) the blur of rough coats above.
+    fn alpha(&self, mu_l: F, mu_v: F, blur_above: Option<F>) -> F {
+        let alpha_c = self.conductor_roughness.sq();
+        let widened = match (self.blur(mu_l, "l"), self.blur(mu_v, "v")) {
+            (Some(l), Some(v)) => (alpha_c.sq() + l.sq() + v.sq()).sqrt(),
+            _ => alpha_c,
+        };
+        match blur_above {
+            Some(b) => (widened + b).named(&self.name("alpha")),
+            None => widened.named(&self.name("alpha")),
+        }
+    }
+
+    /// Attenuation of light that leaves after one event, per crossing: e^(−τ q/μ′).
+    fn lobe_absorption(&self, mu: F, mu_refracted: F, side: &str) -> F::Vec {
+        let tau = self.tau;
+        if tau.is_known_zero() {
+            return self.inputs.lit(1.0).splat();
+        }
+        let name = self.name(&format!("absorb_lobe_{side}"));
+        if self.interface.roughness.is_none() {
+            return slab_transmittance(tau, mu_refracted).named(&name);
+        }
+        let q = |t: F| tables::lookup(TableId::GlossyPath, &[mu, t, self.roughness, self.eta]);
+        let paths = F::vec3(q(tau.x()), q(tau.y()), q(tau.z()));
+        slab_transmittance(tau * paths, mu_refracted).named(&name)
+    }
+
+    /// Everything about one direction at outer cosine `mu` (Snell's cosine `mu_refracted`).
+    fn side(&self, mu: F, mu_refracted: F, c: F::Vec, side: &str) -> Side<F> {
+        let name = |base: &str| self.name(&format!("{base}_{side}"));
+        let transmission = self.interface.transmission(mu, side);
+        let absorb = if self.tau.is_known_zero() {
+            self.inputs.lit(1.0).splat()
+        } else {
+            slab_transmittance(self.tau, self.interface.path_cosine(mu, mu_refracted, side)).named(&name("absorb"))
+        };
+        let absorb_lobe = self.lobe_absorption(mu, mu_refracted, side);
+        let fresnel =
+            conductor_fresnel(self.fresnel, self.inputs, mu_refracted, self.n_medium).named(&name("fresnel_cond"));
+        let single = (self.lookup(TableId::GlossySingle, mu) * self.cone_share(mu_refracted, side)).named(&name("single"));
+        let next = self.lookup(TableId::GlossyNext, mu);
+        let quick = self.lookup(TableId::GlossyQuick, mu);
+        let steady = self.lookup(TableId::GlossySteady, mu);
+        let slow = self.pool_lookup(TableId::GlossySlowRetention);
+        let trapped = glossy_trapped(next, quick, steady, slow, c).named(&name("trapped"));
+        Side { transmission, absorb, absorb_lobe, fresnel, single, trapped }
+    }
+
+    /// The share of the conductor's own GGX lobe (α_c) from Snell's cosine μ′ that stays inside
+    /// the coat's escape cone, 1 − `trapped_share` (1 without total internal reflection, η ≤ 1).
+    /// P₁ is tabulated over it: the lobe's tail beyond the cone grows like α_c², which no
+    /// multilinear table in √r_c follows, while P₁/(cone share) stays near the cone's mean
+    /// internal transmittance.
+    fn cone_share(&self, mu_refracted: F, side: &str) -> F {
+        let mu_c = escape_cone_cosine(self.eta);
+        let trapped = trapped_share(mu_refracted, mu_c, self.conductor_roughness.sq());
+        F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0)).named(&self.name(&format!("cone_share_{side}")))
+    }
+
+    /// c: the survival of one more event of trapped light, F(μ*) e^(−2τ/μ*).
+    fn survival(&self) -> F::Vec {
+        let mu_star = self.pool_lookup(TableId::GlossyPoolCosine).named(&self.name("pool_cosine"));
+        let fresnel = conductor_fresnel(self.fresnel, self.inputs, mu_star, self.n_medium);
+        let round_trip = if self.tau.is_known_zero() {
+            self.inputs.lit(1.0).splat()
+        } else {
+            slab_transmittance(self.tau * 2.0, mu_star)
+        };
+        (fresnel * round_trip).named(&self.name("survival"))
+    }
+
+    /// Snell's cosine inside the coat for outer cosine μ: √(1 − (1 − μ²)/η²).
+    fn refracted_cosine(&self, mu: F) -> F {
+        (mu.sq().one_minus() / self.eta.sq()).one_minus().at_least(0.0).sqrt().at_least(COS_EPSILON)
+    }
+
+    /// ∫ 2μ x(μ) dμ of a per-direction quantity by 6-point Gauss–Legendre (folds to a number when
+    /// the material's parameters are literals).
+    fn hemispherical(&self, c: F::Vec, of: impl Fn(&Side<F>) -> F::Vec) -> F::Vec {
+        let mut total = self.inputs.zero();
+        for (k, (x, w)) in GAUSS_LEGENDRE_6.into_iter().enumerate() {
+            let mu = self.inputs.lit(x);
+            let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}", ["a", "b", "c", "d", "e", "f"][k]));
+            total = total + of(&side) * (2.0 * x * w);
+        }
+        total
+    }
+}
+
+fn remainder<F: Real>(side: &Side<F>) -> F::Vec {
+    glossy_remainder(side.transmission, side.absorb, side.fresnel, side.single, side.trapped)
+}
+
+fn directional_albedo<F: Real>(side: &Side<F>) -> F::Vec {
+    glossy_albedo(side.transmission, side.fresnel, side.absorb_lobe, side.absorb, side.single, side.trapped)
+}
+
+/// The conductor's GGX lobe (without the cosine) at the level's directions with GGX α `alpha`;
+/// white (F = 1) without a Fresnel description.
+fn conductor_lobe<F: Real>(
+    fresnel: Option<&ConductorFresnel>,
+    inputs: &Inputs<F>,
+    g: &Geometry<F>,
+    alpha: F,
+    n_medium: Option<F>,
+) -> F::Vec {
+    let name = |base| level_name(base, g.level);
+    let half = g.half();
+    let distribution = d_ggx(half.n_dot_h, half.sin2_h, alpha).named(&name("d"));
+    let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha).named(&name("g"));
+    let f = match fresnel {
+        Some(fresnel) => conductor_fresnel(fresnel, inputs, half.v_dot_h, n_medium).named(&name("fresnel")),
+        None => inputs.lit(1.0).splat(),
+    };
+    let lobe = f_cook_torrance(distribution, shadowing, f, g.n_dot_v, g.n_dot_l);
+    match g.shading_cosine_ratio() {
+        Some(ratio) => F::Vec::select(g.raw_n_dot_v.gt_lit(0.0), lobe * ratio, inputs.zero()),
+        None => lobe,
+    }
+}
+
+/// The interfaced method at coat `k` when a conductor lies directly under it (see the module
+/// essay). `blur` is the widening of rough coats above coat `k`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn glossy_level<F: Real>(
+    coat: &Coat,
+    (roughness, fresnel): (Scalar, &ConductorFresnel),
+    inputs: &Inputs<F>,
+    g: &Geometry<F>,
+    k: usize,
+    n_medium: Option<F>,
+    blur: Option<F>,
+    want_albedo: bool,
+    approx: Approximations,
+) -> Level<F> {
+    let eta = inputs.scalar(coat.ior);
+    let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));
+    let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
+    let coat_roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
+    let glossy = Glossy {
+        interface,
+        inputs,
+        eta,
+        tau,
+        conductor_roughness: inputs.scalar(roughness),
+        fresnel,
+        n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
+        roughness: coat_roughness,
+        level: k + 1,
+    };
+    let below = g.refracted(eta);
+    let c = glossy.survival();
+    let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, "l");
+    let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
+    let v_side = v.as_ref().unwrap_or(&l);
+    let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur);
+    let f = if g.albedo_only {
+        inputs.zero()
+    } else {
+        let f_top = (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + glossy.interface.restored_lobe(g))
+            .named(&level_name("specular", k));
+        let scale = |mu: F, side: &str| glossy.lookup(TableId::GlossyScale, mu).named(&glossy.name(&format!("scale_{side}")));
+        let lobe = conductor_lobe(Some(fresnel), inputs, &below, alpha, glossy.n_medium)
+            * (scale(g.raw_n_dot_l, "l") * scale(g.raw_n_dot_v, "v"));
+        let once = interfaced_layer(
+            f_top,
+            l.transmission,
+            v_side.transmission,
+            l.absorb_lobe,
+            v_side.absorb_lobe,
+            lobe.named(&level_name("under", k)),
+            eta,
+        );
+        let average = glossy.hemispherical(c, remainder).named(&level_name("remainder_avg", k));
+        let later = glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
+        (once + later).named(&level_name("f", k))
+    };
+    let albedo = want_albedo.then(|| {
+        let e_l = directional_albedo(&l).named(&level_name("albedo_l", k));
+        let e_v = directional_albedo(v_side).named(&level_name("albedo_v", k));
+        let mean = glossy.hemispherical(c, directional_albedo).named(&level_name("rho", k));
+        Albedo { e_l, e_v, mean }
+    });
+    Level {
+        f,
+        albedo,
+        glossy: true,
+        alpha: Some(alpha),
+        boost: inputs.lit(1.0),
+        transmission: Some((l.transmission, v_side.transmission)),
+    }
+}
+
+/// The glossy level's one-event lobe without its scale s, for a white conductor of roughness
+/// `r_c` under a clear coat of roughness `r` and relative IOR `eta`, at unit directions `l`, `v`
+/// (the frame's normal is z), on the CPU: T(μl) T(μv)/η² times the widened GGX lobe at the
+/// refracted directions. What `glazec tables` normalises the scale against.
+pub fn glossy_lobe_white(r_c: f64, r: f64, eta: f64, l: glam::DVec3, v: glam::DVec3) -> f64 {
+    if l.z <= 0.0 || v.z <= 0.0 {
+        return 0.0;
+    }
+    let inputs = Inputs::<f32>::new((), Vec::new());
+    let coat = clear_coat(r, eta);
+    let conductor = ConductorFresnel::F0(Color::Lit([1.0; 3]));
+    let material_level = |g: &Geometry<f32>| {
+        let interface = CoatInterface::new(&coat.lobe, eta as f32, &inputs, 0, Approximations::default());
+        let glossy = Glossy {
+            roughness: interface.roughness.unwrap_or(0.0),
+            interface,
+            inputs: &inputs,
+            eta: eta as f32,
+            tau: glam::Vec3::ZERO,
+            conductor_roughness: r_c as f32,
+            fresnel: &conductor,
+            n_medium: Some(eta as f32),
+            level: 1,
+        };
+        let below = g.refracted(eta as f32);
+        let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, None);
+        let (t_l, t_v) = (glossy.interface.transmission(g.raw_n_dot_l, "l"), glossy.interface.transmission(g.raw_n_dot_v, "v"));
+        conductor_lobe(None, &inputs, &below, alpha, None).x * t_l * t_v / (eta as f32).powi(2)
+    };
+    let g = Geometry::new(glam::Vec3::Z, v.as_vec3(), l.as_vec3(), 0);
+    f64::from(material_level(&g))
+}
+
+/// The share of a conductor's GGX lobe (roughness `r_c`) that stays inside the escape cone of a
+/// coat of relative IOR `eta`, for light entering the coat at outer cosine `mu`, as the method
+/// evaluates it (CPU): what `glossy_single` is tabulated over.
+pub fn glossy_cone_share(r_c: f64, eta: f64, mu: f64) -> f64 {
+    let eta = eta as f32;
+    let mu_refracted = ((1.0 - (mu as f32).powi(2)) / (eta * eta)).mul_add(-1.0, 1.0).max(0.0).sqrt().max(COS_EPSILON);
+    let mu_c = escape_cone_cosine(eta);
+    if mu_c <= 0.0 {
+        return 1.0;
+    }
+    f64::from(1.0 - trapped_share(mu_refracted, mu_c, (r_c * r_c) as f32))
+}
+
+/// The coat's transmission T(μ) as the method evaluates it (CPU), for `glossy_lobe_white`'s
+/// normalisation.
+pub fn glossy_coat_transmission(r: f64, eta: f64, mu: f64) -> f64 {
+    let inputs = Inputs::<f32>::new((), Vec::new());
+    let coat = clear_coat(r, eta);
+    let interface = CoatInterface::new(&coat.lobe, eta as f32, &inputs, 0, Approximations::default());
+    f64::from(interface.transmission(mu as f32, "v"))
+}
+
+fn clear_coat(r: f64, eta: f64) -> Coat {
+    let lobe = if r == 0.0 { Lobe::Smooth } else { Lobe::Ggx { roughness: Scalar::Lit(r as f32) } };
+    Coat { lobe, ior: Scalar::Lit(eta as f32), absorption: Color::Lit([0.0; 3]), thickness: Scalar::Lit(0.0) }
+}
