@@ -9,7 +9,7 @@
 //! all measured by **white** walks (the conductor's colour is applied at run time):
 //!
 //! * per direction μ outside the coat, conductor roughness r_c, coat roughness r and IOR η
-//!   (`GLOSSY_GRID`): the share P₁ that leaves after one event (stored over the analytic share
+//!   (`GLOSSY_SINGLE_GRID`, `GLOSSY_TRAPPED_GRID`): the share P₁ that leaves after one event (stored over the analytic share
 //!   of the conductor's lobe inside the escape cone, `layering::glossy_cone_share`, which
 //!   carries its steep dependence on r_c); and the rest, the trapped light,
 //!   as a mixture of four geometric event counts: weights w₀…w₃ (w ≥ 0, Σw = 1) on the
@@ -25,14 +25,16 @@
 //!   evaluates its Fresnel factor for the events after the first);
 //! * σ: how much the coat's two crossings widen the conductor's lobe, the GGX width whose peak
 //!   matches the conductor's peak seen through the coat's transmission (quadrature of the
-//!   conductor's distribution over the walks' transmitted directions), tapered towards grazing;
+//!   conductor's distribution over the walks' transmitted directions), tapered towards grazing,
+//!   stored over the coat's α;
 //! * s: the per-direction scale that makes the method's widened lobe reflect exactly P₁·T(μ) of
 //!   a white conductor under a clear coat. This one is defined through the compiled lobe itself
 //!   (the shared math, with the tables just computed), solved over μ at each node by the
 //!   symmetric Sinkhorn iteration s_i ← s_i √(target_i / achieved_i);
 //! * q(μ; τ, r, η) (`GLOSSY_PATH_GRID`): the path factor of light that leaves after one reflection
-//!   off a mirror under the coat, e^(−2τ q/μ′) = E[e^(−τ L)] over its path lengths L (two
-//!   crossings): the Laplace transform of L, kept at four depths so that Jensen's gap between
+//!   off a mirror under the coat: the one-event lobe attenuated by e^(−τq/μ′) on each side keeps
+//!   what the walks' one-event light keeps of itself, E[e^(−τL)] over its path lengths L (two
+//!   crossings; solved like the scale). Kept at four depths, so that Jensen's gap between
 //!   E[e^(−τL)] and e^(−τE[L]) (15% at τ = ½ under a coat of roughness ½) is interpolated, not
 //!   ignored.
 //!
@@ -41,7 +43,7 @@
 
 use glam::DVec3;
 
-use crate::math::tables::{Axis, GLOSSY_GRID, GLOSSY_PATH_GRID, TableId};
+use crate::math::tables::{Axis, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_SINGLE_GRID, GLOSSY_TRAPPED_GRID, TableId};
 use crate::reference::microsurface::{RoughConductor, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
 
@@ -70,6 +72,10 @@ pub const GLOSSY_TAPER_POWER: f64 = 1.6;
 /// jumps there (0.33 at μ = 10⁻⁴ against 0.25 at μ = 0.02, coat roughness ½); the node stands
 /// for the limit the nodes beside it approach, and whatever it holds is weighed by T(μ) → 0.
 const GLOSSY_GRAZING: f64 = 0.005;
+
+/// The coat roughness below which the blur's ratio to the coat's α is measured at this roughness
+/// instead (the widening of a nearly smooth coat is lost in the walks' noise).
+const BLUR_ROUGHNESS_MIN: f64 = 0.16;
 
 /// The smallest conductor α the peak matching uses (a mirror has no peak to match).
 const PEAK_ALPHA_MIN: f64 = 0.01;
@@ -292,7 +298,7 @@ fn fit_trapped(columns: &[EventCounts]) -> (f64, f64) {
 /// lobe of α₁² = α² + σ² has: σ² = 1/E[α²/(α² + |t|²)²] − α².
 pub fn peak_blur(mu: f64, alpha_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> f64 {
     let alpha = r * r;
-    if alpha < SMOOTH_ALPHA || eta == 1.0 {
+    if eta == 1.0 {
         return 0.0;
     }
     let a2 = alpha_c.max(PEAK_ALPHA_MIN).powi(2);
@@ -328,43 +334,106 @@ fn taper(mu: f64) -> f64 {
     1.0 - (1.0 - mu.clamp(0.0, 1.0)).powf(GLOSSY_TAPER_POWER)
 }
 
-/// The path factors q at every depth node of `GLOSSY_PATH_GRID` for light entering at `mu`
+/// The path lengths L (over the slab's thickness, both crossings) of the light entering at `mu`
 /// that leaves after one reflection off a mirror under the coat.
-fn path_factors(mu: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
-    let n_tau = GLOSSY_PATH_GRID[1].1;
-    let alpha = r * r;
-    if alpha < SMOOTH_ALPHA || eta == 1.0 {
-        return vec![1.0; n_tau];
-    }
-    let mu = mu.max(GLOSSY_GRAZING);
-    let mu_t = (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt();
+fn mirror_path_lengths(mu: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
     let mut rng = Rng::seeded(seed);
-    let lengths: Vec<f64> = (0..walks)
+    (0..walks)
         .filter_map(|_| {
-            let (crossings, events) = walk(eta, alpha, 0.0, direction(mu), &mut rng)?;
+            let (crossings, events) = walk(eta, r * r, 0.0, direction(mu), &mut rng)?;
             (events.len() == 1).then(|| crossings.iter().map(|c| 1.0 / c.max(1e-6)).sum())
         })
-        .collect();
+        .collect()
+}
+
+/// E[e^(−τL)] over path lengths, summed without underflow: e^(−τ L_min) E[e^(−τ(L − L_min))].
+fn mean_attenuation(lengths: &[f64], tau: f64) -> f64 {
     if lengths.is_empty() {
-        return vec![1.0; n_tau];
+        return 1.0;
     }
-    let snell = 2.0 / mu_t;
+    let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+    let mean = lengths.iter().map(|l| (-tau * (l - shortest)).exp()).sum::<f64>() / lengths.len() as f64;
+    (-tau * shortest).exp() * mean
+}
+
+/// The optical depths at which the path factors are solved, one per depth node: the first
+/// (τ = 0, where any factor attenuates nothing) stands for small depths, the last (τ = ∞) for
+/// τ = 20, where e^(−τL) keeps only the shortest paths.
+fn path_depths() -> Vec<f64> {
+    let n_tau = GLOSSY_PATH_GRID[1].1;
     (0..n_tau)
-        .map(|i| {
-            let tau = Axis::Depth.node(i, n_tau);
-            if tau == 0.0 {
-                lengths.iter().sum::<f64>() / lengths.len() as f64 / snell
-            } else {
-                // The last node stands for τ → ∞: evaluated at τ = 20, where e^(−τL) keeps only
-                // the shortest paths.
-                let tau = if tau.is_finite() { tau } else { 20.0 };
-                let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
-                // E[e^(−τL)] = e^(−τ L_min) E[e^(−τ(L − L_min))], summed without underflow.
-                let mean = lengths.iter().map(|l| (-tau * (l - shortest)).exp()).sum::<f64>() / lengths.len() as f64;
-                (shortest - mean.ln() / tau) / snell
-            }
+        .map(|i| match Axis::Depth.node(i, n_tau) {
+            0.0 => 0.05,
+            tau if tau.is_finite() => tau,
+            _ => 20.0,
         })
         .collect()
+}
+
+/// The path factors q(μ, τ) of one (r, η) node of `GLOSSY_PATH_GRID` (μ fastest): solved so that
+/// the method's one-event lobe over a mirror (the compiled lobe at r_c = 0 with its scale),
+/// attenuated by e^(−τ q/μ′) on each side, keeps of its white albedo what the walks' one-event
+/// light keeps, E[e^(−τL)]: the symmetric iteration of the scale's, on the attenuation. Solving
+/// rather than setting e^(−2τq/μ′) = E[e^(−τL)] matters under rough coats, where the lobe spreads
+/// over directions whose attenuation differs (set directly, the albedo at 85° came out 10% high).
+fn path_column(r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
+    let mus = direction_nodes(&GLOSSY_PATH_GRID);
+    let depths = path_depths();
+    let (n_mu, n_tau) = (mus.len(), depths.len());
+    if r * r < SMOOTH_ALPHA || eta == 1.0 {
+        return vec![1.0; n_mu * n_tau];
+    }
+    let lengths: Vec<Vec<f64>> =
+        mus.iter().enumerate().map(|(i, &mu)| mirror_path_lengths(mu, r, eta, walks, seed << 8 | i as u64)).collect();
+    let refracted = |mu: f64| (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt().max(1e-4);
+    let scale = |mu: f64| {
+        f64::from(crate::math::tables::lookup::<f32>(TableId::GlossyScale, &[mu as f32, 0.0, r as f32, eta as f32]))
+    };
+    // The white lobe s_l s_v f at every quadrature node of every direction node.
+    let columns: Vec<Vec<(f64, f64)>> = mus
+        .iter()
+        .map(|&mu| {
+            let v = direction(mu);
+            super::quadrature::albedo_nodes(v, SMOOTH_ALPHA.max(1e-2))
+                .into_iter()
+                .filter_map(|(l, w)| {
+                    let f = crate::math::layering::glossy_lobe_white(0.0, r, eta, l, v) * scale(l.z) * scale(v.z);
+                    (f > 0.0).then_some((l.z, w * f))
+                })
+                .collect()
+        })
+        .collect();
+    let at = |q: &[f64], mu: f64| -> f64 {
+        let x = mu.clamp(0.0, 1.0).sqrt() * (n_mu - 1) as f64;
+        let i = (x.floor() as usize).min(n_mu - 2);
+        let t = x - i as f64;
+        q[i] * (1.0 - t) + q[i + 1] * t
+    };
+    let mut factors = vec![0.0; n_mu * n_tau];
+    for (t, &tau) in depths.iter().enumerate() {
+        let attenuation = |q: &[f64], mu: f64| (-tau * at(q, mu) / refracted(mu)).exp();
+        let mut q = vec![1.0; n_mu];
+        for _ in 0..SCALE_ITERATIONS {
+            let next: Vec<f64> = (0..n_mu)
+                .map(|i| {
+                    let white: f64 = columns[i].iter().map(|&(_, wf)| wf).sum();
+                    let kept: f64 = columns[i].iter().map(|&(mu_l, wf)| wf * attenuation(&q, mu_l)).sum::<f64>()
+                        * attenuation(&q, mus[i]);
+                    let target = white * mean_attenuation(&lengths[i], tau);
+                    if i == 0 || white <= 1e-12 || kept <= 1e-300 || target <= 1e-300 {
+                        return q[i];
+                    }
+                    (q[i] - refracted(mus[i]) / (2.0 * tau) * (target / kept).ln()).max(0.0)
+                })
+                .collect();
+            q = next;
+            q[0] = q[1];
+        }
+        for (i, &value) in q.iter().enumerate() {
+            factors[i + n_mu * t] = value;
+        }
+    }
+    factors
 }
 
 /// The node of `axis` `i` of `n`.
@@ -372,53 +441,78 @@ fn node(axis: Axis, i: usize, n: usize) -> f64 {
     axis.node(i, n)
 }
 
-/// Everything the walks give for one (r_c, r, η) node: per μ node P₁, p₂, w, σ; and B₁, B₂, μ*.
-struct PoolColumn {
-    single: Vec<f64>,
-    /// P₁ over the conductor lobe's analytic share inside the escape cone (what is stored).
-    single_over_cone: Vec<f64>,
-    /// Per μ node, the weights of the trapped light on the first three retentions (the fourth is
-    /// one minus their sum).
+/// The (r_c, r, η) node triples of a glossy grid whose axes after the first are those three, in
+/// table order (r_c fastest), with their arguments.
+fn node_triples(axes: &[(Axis, usize)]) -> Vec<(f64, f64, f64)> {
+    let (rc, r, eta) = (axes[axes.len() - 3], axes[axes.len() - 2], axes[axes.len() - 1]);
+    let mut triples = Vec::new();
+    for e in 0..eta.1 {
+        for j in 0..r.1 {
+            for c in 0..rc.1 {
+                triples.push((node(rc.0, c, rc.1), node(r.0, j, r.1), node(eta.0, e, eta.1)));
+            }
+        }
+    }
+    triples
+}
+
+/// The direction nodes of a glossy grid (its first axis), each at least [`GLOSSY_GRAZING`].
+fn direction_nodes(axes: &[(Axis, usize)]) -> Vec<f64> {
+    let (axis, n) = axes[0];
+    (0..n).map(|i| node(axis, i, n).max(GLOSSY_GRAZING)).collect()
+}
+
+/// P₁ at every direction of `GLOSSY_SINGLE_GRID` for one (r_c, r, η).
+fn single_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Vec<f64> {
+    direction_nodes(&GLOSSY_SINGLE_GRID)
+        .iter()
+        .enumerate()
+        .map(|(i, &mu)| event_counts(mu, r_c, r, eta, walks, seed << 8 | i as u64).share(0))
+        .collect()
+}
+
+/// The trapped light for one (r_c, r, η) of `GLOSSY_TRAPPED_GRID`: per direction the weights of
+/// its first three retentions (the fourth is one minus their sum); the slow retention, the
+/// trapped light's mean cosine at the conductor, and the fit's largest error.
+struct TrappedColumn {
     weights: Vec<[f64; 3]>,
-    blur: Vec<f64>,
     slow_retention: f64,
     pool_cosine: f64,
     fit_error: f64,
 }
 
-fn pool_column(r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> PoolColumn {
-    let n_mu = GLOSSY_GRID[0].1;
-    let counts: Vec<EventCounts> = (0..n_mu)
-        .map(|i| event_counts(node(Axis::RootCosine, i, n_mu), r_c, r, eta, walks, seed << 8 | i as u64))
+fn trapped_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> TrappedColumn {
+    let counts: Vec<EventCounts> = direction_nodes(&GLOSSY_TRAPPED_GRID)
+        .iter()
+        .enumerate()
+        .map(|(i, &mu)| event_counts(mu, r_c, r, eta, walks, seed << 8 | i as u64))
         .collect();
     let (slow_retention, fit_error) = fit_trapped(&counts);
-    let tails: Vec<(Vec<f64>, f64)> = counts.iter().map(|c| trapped_weights(c, slow_retention)).collect();
-    let (pool_sum, pool_events) = counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
-    let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
-    // Without any trapped light (a mirror under a smooth coat), the TIR cone's middle.
-    let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
-    let blur = (0..n_mu)
-        .map(|i| {
-            let mu = node(Axis::RootCosine, i, n_mu);
-            peak_blur(mu, r_c * r_c, r, eta, walks, seed << 8 | 1 << 7 | i as u64) * taper(mu)
+    let weights = counts
+        .iter()
+        .map(|c| {
+            let (w, _) = trapped_weights(c, slow_retention);
+            [w[0], w[1], w[2]]
         })
         .collect();
-    PoolColumn {
-        single: counts.iter().map(|c| c.share(0)).collect(),
-        single_over_cone: counts
-            .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let cone = crate::math::layering::glossy_cone_share(r_c, eta, node(Axis::RootCosine, i, n_mu).max(GLOSSY_GRAZING));
-                c.share(0) / cone.max(1e-3)
-            })
-            .collect(),
-        weights: tails.iter().map(|(w, _)| [w[0], w[1], w[2]]).collect(),
-        blur,
-        slow_retention,
-        pool_cosine,
-        fit_error,
-    }
+    let (pool_sum, pool_events) = counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
+    let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
+    // Without any trapped light (a mirror under a smooth coat), inside the TIR cone.
+    let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
+    TrappedColumn { weights, slow_retention, pool_cosine, fit_error }
+}
+
+/// σ/r² at every direction of `GLOSSY_BLUR_GRID` for one (r_c, r, η): stored over the coat's
+/// α = r² (σ grows about linearly with it, which a table in √r does not follow); below
+/// r = [`BLUR_ROUGHNESS_MIN`] the ratio is taken at that roughness, where the widening is still
+/// large enough to measure.
+fn blur_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Vec<f64> {
+    let r_blur = r.max(BLUR_ROUGHNESS_MIN);
+    direction_nodes(&GLOSSY_BLUR_GRID)
+        .iter()
+        .enumerate()
+        .map(|(i, &mu)| peak_blur(mu, r_c * r_c, r_blur, eta, walks, seed << 8 | i as u64) * taper(mu) / (r_blur * r_blur))
+        .collect()
 }
 
 /// What generating the glossy tables measured about itself.
@@ -438,73 +532,80 @@ pub fn generate(
     walks: u32,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> GlossyReport {
-    let [(_, n_mu), (_, n_rc), (_, n_r), (_, n_eta)] = GLOSSY_GRID;
-    let combos: Vec<(usize, usize, usize)> =
-        (0..n_eta).flat_map(|e| (0..n_r).flat_map(move |r| (0..n_rc).map(move |c| (c, r, e)))).collect();
-    let path_combos: Vec<(usize, usize)> = (0..n_eta).flat_map(|e| (0..n_r).map(move |r| (r, e))).collect();
-    let total = combos.len() + path_combos.len() + combos.len();
+    let single_nodes = node_triples(&GLOSSY_SINGLE_GRID);
+    let trapped_nodes = node_triples(&GLOSSY_TRAPPED_GRID);
+    let blur_nodes = node_triples(&GLOSSY_BLUR_GRID);
+    let [_, _, (_, n_r), (_, n_eta)] = GLOSSY_PATH_GRID;
+    let path_nodes: Vec<(f64, f64)> = (0..n_eta)
+        .flat_map(|e| (0..n_r).map(move |j| (node(Axis::Roughness, j, n_r), node(Axis::Ior, e, n_eta))))
+        .collect();
+    let total = 2 * single_nodes.len() + trapped_nodes.len() + blur_nodes.len() + path_nodes.len();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, total);
-    let columns = super::parallel_map(
-        combos.len(),
-        |k| {
-            let (c, r, e) = combos[k];
-            let seed = 0x6c05_0000 | k as u64;
-            pool_column(node(Axis::Roughness, c, n_rc), node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta), walks, seed)
-        },
-        |_| tick(),
-    );
-    let n_tau = GLOSSY_PATH_GRID[1].1;
-    let paths = super::parallel_map(
-        path_combos.len(),
-        |k| {
-            let (r, e) = path_combos[k];
-            let (r, eta) = (node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta));
-            (0..n_mu)
-                .map(|i| path_factors(node(Axis::RootCosine, i, n_mu), r, eta, walks, 0x9a70_0000 | (k as u64) << 8 | i as u64))
-                .collect::<Vec<Vec<f64>>>()
-        },
-        |_| tick(),
-    );
+    // Every job has its own seed, whatever the grids of the others.
+    let single = super::parallel_map(single_nodes.len(), |k| single_column(single_nodes[k], walks, 0x5_0000 | k as u64), |_| tick());
+    let trapped =
+        super::parallel_map(trapped_nodes.len(), |k| trapped_column(trapped_nodes[k], walks, 0x6_0000 | k as u64), |_| tick());
+    let blur = super::parallel_map(blur_nodes.len(), |k| blur_column(blur_nodes[k], walks, 0x7_0000 | k as u64), |_| tick());
     let mut report = GlossyReport::default();
-    for (k, column) in columns.iter().enumerate() {
-        let at = |i: usize| i + n_mu * k;
-        for i in 0..n_mu {
-            tables[TableId::GlossySingle as usize][at(i)] = column.single_over_cone[i] as f32;
-            tables[TableId::GlossyNext as usize][at(i)] = column.weights[i][0] as f32;
-            tables[TableId::GlossyQuick as usize][at(i)] = column.weights[i][1] as f32;
-            tables[TableId::GlossySteady as usize][at(i)] = column.weights[i][2] as f32;
-            tables[TableId::GlossyBlur as usize][at(i)] = column.blur[i] as f32;
+    let n_single = GLOSSY_SINGLE_GRID[0].1;
+    for (k, (column, &(r_c, _, eta))) in single.iter().zip(&single_nodes).enumerate() {
+        for (i, (&p1, mu)) in column.iter().zip(direction_nodes(&GLOSSY_SINGLE_GRID)).enumerate() {
+            let cone = crate::math::layering::glossy_cone_share(r_c, eta, mu);
+            tables[TableId::GlossySingle as usize][i + n_single * k] = (p1 / cone.max(1e-3)) as f32;
+        }
+    }
+    let n_trapped = GLOSSY_TRAPPED_GRID[0].1;
+    for (k, column) in trapped.iter().enumerate() {
+        for (i, w) in column.weights.iter().enumerate() {
+            tables[TableId::GlossyNext as usize][i + n_trapped * k] = w[0] as f32;
+            tables[TableId::GlossyQuick as usize][i + n_trapped * k] = w[1] as f32;
+            tables[TableId::GlossySteady as usize][i + n_trapped * k] = w[2] as f32;
         }
         tables[TableId::GlossySlowRetention as usize][k] = column.slow_retention as f32;
         tables[TableId::GlossyPoolCosine as usize][k] = column.pool_cosine as f32;
         report.max_tail_fit_error = report.max_tail_fit_error.max(column.fit_error);
     }
-    // Layout (μ, τ, r, η), μ fastest.
-    for (k, per_mu) in paths.iter().enumerate() {
-        for (i, factors) in per_mu.iter().enumerate() {
-            for (t, &q) in factors.iter().enumerate() {
-                tables[TableId::GlossyPath as usize][i + n_mu * (t + n_tau * k)] = q as f32;
-            }
+    let n_blur = GLOSSY_BLUR_GRID[0].1;
+    for (k, column) in blur.iter().enumerate() {
+        for (i, &b) in column.iter().enumerate() {
+            tables[TableId::GlossyBlur as usize][i + n_blur * k] = b as f32;
         }
     }
     // The scale goes through the compiled lobe, which must read the tables just computed.
     tables[TableId::GlossyScale as usize].iter_mut().for_each(|s| *s = 1.0);
     crate::math::tables::evaluate_on_cpu_with(tables);
     let scales = super::parallel_map(
-        combos.len(),
+        single_nodes.len(),
         |k| {
-            let (c, r, e) = combos[k];
-            let single = &columns[k].single;
-            solve_scale(node(Axis::Roughness, c, n_rc), node(Axis::Roughness, r, n_r), node(Axis::Ior, e, n_eta), single)
+            let (r_c, r, eta) = single_nodes[k];
+            solve_scale(r_c, r, eta, &single[k])
         },
         |_| tick(),
     );
     for (k, (scale, miss)) in scales.into_iter().enumerate() {
         for (i, s) in scale.into_iter().enumerate() {
-            tables[TableId::GlossyScale as usize][i + n_mu * k] = s as f32;
+            tables[TableId::GlossyScale as usize][i + n_single * k] = s as f32;
         }
         report.max_scale_miss = report.max_scale_miss.max(miss);
+    }
+    // The path factors go through the scaled lobe.
+    crate::math::tables::evaluate_on_cpu_with(tables);
+    let paths = super::parallel_map(
+        path_nodes.len(),
+        |k| {
+            let (r, eta) = path_nodes[k];
+            path_column(r, eta, walks, 0x8_0000 | k as u64)
+        },
+        |_| tick(),
+    );
+    // Layout (μ, τ, r, η), μ fastest: each column is (μ, τ).
+    let column_len = GLOSSY_PATH_GRID[0].1 * GLOSSY_PATH_GRID[1].1;
+    for (k, column) in paths.iter().enumerate() {
+        tables[TableId::GlossyPath as usize][column_len * k..column_len * (k + 1)]
+            .iter_mut()
+            .zip(column)
+            .for_each(|(t, &q)| *t = q as f32);
     }
     crate::math::tables::evaluate_on_cpu_with(tables);
     report
@@ -518,7 +619,7 @@ const SCALE_ITERATIONS: usize = 30;
 /// both vanish; it takes its neighbour's); and the largest relative miss left.
 fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
     let n_mu = single.len();
-    let mus: Vec<f64> = (0..n_mu).map(|i| node(Axis::RootCosine, i, n_mu)).collect();
+    let mus: Vec<f64> = direction_nodes(&GLOSSY_SINGLE_GRID);
     let lobe = |l: DVec3, v: DVec3| crate::math::layering::glossy_lobe_white(r_c, r, eta, l, v);
     let sharpest = (r_c * r_c).max(SMOOTH_ALPHA);
     // Every node's view direction, its quadrature and the lobe at each quadrature node.
@@ -526,7 +627,7 @@ fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
         .iter()
         .enumerate()
         .map(|(i, &mu)| {
-            let v = direction(mu.max(GLOSSY_GRAZING));
+            let v = direction(mu);
             let target = crate::math::layering::glossy_coat_transmission(r, eta, v.z) * single[i];
             let nodes = super::quadrature::albedo_nodes(v, sharpest)
                 .into_iter()

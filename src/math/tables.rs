@@ -216,14 +216,22 @@ const DFG_GRID: [(Axis, usize); 2] = [(Axis::Cosine, 32), (Axis::Roughness, 32)]
 /// A conductor under a coat (`layering`'s glossy level): per direction μ (outside the coat),
 /// the conductor's roughness, the coat's roughness and its IOR. What these tables hold changes
 /// over the whole range of μ (the share of the conductor's lobe that the escape cone cuts), so
-/// μ is spaced in √μ rather than μ^¼.
-pub const GLOSSY_GRID: [(Axis, usize); 4] =
-    [(Axis::RootCosine, 8), (Axis::Roughness, 6), (Axis::Roughness, 6), (Axis::Ior, 6)];
+/// μ is spaced in √μ rather than μ^¼. The share P₁ that leaves after one event, and the lobe's
+/// scale solved against it, get the finest grid (P₁ is not monotonic in the coat's roughness at
+/// grazing incidence); the composition of the trapped light, which only matters in proportion to
+/// 1 − P₁, and the blur, which is smooth, coarser ones.
+pub const GLOSSY_SINGLE_GRID: [(Axis, usize); 4] =
+    [(Axis::RootCosine, 9), (Axis::Roughness, 6), (Axis::Roughness, 9), (Axis::Ior, 6)];
+pub const GLOSSY_TRAPPED_GRID: [(Axis, usize); 4] =
+    [(Axis::RootCosine, 5), (Axis::Roughness, 8), (Axis::Roughness, 6), (Axis::Ior, 6)];
+pub const GLOSSY_BLUR_GRID: [(Axis, usize); 4] =
+    [(Axis::RootCosine, 6), (Axis::Roughness, 4), (Axis::Roughness, 6), (Axis::Ior, 4)];
 /// The pool of light trapped under a coat over a conductor: no direction (it has forgotten it).
-pub const GLOSSY_POOL_GRID: [(Axis, usize); 3] = [(Axis::Roughness, 6), (Axis::Roughness, 6), (Axis::Ior, 6)];
+pub const GLOSSY_POOL_GRID: [(Axis, usize); 3] = [(Axis::Roughness, 8), (Axis::Roughness, 6), (Axis::Ior, 6)];
 /// The path of light that leaves a coat over a mirror after one reflection: per direction, per
 /// optical depth (the Laplace transform of its path length), coat roughness and IOR.
-pub const GLOSSY_PATH_GRID: [(Axis, usize); 4] = [(Axis::RootCosine, 8), (Axis::Depth, 4), (Axis::Roughness, 6), (Axis::Ior, 6)];
+pub const GLOSSY_PATH_GRID: [(Axis, usize); 4] =
+    [(Axis::RootCosine, 7), (Axis::Depth, 4), (Axis::Roughness, 6), (Axis::Ior, 5)];
 
 const S: Kind = Kind::Scalar;
 /// Parameter lists of the lookup functions, one parameter per axis.
@@ -427,18 +435,18 @@ pub const SPECS: [TableSpec; 24] = [
     ),
     table(
         "glossy_blur_table",
-        &GLOSSY_GRID,
+        &GLOSSY_BLUR_GRID,
         "glossy_blur",
         GLOSSY_PARAMS,
         glossy_doc![
-            "σ(μ; r_c, r, η): how much a rough coat widens the conductor's lobe under it, per crossing",
-            "(α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's peak seen",
-            "through the coat's transmission from μ, tapered towards grazing (`layering::GLOSSY_TAPER`).",
+            "σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,",
+            "per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's",
+            "peak seen through the coat's transmission from μ, tapered towards grazing.",
         ],
     ),
     table(
         "glossy_scale_table",
-        &GLOSSY_GRID,
+        &GLOSSY_SINGLE_GRID,
         "glossy_scale",
         GLOSSY_PARAMS,
         glossy_doc![
@@ -449,7 +457,7 @@ pub const SPECS: [TableSpec; 24] = [
     ),
     table(
         "glossy_single_table",
-        &GLOSSY_GRID,
+        &GLOSSY_SINGLE_GRID,
         "glossy_single",
         GLOSSY_PARAMS,
         glossy_doc![
@@ -460,21 +468,21 @@ pub const SPECS: [TableSpec; 24] = [
     ),
     table(
         "glossy_next_table",
-        &GLOSSY_GRID,
+        &GLOSSY_TRAPPED_GRID,
         "glossy_next",
         GLOSSY_PARAMS,
         glossy_doc!["w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.",],
     ),
     table(
         "glossy_quick_table",
-        &GLOSSY_GRID,
+        &GLOSSY_TRAPPED_GRID,
         "glossy_quick",
         GLOSSY_PARAMS,
         glossy_doc!["w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.",],
     ),
     table(
         "glossy_steady_table",
-        &GLOSSY_GRID,
+        &GLOSSY_TRAPPED_GRID,
         "glossy_steady",
         GLOSSY_PARAMS,
         glossy_doc![

@@ -83,7 +83,7 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     /// σ(μ): how much the coat widens the conductor's lobe from this side (0 when smooth).
     fn blur(&self, mu: F, side: &str) -> Option<F> {
         self.interface.roughness?;
-        Some(self.lookup(TableId::GlossyBlur, mu).named(&self.name(&format!("blur_{side}"))))
+        Some((self.lookup(TableId::GlossyBlur, mu) * self.roughness.sq()).named(&self.name(&format!("blur_{side}"))))
     }
 
     /// The lobe's α: α² = α_c² + σ_l² + σ_v², plus (linearly) the blur of rough coats above.
