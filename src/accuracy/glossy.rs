@@ -628,7 +628,13 @@ fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
         .enumerate()
         .map(|(i, &mu)| {
             let v = direction(mu);
-            let target = crate::math::layering::glossy_coat_transmission(r, eta, v.z) * single[i];
+            // What leaves near the mirror direction: after one event, or after the second
+            // (the trapped light's share w₀, from the table just computed).
+            let next = f64::from(crate::math::tables::lookup::<f32>(
+                TableId::GlossyNext,
+                &[mu as f32, r_c as f32, r as f32, eta as f32],
+            ));
+            let target = crate::math::layering::glossy_coat_transmission(r, eta, v.z) * (single[i] + (1.0 - single[i]) * next);
             let nodes = super::quadrature::albedo_nodes(v, sharpest)
                 .into_iter()
                 .filter_map(|(l, w)| {

@@ -440,30 +440,40 @@ shading_fn! {
 
 shading_fn! {
     /// glazec's glossy level (a conductor under a coat), the light trapped after the first
-    /// conductor event, per unit of it: the generating function of its further events,
-    /// Ŷ(c) = w₀c + w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+    /// conductor event, per unit of it, that does not leave at the second: the generating
+    /// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
     /// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
     /// slab's round trip): a mixture of geometric event counts (B: the share that stays per
-    /// event) fitted by `glazec tables` to white walks through the reference's microsurfaces.
-    /// Ŷ(1) = 1: a white conductor under a clear coat returns all of it.
+    /// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+    /// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+    /// 1 − w₀: a white conductor under a clear coat returns all of it.
     /// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
-    pub fn glossy_trapped(next: S, quick: S, steady: S, slow: S, c: V) -> V {
+    pub fn glossy_later(next: S, quick: S, steady: S, slow: S, c: V) -> V {
         let one = c.x().lit(1.0).splat();
         let quick_rate = c * 0.5 / (one - c * 0.5);
         let steady_rate = c * 0.2 / (one - c * 0.8);
         let slow_rate = c * slow.one_minus() / (c * slow).one_minus().max(c.x().lit(1e-6).splat());
         let rest = (next + quick + steady).one_minus().at_least(0.0);
-        c * next + quick_rate * quick + steady_rate * steady + slow_rate * rest
+        quick_rate * quick + steady_rate * steady + slow_rate * rest
     }
 }
 
 shading_fn! {
-    /// glazec's glossy level, the directional albedo of what leaves after two or more conductor
+    /// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+    /// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+    /// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+    pub fn glossy_once(single: S, next: S, c: V) -> V {
+        c * (single.one_minus() * next) + single.splat()
+    }
+}
+
+shading_fn! {
+    /// glazec's glossy level, the directional albedo of what leaves after three or more conductor
     /// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
     /// and reflected by the conductor (F, at the refracted direction), but not let out at once
-    /// (1 − P₁), and that its further events return (`glossy_trapped`).
-    pub fn glossy_remainder(t: S, a: V, fresnel: V, single: S, trapped: V) -> V {
-        a * a * fresnel * trapped * (t * single.one_minus())
+    /// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+    pub fn glossy_remainder(t: S, a: V, fresnel: V, single: S, later: V) -> V {
+        a * a * fresnel * later * (t * single.one_minus())
     }
 }
 
@@ -479,13 +489,13 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a conductor (glazec's glossy level):
-    /// (1 − T) + T F (a₁² P₁ + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-    /// leaves after one conductor event (P₁, attenuated by a₁² along its own paths) and the
-    /// remainder (`glossy_remainder`).
-    pub fn glossy_albedo(t: S, fresnel: V, a_lobe: V, a: V, single: S, trapped: V) -> V {
-        let once = a_lobe * a_lobe * single;
-        let later = a * a * trapped * single.one_minus();
-        fresnel * (once + later) * t + t.one_minus().splat()
+    /// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+    /// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+    /// own paths) and the remainder (`glossy_remainder`).
+    pub fn glossy_albedo(t: S, fresnel: V, a_lobe: V, a: V, once: V, single: S, later: V) -> V {
+        let near = a_lobe * a_lobe * once;
+        let far = a * a * later * single.one_minus();
+        fresnel * (near + far) * t + t.one_minus().splat()
     }
 }
 

@@ -62,8 +62,12 @@ struct Side<F: Real> {
     /// The conductor's Fresnel factor at the refracted direction.
     fresnel: F::Vec,
     single: F,
-    /// Ŷ: what the trapped light's later events return.
-    trapped: F::Vec,
+    /// What leaves near the mirror direction (`glossy_once`), and its share of what would for a
+    /// white conductor under a clear coat (the lobe's scale is solved for that).
+    once: F::Vec,
+    once_colour: F::Vec,
+    /// What the trapped light's events after the second return (`glossy_later`).
+    later: F::Vec,
 }
 
 impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
@@ -127,12 +131,16 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         let fresnel =
             conductor_fresnel(self.fresnel, self.inputs, mu_refracted, self.n_medium).named(&name("fresnel_cond"));
         let single = (self.lookup(TableId::GlossySingle, mu) * self.cone_share(mu_refracted, side)).named(&name("single"));
-        let next = self.lookup(TableId::GlossyNext, mu);
+        let next = self.lookup(TableId::GlossyNext, mu).named(&name("next"));
         let quick = self.lookup(TableId::GlossyQuick, mu);
         let steady = self.lookup(TableId::GlossySteady, mu);
         let slow = self.pool_lookup(TableId::GlossySlowRetention);
-        let trapped = glossy_trapped(next, quick, steady, slow, c).named(&name("trapped"));
-        Side { transmission, absorb, absorb_lobe, fresnel, single, trapped }
+        let later = glossy_later(next, quick, steady, slow, c).named(&name("later"));
+        let once = glossy_once(single, next, c).named(&name("once"));
+        // Guard: the white share ≥ 10⁻⁶ (P₁ = 0 and w₀ = 0 leave no lobe to colour).
+        let white = glossy_once(single, next, self.inputs.lit(1.0).splat()).x().at_least(1e-6);
+        let once_colour = (once / white).named(&name("once_colour"));
+        Side { transmission, absorb, absorb_lobe, fresnel, single, once, once_colour, later }
     }
 
     /// The share of the conductor's own GGX lobe (α_c) from Snell's cosine μ′ that stays inside
@@ -177,11 +185,11 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
 }
 
 fn remainder<F: Real>(side: &Side<F>) -> F::Vec {
-    glossy_remainder(side.transmission, side.absorb, side.fresnel, side.single, side.trapped)
+    glossy_remainder(side.transmission, side.absorb, side.fresnel, side.single, side.later)
 }
 
 fn directional_albedo<F: Real>(side: &Side<F>) -> F::Vec {
-    glossy_albedo(side.transmission, side.fresnel, side.absorb_lobe, side.absorb, side.single, side.trapped)
+    glossy_albedo(side.transmission, side.fresnel, side.absorb_lobe, side.absorb, side.once, side.single, side.later)
 }
 
 /// The conductor's GGX lobe (without the cosine) at the level's directions with GGX α `alpha`;
@@ -249,7 +257,11 @@ pub(super) fn glossy_level<F: Real>(
         let f_top = (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + glossy.interface.restored_lobe(g))
             .named(&level_name("specular", k));
         let scale = |mu: F, side: &str| glossy.lookup(TableId::GlossyScale, mu).named(&glossy.name(&format!("scale_{side}")));
+        // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
+        // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).
+        let colour = (l.once_colour * v_side.once_colour).sqrt();
         let lobe = conductor_lobe(Some(fresnel), inputs, &below, alpha, glossy.n_medium)
+            * colour
             * (scale(g.raw_n_dot_l, "l") * scale(g.raw_n_dot_v, "v"));
         let once = interfaced_layer(
             f_top,
