@@ -221,7 +221,7 @@ const DFG_GRID: [(Axis, usize); 2] = [(Axis::Cosine, 32), (Axis::Roughness, 32)]
 /// grazing incidence); the composition of the trapped light, which only matters in proportion to
 /// 1 − P₁, and the blur, which is smooth, coarser ones.
 pub const GLOSSY_SINGLE_GRID: [(Axis, usize); 4] =
-    [(Axis::RootCosine, 9), (Axis::Roughness, 6), (Axis::Roughness, 9), (Axis::Ior, 6)];
+    [(Axis::RootCosine, 9), (Axis::Roughness, 8), (Axis::Roughness, 7), (Axis::Ior, 6)];
 pub const GLOSSY_TRAPPED_GRID: [(Axis, usize); 4] =
     [(Axis::RootCosine, 5), (Axis::Roughness, 8), (Axis::Roughness, 6), (Axis::Ior, 6)];
 pub const GLOSSY_BLUR_GRID: [(Axis, usize); 4] =
