@@ -97,6 +97,14 @@ fn over_white(method: Method, coats: Vec<Coat>) -> Material {
     }
 }
 
+/// `coats` over a white conductor (F0 = 1) of roughness `roughness`.
+fn over_white_conductor(method: Method, roughness: f32, coats: Vec<Coat>) -> Material {
+    Material {
+        base: Base::Conductor { roughness: Scalar::Lit(roughness), fresnel: ConductorFresnel::F0(white()) },
+        ..over_white(method, coats)
+    }
+}
+
 /// The sweeps; `reduced` takes fewer values per sweep (for the tests).
 pub fn sweeps(reduced: bool) -> Vec<Sweep> {
     let n = if reduced { 5 } else { 13 };
@@ -117,7 +125,7 @@ pub fn sweeps(reduced: bool) -> Vec<Sweep> {
         Sweep {
             name: "coat IOR",
             parameter: "IOR 1 + 10⁻⁵ … 3 of a clear r 0.2 coat over white Lambert",
-            values: ior_to_one,
+            values: ior_to_one.clone(),
             spacing: Spacing::Linear,
             build: |m, eta| over_white(m, vec![coat(ggx(0.2), eta, 0.0)]),
         },
@@ -150,10 +158,21 @@ pub fn sweeps(reduced: bool) -> Vec<Sweep> {
             parameter: "roughness of a white conductor (F0 = 1) under a clear r 0.2, η 1.5 coat",
             values: log_range(1e-4, 1.0, n),
             spacing: Spacing::Log,
-            build: |m, r| Material {
-                base: Base::Conductor { roughness: Scalar::Lit(r), fresnel: ConductorFresnel::F0(white()) },
-                ..over_white(m, vec![coat(ggx(0.2), 1.5, 0.0)])
-            },
+            build: |m, r| over_white_conductor(m, r, vec![coat(ggx(0.2), 1.5, 0.0)]),
+        },
+        Sweep {
+            name: "IOR over a conductor",
+            parameter: "IOR 1 + 10⁻⁵ … 3 of a smooth clear coat over a white conductor of roughness 0.3",
+            values: ior_to_one,
+            spacing: Spacing::Linear,
+            build: |m, eta| over_white_conductor(m, 0.3, vec![coat(Lobe::Smooth, eta, 0.0)]),
+        },
+        Sweep {
+            name: "roughness over a conductor",
+            parameter: "GGX roughness of a clear η 1.5 coat over a white conductor of roughness 0.3",
+            values: log_range(1e-4, 1.0, n),
+            spacing: Spacing::Log,
+            build: |m, r| over_white_conductor(m, 0.3, vec![coat(ggx(r), 1.5, 0.0)]),
         },
         Sweep {
             name: "denormal parameters",

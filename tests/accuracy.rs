@@ -5,13 +5,15 @@
 //! `glazec accuracy --regenerate-reference`; one test recomputes a few cases and checks they
 //! come out the same). The targets are `glazec::accuracy::{LOBE_TARGET, ALBEDO_TARGET, …}`.
 //!
-//! **Known miss.** Copper under a coat misses the targets today and is asserted against the
-//! figures measured when this test was last changed instead, so that it cannot get worse unseen
-//! (README "Accuracy", issue 4 stays open on it): light trapped by total internal reflection in a
-//! non-absorbing coat returns to the conductor many times; the method models the trapped pool
-//! and blurs the conductor's lobe under rough coats, but misses up to [`COPPER_LOBE_MEASURED`]
-//! of the under-coat lobe and [`COPPER_ALBEDO_MEASURED`] of the albedo. (EON under a coat was a
-//! known miss, 0.0108 in albedo, until its first pass out of the body was modelled.)
+//! **Known miss.** Copper under a coat meets the lobe target but misses the albedo target, and
+//! its albedo is asserted against the figure measured when this test was last changed instead,
+//! so that it cannot get worse unseen (README "Accuracy", issue 4 stays open on it): the glossy
+//! level (`math::layering::glossy`) takes its lobe's scale and the share that leaves after one
+//! event from tables over (μ, r_c, r, η), and at grazing views under rough coats their
+//! interpolation, and the energy probes that keep a white conductor from gaining energy
+//! between their nodes, leave up to [`COPPER_ALBEDO_MEASURED`] of the albedo. (Before the
+//! glossy level copper missed by 13.7% in the lobe and 0.044 in the albedo; EON under a coat was
+//! a known miss, 0.0108 in albedo, until its first pass out of the body was modelled.)
 
 mod common;
 
@@ -24,9 +26,8 @@ use glazec::accuracy::{
 use glazec::model::Method;
 use glazec::reference::InterfaceMode;
 
-/// Copper's worst lobe relRMSE and albedo error as measured (a regression bound, not a target).
-const COPPER_LOBE_MEASURED: f64 = 0.137;
-const COPPER_ALBEDO_MEASURED: f64 = 0.0444;
+/// Copper's worst albedo error as measured (a regression bound, not a target).
+const COPPER_ALBEDO_MEASURED: f64 = 0.0174;
 /// Cases recomputed by the reproducibility test (the first ones of the set).
 const RECOMPUTED_CASES: usize = 2;
 /// Relative tolerance between recomputed and stored reference values: the file stores f32, and
@@ -44,7 +45,7 @@ fn reference() -> (Vec<Case>, ReferenceData) {
 /// What a case of the default method must meet: the targets, or its known-miss bound.
 fn bounds(case: &Case) -> (f64, f64) {
     match case.base {
-        BaseKind::Copper => (COPPER_LOBE_MEASURED, COPPER_ALBEDO_MEASURED),
+        BaseKind::Copper => (LOBE_TARGET, COPPER_ALBEDO_MEASURED),
         _ => (LOBE_TARGET, ALBEDO_TARGET),
     }
 }
@@ -103,8 +104,8 @@ fn default_method_meets_the_targets_on_the_cpu() {
         .collect();
     let failures = check_default_method(&cases, &metrics);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    // Outside the known misses, the targets hold everywhere (the bounds above only relax them
-    // for copper and the thin-water EON cases).
+    // Outside the known misses, the targets hold everywhere (the bounds above only relax the
+    // albedo target for copper).
     let ordinary = cases.iter().zip(&metrics).filter(|(c, _)| bounds(c) == (LOBE_TARGET, ALBEDO_TARGET));
     assert!(ordinary.clone().count() >= 90);
     assert!(ordinary.into_iter().all(|(_, m)| m.lobe_rmse <= LOBE_TARGET && m.albedo_error <= ALBEDO_TARGET));

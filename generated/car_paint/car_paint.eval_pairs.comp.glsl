@@ -12,18 +12,18 @@ struct EvalDispatch {
     uint pair_count;
 };
 const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
-const float layer2_alpha = 0.09037713;
 const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
-const float layer2_mu_c = 0.19705611;
-const vec3 layer2_rho = vec3(0.8501552, 0.8637166, 0.8637166);
-const float layer2_trapped_escape = 1.0;
+const vec3 one = vec3(1.0, 1.0, 1.0);
+const vec3 layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
+const float layer2_alpha = 0.09037713;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 layer1_remainder_avg = vec3(0.0028275326, 1.7138621e-8, 2.2211293e-10);
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.7083738, 0.054160066, 0.024499312);
+const vec3 layer1_rho = vec3(0.7404851, 0.06705615, 0.03126154);
 const float layer1_trapped_escape = 0.15678635;
 const float base_roughness = 0.37185615;
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[4087]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
@@ -50,8 +50,8 @@ vec3 half_vector(vec3 v, vec3 l) {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float d_ggx(float cos_h, float sin2_h, float alpha) {
-    float a_1 = max(alpha, 0.001);
-    float a_sq = (a_1 * a_1);
+    float a_2 = max(alpha, 0.001);
+    float a_sq = (a_2 * a_2);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -68,9 +68,9 @@ float lambda_ggx(float n_dot_x, float alpha_1) {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
-    float alpha_4 = max(alpha_2, 0.001);
-    float _e5 = lambda_ggx(n_dot_v, alpha_4);
-    float _e6 = lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    float _e5 = lambda_ggx(n_dot_v, alpha_5);
+    float _e6 = lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -84,8 +84,8 @@ float fr_dielectric(float cos_i, float eta) {
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
     float r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     float r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    float fresnel_1 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
-    return ((sin2_t < 1.0) ? fresnel_1 : 1.0);
+    float fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
+    return ((sin2_t < 1.0) ? fresnel_3 : 1.0);
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -205,36 +205,198 @@ vec3 f_schlick(vec3 f0_, float cos_theta_2) {
     return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
+// reflect what leaves near the mirror direction (after one conductor event, or at the
+// second from the trapped light's first return), for a white conductor under a clear coat
+// (solved over μ at each node).
+float glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_2, float eta_4) {
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 8.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 7.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_conductor_roughness = sqrt(min(max(conductor_roughness, 0.0), 1.0));
+    float node_conductor_roughness = (u_conductor_roughness * 7.0);
+    float cell_conductor_roughness = min(floor(node_conductor_roughness), 6.0);
+    float weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 6.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 5.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 5.0);
+    float cell_eta_2 = min(floor(node_eta_2), 4.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
+    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lull * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_llul * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_luul * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_lllu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_3, float eta_5) {
+    float u_cos_theta_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
+    float node_cos_theta_3 = (u_cos_theta_3 * 4.0);
+    float cell_cos_theta_3 = min(floor(node_cos_theta_3), 3.0);
+    float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
+    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
+    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
+    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
+    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_3 = (u_roughness_3 * 5.0);
+    float cell_roughness_3 = min(floor(node_roughness_3), 4.0);
+    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    float u_eta_3 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
+    float node_eta_3 = (u_eta_3 * 5.0);
+    float cell_eta_3 = min(floor(node_eta_3), 4.0);
+    float weight_eta_3 = (node_eta_3 - cell_eta_3);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_llll_1 = (code_llll * 1.5259022e-5);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_ulll_1 = (code_ulll * 1.5259022e-5);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_lull_1 = (code_lull * 1.5259022e-5);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_uull_1 = (code_uull * 1.5259022e-5);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_llul_1 = (code_llul * 1.5259022e-5);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_ulul_1 = (code_ulul * 1.5259022e-5);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_luul_1 = (code_luul * 1.5259022e-5);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_uuul_1 = (code_uuul * 1.5259022e-5);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lllu_1 = (code_lllu * 1.5259022e-5);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_ullu_1 = (code_ullu * 1.5259022e-5);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lulu_1 = (code_lulu * 1.5259022e-5);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uulu_1 = (code_uulu * 1.5259022e-5);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lluu_1 = (code_lluu * 1.5259022e-5);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uluu_1 = (code_uluu * 1.5259022e-5);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_luuu_1 = (code_luuu * 1.5259022e-5);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
+    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
+// over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
+// share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
+// what the lobe does not (raised where probes between the nodes found a gain).
+float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_4, float eta_6) {
+    float u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
+    float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
+    float cell_cos_theta_4 = min(floor(node_cos_theta_4), 7.0);
+    float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    float u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0.0), 1.0));
+    float node_conductor_roughness_2 = (u_conductor_roughness_2 * 7.0);
+    float cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6.0);
+    float weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
+    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
+    float node_roughness_4 = (u_roughness_4 * 6.0);
+    float cell_roughness_4 = min(floor(node_roughness_4), 5.0);
+    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
+    float node_eta_4 = (u_eta_4 * 5.0);
+    float cell_eta_4 = min(floor(node_eta_4), 4.0);
+    float weight_eta_4 = (node_eta_4 - cell_eta_4);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_llll_2 = ((code_llll * 0.00013961816) + 0.0680862);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_ulll_2 = ((code_ulll * 0.00013961816) + 0.0680862);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_lull_2 = ((code_lull * 0.00013961816) + 0.0680862);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_uull_2 = ((code_uull * 0.00013961816) + 0.0680862);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_llul_2 = ((code_llul * 0.00013961816) + 0.0680862);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_ulul_2 = ((code_ulul * 0.00013961816) + 0.0680862);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_luul_2 = ((code_luul * 0.00013961816) + 0.0680862);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_uuul_2 = ((code_uuul * 0.00013961816) + 0.0680862);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lllu_2 = ((code_lllu * 0.00013961816) + 0.0680862);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_ullu_2 = ((code_ullu * 0.00013961816) + 0.0680862);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lulu_2 = ((code_lulu * 0.00013961816) + 0.0680862);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uulu_2 = ((code_uulu * 0.00013961816) + 0.0680862);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lluu_2 = ((code_lluu * 0.00013961816) + 0.0680862);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uluu_2 = ((code_uluu * 0.00013961816) + 0.0680862);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_luuu_2 = ((code_luuu * 0.00013961816) + 0.0680862);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uuuu_2 = ((code_uuuu * 0.00013961816) + 0.0680862);
+    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float ggx_albedo(float cos_theta_3, float roughness_2) {
-    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_2 = (u_cos_theta_2 * 15.0);
-    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 14.0);
-    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 15.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 14.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float code_ll = glazec_table_code((uint((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u));
+float ggx_albedo(float cos_theta_6, float roughness_5) {
+    float u_cos_theta_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_5 = (u_cos_theta_5 * 15.0);
+    float cell_cos_theta_5 = min(floor(node_cos_theta_5), 14.0);
+    float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
+    float node_roughness_5 = (u_roughness_5 * 15.0);
+    float cell_roughness_5 = min(floor(node_roughness_5), 14.0);
+    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    float code_ll = glazec_table_code((uint((cell_cos_theta_5 + (cell_roughness_5 * 16.0))) + 15936u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    float code_ul = glazec_table_code((uint(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u));
+    float code_ul = glazec_table_code((uint(((cell_cos_theta_5 + 1.0) + (cell_roughness_5 * 16.0))) + 15936u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    float code_lu = glazec_table_code((uint((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    float code_lu = glazec_table_code((uint((cell_cos_theta_5 + ((cell_roughness_5 + 1.0) * 16.0))) + 15936u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    float code_uu = glazec_table_code((uint(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    float code_uu = glazec_table_code((uint(((cell_cos_theta_5 + 1.0) + ((cell_roughness_5 + 1.0) * 16.0))) + 15936u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
-    return ((((at_ll * ((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1.0 - weight_roughness_2)))) + (at_lu * ((1.0 - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
-}
-
-// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
-// stays near the mirror direction, inside the coat's escape cone, so it returns with the
-// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
-// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-// symmetric in i and o.
-vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec3 k_o) {
-    return (f_below / (vec3(1.0) - sqrt((((e_i_1 * k_i) * e_o_1) * k_o))));
+    return ((((at_ll * ((1.0 - weight_cos_theta_5) * (1.0 - weight_roughness_5))) + (at_ul * (weight_cos_theta_5 * (1.0 - weight_roughness_5)))) + (at_lu * ((1.0 - weight_cos_theta_5) * weight_roughness_5))) + (at_uu * (weight_cos_theta_5 * weight_roughness_5)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -260,6 +422,197 @@ float trapped_share(float mu_1, float mu_c, float alpha_3) {
     return ((cos_beta + 1.0) * 0.5);
 }
 
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+float glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4) {
+    float beyond_cone = trapped_share(mu_2, mu_c_1, alpha_4);
+    float below_horizon = trapped_share(mu_2, 0.0, alpha_4);
+    return max((beyond_cone - below_horizon), 0.0);
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
+float glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughness_6, float eta_7) {
+    float u_cos_theta_6 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
+    float node_cos_theta_6 = (u_cos_theta_6 * 4.0);
+    float cell_cos_theta_6 = min(floor(node_cos_theta_6), 3.0);
+    float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
+    float u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0.0), 1.0));
+    float node_conductor_roughness_3 = (u_conductor_roughness_3 * 7.0);
+    float cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 6.0);
+    float weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
+    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
+    float node_roughness_6 = (u_roughness_6 * 5.0);
+    float cell_roughness_6 = min(floor(node_roughness_6), 4.0);
+    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    float u_eta_5 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
+    float node_eta_5 = (u_eta_5 * 5.0);
+    float cell_eta_5 = min(floor(node_eta_5), 4.0);
+    float weight_eta_5 = (node_eta_5 - cell_eta_5);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_llll_3 = (code_llll * 1.3453328e-5);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_ulll_3 = (code_ulll * 1.3453328e-5);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_lull_3 = (code_lull * 1.3453328e-5);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_uull_3 = (code_uull * 1.3453328e-5);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_llul_3 = (code_llul * 1.3453328e-5);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_ulul_3 = (code_ulul * 1.3453328e-5);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_luul_3 = (code_luul * 1.3453328e-5);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float at_uuul_3 = (code_uuul * 1.3453328e-5);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_lllu_3 = (code_lllu * 1.3453328e-5);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_ullu_3 = (code_ullu * 1.3453328e-5);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_lulu_3 = (code_lulu * 1.3453328e-5);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_uulu_3 = (code_uulu * 1.3453328e-5);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_lluu_3 = (code_lluu * 1.3453328e-5);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_uluu_3 = (code_uluu * 1.3453328e-5);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_luuu_3 = (code_luuu * 1.3453328e-5);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float at_uuuu_3 = (code_uuuu * 1.3453328e-5);
+    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+float glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughness_7, float eta_8) {
+    float u_cos_theta_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
+    float node_cos_theta_7 = (u_cos_theta_7 * 4.0);
+    float cell_cos_theta_7 = min(floor(node_cos_theta_7), 3.0);
+    float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
+    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
+    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
+    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
+    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
+    float node_roughness_7 = (u_roughness_7 * 5.0);
+    float cell_roughness_7 = min(floor(node_roughness_7), 4.0);
+    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    float u_eta_6 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
+    float node_eta_6 = (u_eta_6 * 5.0);
+    float cell_eta_6 = min(floor(node_eta_6), 4.0);
+    float weight_eta_6 = (node_eta_6 - cell_eta_6);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_llll_4 = (code_llll * 1.3521936e-5);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_ulll_4 = (code_ulll * 1.3521936e-5);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_lull_4 = (code_lull * 1.3521936e-5);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_uull_4 = (code_uull * 1.3521936e-5);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_llul_4 = (code_llul * 1.3521936e-5);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_ulul_4 = (code_ulul * 1.3521936e-5);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_luul_4 = (code_luul * 1.3521936e-5);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float at_uuul_4 = (code_uuul * 1.3521936e-5);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_lllu_4 = (code_lllu * 1.3521936e-5);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_ullu_4 = (code_ullu * 1.3521936e-5);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_lulu_4 = (code_lulu * 1.3521936e-5);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_uulu_4 = (code_uulu * 1.3521936e-5);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_lluu_4 = (code_lluu * 1.3521936e-5);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_uluu_4 = (code_uluu * 1.3521936e-5);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_luuu_4 = (code_luuu * 1.3521936e-5);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float at_uuuu_4 = (code_uuuu * 1.3521936e-5);
+    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
+}
+
+// glazec's glossy level (a conductor under a coat), the light trapped after the first
+// conductor event, per unit of it, that does not leave at the second: the generating
+// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
+// slab's round trip): a mixture of geometric event counts (B: the share that stays per
+// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+// 1 − w₀: a white conductor under a clear coat returns all of it.
+// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+vec3 glossy_later(float next, float quick, float steady, float slow, vec3 c) {
+    vec3 quick_rate = ((c * vec3(0.5)) / (one - (c * vec3(0.5))));
+    vec3 steady_rate = ((c * vec3(0.2)) / (one - (c * vec3(0.8))));
+    vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - (c * slow)), vec3(1e-6)));
+    float rest = max((1.0 - ((next + quick) + steady)), 0.0);
+    return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
+}
+
+// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+vec3 glossy_once(float single, float next_1, vec3 c_1) {
+    return ((c_1 * ((1.0 - single) * next_1)) + vec3(single));
+}
+
+// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
+// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_9) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
+}
+
+// glazec's glossy level, the directional albedo of what leaves after three or more conductor
+// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
+// and reflected by the conductor (F, at the refracted direction), but not let out at once
+// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+vec3 glossy_remainder(float t, vec3 a, vec3 fresnel_1, float single_1, vec3 later) {
+    return ((((a * a) * fresnel_1) * later) * (t * (1.0 - single_1)));
+}
+
+// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
+// that leaves after several conductor events has forgotten where it entered, so
+// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
+vec3 glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
+    return ((m_i * m_o) / (max(m_avg, vec3(1e-6)) * vec3(3.1415927)));
+}
+
+// The directional albedo seen above a coat over a conductor (glazec's glossy level):
+// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+// own paths) and the remainder (`glossy_remainder`).
+vec3 glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
+    vec3 near_1 = ((a_lobe * a_lobe) * once);
+    vec3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
+    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1.0 - t_1)));
+}
+
+// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+// symmetric in i and o.
+vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec3 k_o) {
+    return (f_below / (vec3(1.0) - sqrt((((e_i_1 * k_i) * e_o_1) * k_o))));
+}
+
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
 // cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
 // back with the slab's round-trip transmittance g and meets the body again, which (mean
@@ -269,23 +622,8 @@ float trapped_share(float mu_1, float mu_c, float alpha_3) {
 // albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
 // all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_1, vec3 round_trip, vec3 rho, float q) {
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * (1.0 - q))));
-}
-
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_4) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
-}
-
-// The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-vec3 interfaced_albedo_glossy(float t, vec3 a, vec3 e_below) {
-    vec3 k = ((a * a) * (1.0 - t));
-    return (((((a * a) * e_below) * (t * t)) / (vec3(1.0) - (e_below * k))) + vec3((1.0 - t)));
+vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_2, vec3 round_trip, vec3 rho, float q) {
+    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * (1.0 - q))));
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -316,47 +654,73 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
-    float layer2_transmit_l = (1.0 - layer2_fresnel_l);
-    float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
-    float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     vec3 layer2_v = refract_down(layer1_v, n_1, 1.02);
     vec3 layer2_l = refract_down(layer1_l, n_1, 1.02);
     float layer2_n_dot_v = dot(n_1, layer2_v);
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    vec3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
-    vec3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
+    float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
+    float layer2_transmit_l = (1.0 - layer2_fresnel_l);
+    vec3 layer2_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    vec3 layer2_fresnel_cond_l = f_schlick(f0_under_coat, layer2_cos_l);
+    float layer2_scale_l = glossy_scale(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float layer2_next_l = glossy_next(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float _e98 = glossy_lobe_albedo(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float _e101 = max(layer2_cos_l, 0.19711706);
+    float _e103 = ggx_albedo(_e101, 0.3);
+    float _e106 = glossy_trapped_share(_e101, 0.19705611, 0.09);
+    float layer2_cone_share_l = (1.0 - _e106);
+    float layer2_lobe_normaliser_l = (_e103 * layer2_cone_share_l);
+    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e98) * layer2_lobe_normaliser_l), 0.0), 1.0);
+    float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
+    float _e128 = glossy_quick(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float _e132 = glossy_steady(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    vec3 layer2_later_l = glossy_later(layer2_next_l, _e128, _e132, 0.43932146, layer2_survival);
+    vec3 layer2_once_l = glossy_once(layer2_single_l, layer2_next_l, layer2_survival);
+    vec3 _e140 = glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
+    vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e140.x, 1e-6)));
+    float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
+    float layer2_transmit_v = (1.0 - layer2_fresnel_v);
+    vec3 layer2_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
+    vec3 layer2_fresnel_cond_v = f_schlick(f0_under_coat, layer2_cos_v);
+    float layer2_scale_v = glossy_scale(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float layer2_next_v = glossy_next(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float _e166 = glossy_lobe_albedo(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float _e169 = max(layer2_cos_v, 0.19711706);
+    float _e171 = ggx_albedo(_e169, 0.3);
+    float _e174 = glossy_trapped_share(_e169, 0.19705611, 0.09);
+    float layer2_cone_share_v = (1.0 - _e174);
+    float layer2_lobe_normaliser_v = (_e171 * layer2_cone_share_v);
+    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e166) * layer2_lobe_normaliser_v), 0.0), 1.0);
+    float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
+    float _e196 = glossy_quick(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float _e200 = glossy_steady(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    vec3 layer2_later_v = glossy_later(layer2_next_v, _e196, _e200, 0.43932146, layer2_survival);
+    vec3 layer2_once_v = glossy_once(layer2_single_v, layer2_next_v, layer2_survival);
+    vec3 _e208 = glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
+    vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e208.x, 1e-6)));
     vec3 layer2_h = half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
     float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), layer2_alpha);
     float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     vec3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
-    vec3 layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    float _e103 = ggx_albedo(layer2_cos_l, 0.3006279);
-    vec3 _e105 = f_schlick(f0_under_coat, layer2_cos_l);
-    vec3 layer2_albedo_l = (_e105 * _e103);
-    float _e108 = ggx_albedo(layer2_cos_v, 0.3006279);
-    vec3 _e110 = f_schlick(f0_under_coat, layer2_cos_v);
-    vec3 layer2_albedo_v = (_e110 * _e108);
-    vec3 layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1.0 - layer2_transmit_l));
-    vec3 layer1_inner_v = ((layer1_absorb_v * layer1_absorb_v) * (1.0 - layer2_transmit_v));
-    vec3 _e120 = interfaced_glossy_under(layer2_f_base, layer2_albedo_l, layer1_inner_l, layer2_albedo_v, layer1_inner_v);
-    float layer2_trapped_l = trapped_share(layer2_cos_l, layer2_mu_c, layer2_alpha);
-    float layer2_trapped_v = trapped_share(layer2_cos_v, layer2_mu_c, layer2_alpha);
-    vec3 layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, vec3(0.48009053, 0.0003817311, 0.00011028103), layer2_rho, layer2_trapped_escape);
-    vec3 layer1_under = (_e120 + layer1_trapped);
-    vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02);
-    vec3 layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
-    vec3 layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
+    vec3 _e227 = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    vec3 layer1_under = ((_e227 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    vec3 _e233 = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    vec3 _e234 = glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    vec3 _e235 = glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    vec3 layer1_later = glossy_remainder_lobe(_e234, _e235, layer1_remainder_avg);
+    vec3 layer1_f = (_e233 + layer1_later);
+    vec3 layer1_albedo_l = glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
+    vec3 layer1_albedo_v = glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e151 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    vec3 _e251 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha);
     float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha);
     vec3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1.0), layer1_rho, layer1_trapped_escape);
-    vec3 under = (_e151 + trapped);
+    vec3 under = (_e251 + trapped);
     vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

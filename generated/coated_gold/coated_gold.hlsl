@@ -21,13 +21,11 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-static const float layer1_alpha = 0.06485702;
-static const float layer1_mu_c = 0.745356;
-static const float3 layer1_rho = float3(0.921543, 0.7375731, 0.30301085);
-static const float layer1_trapped_escape = 0.1150567;
-static const float base_roughness = 0.31190628;
+static const float3 one = float3(1.0, 1.0, 1.0);
+static const float3 layer1_survival = float3(0.9322251, 0.7678392, 0.3619415);
+static const float3 remainder_avg = float3(0.072688594, 0.030460551, 0.0032689103);
 
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
@@ -52,72 +50,28 @@ struct FragmentInput_preview_ibl_fs {
     float2 p_4 : LOC0;
 };
 
-// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
-// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
-// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
-// transmission anyway).
-float3 half_vector(float3 v, float3 l)
+// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
+// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
+// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
+// zero vector, whose cosine 0 makes every transmission factor 0.
+float3 refract_down(float3 w, float3 n, float eta)
 {
-    float3 sum = (v + l);
-    return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
-}
-
-// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h, float sin2_h, float alpha)
-{
-    float a_1 = max(alpha, 0.001);
-    float a_sq = (a_1 * a_1);
-    float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
-    return (a_sq / ((denom * denom) * 3.1415927));
-}
-
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
-// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float lambda_ggx(float n_dot_x, float alpha_1)
-{
-    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
-    float tan_sq = ((1.0 - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
-}
-
-// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
-// G2 = 1 / (1 + Λ(v) + Λ(l)).
-float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
-{
-    float alpha_5 = max(alpha_2, 0.001);
-    const float _e5 = lambda_ggx(n_dot_v, alpha_5);
-    const float _e6 = lambda_ggx(n_dot_l, alpha_5);
-    return (1.0 / ((_e5 + _e6) + 1.0));
+    return -(refract(-(w), n, (1.0 / eta)));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta)
+float fr_dielectric(float cos_i, float eta_1)
 {
     float cos_i_2 = min(max(cos_i, 0.0), 1.0);
-    float sin2_t = ((1.0 - (cos_i_2 * cos_i_2)) / (eta * eta));
+    float sin2_t = ((1.0 - (cos_i_2 * cos_i_2)) / (eta_1 * eta_1));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
-    float r_parl = (((eta * cos_i_2) - cos_t) / ((eta * cos_i_2) + cos_t));
-    float r_perp = ((cos_i_2 - (eta * cos_t)) / (cos_i_2 + (eta * cos_t)));
-    float fresnel_1 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
-    return ((sin2_t < 1.0) ? fresnel_1 : 1.0);
-}
-
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
-float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float n_dot_l_1)
-{
-    return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
+    float r_parl = (((eta_1 * cos_i_2) - cos_t) / ((eta_1 * cos_i_2) + cos_t));
+    float r_perp = ((cos_i_2 - (eta_1 * cos_t)) / (cos_i_2 + (eta_1 * cos_t)));
+    float fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
+    return ((sin2_t < 1.0) ? fresnel_3 : 1.0);
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
@@ -135,95 +89,77 @@ uint naga_f2u32(float value) {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1)
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+float coat_deficit(float cos_theta, float roughness, float eta_2)
 {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta = (u_cos_theta * 15.0);
-    float cell_cos_theta = min(floor(node_cos_theta), 14.0);
+    float node_cos_theta = (u_cos_theta * 31.0);
+    float cell_cos_theta = min(floor(node_cos_theta), 30.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
     float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 15.0);
-    float cell_roughness = min(floor(node_roughness), 14.0);
+    float node_roughness = (u_roughness * 31.0);
+    float cell_roughness = min(floor(node_roughness), 30.0);
     float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
+    float u_eta = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
-    float at_lll = (code_lll * 1.4542611e-6);
-    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
-    float at_ull = (code_ull * 1.4542611e-6);
-    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
-    float at_lul = (code_lul * 1.4542611e-6);
-    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
-    float at_uul = (code_uul * 1.4542611e-6);
-    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
-    float at_llu = (code_llu * 1.4542611e-6);
-    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
-    float at_ulu = (code_ulu * 1.4542611e-6);
-    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
-    float at_luu = (code_luu * 1.4542611e-6);
-    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
-    float at_uuu = (code_uuu * 1.4542611e-6);
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float at_lll = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float at_ull = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float at_lul = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float at_uul = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta + (cell_roughness * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float at_llu = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float at_ulu = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float at_luu = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float at_uuu = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
-{
-    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_1, float eta_2)
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+float coat_extra(float cos_theta_1, float roughness_1, float eta_3)
 {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
-    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float node_cos_theta_1 = (u_cos_theta_1 * 15.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 14.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
     float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 31.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
+    float node_roughness_1 = (u_roughness_1 * 15.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
     float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
+    float u_eta_1 = min(max((((eta_3 - 1.0) * 2.0) / (eta_3 + 1.0)), 0.0), 1.0);
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
-    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
-    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
-    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
-    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
-    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
-    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
-    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
-    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
+    const float code_lll = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float at_lll_1 = (code_lll * 1.4542611e-6);
+    const float code_ull = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float at_ull_1 = (code_ull * 1.4542611e-6);
+    const float code_lul = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float at_lul_1 = (code_lul * 1.4542611e-6);
+    const float code_uul = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float at_uul_1 = (code_uul * 1.4542611e-6);
+    const float code_llu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_1 * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float at_llu_1 = (code_llu * 1.4542611e-6);
+    const float code_ulu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float at_ulu_1 = (code_ulu * 1.4542611e-6);
+    const float code_luu = glazec_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float at_luu_1 = (code_luu * 1.4542611e-6);
+    const float code_uuu = glazec_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float at_uuu_1 = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
-}
-
-// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
-// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
-// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
-// zero vector, whose cosine 0 makes every transmission factor 0.
-float3 refract_down(float3 w, float3 n, float eta_3)
-{
-    return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
@@ -248,39 +184,260 @@ float3 fr_conductor(float cos_i_1, float3 eta_4, float3 k)
     return ((r_p + r_s) * (0.5).xxx);
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
+// reflect what leaves near the mirror direction (after one conductor event, or at the
+// second from the trapped light's first return), for a white conductor under a clear coat
+// (solved over μ at each node).
+float glossy_scale(float cos_theta_2, float conductor_roughness, float roughness_2, float eta_5)
+{
+    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
+    float node_cos_theta_2 = (u_cos_theta_2 * 8.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 7.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_conductor_roughness = sqrt(min(max(conductor_roughness, 0.0), 1.0));
+    float node_conductor_roughness = (u_conductor_roughness * 7.0);
+    float cell_conductor_roughness = min(floor(node_conductor_roughness), 6.0);
+    float weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 6.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 5.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 5.0);
+    float cell_eta_2 = min(floor(node_eta_2), 4.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
+    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lull * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_llul * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_luul * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_lllu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+float glossy_next(float cos_theta_3, float conductor_roughness_1, float roughness_3, float eta_6)
+{
+    float u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
+    float node_cos_theta_3 = (u_cos_theta_3 * 4.0);
+    float cell_cos_theta_3 = min(floor(node_cos_theta_3), 3.0);
+    float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
+    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
+    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
+    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
+    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_3 = (u_roughness_3 * 5.0);
+    float cell_roughness_3 = min(floor(node_roughness_3), 4.0);
+    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    float u_eta_3 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
+    float node_eta_3 = (u_eta_3 * 5.0);
+    float cell_eta_3 = min(floor(node_eta_3), 4.0);
+    float weight_eta_3 = (node_eta_3 - cell_eta_3);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_llll_1 = (code_llll * 1.5259022e-5);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_ulll_1 = (code_ulll * 1.5259022e-5);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_lull_1 = (code_lull * 1.5259022e-5);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_uull_1 = (code_uull * 1.5259022e-5);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_llul_1 = (code_llul * 1.5259022e-5);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_ulul_1 = (code_ulul * 1.5259022e-5);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_luul_1 = (code_luul * 1.5259022e-5);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float at_uuul_1 = (code_uuul * 1.5259022e-5);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lllu_1 = (code_lllu * 1.5259022e-5);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_ullu_1 = (code_ullu * 1.5259022e-5);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lulu_1 = (code_lulu * 1.5259022e-5);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uulu_1 = (code_uulu * 1.5259022e-5);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_lluu_1 = (code_lluu * 1.5259022e-5);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uluu_1 = (code_uluu * 1.5259022e-5);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_luuu_1 = (code_luuu * 1.5259022e-5);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
+    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
+// over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
+// share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
+// what the lobe does not (raised where probes between the nodes found a gain).
+float glossy_lobe_albedo(float cos_theta_4, float conductor_roughness_2, float roughness_4, float eta_7)
+{
+    float u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
+    float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
+    float cell_cos_theta_4 = min(floor(node_cos_theta_4), 7.0);
+    float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    float u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0.0), 1.0));
+    float node_conductor_roughness_2 = (u_conductor_roughness_2 * 7.0);
+    float cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6.0);
+    float weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
+    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
+    float node_roughness_4 = (u_roughness_4 * 6.0);
+    float cell_roughness_4 = min(floor(node_roughness_4), 5.0);
+    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    float u_eta_4 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
+    float node_eta_4 = (u_eta_4 * 5.0);
+    float cell_eta_4 = min(floor(node_eta_4), 4.0);
+    float weight_eta_4 = (node_eta_4 - cell_eta_4);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_llll_2 = ((code_llll * 0.00013961816) + 0.0680862);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_ulll_2 = ((code_ulll * 0.00013961816) + 0.0680862);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_lull_2 = ((code_lull * 0.00013961816) + 0.0680862);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_uull_2 = ((code_uull * 0.00013961816) + 0.0680862);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_llul_2 = ((code_llul * 0.00013961816) + 0.0680862);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_ulul_2 = ((code_ulul * 0.00013961816) + 0.0680862);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_luul_2 = ((code_luul * 0.00013961816) + 0.0680862);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float at_uuul_2 = ((code_uuul * 0.00013961816) + 0.0680862);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lllu_2 = ((code_lllu * 0.00013961816) + 0.0680862);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_ullu_2 = ((code_ullu * 0.00013961816) + 0.0680862);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lulu_2 = ((code_lulu * 0.00013961816) + 0.0680862);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uulu_2 = ((code_uulu * 0.00013961816) + 0.0680862);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_lluu_2 = ((code_lluu * 0.00013961816) + 0.0680862);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uluu_2 = ((code_uluu * 0.00013961816) + 0.0680862);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_luuu_2 = ((code_luuu * 0.00013961816) + 0.0680862);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float at_uuuu_2 = ((code_uuuu * 0.00013961816) + 0.0680862);
+    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
+// per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
+// peak seen through the coat's transmission from μ, tapered towards grazing.
+float glossy_blur(float cos_theta_5, float conductor_roughness_3, float roughness_5, float eta_8)
+{
+    float u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
+    float node_cos_theta_5 = (u_cos_theta_5 * 5.0);
+    float cell_cos_theta_5 = min(floor(node_cos_theta_5), 4.0);
+    float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+    float u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0.0), 1.0));
+    float node_conductor_roughness_3 = (u_conductor_roughness_3 * 3.0);
+    float cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 2.0);
+    float weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
+    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
+    float node_roughness_5 = (u_roughness_5 * 5.0);
+    float cell_roughness_5 = min(floor(node_roughness_5), 4.0);
+    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    float u_eta_5 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
+    float node_eta_5 = (u_eta_5 * 3.0);
+    float cell_eta_5 = min(floor(node_eta_5), 2.0);
+    float weight_eta_5 = (node_eta_5 - cell_eta_5);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_llll_3 = (code_llll * 1.9313664e-5);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_ulll_3 = (code_ulll * 1.9313664e-5);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_lull_3 = (code_lull * 1.9313664e-5);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_uull_3 = (code_uull * 1.9313664e-5);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_llul_3 = (code_llul * 1.9313664e-5);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_ulul_3 = (code_ulul * 1.9313664e-5);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_luul_3 = (code_luul * 1.9313664e-5);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float at_uuul_3 = (code_uuul * 1.9313664e-5);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_lllu_3 = (code_lllu * 1.9313664e-5);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_ullu_3 = (code_ullu * 1.9313664e-5);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_lulu_3 = (code_lulu * 1.9313664e-5);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_uulu_3 = (code_uulu * 1.9313664e-5);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_lluu_3 = (code_lluu * 1.9313664e-5);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_uluu_3 = (code_uluu * 1.9313664e-5);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_luuu_3 = (code_luuu * 1.9313664e-5);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float at_uuuu_3 = (code_uuuu * 1.9313664e-5);
+    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float ggx_albedo(float cos_theta_2, float roughness_2)
+float ggx_albedo(float cos_theta_6, float roughness_6)
 {
-    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_2 = (u_cos_theta_2 * 15.0);
-    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 14.0);
-    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 15.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 14.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta_2 + (cell_roughness_2 * 16.0))) + 15936u));
+    float u_cos_theta_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_6 = (u_cos_theta_6 * 15.0);
+    float cell_cos_theta_6 = min(floor(node_cos_theta_6), 14.0);
+    float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
+    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
+    float node_roughness_6 = (u_roughness_6 * 15.0);
+    float cell_roughness_6 = min(floor(node_roughness_6), 14.0);
+    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    const float code_ll = glazec_table_code((naga_f2u32((cell_cos_theta_6 + (cell_roughness_6 * 16.0))) + 15936u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 16.0))) + 15936u));
+    const float code_ul = glazec_table_code((naga_f2u32(((cell_cos_theta_6 + 1.0) + (cell_roughness_6 * 16.0))) + 15936u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    const float code_lu = glazec_table_code((naga_f2u32((cell_cos_theta_6 + ((cell_roughness_6 + 1.0) * 16.0))) + 15936u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 16.0))) + 15936u));
+    const float code_uu = glazec_table_code((naga_f2u32(((cell_cos_theta_6 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0))) + 15936u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
-    return ((((at_ll * ((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1.0 - weight_roughness_2)))) + (at_lu * ((1.0 - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
-}
-
-// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
-// stays near the mirror direction, inside the coat's escape cone, so it returns with the
-// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
-// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-// symmetric in i and o.
-float3 interfaced_glossy_under(float3 f_below, float3 e_i_1, float3 k_i, float3 e_o_1, float3 k_o)
-{
-    float3 _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
-    return (f_below / ((1.0).xxx - _e8));
+    return ((((at_ll * ((1.0 - weight_cos_theta_6) * (1.0 - weight_roughness_6))) + (at_ul * (weight_cos_theta_6 * (1.0 - weight_roughness_6)))) + (at_lu * ((1.0 - weight_cos_theta_6) * weight_roughness_6))) + (at_uu * (weight_cos_theta_6 * weight_roughness_6)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -296,39 +453,258 @@ float3 interfaced_glossy_under(float3 f_below, float3 e_i_1, float3 k_i, float3 
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-float trapped_share(float mu, float mu_c, float alpha_3)
+float trapped_share(float mu, float mu_c, float alpha)
 {
     float sin_t = sqrt(max((1.0 - (mu * mu)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
     float near = (((sin_t * mu_c) - (mu * sin_c)) / (((mu * mu_c) + (sin_t * sin_c)) + 1.0));
     float far = (((sin_t * mu_c) + (mu * sin_c)) / max((((mu * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
-    float a2_ = (alpha_3 * alpha_3);
+    float a2_ = (alpha * alpha);
     float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
     return ((cos_beta + 1.0) * 0.5);
 }
 
-// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again, which (mean
-// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
-// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
-// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
-// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
-// all trapped light.
-// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-float3 trapped_lobe(float3 e_i_2, float p_i, float3 e_o_2, float p_o, float mu_c_1, float3 round_trip, float3 rho, float q)
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+float glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1)
 {
-    float3 _e21 = ((rho * round_trip) * (1.0 - q));
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001) * 3.1415927))) / ((1.0).xxx - _e21));
+    const float beyond_cone = trapped_share(mu_1, mu_c_1, alpha_1);
+    const float below_horizon = trapped_share(mu_1, 0.0, alpha_1);
+    return max((beyond_cone - below_horizon), 0.0);
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
+float glossy_quick(float cos_theta_7, float conductor_roughness_4, float roughness_7, float eta_9)
+{
+    float u_cos_theta_7 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
+    float node_cos_theta_7 = (u_cos_theta_7 * 4.0);
+    float cell_cos_theta_7 = min(floor(node_cos_theta_7), 3.0);
+    float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
+    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
+    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
+    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
+    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
+    float node_roughness_7 = (u_roughness_7 * 5.0);
+    float cell_roughness_7 = min(floor(node_roughness_7), 4.0);
+    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    float u_eta_6 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
+    float node_eta_6 = (u_eta_6 * 5.0);
+    float cell_eta_6 = min(floor(node_eta_6), 4.0);
+    float weight_eta_6 = (node_eta_6 - cell_eta_6);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_llll_4 = (code_llll * 1.3453328e-5);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_ulll_4 = (code_ulll * 1.3453328e-5);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_lull_4 = (code_lull * 1.3453328e-5);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_uull_4 = (code_uull * 1.3453328e-5);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_llul_4 = (code_llul * 1.3453328e-5);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_ulul_4 = (code_ulul * 1.3453328e-5);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_luul_4 = (code_luul * 1.3453328e-5);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
+    float at_uuul_4 = (code_uuul * 1.3453328e-5);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_lllu_4 = (code_lllu * 1.3453328e-5);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_ullu_4 = (code_ullu * 1.3453328e-5);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_lulu_4 = (code_lulu * 1.3453328e-5);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_uulu_4 = (code_uulu * 1.3453328e-5);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_lluu_4 = (code_lluu * 1.3453328e-5);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_uluu_4 = (code_uluu * 1.3453328e-5);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_luuu_4 = (code_luuu * 1.3453328e-5);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
+    float at_uuuu_4 = (code_uuuu * 1.3453328e-5);
+    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+float glossy_steady(float cos_theta_8, float conductor_roughness_5, float roughness_8, float eta_10)
+{
+    float u_cos_theta_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
+    float node_cos_theta_8 = (u_cos_theta_8 * 4.0);
+    float cell_cos_theta_8 = min(floor(node_cos_theta_8), 3.0);
+    float weight_cos_theta_8 = (node_cos_theta_8 - cell_cos_theta_8);
+    float u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0.0), 1.0));
+    float node_conductor_roughness_5 = (u_conductor_roughness_5 * 7.0);
+    float cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6.0);
+    float weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    float u_roughness_8 = sqrt(min(max(roughness_8, 0.0), 1.0));
+    float node_roughness_8 = (u_roughness_8 * 5.0);
+    float cell_roughness_8 = min(floor(node_roughness_8), 4.0);
+    float weight_roughness_8 = (node_roughness_8 - cell_roughness_8);
+    float u_eta_7 = min(max((((eta_10 - 1.0) * 2.0) / (eta_10 + 1.0)), 0.0), 1.0);
+    float node_eta_7 = (u_eta_7 * 5.0);
+    float cell_eta_7 = min(floor(node_eta_7), 4.0);
+    float weight_eta_7 = (node_eta_7 - cell_eta_7);
+    const float code_llll = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_llll_5 = (code_llll * 1.3521936e-5);
+    const float code_ulll = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_ulll_5 = (code_ulll * 1.3521936e-5);
+    const float code_lull = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_lull_5 = (code_lull * 1.3521936e-5);
+    const float code_uull = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_uull_5 = (code_uull * 1.3521936e-5);
+    const float code_llul = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_llul_5 = (code_llul * 1.3521936e-5);
+    const float code_ulul = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_ulul_5 = (code_ulul * 1.3521936e-5);
+    const float code_luul = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_luul_5 = (code_luul * 1.3521936e-5);
+    const float code_uuul = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float at_uuul_5 = (code_uuul * 1.3521936e-5);
+    const float code_lllu = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_lllu_5 = (code_lllu * 1.3521936e-5);
+    const float code_ullu = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_ullu_5 = (code_ullu * 1.3521936e-5);
+    const float code_lulu = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_lulu_5 = (code_lulu * 1.3521936e-5);
+    const float code_uulu = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_uulu_5 = (code_uulu * 1.3521936e-5);
+    const float code_lluu = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_lluu_5 = (code_lluu * 1.3521936e-5);
+    const float code_uluu = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_uluu_5 = (code_uluu * 1.3521936e-5);
+    const float code_luuu = glazec_table_code((naga_f2u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_luuu_5 = (code_luuu * 1.3521936e-5);
+    const float code_uuuu = glazec_table_code((naga_f2u32(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float at_uuuu_5 = (code_uuuu * 1.3521936e-5);
+    return ((((((((((((((((at_llll_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7))) + (at_ulll_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_lull_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_uull_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_llul_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_ulul_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_luul_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_uuul_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_lllu_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_ullu_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lulu_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_uulu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lluu_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7)));
+}
+
+// glazec's glossy level (a conductor under a coat), the light trapped after the first
+// conductor event, per unit of it, that does not leave at the second: the generating
+// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
+// slab's round trip): a mixture of geometric event counts (B: the share that stays per
+// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+// 1 − w₀: a white conductor under a clear coat returns all of it.
+// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+float3 glossy_later(float next, float quick, float steady, float slow, float3 c)
+{
+    float3 quick_rate = ((c * (0.5).xxx) / (one - (c * (0.5).xxx)));
+    float3 steady_rate = ((c * (0.2).xxx) / (one - (c * (0.8).xxx)));
+    float3 _e27 = (c * slow);
+    float3 slow_rate = ((c * (1.0 - slow)) / max(((1.0).xxx - _e27), (1e-6).xxx));
+    float rest = max((1.0 - ((next + quick) + steady)), 0.0);
+    return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
+}
+
+// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+float3 glossy_once(float single, float next_1, float3 c_1)
+{
+    return ((c_1 * ((1.0 - single) * next_1)) + (single).xxx);
+}
+
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+float3 half_vector(float3 v, float3 l)
+{
+    float3 sum = (v + l);
+    return (sum / (sqrt(max(dot(sum, sum), 1e-12))).xxx);
+}
+
+// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
+// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+// zero half vector (two zero directions under total internal reflection), where it would
+// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+float d_ggx(float cos_h, float sin2_h, float alpha_2)
+{
+    float a_3 = max(alpha_2, 0.001);
+    float a_sq = (a_3 * a_3);
+    float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
+    return (a_sq / ((denom * denom) * 3.1415927));
+}
+
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+float lambda_ggx(float n_dot_x, float alpha_3)
+{
+    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_3 * alpha_3) * tan_sq) + 1.0)) - 1.0) * 0.5);
+}
+
+// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+// G2 = 1 / (1 + Λ(v) + Λ(l)).
+float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_4)
+{
+    float alpha_6 = max(alpha_4, 0.001);
+    const float _e5 = lambda_ggx(n_dot_v, alpha_6);
+    const float _e6 = lambda_ggx(n_dot_l, alpha_6);
+    return (1.0 / ((_e5 + _e6) + 1.0));
+}
+
+// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
+// The caller passes cosines clamped to ≥ COS_EPSILON.
+float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float n_dot_l_1)
+{
+    return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+float multiple_scattering_lobe(float e_i, float e_o, float e_avg)
+{
+    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
 // with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_5)
+float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_11)
 {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_11 * eta_11))));
+}
+
+// glazec's glossy level, the directional albedo of what leaves after three or more conductor
+// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
+// and reflected by the conductor (F, at the refracted direction), but not let out at once
+// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+float3 glossy_remainder(float t, float3 a, float3 fresnel_1, float single_1, float3 later)
+{
+    return ((((a * a) * fresnel_1) * later) * (t * (1.0 - single_1)));
+}
+
+// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
+// that leaves after several conductor events has forgotten where it entered, so
+// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
+float3 glossy_remainder_lobe(float3 m_i, float3 m_o, float3 m_avg)
+{
+    return ((m_i * m_o) / (max(m_avg, (1e-6).xxx) * (3.1415927).xxx));
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -338,48 +714,87 @@ float3 coated_gold_brdf(float3 n_1, float3 v_1, float3 l_1)
     float n_dot_l_2 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    const float3 h = half_vector(v_1, l_1);
-    float3 n_cross_h = cross(n_1, h);
-    const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001);
-    const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001);
-    const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    const float3 _e21 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float layer1_restored_l = coat_extra(n_dot_l_2, 0.1, 1.5);
-    const float layer1_restored_v = coat_extra(n_dot_v_2, 0.1, 1.5);
-    const float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174);
-    float3 specular = (_e21 + (_e29).xxx);
-    const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
-    const float _e38 = coat_deficit(n_dot_l_2, 0.1, 1.5);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
-    const float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
-    const float _e51 = coat_deficit(n_dot_v_2, 0.1, 1.5);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
     const float3 layer1_v = refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
+    const float _e25 = coat_deficit(n_dot_l_2, 0.1, 1.5);
+    const float layer1_restored_l = coat_extra(n_dot_l_2, 0.1, 1.5);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e25) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_fresnel_cond_l = fr_conductor(layer1_cos_l, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    const float layer1_scale_l = glossy_scale(n_dot_l_2, 0.25, 0.1, 1.5);
+    const float layer1_next_l = glossy_next(n_dot_l_2, 0.25, 0.1, 1.5);
+    const float _e56 = glossy_lobe_albedo(n_dot_l_2, 0.25, 0.1, 1.5);
+    float _e61 = max(layer1_cos_l, 0.7453635);
+    const float _e65 = glossy_blur(max(n_dot_l_2, 0.005), 0.25, 0.1, 1.5);
+    float layer1_blur_l = (_e65 * 0.010000001);
+    float layer1_blur_v = (_e65 * 0.010000001);
+    float layer1_alpha = sqrt(((0.00390625 + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
+    const float _e77 = ggx_albedo(_e61, sqrt(layer1_alpha));
+    const float _e80 = glossy_trapped_share(_e61, 0.745356, 0.0625);
+    float layer1_cone_share_l = (1.0 - _e80);
+    float layer1_lobe_normaliser_l = (_e77 * layer1_cone_share_l);
+    float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e56) * layer1_lobe_normaliser_l), 0.0), 1.0);
+    float layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
+    const float _e102 = glossy_quick(n_dot_l_2, 0.25, 0.1, 1.5);
+    const float _e106 = glossy_steady(n_dot_l_2, 0.25, 0.1, 1.5);
+    const float3 layer1_later_l = glossy_later(layer1_next_l, _e102, _e106, 0.9170209, layer1_survival);
+    const float3 layer1_once_l = glossy_once(layer1_single_l, layer1_next_l, layer1_survival);
+    const float3 _e114 = glossy_once(layer1_single_l, layer1_next_l, (1.0).xxx);
+    float3 layer1_once_colour_l = (layer1_once_l / (max(_e114.x, 1e-6)).xxx);
+    const float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
+    const float _e126 = coat_deficit(n_dot_v_2, 0.1, 1.5);
+    const float layer1_restored_v = coat_extra(n_dot_v_2, 0.1, 1.5);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e126) - layer1_restored_v), 0.0), 1.0);
+    const float3 layer1_fresnel_cond_v = fr_conductor(layer1_cos_v, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    const float layer1_scale_v = glossy_scale(n_dot_v_2, 0.25, 0.1, 1.5);
+    const float layer1_next_v = glossy_next(n_dot_v_2, 0.25, 0.1, 1.5);
+    const float _e157 = glossy_lobe_albedo(n_dot_v_2, 0.25, 0.1, 1.5);
+    float _e162 = max(layer1_cos_v, 0.7453635);
+    const float _e166 = glossy_blur(max(n_dot_v_2, 0.005), 0.25, 0.1, 1.5);
+    float layer1_blur_l_1 = (_e166 * 0.010000001);
+    float layer1_blur_v_1 = (_e166 * 0.010000001);
+    float layer1_alpha_1 = sqrt(((0.00390625 + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
+    const float _e178 = ggx_albedo(_e162, sqrt(layer1_alpha_1));
+    const float _e181 = glossy_trapped_share(_e162, 0.745356, 0.0625);
+    float layer1_cone_share_v = (1.0 - _e181);
+    float layer1_lobe_normaliser_v = (_e178 * layer1_cone_share_v);
+    float layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e157) * layer1_lobe_normaliser_v), 0.0), 1.0);
+    float layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
+    const float _e203 = glossy_quick(n_dot_v_2, 0.25, 0.1, 1.5);
+    const float _e207 = glossy_steady(n_dot_v_2, 0.25, 0.1, 1.5);
+    const float3 layer1_later_v = glossy_later(layer1_next_v, _e203, _e207, 0.9170209, layer1_survival);
+    const float3 layer1_once_v = glossy_once(layer1_single_v, layer1_next_v, layer1_survival);
+    const float3 _e215 = glossy_once(layer1_single_v, layer1_next_v, (1.0).xxx);
+    float3 layer1_once_colour_v = (layer1_once_v / (max(_e215.x, 1e-6)).xxx);
+    const float _e224 = glossy_blur(n_dot_l_2, 0.25, 0.1, 1.5);
+    float layer1_blur_l_2 = (_e224 * 0.010000001);
+    const float _e230 = glossy_blur(n_dot_v_2, 0.25, 0.1, 1.5);
+    float layer1_blur_v_2 = (_e230 * 0.010000001);
+    float layer1_alpha_2 = sqrt(((0.00390625 + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
+    const float3 h = half_vector(v_1, l_1);
+    float3 n_cross_h = cross(n_1, h);
+    const float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001);
+    const float g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001);
+    const float fresnel = fr_dielectric(dot(v_1, h), 1.5);
+    const float3 _e251 = f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float _e253 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174);
+    float3 specular = (_e251 + (_e253).xxx);
     const float3 layer1_h = half_vector(layer1_v, layer1_l);
     float3 layer1_n_cross_h = cross(n_1, layer1_h);
-    const float layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha);
-    const float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
+    const float layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    const float layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     const float3 layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float3 layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    const float _e88 = ggx_albedo(layer1_cos_l, 0.2546704);
-    const float3 _e97 = fr_conductor(layer1_cos_l, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    float3 layer1_albedo_l = (_e97 * _e88);
-    const float _e100 = ggx_albedo(layer1_cos_v, 0.2546704);
-    const float3 _e109 = fr_conductor(layer1_cos_v, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    float3 layer1_albedo_v = (_e109 * _e100);
-    float3 inner_l = ((1.0).xxx * (1.0 - layer1_transmit_l));
-    float3 inner_v = ((1.0).xxx * (1.0 - layer1_transmit_v));
-    const float3 _e121 = interfaced_glossy_under(layer1_f_base, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
-    const float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer1_alpha);
-    const float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer1_alpha);
-    const float3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, (1.0).xxx, layer1_rho, layer1_trapped_escape);
-    float3 under = (_e121 + trapped);
-    const float3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
+    const float3 _e274 = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    float3 under = ((_e274 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    const float3 _e283 = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
+    const float3 _e286 = glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    const float3 _e289 = glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    const float3 later = glossy_remainder_lobe(_e286, _e289, remainder_avg);
+    float3 f = (_e283 + later);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 
@@ -405,10 +820,10 @@ uint NagaNumLevels2D(Texture2D<float4> tex)
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 glazec_environment(float3 direction, float roughness_3)
+float3 glazec_environment(float3 direction, float roughness_9)
 {
     const float2 uv = glazec_equirect_uv(direction);
-    float lod = (roughness_3 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
+    float lod = (roughness_9 * (float(NagaNumLevels2D(glazec_radiance)) - 1.0));
     float4 _e11 = glazec_radiance.SampleLevel(glazec_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -421,13 +836,15 @@ float3 glazec_irradiance_at(float3 direction_1)
     return _e5.xyz;
 }
 
-// The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-float3 interfaced_albedo_glossy(float t, float3 a, float3 e_below)
+// The directional albedo seen above a coat over a conductor (glazec's glossy level):
+// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+// own paths) and the remainder (`glossy_remainder`).
+float3 glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, float3 a_1, float3 once, float single_2, float3 later_1)
 {
-    float3 k_1 = ((a * a) * (1.0 - t));
-    float3 _e11 = (e_below * k_1);
-    return (((((a * a) * e_below) * (t * t)) / ((1.0).xxx - _e11)) + ((1.0 - t)).xxx);
+    float3 near_1 = ((a_lobe * a_lobe) * once);
+    float3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
+    return (((fresnel_2 * (near_1 + far_1)) * t_1) + ((1.0 - t_1)).xxx);
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -435,12 +852,12 @@ float3 interfaced_albedo_glossy(float t, float3 a, float3 e_below)
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
+float3 specular_dominant_direction(float3 n_3, float3 v_3, float alpha_5)
 {
     float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r * t_1));
+    float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
+    float t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
+    float3 d_2 = ((n_3 * (1.0 - t_2)) + (r * t_2));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
@@ -451,28 +868,48 @@ float3 coated_gold_ibl(float3 n_4, float3 v_4)
 {
     float n_dot_v_3 = dot(n_4, v_4);
     float cos_v_1 = max(n_dot_v_3, 0.0001);
-    const float layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5);
-    const float _e11 = coat_deficit(n_dot_v_3, 0.1, 1.5);
-    const float layer1_restored_l = coat_extra(n_dot_v_3, 0.1, 1.5);
-    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e11) - layer1_restored_l), 0.0), 1.0);
     const float3 layer1_v = refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e35 = ggx_albedo(layer1_cos_v_1, 0.2546704);
-    const float3 _e44 = fr_conductor(layer1_cos_v_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    float3 layer1_albedo_l_1 = (_e44 * _e35);
-    float3 layer1_albedo_v_1 = (_e44 * _e35);
-    const float3 albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l_1);
-    const float3 albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v_1);
-    float coat_albedo = (1.0 - layer1_transmit_v_1);
-    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
+    const float layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5);
+    const float _e16 = coat_deficit(n_dot_v_3, 0.1, 1.5);
+    const float layer1_restored_l = coat_extra(n_dot_v_3, 0.1, 1.5);
+    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e16) - layer1_restored_l), 0.0), 1.0);
+    const float3 layer1_fresnel_cond_l = fr_conductor(layer1_cos_v_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    const float layer1_scale_l = glossy_scale(n_dot_v_3, 0.25, 0.1, 1.5);
+    const float layer1_next_l = glossy_next(n_dot_v_3, 0.25, 0.1, 1.5);
+    const float _e47 = glossy_lobe_albedo(n_dot_v_3, 0.25, 0.1, 1.5);
+    float _e52 = max(layer1_cos_v_1, 0.7453635);
+    const float _e56 = glossy_blur(max(n_dot_v_3, 0.005), 0.25, 0.1, 1.5);
+    float layer1_blur_l_3 = (_e56 * 0.010000001);
+    float layer1_blur_v_3 = (_e56 * 0.010000001);
+    float layer1_alpha_3 = sqrt(((0.00390625 + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
+    const float _e68 = ggx_albedo(_e52, sqrt(layer1_alpha_3));
+    const float _e71 = glossy_trapped_share(_e52, 0.745356, 0.0625);
+    float layer1_cone_share_l_1 = (1.0 - _e71);
+    float layer1_lobe_normaliser_l_1 = (_e68 * layer1_cone_share_l_1);
+    float layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e47) * layer1_lobe_normaliser_l_1), 0.0), 1.0);
+    float layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
+    const float _e93 = glossy_quick(n_dot_v_3, 0.25, 0.1, 1.5);
+    const float _e97 = glossy_steady(n_dot_v_3, 0.25, 0.1, 1.5);
+    const float3 layer1_later_l = glossy_later(layer1_next_l, _e93, _e97, 0.9170209, layer1_survival);
+    const float3 layer1_once_l = glossy_once(layer1_single_l_1, layer1_next_l, layer1_survival);
+    const float3 _e105 = glossy_once(layer1_single_l_1, layer1_next_l, (1.0).xxx);
+    float3 layer1_once_colour_l_1 = (layer1_once_l / (max(_e105.x, 1e-6)).xxx);
+    const float _e114 = glossy_blur(n_dot_v_3, 0.25, 0.1, 1.5);
+    float layer1_blur_l_4 = (_e114 * 0.010000001);
+    float layer1_blur_v_4 = (_e114 * 0.010000001);
+    float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
+    const float3 albedo_l = glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, (1.0).xxx, (1.0).xxx, layer1_once_l, layer1_single_l_1, layer1_later_l);
+    float coat_albedo = (1.0 - layer1_transmit_l_1);
+    float3 under_albedo = max((albedo_l - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = specular_dominant_direction(n_4, v_4, 0.010000001);
-    const float3 reflected_1 = specular_dominant_direction(n_4, v_4, 0.097285524);
-    bool _e67 = (dot(n_4, v_4) > 0.0);
+    float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
+    const float3 reflected_1 = specular_dominant_direction(n_4, v_4, (base_roughness * base_roughness));
+    bool _e149 = (dot(n_4, v_4) > 0.0);
     const float3 light_a = glazec_environment(reflected, 0.1);
     const float3 light_b = glazec_environment(reflected_1, base_roughness);
-    return (((_e67 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e67 ? under_albedo : (0.0).xxx) * light_b));
+    return (((_e149 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e149 ? under_albedo : (0.0).xxx) * light_b));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {

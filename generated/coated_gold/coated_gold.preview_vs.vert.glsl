@@ -4,11 +4,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const float layer1_alpha = 0.06485702;
-const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.921543, 0.7375731, 0.30301085);
-const float layer1_trapped_escape = 0.1150567;
-const float base_roughness = 0.31190628;
+const vec3 one = vec3(1.0, 1.0, 1.0);
+const vec3 layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
+const vec3 remainder_avg = vec3(0.072688594, 0.030460551, 0.0032689103);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -16,7 +16,7 @@ const vec3 layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
 const vec3 layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
 const vec3 layer1_r_return = vec3(0.41532898, 0.41532898, 0.41532898);
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[4087]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 

@@ -26,7 +26,7 @@ static const float3 layer1_rho_ms = float3(0.28973147, 0.0132765025, 0.009134458
 static const float3 layer1_rho = float3(0.5261278, 0.110294394, 0.09139683);
 static const float3 layer1_r_return = float3(0.41532898, 0.41532898, 0.41532898);
 
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);

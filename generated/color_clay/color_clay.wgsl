@@ -24,7 +24,7 @@ const layer1_rho: vec3<f32> = vec3<f32>(0.5261278f, 0.110294394f, 0.09139683f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.41532898f, 0.41532898f, 0.41532898f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 

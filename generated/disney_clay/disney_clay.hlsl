@@ -27,7 +27,7 @@ StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
 static const SamplerState glazec_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
 Texture2D<float4> glazec_radiance : register(t1, space2);
 Texture2D<float4> glazec_irradiance : register(t2, space2);
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }

@@ -4,7 +4,7 @@ layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 
 layout(binding = 34) uniform sampler2D _group_2_binding_2_fs;
 
-layout(std140, binding = 3) uniform type_8_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+layout(std140, binding = 3) uniform type_8_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;

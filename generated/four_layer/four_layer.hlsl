@@ -34,7 +34,7 @@ static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 layer1_rho = float3(0.2438511, 0.38261583, 0.59592247);
 static const float3 layer1_r_return = float3(0.5949677, 0.5949677, 0.5949677);
 
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);

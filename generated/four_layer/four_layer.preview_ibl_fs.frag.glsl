@@ -13,7 +13,7 @@ const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
 const vec3 layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
 layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 

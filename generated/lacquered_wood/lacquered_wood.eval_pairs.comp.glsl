@@ -18,7 +18,7 @@ const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
 const vec3 layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
 const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[4087]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 

@@ -28,7 +28,7 @@ static const float3 layer1_rho = float3(0.46, 0.26, 0.12);
 static const float3 layer1_r_return = float3(0.49949837, 0.35321862, 0.14432436);
 static const float3 layer1_albedo_v = float3(0.46, 0.26, 0.12);
 
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);

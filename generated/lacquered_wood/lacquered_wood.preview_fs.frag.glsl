@@ -11,7 +11,7 @@ const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
 const vec3 layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
 const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 

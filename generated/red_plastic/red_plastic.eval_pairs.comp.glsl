@@ -17,7 +17,7 @@ const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
 const vec3 layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
 const vec3 layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[4087]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 

@@ -6,7 +6,7 @@ const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
 const vec3 layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
 const vec3 layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
 layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 

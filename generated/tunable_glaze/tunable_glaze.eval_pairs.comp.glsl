@@ -19,7 +19,7 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-layout(std140, binding = 4) uniform type_6_block_0Compute { uvec4 _group_0_binding_4_cs[2542]; };
+layout(std140, binding = 4) uniform type_6_block_0Compute { uvec4 _group_0_binding_4_cs[4087]; };
 
 layout(std140, binding = 3) uniform TunableGlazeParams_block_1Compute { TunableGlazeParams _group_0_binding_3_cs; };
 

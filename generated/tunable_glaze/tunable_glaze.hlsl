@@ -32,7 +32,7 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
-cbuffer glazec_tables : register(b4) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b4) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);

@@ -12,7 +12,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-layout(std140, binding = 4) uniform type_6_block_0Fragment { uvec4 _group_0_binding_4_fs[2542]; };
+layout(std140, binding = 4) uniform type_6_block_0Fragment { uvec4 _group_0_binding_4_fs[4087]; };
 
 layout(std140, binding = 3) uniform TunableGlazeParams_block_1Fragment { TunableGlazeParams _group_0_binding_3_fs; };
 

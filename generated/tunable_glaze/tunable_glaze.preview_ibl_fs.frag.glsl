@@ -8,7 +8,7 @@ struct TunableGlazeParams {
     vec3 body_albedo;
     float body_roughness;
 };
-layout(std140, binding = 4) uniform type_6_block_0Fragment { uvec4 _group_0_binding_4_fs[2542]; };
+layout(std140, binding = 4) uniform type_6_block_0Fragment { uvec4 _group_0_binding_4_fs[4087]; };
 
 layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 

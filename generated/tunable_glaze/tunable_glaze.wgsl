@@ -28,7 +28,7 @@ struct PreviewVarying {
 }
 
 @group(0) @binding(4) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 

@@ -27,7 +27,7 @@ static const float3 layer1_r_return = float3(0.11659962, 0.11659962, 0.11659962)
 static const float3 layer1_albedo_l = float3(0.5876322, 0.34278542, 0.24484675);
 static const float3 layer1_albedo_v = float3(0.5876322, 0.34278542, 0.24484675);
 
-cbuffer glazec_tables : register(b3) { uint4 glazec_tables[2542]; }
+cbuffer glazec_tables : register(b3) { uint4 glazec_tables[4087]; }
 SamplerState nagaSamplerHeap[2048]: register(s0, space0);
 SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
 StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);

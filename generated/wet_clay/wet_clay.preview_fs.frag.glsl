@@ -10,7 +10,7 @@ const vec3 layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);
 const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2542]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 

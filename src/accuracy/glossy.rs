@@ -9,9 +9,8 @@
 //! all measured by **white** walks (the conductor's colour is applied at run time):
 //!
 //! * per direction μ outside the coat, conductor roughness r_c, coat roughness r and IOR η
-//!   (`GLOSSY_SINGLE_GRID`, `GLOSSY_TRAPPED_GRID`): the share P₁ that leaves after one event (stored over the analytic share
-//!   of the conductor's lobe inside the escape cone, `layering::glossy_cone_share`, which
-//!   carries its steep dependence on r_c); and the rest, the trapped light,
+//!   (`GLOSSY_SINGLE_GRID`, `GLOSSY_TRAPPED_GRID`): the share P₁ that leaves after one event
+//!   (measured here, and stored through the lobe it sets, K below); and the rest, the trapped light,
 //!   as a mixture of four geometric event counts: weights w₀…w₃ (w ≥ 0, Σw = 1) on the
 //!   retentions B = 0 (it leaves at the next event), ½, 0.8 and a slow B_s. The share leaving
 //!   after k events then has the generating function P₁c + (1 − P₁) c Σⱼ wⱼ γ(Bⱼ, c),
@@ -27,10 +26,19 @@
 //!   matches the conductor's peak seen through the coat's transmission (quadrature of the
 //!   conductor's distribution over the walks' transmitted directions), tapered towards grazing,
 //!   stored over the coat's α;
-//! * s: the per-direction scale that makes the method's widened lobe reflect exactly P₁·T(μ) of
-//!   a white conductor under a clear coat. This one is defined through the compiled lobe itself
-//!   (the shared math, with the tables just computed), solved over μ at each node by the
-//!   symmetric Sinkhorn iteration s_i ← s_i √(target_i / achieved_i);
+//! * s: the per-direction scale that makes the method's widened lobe reflect exactly
+//!   T(μ)·(P₁ + (1 − P₁)w₀) of a white conductor under a clear coat (the light that leaves
+//!   near the mirror direction: after one event, or at the second from the trapped light's
+//!   first return). This one is defined through the compiled lobe itself (the shared math, with
+//!   the tables just computed), solved over μ at each node by the symmetric Sinkhorn iteration
+//!   s_i ← s_i √(target_i / achieved_i);
+//! * K = (P₁ + (1 − P₁)w₀)/(s² E c): that lobe's white albedo over T, over s² and over the
+//!   analytic E(μ′; α)·c(μ′) (the GGX albedo at the lobe's α, the share of the conductor's lobe
+//!   inside the escape cone), which carry its steep dependence on r_c, μ and η. The method takes
+//!   P₁ back from it, so the remainder gets what the lobe does not. Between nodes the two need
+//!   not agree, so K is then made **conservative**: the compiled method is probed (a white
+//!   conductor under a clear coat) at every cell's centre, at grazing incidence and at IORs just
+//!   above 1, and K is raised at the corners of a cell that gains energy there;
 //! * q(μ; τ, r, η) (`GLOSSY_PATH_GRID`): the path factor of light that leaves after one reflection
 //!   off a mirror under the coat: the one-event lobe attenuated by e^(−τq/μ′) on each side keeps
 //!   what the walks' one-event light keeps of itself, E[e^(−τL)] over its path lengths L (two
@@ -43,6 +51,7 @@
 
 use glam::DVec3;
 
+use crate::math::layering::GLOSSY_GRAZING;
 use crate::math::tables::{Axis, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_SINGLE_GRID, GLOSSY_TRAPPED_GRID, TableId};
 use crate::reference::microsurface::{RoughConductor, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
@@ -66,12 +75,6 @@ const FIT_SURVIVALS: [f64; 15] = [0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.
 /// 0.2 and 0.5, η 1.33, 1.5, 2): the best per-direction widths, divided by the peak-matched ones,
 /// follow this curve within 0.05 from 5° to 65°.
 pub const GLOSSY_TAPER_POWER: f64 = 1.6;
-
-/// Every direction node is evaluated at μ ≥ GLOSSY_GRAZING: at grazing incidence itself the
-/// light a rough coat lets in (T → 0) takes strange ways, and the share leaving after one event
-/// jumps there (0.33 at μ = 10⁻⁴ against 0.25 at μ = 0.02, coat roughness ½); the node stands
-/// for the limit the nodes beside it approach, and whatever it holds is weighed by T(μ) → 0.
-const GLOSSY_GRAZING: f64 = 0.005;
 
 /// The coat roughness below which the blur's ratio to the coat's α is measured at this roughness
 /// instead (the widening of a nearly smooth coat is lost in the walks' noise).
@@ -227,9 +230,8 @@ fn simplex_least_squares(basis: &[Vec<f64>], target: &[f64]) -> Vec<f64> {
         for (r, &j) in active.iter().enumerate() {
             w[j] = solution[r].max(0.0);
         }
-        let error: f64 = (0..target.len())
-            .map(|i| ((0..n).map(|j| w[j] * basis[j][i]).sum::<f64>() - target[i]).powi(2))
-            .sum();
+        let error: f64 =
+            (0..target.len()).map(|i| ((0..n).map(|j| w[j] * basis[j][i]).sum::<f64>() - target[i]).powi(2)).sum();
         if error < best.0 {
             best = (error, w);
         }
@@ -246,11 +248,12 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
             return None;
         }
         a.swap(col, pivot);
-        for r in 0..size {
+        let pivot_row = a[col].clone();
+        for (r, row) in a.iter_mut().enumerate() {
             if r != col {
-                let factor = a[r][col] / a[col][col];
-                for q in col..=size {
-                    a[r][q] -= factor * a[col][q];
+                let factor = row[col] / pivot_row[col];
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x -= factor * p;
                 }
             }
         }
@@ -495,7 +498,8 @@ fn trapped_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Trap
             [w[0], w[1], w[2]]
         })
         .collect();
-    let (pool_sum, pool_events) = counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
+    let (pool_sum, pool_events) =
+        counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
     let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
     // Without any trapped light (a mirror under a smooth coat), inside the TIR cone.
     let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
@@ -511,7 +515,9 @@ fn blur_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Vec<f64
     direction_nodes(&GLOSSY_BLUR_GRID)
         .iter()
         .enumerate()
-        .map(|(i, &mu)| peak_blur(mu, r_c * r_c, r_blur, eta, walks, seed << 8 | i as u64) * taper(mu) / (r_blur * r_blur))
+        .map(|(i, &mu)| {
+            peak_blur(mu, r_c * r_c, r_blur, eta, walks, seed << 8 | i as u64) * taper(mu) / (r_blur * r_blur)
+        })
         .collect()
 }
 
@@ -523,15 +529,14 @@ pub struct GlossyReport {
     pub max_tail_fit_error: f64,
     /// Largest relative miss of the solved lobe scale at its nodes: |achieved/target − 1|.
     pub max_scale_miss: f64,
+    /// Largest energy excess E − 1 of a white conductor under a clear coat found between the
+    /// nodes before K was raised (`make_single_conservative`).
+    pub max_energy_excess: f64,
 }
 
 /// Fills the glossy tables into `tables` (every other table already computed: the scale is
 /// solved through the compiled lobe, which reads the coat's tables).
-pub fn generate(
-    tables: &mut [Vec<f32>],
-    walks: u32,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> GlossyReport {
+pub fn generate(tables: &mut [Vec<f32>], walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> GlossyReport {
     let single_nodes = node_triples(&GLOSSY_SINGLE_GRID);
     let trapped_nodes = node_triples(&GLOSSY_TRAPPED_GRID);
     let blur_nodes = node_triples(&GLOSSY_BLUR_GRID);
@@ -539,22 +544,25 @@ pub fn generate(
     let path_nodes: Vec<(f64, f64)> = (0..n_eta)
         .flat_map(|e| (0..n_r).map(move |j| (node(Axis::Roughness, j, n_r), node(Axis::Ior, e, n_eta))))
         .collect();
-    let total = 2 * single_nodes.len() + trapped_nodes.len() + blur_nodes.len() + path_nodes.len();
+    let total =
+        2 * single_nodes.len() + trapped_nodes.len() + blur_nodes.len() + path_nodes.len() + energy_probes().len();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, total);
     // Every job has its own seed, whatever the grids of the others.
-    let single = super::parallel_map(single_nodes.len(), |k| single_column(single_nodes[k], walks, 0x5_0000 | k as u64), |_| tick());
-    let trapped =
-        super::parallel_map(trapped_nodes.len(), |k| trapped_column(trapped_nodes[k], walks, 0x6_0000 | k as u64), |_| tick());
-    let blur = super::parallel_map(blur_nodes.len(), |k| blur_column(blur_nodes[k], walks, 0x7_0000 | k as u64), |_| tick());
+    let single = super::parallel_map(
+        single_nodes.len(),
+        |k| single_column(single_nodes[k], walks, 0x5_0000 | k as u64),
+        |_| tick(),
+    );
+    let trapped = super::parallel_map(
+        trapped_nodes.len(),
+        |k| trapped_column(trapped_nodes[k], walks, 0x6_0000 | k as u64),
+        |_| tick(),
+    );
+    let blur =
+        super::parallel_map(blur_nodes.len(), |k| blur_column(blur_nodes[k], walks, 0x7_0000 | k as u64), |_| tick());
     let mut report = GlossyReport::default();
     let n_single = GLOSSY_SINGLE_GRID[0].1;
-    for (k, (column, &(r_c, _, eta))) in single.iter().zip(&single_nodes).enumerate() {
-        for (i, (&p1, mu)) in column.iter().zip(direction_nodes(&GLOSSY_SINGLE_GRID)).enumerate() {
-            let cone = crate::math::layering::glossy_cone_share(r_c, eta, mu);
-            tables[TableId::GlossySingle as usize][i + n_single * k] = (p1 / cone.max(1e-3)) as f32;
-        }
-    }
     let n_trapped = GLOSSY_TRAPPED_GRID[0].1;
     for (k, column) in trapped.iter().enumerate() {
         for (i, w) in column.weights.iter().enumerate() {
@@ -589,6 +597,20 @@ pub fn generate(
         }
         report.max_scale_miss = report.max_scale_miss.max(miss);
     }
+    // K = O/(s² E c) at every node, O = P₁ + (1 − P₁) w₀ the lobe's white albedo over T (what the
+    // scale was solved for).
+    crate::math::tables::evaluate_on_cpu_with(tables);
+    for (k, (column, &(r_c, r, eta))) in single.iter().zip(&single_nodes).enumerate() {
+        for (i, (&p1, mu)) in column.iter().zip(direction_nodes(&GLOSSY_SINGLE_GRID)).enumerate() {
+            let at = [mu as f32, r_c as f32, r as f32, eta as f32];
+            let next = f64::from(crate::math::tables::lookup::<f32>(TableId::GlossyNext, &at));
+            let scale = f64::from(tables[TableId::GlossyScale as usize][i + n_single * k]);
+            let normaliser = crate::math::layering::glossy_lobe_normaliser(r_c, r, eta, mu);
+            let lobe_albedo = p1 + (1.0 - p1) * next;
+            tables[TableId::GlossyLobeAlbedo as usize][i + n_single * k] =
+                (lobe_albedo / (scale * scale * normaliser).max(1e-6)) as f32;
+        }
+    }
     // The path factors go through the scaled lobe.
     crate::math::tables::evaluate_on_cpu_with(tables);
     let paths = super::parallel_map(
@@ -608,7 +630,161 @@ pub fn generate(
             .for_each(|(t, &q)| *t = q as f32);
     }
     crate::math::tables::evaluate_on_cpu_with(tables);
+    report.max_energy_excess = make_single_conservative(tables, &|| tick());
+    crate::math::tables::evaluate_on_cpu_with(tables);
     report
+}
+
+/// A white conductor under a clear coat must reflect at most what reaches it: the lobe and the
+/// remainder T(1 − s²K E c) add up to T(μ) where the interpolated K·E·c follows the lobe's own
+/// albedo, exactly at the nodes and nearly between them. The compiled method itself is probed
+/// (a white conductor under a clear coat, by the albedo quadrature) at [`energy_probes`], and
+/// every probe with an excess over 1 + [`ENERGY_MARGIN`] raises K at the corners of its cell
+/// nearest to it, so that the multilinear lookup there rises by what a unit of K removes (T s² E c)
+/// divided into the excess: K enters the remainder linearly and the lookup is a weighted sum of
+/// corners, so each probe then lies at or below the bound. Costs a little energy near such
+/// probes (the remainder is smaller), never adds any. Returns the largest excess found.
+fn make_single_conservative(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> f64 {
+    let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
+    let index = |i: [usize; 4]| i[0] + dims[0] * (i[1] + dims[1] * (i[2] + dims[2] * i[3]));
+    let probes = energy_probes();
+    let raises = super::parallel_map(
+        probes.len(),
+        |k| {
+            let at = probes[k];
+            let [mu, r_c, r, eta] = at;
+            let material = white_conductor_under(r_c, r, eta);
+            let wo = direction(mu);
+            let f = |wi: DVec3, wo: DVec3| crate::eval::brdf(&material, &[], wi.as_vec3(), wo.as_vec3()).as_dvec3();
+            let sharpest = (r_c * r_c).min(r * r).max(SMOOTH_ALPHA);
+            let e = super::quadrature::directional_albedo_f64(&f, wo, sharpest).x
+                + f64::from(crate::eval::mirror_reflectance(&material, &[], wo.as_vec3()).x);
+            let excess = e - 1.0 - ENERGY_MARGIN;
+            if excess <= 0.0 {
+                return (excess, Vec::new());
+            }
+            // What one unit of the looked-up K takes out of the remainder here: T s² E c.
+            let at32 = at.map(|x| x as f32);
+            let scale = f64::from(crate::math::tables::lookup::<f32>(TableId::GlossyScale, &at32));
+            let t = crate::math::layering::glossy_coat_transmission(r, eta, mu);
+            let normaliser = crate::math::layering::glossy_lobe_normaliser(r_c, r, eta, mu);
+            let needed = excess / (t * scale * scale * normaliser).max(1e-3);
+            (excess, nearest_corners(at).into_iter().map(|(corner, share)| (corner, needed / share)).collect())
+        },
+        |_| tick(),
+    );
+    let mut raise = vec![0.0_f64; tables[TableId::GlossyLobeAlbedo as usize].len()];
+    for (_, corners) in &raises {
+        for &(corner, by) in corners {
+            raise[index(corner)] = raise[index(corner)].max(by);
+        }
+    }
+    for (value, r) in tables[TableId::GlossyLobeAlbedo as usize].iter_mut().zip(&raise) {
+        *value += *r as f32;
+    }
+    raises.iter().map(|(e, _)| e + ENERGY_MARGIN).fold(0.0, f64::max)
+}
+
+/// The points (μ, r_c, r, η) where [`make_single_conservative`] probes the energy: the centre of
+/// every cell of `GLOSSY_SINGLE_GRID`, and the two places where the lookup's terms change
+/// fastest within a cell: grazing incidence (μ = 10⁻⁴ and 2·10⁻³, below the first node's
+/// [`GLOSSY_GRAZING`], where the lobe's scale is held and the escape cone's edge meets the
+/// refracted mirror direction) and a coat IOR just above 1 (η − 1 = 10⁻⁵, 3·10⁻³, 3·10⁻²,
+/// where the escape cone closes like √(2(η − 1)) in the first cell of a linear axis), each at
+/// the centre of the cell in the other arguments.
+fn energy_probes() -> Vec<[f64; 4]> {
+    let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
+    let midpoint = |axis: usize, i: usize| -> f64 {
+        let (kind, n) = GLOSSY_SINGLE_GRID[axis];
+        super::tables::argument_at(kind, i as f64 + 0.5, n)
+    };
+    let mut probes = Vec::new();
+    for e in 0..dims[3] - 1 {
+        for r in 0..dims[2] - 1 {
+            for c in 0..dims[1] - 1 {
+                let (r_c, r, eta) = (midpoint(1, c), midpoint(2, r), midpoint(3, e));
+                for m in 0..dims[0] - 1 {
+                    probes.push([midpoint(0, m), r_c, r, eta]);
+                }
+                for mu in GRAZING_PROBES {
+                    probes.push([mu, r_c, r, eta]);
+                }
+                if e == 0 {
+                    for m in 0..dims[0] - 1 {
+                        probes.extend(NEAR_ONE_PROBES.map(|d| [midpoint(0, m), r_c, r, 1.0 + d]));
+                    }
+                }
+            }
+        }
+    }
+    probes
+}
+
+/// The grazing cosines and the coat IORs (as η − 1) of [`energy_probes`].
+const GRAZING_PROBES: [f64; 2] = [1e-4, 2e-3];
+const NEAR_ONE_PROBES: [f64; 3] = [1e-5, 3e-3, 3e-2];
+
+/// The corners of the `GLOSSY_SINGLE_GRID` cell holding `at` that a raise for it goes to, with
+/// the share of the lookup they carry there (the product over the axes of their weights): along
+/// an axis where `at` lies within a quarter of the cell from a node only that node's side, else
+/// both (so a probe at a cell's centre raises all sixteen corners, and one beside a face only the
+/// face, sparing the cell beyond it).
+fn nearest_corners(at: [f64; 4]) -> Vec<([usize; 4], f64)> {
+    let per_axis: Vec<Vec<(usize, f64)>> = (0..4)
+        .map(|a| {
+            let (axis, n) = GLOSSY_SINGLE_GRID[a];
+            let x = f64::from(axis.coordinate(at[a] as f32)) * (n - 1) as f64;
+            let i = (x.floor() as usize).min(n - 2);
+            let t = x - i as f64;
+            match t {
+                t if t <= 0.25 => vec![(i, 1.0 - t)],
+                t if t >= 0.75 => vec![(i + 1, t)],
+                t => vec![(i, 1.0 - t), (i + 1, t)],
+            }
+        })
+        .collect();
+    let share: f64 = per_axis.iter().map(|side| side.iter().map(|&(_, w)| w).sum::<f64>()).product();
+    let mut corners = vec![([0usize; 4], share)];
+    for (a, side) in per_axis.iter().enumerate() {
+        corners = corners
+            .iter()
+            .flat_map(|&(corner, share)| {
+                side.iter().map(move |&(i, _)| {
+                    let mut c = corner;
+                    c[a] = i;
+                    (c, share)
+                })
+            })
+            .collect();
+    }
+    corners
+}
+
+/// The margin below the energy law's 1 + 10⁻³ that [`make_single_conservative`] keeps at its
+/// probes, for the points between them.
+const ENERGY_MARGIN: f64 = 2e-4;
+
+/// A white conductor (F0 = 1) of roughness `r_c` under a clear coat of roughness `r` and IOR
+/// `eta`, for the energy probes.
+fn white_conductor_under(r_c: f64, r: f64, eta: f64) -> crate::model::Material {
+    use crate::model::{Base, Coat, Color, ConductorFresnel, Lobe, Material, Method, Scalar};
+    let lobe = if r * r < SMOOTH_ALPHA { Lobe::Smooth } else { Lobe::Ggx { roughness: Scalar::Lit(r as f32) } };
+    Material {
+        name: "probe".into(),
+        method: Method::INTERFACED,
+        coats: vec![Coat {
+            lobe,
+            ior: Scalar::Lit(eta as f32),
+            absorption: Color::Lit([0.0; 3]),
+            thickness: Scalar::Lit(1.0),
+        }],
+        base: Base::Conductor {
+            roughness: Scalar::Lit(r_c as f32),
+            fresnel: ConductorFresnel::F0(Color::Lit([1.0; 3])),
+        },
+        params: vec![],
+        normals: vec![],
+    }
 }
 
 /// Sinkhorn iterations of the scale.
@@ -634,7 +810,8 @@ fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
                 TableId::GlossyNext,
                 &[mu as f32, r_c as f32, r as f32, eta as f32],
             ));
-            let target = crate::math::layering::glossy_coat_transmission(r, eta, v.z) * (single[i] + (1.0 - single[i]) * next);
+            let target =
+                crate::math::layering::glossy_coat_transmission(r, eta, v.z) * (single[i] + (1.0 - single[i]) * next);
             let nodes = super::quadrature::albedo_nodes(v, sharpest)
                 .into_iter()
                 .filter_map(|(l, w)| {

@@ -452,7 +452,7 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
 }
 
 /// The argument of an axis at a fractional node position `x` (the inverse of its coordinate).
-fn argument_at(axis: Axis, x: f64, n: usize) -> f64 {
+pub(crate) fn argument_at(axis: Axis, x: f64, n: usize) -> f64 {
     let u = x / (n - 1) as f64;
     match axis {
         Axis::Cosine => {

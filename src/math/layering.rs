@@ -43,7 +43,7 @@ use std::cell::OnceCell;
 pub mod environment;
 mod glossy;
 
-pub use glossy::{glossy_coat_transmission, glossy_cone_share, glossy_lobe_white};
+pub use glossy::{GLOSSY_GRAZING, glossy_coat_transmission, glossy_lobe_normaliser, glossy_lobe_white};
 
 use super::tables::{self, TableId};
 use super::terms::*;

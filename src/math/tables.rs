@@ -191,7 +191,7 @@ pub enum TableId {
     ClearcoatDfgBias,
     GlossyBlur,
     GlossyScale,
-    GlossySingle,
+    GlossyLobeAlbedo,
     GlossyNext,
     GlossyQuick,
     GlossySteady,
@@ -239,8 +239,7 @@ const COAT_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("roughness", S), ("eta
 const SLAB_PARAMS: &[(&str, Kind)] = &[("tau", S), ("roughness", S), ("eta", S)];
 const COAT_AVG_PARAMS: &[(&str, Kind)] = &[("roughness", S), ("eta", S)];
 const DFG_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("roughness", S)];
-const GLOSSY_PARAMS: &[(&str, Kind)] =
-    &[("cos_theta", S), ("conductor_roughness", S), ("roughness", S), ("eta", S)];
+const GLOSSY_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("conductor_roughness", S), ("roughness", S), ("eta", S)];
 const GLOSSY_POOL_PARAMS: &[(&str, Kind)] = &[("conductor_roughness", S), ("roughness", S), ("eta", S)];
 const GLOSSY_PATH_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("tau", S), ("roughness", S), ("eta", S)];
 
@@ -451,19 +450,21 @@ pub const SPECS: [TableSpec; 24] = [
         GLOSSY_PARAMS,
         glossy_doc![
             "s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)",
-            "reflect what leaves after exactly one conductor event (`glossy_single`), for a white",
-            "conductor under a clear coat (solved over μ at each node; 1 where nothing is cut).",
+            "reflect what leaves near the mirror direction (after one conductor event, or at the",
+            "second from the trapped light's first return), for a white conductor under a clear coat",
+            "(solved over μ at each node).",
         ],
     ),
     table(
-        "glossy_single_table",
+        "glossy_lobe_albedo_table",
         &GLOSSY_SINGLE_GRID,
-        "glossy_single",
+        "glossy_lobe_albedo",
         GLOSSY_PARAMS,
         glossy_doc![
-            "P₁(μ; r_c, r, η)/c(μ′; r_c, η): the share of the light entering the coat at μ that leaves",
-            "it after exactly one event on a white conductor, over the share c = 1 − trapped_share of",
-            "the conductor's lobe inside the escape cone (which carries P₁'s steep dependence on r_c).",
+            "K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),",
+            "over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the",
+            "share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes",
+            "what the lobe does not (raised where probes between the nodes found a gain).",
         ],
     ),
     table(
@@ -537,7 +538,7 @@ impl TableId {
         TableId::ClearcoatDfgBias,
         TableId::GlossyBlur,
         TableId::GlossyScale,
-        TableId::GlossySingle,
+        TableId::GlossyLobeAlbedo,
         TableId::GlossyNext,
         TableId::GlossyQuick,
         TableId::GlossySteady,
@@ -696,7 +697,8 @@ pub fn decode_by_name(bytes: &[u8]) -> Vec<Option<Vec<f32>>> {
         let Some(name) = bytes.get(at + 1..at + 1 + name_len as usize) else { break };
         at += 1 + name_len as usize;
         let Some(header) = bytes.get(at..at + 12) else { break };
-        let (len, offset, scale) = (word(header) as usize, f32::from_bits(word(&header[4..])), f32::from_bits(word(&header[8..])));
+        let (len, offset, scale) =
+            (word(header) as usize, f32::from_bits(word(&header[4..])), f32::from_bits(word(&header[8..])));
         at += 12;
         let Some(codes) = bytes.get(at..at + 2 * len) else { break };
         at += 2 * len;

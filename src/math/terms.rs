@@ -400,6 +400,21 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+    /// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+    /// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+    /// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+    /// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+    /// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+    /// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+    pub fn glossy_trapped_share(mu: S, mu_c: S, alpha: S) -> S {
+        let beyond_cone = trapped_share(mu, mu_c, alpha);
+        let below_horizon = trapped_share(mu, mu_c.lit(0.0), alpha);
+        (beyond_cone - below_horizon).at_least(0.0)
+    }
+}
+
+shading_fn! {
     /// glazec: the share q of a pool of trapped light (uniform radiance over the trapped
     /// directions, projected solid angle π μc²) that a body reflects into the escape cone at each
     /// bounce, per unit albedo. By reciprocity the body sends light from the pool towards a cone

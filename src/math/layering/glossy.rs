@@ -8,32 +8,54 @@
 //! is split by that count, with statistics `glazec tables` measures by white random walks through
 //! the reference's own microsurfaces (`crate::accuracy::glossy`):
 //!
-//! * **one event** — a lobe: the conductor's GGX lobe at the refracted directions, widened by
-//!   the coat's two crossings (α² = α_c² + σ(μᵢ)² + σ(μₒ)², σ tabulated: the widening whose peak
-//!   matches the conductor's peak seen through the coat, tapered towards grazing) and scaled by
-//!   s(μᵢ) s(μₒ) (tabulated, solved so that for a white conductor under a clear coat the lobe
-//!   reflects exactly the share P₁(μ)·T(μ) the walks let out after one event), attenuated along
-//!   the paths that light really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]));
-//! * **two or more events** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017) with
+//! * **near the mirror direction** — a lobe: the conductor's GGX lobe at the refracted
+//!   directions, widened by the coat's two crossings (α² = α_c² + σ(μᵢ)² + σ(μₒ)², σ tabulated:
+//!   the widening whose peak matches the conductor's peak seen through the coat, tapered towards
+//!   grazing) and scaled by s(μᵢ) s(μₒ) (tabulated, solved so that for a white conductor under a
+//!   clear coat the lobe reflects exactly T(μ)·(P₁ + (1 − P₁)w₀): the light the walks let out
+//!   after one event, and at the second from the trapped light's first return, w₀, which still
+//!   leaves near the mirror direction), coloured by √(o(μᵢ) o(μₒ)) (o: that light's colour,
+//!   F(μ′) for the first event, F(μ′)·c for the second) and attenuated along the paths that light
+//!   really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]));
+//! * **the rest** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017) with
 //!   M = T a² F (1 − P₁) Ŷ(c), Ŷ the generating function of the later events (`glossy_trapped`,
-//!   from the walks' event counts), c = F(μ*) e^(−2τ/μ*) the survival of one more event at the
-//!   trapped light's mean cosine μ*.
+//!   from the walks' event counts, less the second event's share w₀c), c = F(μ*) e^(−2τ/μ*) the
+//!   survival of one more event at the trapped light's mean cosine μ*.
 //!
-//! A white conductor under a clear coat therefore reflects P₁T + (1 − P₁)T = T: all the light
-//! the coat lets in. Reciprocal by construction (every factor is symmetric in i and o). The lobe
+//! P₁ is not looked up directly: the level takes it from the lobe's own white albedo,
+//! O = s²·K·E(μ′; α)·c(μ′) (`glossy_lobe_albedo` holds K, the analytic GGX albedo E and escape-cone
+//! share c carry the steep part), P₁ = (O − w₀)/(1 − w₀), so that the remainder takes T(1 − O),
+//! what the lobe does not, even between the nodes where s and P₁ were solved; `glazec tables`
+//! raises K where probes of the compiled method still found a gain.
+//!
+//! A white conductor under a clear coat therefore reflects T·O + T(1 − O) = T: all the light
+//! the coat lets in (at the nodes; at most that between them). Reciprocal by construction (every factor is symmetric in i and o). The lobe
 //! is one GGX evaluation; the coat's own lobe is the other.
 
 use super::*;
 
-/// 6-point Gauss–Legendre nodes and weights on [0, 1] (for ⟨M⟩ and the mean albedo).
-const GAUSS_LEGENDRE_6: [(f32, f32); 6] = [
-    (0.033_765_24, 0.085_662_25),
-    (0.169_395_3, 0.180_380_78),
-    (0.380_690_4, 0.233_956_97),
-    (0.619_309_6, 0.233_956_97),
-    (0.830_604_7, 0.180_380_78),
-    (0.966_234_8, 0.085_662_25),
+/// The smallest outer cosine at which the glossy tables are measured (`glazec tables` evaluates
+/// every direction node at μ ≥ this): at grazing incidence itself the light a rough coat lets in
+/// (T → 0) takes strange ways, and the share leaving after one event jumps there (0.33 at
+/// μ = 10⁻⁴ against 0.25 at μ = 0.02, coat roughness ½); the first node stands for the limit
+/// the nodes beside it approach.
+pub const GLOSSY_GRAZING: f64 = 0.005;
+
+/// 4-point Gauss–Legendre nodes and weights on [0, 1] (for ⟨M⟩ and the mean albedo, on each
+/// of two panels).
+const GAUSS_LEGENDRE_4: [(f32, f32); 4] = [
+    (0.069_431_84, 0.173_927_42),
+    (0.330_009_5, 0.326_072_58),
+    (0.669_990_5, 0.326_072_58),
+    (0.930_568_2, 0.173_927_42),
 ];
+
+/// The band of outer cosines [0, μ_b] whose light the conductor sends largely out of the escape
+/// cone ends where the refracted mirror direction lies this many GGX α (conductor's plus
+/// coat's) inside the cone's edge; the panels' split is kept within
+/// [`TRAPPED_BAND_MIN`, 1 − `TRAPPED_BAND_MIN`].
+const TRAPPED_BAND_WIDTH: f32 = 2.0;
+const TRAPPED_BAND_MIN: f32 = 0.05;
 
 /// The coat directly over a conductor and the conductor, as the glossy level sees them.
 struct Glossy<'a, 'i, F: Real> {
@@ -62,6 +84,8 @@ struct Side<F: Real> {
     /// The conductor's Fresnel factor at the refracted direction.
     fresnel: F::Vec,
     single: F,
+    /// The lobe's scale s(μ).
+    scale: F,
     /// What leaves near the mirror direction (`glossy_once`), and its share of what would for a
     /// white conductor under a clear coat (the lobe's scale is solved for that).
     once: F::Vec,
@@ -130,8 +154,17 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         let absorb_lobe = self.lobe_absorption(mu, mu_refracted, side);
         let fresnel =
             conductor_fresnel(self.fresnel, self.inputs, mu_refracted, self.n_medium).named(&name("fresnel_cond"));
-        let single = (self.lookup(TableId::GlossySingle, mu) * self.cone_share(mu_refracted, side)).named(&name("single"));
+        let scale = self.lookup(TableId::GlossyScale, mu).named(&name("scale"));
         let next = self.lookup(TableId::GlossyNext, mu).named(&name("next"));
+        // The lobe's own white albedo over T, O = s² K E c (`glossy_lobe_albedo`), which sets
+        // the share P₁ = (O − w₀)/(1 − w₀) that leaves after one event: the remainder then takes
+        // exactly T(1 − O), what the lobe does not.
+        let lobe_albedo =
+            (scale.sq() * self.lookup(TableId::GlossyLobeAlbedo, mu) * self.normaliser(mu, mu_refracted, side))
+                .clamp(0.0, 1.0)
+                .named(&name("lobe_albedo"));
+        // Guard: 1 − w₀ ≥ 10⁻⁶ (all trapped light leaving at the second event: P₁ is then moot).
+        let single = ((lobe_albedo - next) / next.one_minus().at_least(1e-6)).clamp(0.0, 1.0).named(&name("single"));
         let quick = self.lookup(TableId::GlossyQuick, mu);
         let steady = self.lookup(TableId::GlossySteady, mu);
         let slow = self.pool_lookup(TableId::GlossySlowRetention);
@@ -140,18 +173,37 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         // Guard: the white share ≥ 10⁻⁶ (P₁ = 0 and w₀ = 0 leave no lobe to colour).
         let white = glossy_once(single, next, self.inputs.lit(1.0).splat()).x().at_least(1e-6);
         let once_colour = (once / white).named(&name("once_colour"));
-        Side { transmission, absorb, absorb_lobe, fresnel, single, once, once_colour, later }
+        Side { transmission, absorb, absorb_lobe, fresnel, single, scale, once, once_colour, later }
+    }
+
+    /// E(μ′; α)·c(μ′): the white single-scattering GGX albedo at the lobe's α seen from μ (its
+    /// mirror configuration: α² = α_c² + 2σ(μ)², `ggx_albedo`) times the share of the
+    /// conductor's lobe inside the escape cone (`cone_share`): what carries the lobe's albedo's
+    /// steep dependence on α_c, μ and η, so that `glossy_lobe_albedo` need not.
+    ///
+    /// Guard: μ ≥ [`GLOSSY_GRAZING`], where the table's first direction node was measured. Closer
+    /// to grazing the refracted mirror direction of a sharp conductor runs into the escape
+    /// cone's edge and c(μ′) falls steeply to ½, while the lobe, scaled by s(μ) held from that
+    /// node, does not: K·E·c would then promise the remainder more than the lobe takes (a white
+    /// conductor of roughness 10⁻⁴ under an r 0.2 coat reflected E = 1.043 at 90°).
+    fn normaliser(&self, mu: F, mu_refracted: F, side: &str) -> F {
+        let mu = mu.at_least(GLOSSY_GRAZING as f32);
+        let mu_refracted = mu_refracted.max(self.refracted_cosine(self.inputs.lit(GLOSSY_GRAZING as f32)));
+        let alpha = self.alpha(mu, mu, None);
+        let white = tables::lookup(TableId::GgxAlbedo, &[mu_refracted, alpha.sqrt()]);
+        (white * self.cone_share(mu_refracted, side)).named(&self.name(&format!("lobe_normaliser_{side}")))
     }
 
     /// The share of the conductor's own GGX lobe (α_c) from Snell's cosine μ′ that stays inside
-    /// the coat's escape cone, 1 − `trapped_share` (1 without total internal reflection, η ≤ 1).
-    /// P₁ is tabulated over it: the lobe's tail beyond the cone grows like α_c², which no
-    /// multilinear table in √r_c follows, while P₁/(cone share) stays near the cone's mean
-    /// internal transmittance.
+    /// the coat's escape cone, 1 − `glossy_trapped_share` (1 without total internal reflection,
+    /// η ≤ 1). The lobe's tail beyond the cone grows like α_c², which no multilinear table in
+    /// √r_c follows.
     fn cone_share(&self, mu_refracted: F, side: &str) -> F {
         let mu_c = escape_cone_cosine(self.eta);
-        let trapped = trapped_share(mu_refracted, mu_c, self.conductor_roughness.sq());
-        F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0)).named(&self.name(&format!("cone_share_{side}")))
+        let alpha = self.conductor_roughness.sq();
+        let trapped = glossy_trapped_share(mu_refracted, mu_c, alpha);
+        F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0))
+            .named(&self.name(&format!("cone_share_{side}")))
     }
 
     /// c: the survival of one more event of trapped light, F(μ*) e^(−2τ/μ*).
@@ -171,16 +223,36 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         (mu.sq().one_minus() / self.eta.sq()).one_minus().at_least(0.0).sqrt().at_least(COS_EPSILON)
     }
 
-    /// ∫ 2μ x(μ) dμ of a per-direction quantity by 6-point Gauss–Legendre (folds to a number when
-    /// the material's parameters are literals).
+    /// ∫ 2μ x(μ) dμ of a per-direction quantity by 4-point Gauss–Legendre on two panels split at
+    /// the edge of the trapped band (folds to a number when the material's parameters are
+    /// literals). One rule over [0, 1] misses the remainder where it lives: for a coat of IOR
+    /// just above 1 the escape cone is almost the whole hemisphere and only light entering near
+    /// grazing is trapped, so M is concentrated below μ ≈ 0.2, where 6-point Gauss–Legendre had
+    /// one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
+    /// reflected twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
+    /// E = 1.086 at 89°).
     fn hemispherical(&self, c: F::Vec, of: impl Fn(&Side<F>) -> F::Vec) -> F::Vec {
+        let split = self.trapped_band_edge();
+        let panels = [(self.inputs.lit(0.0), split), (split, split.one_minus())];
         let mut total = self.inputs.zero();
-        for (k, (x, w)) in GAUSS_LEGENDRE_6.into_iter().enumerate() {
-            let mu = self.inputs.lit(x);
-            let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}", ["a", "b", "c", "d", "e", "f"][k]));
-            total = total + of(&side) * (2.0 * x * w);
+        for (p, (from, width)) in panels.into_iter().enumerate() {
+            for (k, (x, w)) in GAUSS_LEGENDRE_4.into_iter().enumerate() {
+                let mu = (from + width * x).named(&self.name(&format!("node{}{}", ["a", "b"][p], k)));
+                let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}{}", ["a", "b"][p], k));
+                total = total + of(&side) * (mu * width * (2.0 * w));
+            }
         }
         total
+    }
+
+    /// μ_b, the outer cosine whose refracted cosine lies [`TRAPPED_BAND_WIDTH`] α inside the
+    /// escape cone's edge μc: μ′_b = min(1, μc + 2(α_c + α)), μ_b = √(1 − η²(1 − μ′_b²)) (Snell's
+    /// law backwards), kept within [`TRAPPED_BAND_MIN`], 1 − [`TRAPPED_BAND_MIN`].
+    fn trapped_band_edge(&self) -> F {
+        let alpha = self.conductor_roughness.sq() + self.roughness.sq();
+        let inner = (escape_cone_cosine(self.eta) + alpha * TRAPPED_BAND_WIDTH).clamp(0.0, 1.0);
+        let outer = (inner.sq().one_minus() * self.eta.sq()).one_minus().at_least(0.0).sqrt();
+        outer.clamp(TRAPPED_BAND_MIN, 1.0 - TRAPPED_BAND_MIN).named(&self.name("band_edge"))
     }
 }
 
@@ -256,13 +328,11 @@ pub(super) fn glossy_level<F: Real>(
     } else {
         let f_top = (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + glossy.interface.restored_lobe(g))
             .named(&level_name("specular", k));
-        let scale = |mu: F, side: &str| glossy.lookup(TableId::GlossyScale, mu).named(&glossy.name(&format!("scale_{side}")));
         // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
         // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).
         let colour = (l.once_colour * v_side.once_colour).sqrt();
-        let lobe = conductor_lobe(Some(fresnel), inputs, &below, alpha, glossy.n_medium)
-            * colour
-            * (scale(g.raw_n_dot_l, "l") * scale(g.raw_n_dot_v, "v"));
+        let lobe =
+            conductor_lobe(Some(fresnel), inputs, &below, alpha, glossy.n_medium) * colour * (l.scale * v_side.scale);
         let once = interfaced_layer(
             f_top,
             l.transmission,
@@ -273,7 +343,8 @@ pub(super) fn glossy_level<F: Real>(
             eta,
         );
         let average = glossy.hemispherical(c, remainder).named(&level_name("remainder_avg", k));
-        let later = glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
+        let later =
+            glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
     };
     let albedo = want_albedo.then(|| {
@@ -304,38 +375,52 @@ pub fn glossy_lobe_white(r_c: f64, r: f64, eta: f64, l: glam::DVec3, v: glam::DV
     let coat = clear_coat(r, eta);
     let conductor = ConductorFresnel::F0(Color::Lit([1.0; 3]));
     let material_level = |g: &Geometry<f32>| {
-        let interface = CoatInterface::new(&coat.lobe, eta as f32, &inputs, 0, Approximations::default());
-        let glossy = Glossy {
-            roughness: interface.roughness.unwrap_or(0.0),
-            interface,
-            inputs: &inputs,
-            eta: eta as f32,
-            tau: glam::Vec3::ZERO,
-            conductor_roughness: r_c as f32,
-            fresnel: &conductor,
-            n_medium: Some(eta as f32),
-            level: 1,
-        };
+        let glossy = white_level(&inputs, &coat, &conductor, r_c, eta);
         let below = g.refracted(eta as f32);
         let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, None);
-        let (t_l, t_v) = (glossy.interface.transmission(g.raw_n_dot_l, "l"), glossy.interface.transmission(g.raw_n_dot_v, "v"));
+        let (t_l, t_v) =
+            (glossy.interface.transmission(g.raw_n_dot_l, "l"), glossy.interface.transmission(g.raw_n_dot_v, "v"));
         conductor_lobe(None, &inputs, &below, alpha, None).x * t_l * t_v / (eta as f32).powi(2)
     };
     let g = Geometry::new(glam::Vec3::Z, v.as_vec3(), l.as_vec3(), 0);
     f64::from(material_level(&g))
 }
 
-/// The share of a conductor's GGX lobe (roughness `r_c`) that stays inside the escape cone of a
-/// coat of relative IOR `eta`, for light entering the coat at outer cosine `mu`, as the method
-/// evaluates it (CPU): what `glossy_single` is tabulated over.
-pub fn glossy_cone_share(r_c: f64, eta: f64, mu: f64) -> f64 {
-    let eta = eta as f32;
-    let mu_refracted = ((1.0 - (mu as f32).powi(2)) / (eta * eta)).mul_add(-1.0, 1.0).max(0.0).sqrt().max(COS_EPSILON);
-    let mu_c = escape_cone_cosine(eta);
-    if mu_c <= 0.0 {
-        return 1.0;
+/// The glossy level of a white `conductor` of roughness `r_c` under the clear `coat` of relative
+/// IOR `eta`, alone in the stack, on the CPU (what `glazec tables` solves against).
+fn white_level<'a>(
+    inputs: &'a Inputs<f32>,
+    coat: &'a Coat,
+    conductor: &'a ConductorFresnel,
+    r_c: f64,
+    eta: f64,
+) -> Glossy<'a, 'a, f32> {
+    let interface = CoatInterface::new(&coat.lobe, eta as f32, inputs, 0, Approximations::default());
+    Glossy {
+        roughness: interface.roughness.unwrap_or(0.0),
+        interface,
+        inputs,
+        eta: eta as f32,
+        tau: glam::Vec3::ZERO,
+        conductor_roughness: r_c as f32,
+        fresnel: conductor,
+        n_medium: Some(eta as f32),
+        level: 1,
     }
-    f64::from(1.0 - trapped_share(mu_refracted, mu_c, (r_c * r_c) as f32))
+}
+
+/// The normaliser E(μ′; α)·c(μ′) of `glossy_lobe_albedo` for a conductor of roughness `r_c`
+/// under a coat of roughness `r` and relative IOR `eta`, at outer cosine `mu`, as the method
+/// evaluates it (CPU, with whatever tables `math::tables` evaluates with).
+pub fn glossy_lobe_normaliser(r_c: f64, r: f64, eta: f64, mu: f64) -> f64 {
+    let inputs = Inputs::<f32>::new((), Vec::new());
+    let coat = clear_coat(r, eta);
+    let conductor = ConductorFresnel::F0(Color::Lit([1.0; 3]));
+    let glossy = white_level(&inputs, &coat, &conductor, r_c, eta);
+    let mu = mu as f32;
+    let g = Geometry::new(glam::Vec3::Z, glam::Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu), glam::Vec3::Z, 0);
+    let below = g.refracted(eta as f32);
+    f64::from(glossy.normaliser(mu, below.n_dot_v, "v"))
 }
 
 /// The coat's transmission T(μ) as the method evaluates it (CPU), for `glossy_lobe_white`'s

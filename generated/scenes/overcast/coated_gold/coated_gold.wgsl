@@ -18,14 +18,12 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
-const layer1_alpha: f32 = 0.06485702f;
-const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.921543f, 0.7375731f, 0.30301085f);
-const layer1_trapped_escape: f32 = 0.1150567f;
-const base_roughness: f32 = 0.31190628f;
+const one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
+const layer1_survival: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
+const remainder_avg: vec3<f32> = vec3<f32>(0.072688594f, 0.030460551f, 0.0032689103f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -41,66 +39,26 @@ var<uniform> dispatch: EvalDispatch;
 @group(0) @binding(4) 
 var<uniform> light: PreviewLight;
 
-// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
-// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
-// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
-// transmission anyway).
-fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let sum = (v + l);
-    return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
-}
-
-// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a_1 = max(alpha, 0.001f);
-    let a_sq = (a_1 * a_1);
-    let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
-    return (a_sq / ((denom * denom) * 3.1415927f));
-}
-
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
-// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
-    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
-    let tan_sq = ((1f - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
-}
-
-// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
-// G2 = 1 / (1 + Λ(v) + Λ(l)).
-fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = lambda_ggx(n_dot_l, alpha_5);
-    return (1f / ((_e5 + _e6) + 1f));
+// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
+// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
+// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
+// zero vector, whose cosine 0 makes every transmission factor 0.
+fn refract_down(w: vec3<f32>, n: vec3<f32>, eta: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta)));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
+fn fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
     let cos_i_2 = min(max(cos_i, 0f), 1f);
-    let sin2_t = ((1f - (cos_i_2 * cos_i_2)) / (eta * eta));
+    let sin2_t = ((1f - (cos_i_2 * cos_i_2)) / (eta_1 * eta_1));
     let cos_t = sqrt(max((1f - sin2_t), 0f));
-    let r_parl = (((eta * cos_i_2) - cos_t) / ((eta * cos_i_2) + cos_t));
-    let r_perp = ((cos_i_2 - (eta * cos_t)) / (cos_i_2 + (eta * cos_t)));
-    let fresnel_1 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
-    return select(1f, fresnel_1, (sin2_t < 1f));
-}
-
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
-fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1: f32) -> vec3<f32> {
-    return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
+    let r_parl = (((eta_1 * cos_i_2) - cos_t) / ((eta_1 * cos_i_2) + cos_t));
+    let r_perp = ((cos_i_2 - (eta_1 * cos_t)) / (cos_i_2 + (eta_1 * cos_t)));
+    let fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
+    return select(1f, fresnel_3, (sin2_t < 1f));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
@@ -113,91 +71,75 @@ fn glazec_table_code(entry: u32) -> f32 {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+fn coat_deficit(cos_theta: f32, roughness: f32, eta_2: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta = (u_cos_theta * 15f);
-    let cell_cos_theta = min(floor(node_cos_theta), 14f);
+    let node_cos_theta = (u_cos_theta * 31f);
+    let cell_cos_theta = min(floor(node_cos_theta), 30f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
     let u_roughness = sqrt(min(max(roughness, 0f), 1f));
-    let node_roughness = (u_roughness * 15f);
-    let cell_roughness = min(floor(node_roughness), 14f);
+    let node_roughness = (u_roughness * 31f);
+    let cell_roughness = min(floor(node_roughness), 30f);
     let weight_roughness = (node_roughness - cell_roughness);
-    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
+    let u_eta = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
-    let at_lll = (code_lll * 0.0000014542611f);
-    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
-    let at_ull = (code_ull * 0.0000014542611f);
-    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
-    let at_lul = (code_lul * 0.0000014542611f);
-    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
-    let at_uul = (code_uul * 0.0000014542611f);
-    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
-    let at_llu = (code_llu * 0.0000014542611f);
-    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
-    let at_ulu = (code_ulu * 0.0000014542611f);
-    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
-    let at_luu = (code_luu * 0.0000014542611f);
-    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
-    let at_uuu = (code_uuu * 0.0000014542611f);
+    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 32f)) + (cell_eta * 1024f))) + 0u));
+    let at_lll = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 32f)) + (cell_eta * 1024f))) + 0u));
+    let at_ull = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 32f)) + (cell_eta * 1024f))) + 0u));
+    let at_lul = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 32f)) + (cell_eta * 1024f))) + 0u));
+    let at_uul = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let at_llu = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let at_ulu = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let at_luu = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let at_uuu = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-fn coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+fn coat_extra(cos_theta_1: f32, roughness_1: f32, eta_3: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
-    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 15f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 14f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
     let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
-    let node_roughness_1 = (u_roughness_1 * 31f);
-    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let node_roughness_1 = (u_roughness_1 * 15f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
     let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
+    let u_eta_1 = min(max((((eta_3 - 1f) * 2f) / (eta_3 + 1f)), 0f), 1f);
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
-    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 0u));
-    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
-    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + (cell_eta_1 * 1024f))) + 0u));
-    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
-    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
-    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
-    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f)) + ((cell_eta_1 + 1f) * 1024f))) + 0u));
-    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let at_lll_1 = (code_lll * 0.0000014542611f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let at_ull_1 = (code_ull * 0.0000014542611f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let at_lul_1 = (code_lul * 0.0000014542611f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let at_uul_1 = (code_uul * 0.0000014542611f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let at_llu_1 = (code_llu * 0.0000014542611f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let at_ulu_1 = (code_ulu * 0.0000014542611f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let at_luu_1 = (code_luu * 0.0000014542611f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let at_uuu_1 = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
-}
-
-// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
-// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
-// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
-// zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_3)));
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
@@ -221,37 +163,255 @@ fn fr_conductor(cos_i_1: f32, eta_4: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
     return ((r_p + r_s) * vec3(0.5f));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
+// reflect what leaves near the mirror direction (after one conductor event, or at the
+// second from the trapped light's first return), for a white conductor under a clear coat
+// (solved over μ at each node).
+fn glossy_scale(cos_theta_2: f32, conductor_roughness: f32, roughness_2: f32, eta_5: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 8f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 7f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_conductor_roughness = sqrt(min(max(conductor_roughness, 0f), 1f));
+    let node_conductor_roughness = (u_conductor_roughness * 7f);
+    let cell_conductor_roughness = min(floor(node_conductor_roughness), 6f);
+    let weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 6f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 5f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 5f);
+    let cell_eta_2 = min(floor(node_eta_2), 4f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_llll = ((code_llll * 0.000034481873f) + 0.16788425f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_ulll = ((code_ulll * 0.000034481873f) + 0.16788425f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_lull = ((code_lull * 0.000034481873f) + 0.16788425f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_uull = ((code_uull * 0.000034481873f) + 0.16788425f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_llul = ((code_llul * 0.000034481873f) + 0.16788425f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_ulul = ((code_ulul * 0.000034481873f) + 0.16788425f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_luul = ((code_luul * 0.000034481873f) + 0.16788425f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_uuul = ((code_uuul * 0.000034481873f) + 0.16788425f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lllu = ((code_lllu * 0.000034481873f) + 0.16788425f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_ullu = ((code_ullu * 0.000034481873f) + 0.16788425f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lulu = ((code_lulu * 0.000034481873f) + 0.16788425f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uulu = ((code_uulu * 0.000034481873f) + 0.16788425f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lluu = ((code_lluu * 0.000034481873f) + 0.16788425f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uluu = ((code_uluu * 0.000034481873f) + 0.16788425f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_luuu = ((code_luuu * 0.000034481873f) + 0.16788425f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uuuu = ((code_uuuu * 0.000034481873f) + 0.16788425f);
+    return ((((((((((((((((at_llll * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lull * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_llul * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_luul * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_lllu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+fn glossy_next(cos_theta_3: f32, conductor_roughness_1: f32, roughness_3: f32, eta_6: f32) -> f32 {
+    let u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let node_cos_theta_3 = (u_cos_theta_3 * 4f);
+    let cell_cos_theta_3 = min(floor(node_cos_theta_3), 3f);
+    let weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
+    let u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0f), 1f));
+    let node_conductor_roughness_1 = (u_conductor_roughness_1 * 7f);
+    let cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6f);
+    let weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 5f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 4f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let u_eta_3 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
+    let node_eta_3 = (u_eta_3 * 5f);
+    let cell_eta_3 = min(floor(node_eta_3), 4f);
+    let weight_eta_3 = (node_eta_3 - cell_eta_3);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_llll_1 = (code_llll * 0.000015259022f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_ulll_1 = (code_ulll * 0.000015259022f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_lull_1 = (code_lull * 0.000015259022f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_uull_1 = (code_uull * 0.000015259022f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_llul_1 = (code_llul * 0.000015259022f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_ulul_1 = (code_ulul * 0.000015259022f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_luul_1 = (code_luul * 0.000015259022f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_uuul_1 = (code_uuul * 0.000015259022f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lllu_1 = (code_lllu * 0.000015259022f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_ullu_1 = (code_ullu * 0.000015259022f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lulu_1 = (code_lulu * 0.000015259022f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uulu_1 = (code_uulu * 0.000015259022f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lluu_1 = (code_lluu * 0.000015259022f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uluu_1 = (code_uluu * 0.000015259022f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_luuu_1 = (code_luuu * 0.000015259022f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uuuu_1 = (code_uuuu * 0.000015259022f);
+    return ((((((((((((((((at_llll_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lull_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_llul_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_luul_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_lllu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
+// over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
+// share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
+// what the lobe does not (raised where probes between the nodes found a gain).
+fn glossy_lobe_albedo(cos_theta_4: f32, conductor_roughness_2: f32, roughness_4: f32, eta_7: f32) -> f32 {
+    let u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
+    let node_cos_theta_4 = (u_cos_theta_4 * 8f);
+    let cell_cos_theta_4 = min(floor(node_cos_theta_4), 7f);
+    let weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    let u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0f), 1f));
+    let node_conductor_roughness_2 = (u_conductor_roughness_2 * 7f);
+    let cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6f);
+    let weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 6f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 5f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let u_eta_4 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
+    let node_eta_4 = (u_eta_4 * 5f);
+    let cell_eta_4 = min(floor(node_eta_4), 4f);
+    let weight_eta_4 = (node_eta_4 - cell_eta_4);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_llll_2 = ((code_llll * 0.00013961816f) + 0.0680862f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_ulll_2 = ((code_ulll * 0.00013961816f) + 0.0680862f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_lull_2 = ((code_lull * 0.00013961816f) + 0.0680862f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_uull_2 = ((code_uull * 0.00013961816f) + 0.0680862f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_llul_2 = ((code_llul * 0.00013961816f) + 0.0680862f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_ulul_2 = ((code_ulul * 0.00013961816f) + 0.0680862f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_luul_2 = ((code_luul * 0.00013961816f) + 0.0680862f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_uuul_2 = ((code_uuul * 0.00013961816f) + 0.0680862f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lllu_2 = ((code_lllu * 0.00013961816f) + 0.0680862f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_ullu_2 = ((code_ullu * 0.00013961816f) + 0.0680862f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lulu_2 = ((code_lulu * 0.00013961816f) + 0.0680862f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uulu_2 = ((code_uulu * 0.00013961816f) + 0.0680862f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lluu_2 = ((code_lluu * 0.00013961816f) + 0.0680862f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uluu_2 = ((code_uluu * 0.00013961816f) + 0.0680862f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_luuu_2 = ((code_luuu * 0.00013961816f) + 0.0680862f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uuuu_2 = ((code_uuuu * 0.00013961816f) + 0.0680862f);
+    return ((((((((((((((((at_llll_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_lull_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_llul_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_luul_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_lllu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
+// per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
+// peak seen through the coat's transmission from μ, tapered towards grazing.
+fn glossy_blur(cos_theta_5: f32, conductor_roughness_3: f32, roughness_5: f32, eta_8: f32) -> f32 {
+    let u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
+    let node_cos_theta_5 = (u_cos_theta_5 * 5f);
+    let cell_cos_theta_5 = min(floor(node_cos_theta_5), 4f);
+    let weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+    let u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0f), 1f));
+    let node_conductor_roughness_3 = (u_conductor_roughness_3 * 3f);
+    let cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 2f);
+    let weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 5f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 4f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let u_eta_5 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
+    let node_eta_5 = (u_eta_5 * 3f);
+    let cell_eta_5 = min(floor(node_eta_5), 2f);
+    let weight_eta_5 = (node_eta_5 - cell_eta_5);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_llll_3 = (code_llll * 0.000019313664f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_ulll_3 = (code_ulll * 0.000019313664f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_lull_3 = (code_lull * 0.000019313664f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_uull_3 = (code_uull * 0.000019313664f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_llul_3 = (code_llul * 0.000019313664f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_ulul_3 = (code_ulul * 0.000019313664f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_luul_3 = (code_luul * 0.000019313664f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let at_uuul_3 = (code_uuul * 0.000019313664f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_lllu_3 = (code_lllu * 0.000019313664f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_ullu_3 = (code_ullu * 0.000019313664f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_lulu_3 = (code_lulu * 0.000019313664f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_uulu_3 = (code_uulu * 0.000019313664f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_lluu_3 = (code_lluu * 0.000019313664f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_uluu_3 = (code_uluu * 0.000019313664f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_luuu_3 = (code_luuu * 0.000019313664f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let at_uuuu_3 = (code_uuuu * 0.000019313664f);
+    return ((((((((((((((((at_llll_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * (1f - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_lull_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_llul_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_luul_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_lllu_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lulu_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lluu_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-fn ggx_albedo(cos_theta_2: f32, roughness_2: f32) -> f32 {
-    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_2 = (u_cos_theta_2 * 15f);
-    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 14f);
-    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 15f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 14f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let code_ll = glazec_table_code((u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u));
+fn ggx_albedo(cos_theta_6: f32, roughness_6: f32) -> f32 {
+    let u_cos_theta_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_6 = (u_cos_theta_6 * 15f);
+    let cell_cos_theta_6 = min(floor(node_cos_theta_6), 14f);
+    let weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
+    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
+    let node_roughness_6 = (u_roughness_6 * 15f);
+    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
+    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    let code_ll = glazec_table_code((u32((cell_cos_theta_6 + (cell_roughness_6 * 16f))) + 15936u));
     let at_ll = ((code_ll * 0.000010576748f) + 0.30685282f);
-    let code_ul = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u));
+    let code_ul = glazec_table_code((u32(((cell_cos_theta_6 + 1f) + (cell_roughness_6 * 16f))) + 15936u));
     let at_ul = ((code_ul * 0.000010576748f) + 0.30685282f);
-    let code_lu = glazec_table_code((u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let code_lu = glazec_table_code((u32((cell_cos_theta_6 + ((cell_roughness_6 + 1f) * 16f))) + 15936u));
     let at_lu = ((code_lu * 0.000010576748f) + 0.30685282f);
-    let code_uu = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let code_uu = glazec_table_code((u32(((cell_cos_theta_6 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 15936u));
     let at_uu = ((code_uu * 0.000010576748f) + 0.30685282f);
-    return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
-}
-
-// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
-// stays near the mirror direction, inside the coat's escape cone, so it returns with the
-// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
-// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-// symmetric in i and o.
-fn interfaced_glossy_under(f_below: vec3<f32>, e_i_1: vec3<f32>, k_i: vec3<f32>, e_o_1: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
-    let _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
-    return (f_below / (vec3(1f) - _e8));
+    return ((((at_ll * ((1f - weight_cos_theta_6) * (1f - weight_roughness_6))) + (at_ul * (weight_cos_theta_6 * (1f - weight_roughness_6)))) + (at_lu * ((1f - weight_cos_theta_6) * weight_roughness_6))) + (at_uu * (weight_cos_theta_6 * weight_roughness_6)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -267,36 +427,243 @@ fn interfaced_glossy_under(f_below: vec3<f32>, e_i_1: vec3<f32>, k_i: vec3<f32>,
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-fn trapped_share(mu: f32, mu_c: f32, alpha_3: f32) -> f32 {
+fn trapped_share(mu: f32, mu_c: f32, alpha: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu * mu)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
     let near = (((sin_t * mu_c) - (mu * sin_c)) / (((mu * mu_c) + (sin_t * sin_c)) + 1f));
     let far = (((sin_t * mu_c) + (mu * sin_c)) / max((((mu * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
-    let a2_ = (alpha_3 * alpha_3);
+    let a2_ = (alpha * alpha);
     let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
     return ((cos_beta + 1f) * 0.5f);
 }
 
-// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again, which (mean
-// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
-// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
-// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
-// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
-// all trapped light.
-// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-fn trapped_lobe(e_i_2: vec3<f32>, p_i: f32, e_o_2: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, q: f32) -> vec3<f32> {
-    let _e21 = ((rho * round_trip) * (1f - q));
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+fn glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32 {
+    let beyond_cone = trapped_share(mu_1, mu_c_1, alpha_1);
+    let below_horizon = trapped_share(mu_1, 0f, alpha_1);
+    return max((beyond_cone - below_horizon), 0f);
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
+fn glossy_quick(cos_theta_7: f32, conductor_roughness_4: f32, roughness_7: f32, eta_9: f32) -> f32 {
+    let u_cos_theta_7 = sqrt(min(max(cos_theta_7, 0f), 1f));
+    let node_cos_theta_7 = (u_cos_theta_7 * 4f);
+    let cell_cos_theta_7 = min(floor(node_cos_theta_7), 3f);
+    let weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    let u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0f), 1f));
+    let node_conductor_roughness_4 = (u_conductor_roughness_4 * 7f);
+    let cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6f);
+    let weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
+    let u_roughness_7 = sqrt(min(max(roughness_7, 0f), 1f));
+    let node_roughness_7 = (u_roughness_7 * 5f);
+    let cell_roughness_7 = min(floor(node_roughness_7), 4f);
+    let weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    let u_eta_6 = min(max((((eta_9 - 1f) * 2f) / (eta_9 + 1f)), 0f), 1f);
+    let node_eta_6 = (u_eta_6 * 5f);
+    let cell_eta_6 = min(floor(node_eta_6), 4f);
+    let weight_eta_6 = (node_eta_6 - cell_eta_6);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_llll_4 = (code_llll * 0.000013453328f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_ulll_4 = (code_ulll * 0.000013453328f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_lull_4 = (code_lull * 0.000013453328f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_uull_4 = (code_uull * 0.000013453328f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_llul_4 = (code_llul * 0.000013453328f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_ulul_4 = (code_ulul * 0.000013453328f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_luul_4 = (code_luul * 0.000013453328f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
+    let at_uuul_4 = (code_uuul * 0.000013453328f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_lllu_4 = (code_lllu * 0.000013453328f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_ullu_4 = (code_ullu * 0.000013453328f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_lulu_4 = (code_lulu * 0.000013453328f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_uulu_4 = (code_uulu * 0.000013453328f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_lluu_4 = (code_lluu * 0.000013453328f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_uluu_4 = (code_uluu * 0.000013453328f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_luuu_4 = (code_luuu * 0.000013453328f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
+    let at_uuuu_4 = (code_uuuu * 0.000013453328f);
+    return ((((((((((((((((at_llll_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_lull_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_llul_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_luul_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_lllu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+fn glossy_steady(cos_theta_8: f32, conductor_roughness_5: f32, roughness_8: f32, eta_10: f32) -> f32 {
+    let u_cos_theta_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
+    let node_cos_theta_8 = (u_cos_theta_8 * 4f);
+    let cell_cos_theta_8 = min(floor(node_cos_theta_8), 3f);
+    let weight_cos_theta_8 = (node_cos_theta_8 - cell_cos_theta_8);
+    let u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0f), 1f));
+    let node_conductor_roughness_5 = (u_conductor_roughness_5 * 7f);
+    let cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6f);
+    let weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    let u_roughness_8 = sqrt(min(max(roughness_8, 0f), 1f));
+    let node_roughness_8 = (u_roughness_8 * 5f);
+    let cell_roughness_8 = min(floor(node_roughness_8), 4f);
+    let weight_roughness_8 = (node_roughness_8 - cell_roughness_8);
+    let u_eta_7 = min(max((((eta_10 - 1f) * 2f) / (eta_10 + 1f)), 0f), 1f);
+    let node_eta_7 = (u_eta_7 * 5f);
+    let cell_eta_7 = min(floor(node_eta_7), 4f);
+    let weight_eta_7 = (node_eta_7 - cell_eta_7);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_llll_5 = (code_llll * 0.000013521936f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_ulll_5 = (code_ulll * 0.000013521936f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_lull_5 = (code_lull * 0.000013521936f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_uull_5 = (code_uull * 0.000013521936f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_llul_5 = (code_llul * 0.000013521936f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_ulul_5 = (code_ulul * 0.000013521936f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_luul_5 = (code_luul * 0.000013521936f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let at_uuul_5 = (code_uuul * 0.000013521936f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_lllu_5 = (code_lllu * 0.000013521936f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_ullu_5 = (code_ullu * 0.000013521936f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_lulu_5 = (code_lulu * 0.000013521936f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_uulu_5 = (code_uulu * 0.000013521936f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_lluu_5 = (code_lluu * 0.000013521936f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_uluu_5 = (code_uluu * 0.000013521936f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_luuu_5 = (code_luuu * 0.000013521936f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let at_uuuu_5 = (code_uuuu * 0.000013521936f);
+    return ((((((((((((((((at_llll_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * (1f - weight_eta_7))) + (at_ulll_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_lull_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_uull_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_llul_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_ulul_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_luul_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_uuul_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_lllu_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_ullu_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lulu_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_uulu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lluu_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7)));
+}
+
+// glazec's glossy level (a conductor under a coat), the light trapped after the first
+// conductor event, per unit of it, that does not leave at the second: the generating
+// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
+// slab's round trip): a mixture of geometric event counts (B: the share that stays per
+// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+// 1 − w₀: a white conductor under a clear coat returns all of it.
+// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+fn glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
+    let quick_rate = ((c * vec3(0.5f)) / (one - (c * vec3(0.5f))));
+    let steady_rate = ((c * vec3(0.2f)) / (one - (c * vec3(0.8f))));
+    let _e27 = (c * slow);
+    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - _e27), vec3(0.000001f)));
+    let rest = max((1f - ((next + quick) + steady)), 0f);
+    return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
+}
+
+// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+fn glossy_once(single: f32, next_1: f32, c_1: vec3<f32>) -> vec3<f32> {
+    return ((c_1 * ((1f - single) * next_1)) + vec3(single));
+}
+
+// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+// transmission anyway).
+fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let sum = (v + l);
+    return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
+}
+
+// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
+// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
+// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+// zero half vector (two zero directions under total internal reflection), where it would
+// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+fn d_ggx(cos_h: f32, sin2_h: f32, alpha_2: f32) -> f32 {
+    let a_3 = max(alpha_2, 0.001f);
+    let a_sq = (a_3 * a_3);
+    let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
+    return (a_sq / ((denom * denom) * 3.1415927f));
+}
+
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+fn lambda_ggx(n_dot_x: f32, alpha_3: f32) -> f32 {
+    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
+    let tan_sq = ((1f - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_3 * alpha_3) * tan_sq) + 1f)) - 1f) * 0.5f);
+}
+
+// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+// G2 = 1 / (1 + Λ(v) + Λ(l)).
+fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_4: f32) -> f32 {
+    let alpha_6 = max(alpha_4, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_6);
+    let _e6 = lambda_ggx(n_dot_l, alpha_6);
+    return (1f / ((_e5 + _e6) + 1f));
+}
+
+// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
+// The caller passes cosines clamped to ≥ COS_EPSILON.
+fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1: f32) -> vec3<f32> {
+    return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
+}
+
+// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
 }
 
 // glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
 // with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_5: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_11: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_11 * eta_11))));
+}
+
+// glazec's glossy level, the directional albedo of what leaves after three or more conductor
+// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
+// and reflected by the conductor (F, at the refracted direction), but not let out at once
+// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+fn glossy_remainder(t: f32, a: vec3<f32>, fresnel_1: vec3<f32>, single_1: f32, later: vec3<f32>) -> vec3<f32> {
+    return ((((a * a) * fresnel_1) * later) * (t * (1f - single_1)));
+}
+
+// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
+// that leaves after several conductor events has forgotten where it entered, so
+// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
+fn glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f32>) -> vec3<f32> {
+    return ((m_i * m_o) / (max(m_avg, vec3(0.000001f)) * vec3(3.1415927f)));
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -305,48 +672,87 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let n_dot_l_2 = dot(n_1, l_1);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let h = half_vector(v_1, l_1);
-    let n_cross_h = cross(n_1, h);
-    let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
-    let g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
-    let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
-    let _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = coat_extra(n_dot_l_2, 0.1f, 1.5f);
-    let layer1_restored_v = coat_extra(n_dot_v_2, 0.1f, 1.5f);
-    let _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
-    let specular = (_e21 + vec3(_e29));
-    let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
-    let _e38 = coat_deficit(n_dot_l_2, 0.1f, 1.5f);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e38) - layer1_restored_l), 0f), 1f);
-    let layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
-    let _e51 = coat_deficit(n_dot_v_2, 0.1f, 1.5f);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = refract_down(v_1, n_1, 1.5f);
     let layer1_l = refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
+    let layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5f);
+    let _e25 = coat_deficit(n_dot_l_2, 0.1f, 1.5f);
+    let layer1_restored_l = coat_extra(n_dot_l_2, 0.1f, 1.5f);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e25) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_cond_l = fr_conductor(layer1_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_scale_l = glossy_scale(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let layer1_next_l = glossy_next(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let _e56 = glossy_lobe_albedo(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let _e61 = max(layer1_cos_l, 0.7453635f);
+    let _e65 = glossy_blur(max(n_dot_l_2, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l = (_e65 * 0.010000001f);
+    let layer1_blur_v = (_e65 * 0.010000001f);
+    let layer1_alpha = sqrt(((0.00390625f + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
+    let _e77 = ggx_albedo(_e61, sqrt(layer1_alpha));
+    let _e80 = glossy_trapped_share(_e61, 0.745356f, 0.0625f);
+    let layer1_cone_share_l = (1f - _e80);
+    let layer1_lobe_normaliser_l = (_e77 * layer1_cone_share_l);
+    let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e56) * layer1_lobe_normaliser_l), 0f), 1f);
+    let layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
+    let _e102 = glossy_quick(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let _e106 = glossy_steady(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let layer1_later_l = glossy_later(layer1_next_l, _e102, _e106, 0.9170209f, layer1_survival);
+    let layer1_once_l = glossy_once(layer1_single_l, layer1_next_l, layer1_survival);
+    let _e114 = glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e114.x, 0.000001f)));
+    let layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
+    let _e126 = coat_deficit(n_dot_v_2, 0.1f, 1.5f);
+    let layer1_restored_v = coat_extra(n_dot_v_2, 0.1f, 1.5f);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e126) - layer1_restored_v), 0f), 1f);
+    let layer1_fresnel_cond_v = fr_conductor(layer1_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_scale_v = glossy_scale(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let layer1_next_v = glossy_next(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let _e157 = glossy_lobe_albedo(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let _e162 = max(layer1_cos_v, 0.7453635f);
+    let _e166 = glossy_blur(max(n_dot_v_2, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_1 = (_e166 * 0.010000001f);
+    let layer1_blur_v_1 = (_e166 * 0.010000001f);
+    let layer1_alpha_1 = sqrt(((0.00390625f + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
+    let _e178 = ggx_albedo(_e162, sqrt(layer1_alpha_1));
+    let _e181 = glossy_trapped_share(_e162, 0.745356f, 0.0625f);
+    let layer1_cone_share_v = (1f - _e181);
+    let layer1_lobe_normaliser_v = (_e178 * layer1_cone_share_v);
+    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e157) * layer1_lobe_normaliser_v), 0f), 1f);
+    let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
+    let _e203 = glossy_quick(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let _e207 = glossy_steady(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let layer1_later_v = glossy_later(layer1_next_v, _e203, _e207, 0.9170209f, layer1_survival);
+    let layer1_once_v = glossy_once(layer1_single_v, layer1_next_v, layer1_survival);
+    let _e215 = glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
+    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e215.x, 0.000001f)));
+    let _e224 = glossy_blur(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_2 = (_e224 * 0.010000001f);
+    let _e230 = glossy_blur(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_v_2 = (_e230 * 0.010000001f);
+    let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
+    let h = half_vector(v_1, l_1);
+    let n_cross_h = cross(n_1, h);
+    let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
+    let g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
+    let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
+    let _e251 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let _e253 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
+    let specular = (_e251 + vec3(_e253));
     let layer1_h = half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_1, layer1_h);
-    let layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha);
-    let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha);
+    let layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_f_base = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let _e88 = ggx_albedo(layer1_cos_l, 0.2546704f);
-    let _e97 = fr_conductor(layer1_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_albedo_l = (_e97 * _e88);
-    let _e100 = ggx_albedo(layer1_cos_v, 0.2546704f);
-    let _e109 = fr_conductor(layer1_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_albedo_v = (_e109 * _e100);
-    let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
-    let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e121 = interfaced_glossy_under(layer1_f_base, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
-    let layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer1_alpha);
-    let layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer1_alpha);
-    let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, layer1_trapped_escape);
-    let under = (_e121 + trapped);
-    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let _e274 = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e274 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e283 = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let _e286 = glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e289 = glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let later = glossy_remainder_lobe(_e286, _e289, remainder_avg);
+    let f = (_e283 + later);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
@@ -363,10 +769,10 @@ fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn glazec_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+fn glazec_environment(direction: vec3<f32>, roughness_9: f32) -> vec3<f32> {
     let uv = glazec_equirect_uv(direction);
     let _e3 = textureNumLevels(glazec_radiance);
-    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let lod = (roughness_9 * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -378,12 +784,14 @@ fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
     return _e5.xyz;
 }
 
-// The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-fn interfaced_albedo_glossy(t: f32, a: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
-    let k_1 = ((a * a) * (1f - t));
-    let _e11 = (e_below * k_1);
-    return (((((a * a) * e_below) * (t * t)) / (vec3(1f) - _e11)) + vec3((1f - t)));
+// The directional albedo seen above a coat over a conductor (glazec's glossy level):
+// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+// own paths) and the remainder (`glossy_remainder`).
+fn glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_1: vec3<f32>, once: vec3<f32>, single_2: f32, later_1: vec3<f32>) -> vec3<f32> {
+    let near_1 = ((a_lobe * a_lobe) * once);
+    let far_1 = (((a_1 * a_1) * later_1) * (1f - single_2));
+    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1f - t_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -391,11 +799,11 @@ fn interfaced_albedo_glossy(t: f32, a: vec3<f32>, e_below: vec3<f32>) -> vec3<f3
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
+fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
     let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_4), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    let d_2 = ((n_3 * (1f - t_1)) + (r * t_1));
+    let smoothness = min(max((1f - alpha_5), 0f), 1f);
+    let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let d_2 = ((n_3 * (1f - t_2)) + (r * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -405,28 +813,48 @@ fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> 
 fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let n_dot_v_3 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
-    let layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5f);
-    let _e11 = coat_deficit(n_dot_v_3, 0.1f, 1.5f);
-    let layer1_restored_l = coat_extra(n_dot_v_3, 0.1f, 1.5f);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
     let layer1_v = refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e35 = ggx_albedo(layer1_cos_v_1, 0.2546704f);
-    let _e44 = fr_conductor(layer1_cos_v_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_albedo_l_1 = (_e44 * _e35);
-    let layer1_albedo_v_1 = (_e44 * _e35);
-    let albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l_1);
-    let albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_v_1);
-    let coat_albedo = (1f - layer1_transmit_v_1);
-    let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
+    let layer1_fresnel_l = fr_dielectric(n_dot_v_3, 1.5f);
+    let _e16 = coat_deficit(n_dot_v_3, 0.1f, 1.5f);
+    let layer1_restored_l = coat_extra(n_dot_v_3, 0.1f, 1.5f);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e16) - layer1_restored_l), 0f), 1f);
+    let layer1_fresnel_cond_l = fr_conductor(layer1_cos_v_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_scale_l = glossy_scale(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let layer1_next_l = glossy_next(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let _e47 = glossy_lobe_albedo(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let _e52 = max(layer1_cos_v_1, 0.7453635f);
+    let _e56 = glossy_blur(max(n_dot_v_3, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_3 = (_e56 * 0.010000001f);
+    let layer1_blur_v_3 = (_e56 * 0.010000001f);
+    let layer1_alpha_3 = sqrt(((0.00390625f + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
+    let _e68 = ggx_albedo(_e52, sqrt(layer1_alpha_3));
+    let _e71 = glossy_trapped_share(_e52, 0.745356f, 0.0625f);
+    let layer1_cone_share_l_1 = (1f - _e71);
+    let layer1_lobe_normaliser_l_1 = (_e68 * layer1_cone_share_l_1);
+    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e47) * layer1_lobe_normaliser_l_1), 0f), 1f);
+    let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
+    let _e93 = glossy_quick(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let _e97 = glossy_steady(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let layer1_later_l = glossy_later(layer1_next_l, _e93, _e97, 0.9170209f, layer1_survival);
+    let layer1_once_l = glossy_once(layer1_single_l_1, layer1_next_l, layer1_survival);
+    let _e105 = glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e105.x, 0.000001f)));
+    let _e114 = glossy_blur(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_4 = (_e114 * 0.010000001f);
+    let layer1_blur_v_4 = (_e114 * 0.010000001f);
+    let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
+    let albedo_l = glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
+    let coat_albedo = (1f - layer1_transmit_l_1);
+    let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
     let reflected = specular_dominant_direction(n_4, v_4, 0.010000001f);
-    let reflected_1 = specular_dominant_direction(n_4, v_4, 0.097285524f);
-    let _e67 = (dot(n_4, v_4) > 0f);
+    let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
+    let reflected_1 = specular_dominant_direction(n_4, v_4, (base_roughness * base_roughness));
+    let _e149 = (dot(n_4, v_4) > 0f);
     let light_a = glazec_environment(reflected, 0.1f);
     let light_b = glazec_environment(reflected_1, base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e67) * light_a) + (select(vec3(0f), under_albedo, _e67) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e149) * light_a) + (select(vec3(0f), under_albedo, _e149) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 

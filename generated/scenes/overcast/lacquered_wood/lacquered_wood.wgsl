@@ -26,7 +26,7 @@ const layer1_r_return: vec3<f32> = vec3<f32>(0.49949837f, 0.35321862f, 0.1443243
 const layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 

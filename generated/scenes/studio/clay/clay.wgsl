@@ -27,7 +27,7 @@ var glazec_radiance: texture_2d<f32>;
 @group(2) @binding(2) 
 var glazec_irradiance: texture_2d<f32>;
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 

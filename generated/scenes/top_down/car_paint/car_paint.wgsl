@@ -19,19 +19,19 @@ struct PreviewVarying {
 }
 
 const layer1_tau: vec3<f32> = vec3<f32>(0.048f, 0.96000004f, 1.32f);
-const layer2_alpha: f32 = 0.09037713f;
 const f0_under_coat: vec3<f32> = vec3<f32>(0.86560106f, 0.88020647f, 0.88020647f);
-const layer2_mu_c: f32 = 0.19705611f;
-const layer2_rho: vec3<f32> = vec3<f32>(0.8501552f, 0.8637166f, 0.8637166f);
-const layer2_trapped_escape: f32 = 1f;
+const one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
+const layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
+const layer2_alpha: f32 = 0.09037713f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0028275326f, 0.000000017138621f, 0.00000000022211293f);
 const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.7083738f, 0.054160066f, 0.024499312f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.7404851f, 0.06705615f, 0.03126154f);
 const layer1_trapped_escape: f32 = 0.15678635f;
 const base_roughness: f32 = 0.37185615f;
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -65,8 +65,8 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a_1 = max(alpha, 0.001f);
-    let a_sq = (a_1 * a_1);
+    let a_3 = max(alpha, 0.001f);
+    let a_sq = (a_3 * a_3);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -83,9 +83,9 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = lambda_ggx(n_dot_l, alpha_5);
+    let alpha_6 = max(alpha_2, 0.001f);
+    let _e5 = lambda_ggx(n_dot_v, alpha_6);
+    let _e6 = lambda_ggx(n_dot_l, alpha_6);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -99,8 +99,8 @@ fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_t = sqrt(max((1f - sin2_t), 0f));
     let r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     let r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    let fresnel_1 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
-    return select(1f, fresnel_1, (sin2_t < 1f));
+    let fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
+    return select(1f, fresnel_3, (sin2_t < 1f));
 }
 
 // Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
@@ -212,37 +212,198 @@ fn f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
     return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
+// reflect what leaves near the mirror direction (after one conductor event, or at the
+// second from the trapped light's first return), for a white conductor under a clear coat
+// (solved over μ at each node).
+fn glossy_scale(cos_theta_3: f32, conductor_roughness: f32, roughness_2: f32, eta_4: f32) -> f32 {
+    let u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let node_cos_theta_2 = (u_cos_theta_2 * 8f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 7f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_conductor_roughness = sqrt(min(max(conductor_roughness, 0f), 1f));
+    let node_conductor_roughness = (u_conductor_roughness * 7f);
+    let cell_conductor_roughness = min(floor(node_conductor_roughness), 6f);
+    let weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 6f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 5f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 5f);
+    let cell_eta_2 = min(floor(node_eta_2), 4f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_llll = ((code_llll * 0.000034481873f) + 0.16788425f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_ulll = ((code_ulll * 0.000034481873f) + 0.16788425f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_lull = ((code_lull * 0.000034481873f) + 0.16788425f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_uull = ((code_uull * 0.000034481873f) + 0.16788425f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_llul = ((code_llul * 0.000034481873f) + 0.16788425f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_ulul = ((code_ulul * 0.000034481873f) + 0.16788425f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_luul = ((code_luul * 0.000034481873f) + 0.16788425f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
+    let at_uuul = ((code_uuul * 0.000034481873f) + 0.16788425f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lllu = ((code_lllu * 0.000034481873f) + 0.16788425f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_ullu = ((code_ullu * 0.000034481873f) + 0.16788425f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lulu = ((code_lulu * 0.000034481873f) + 0.16788425f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uulu = ((code_uulu * 0.000034481873f) + 0.16788425f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_lluu = ((code_lluu * 0.000034481873f) + 0.16788425f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uluu = ((code_uluu * 0.000034481873f) + 0.16788425f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_luuu = ((code_luuu * 0.000034481873f) + 0.16788425f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
+    let at_uuuu = ((code_uuuu * 0.000034481873f) + 0.16788425f);
+    return ((((((((((((((((at_llll * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lull * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_llul * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_luul * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_lllu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+fn glossy_next(cos_theta_4: f32, conductor_roughness_1: f32, roughness_3: f32, eta_5: f32) -> f32 {
+    let u_cos_theta_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
+    let node_cos_theta_3 = (u_cos_theta_3 * 4f);
+    let cell_cos_theta_3 = min(floor(node_cos_theta_3), 3f);
+    let weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
+    let u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0f), 1f));
+    let node_conductor_roughness_1 = (u_conductor_roughness_1 * 7f);
+    let cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6f);
+    let weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 5f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 4f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
+    let node_eta_3 = (u_eta_3 * 5f);
+    let cell_eta_3 = min(floor(node_eta_3), 4f);
+    let weight_eta_3 = (node_eta_3 - cell_eta_3);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_llll_1 = (code_llll * 0.000015259022f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_ulll_1 = (code_ulll * 0.000015259022f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_lull_1 = (code_lull * 0.000015259022f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_uull_1 = (code_uull * 0.000015259022f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_llul_1 = (code_llul * 0.000015259022f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_ulul_1 = (code_ulul * 0.000015259022f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_luul_1 = (code_luul * 0.000015259022f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let at_uuul_1 = (code_uuul * 0.000015259022f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lllu_1 = (code_lllu * 0.000015259022f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_ullu_1 = (code_ullu * 0.000015259022f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lulu_1 = (code_lulu * 0.000015259022f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uulu_1 = (code_uulu * 0.000015259022f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_lluu_1 = (code_lluu * 0.000015259022f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uluu_1 = (code_uluu * 0.000015259022f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_luuu_1 = (code_luuu * 0.000015259022f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let at_uuuu_1 = (code_uuuu * 0.000015259022f);
+    return ((((((((((((((((at_llll_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lull_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_llul_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_luul_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_lllu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
+// over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
+// share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
+// what the lobe does not (raised where probes between the nodes found a gain).
+fn glossy_lobe_albedo(cos_theta_5: f32, conductor_roughness_2: f32, roughness_4: f32, eta_6: f32) -> f32 {
+    let u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
+    let node_cos_theta_4 = (u_cos_theta_4 * 8f);
+    let cell_cos_theta_4 = min(floor(node_cos_theta_4), 7f);
+    let weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    let u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0f), 1f));
+    let node_conductor_roughness_2 = (u_conductor_roughness_2 * 7f);
+    let cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6f);
+    let weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 6f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 5f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let u_eta_4 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
+    let node_eta_4 = (u_eta_4 * 5f);
+    let cell_eta_4 = min(floor(node_eta_4), 4f);
+    let weight_eta_4 = (node_eta_4 - cell_eta_4);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_llll_2 = ((code_llll * 0.00013961816f) + 0.0680862f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_ulll_2 = ((code_ulll * 0.00013961816f) + 0.0680862f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_lull_2 = ((code_lull * 0.00013961816f) + 0.0680862f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_uull_2 = ((code_uull * 0.00013961816f) + 0.0680862f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_llul_2 = ((code_llul * 0.00013961816f) + 0.0680862f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_ulul_2 = ((code_ulul * 0.00013961816f) + 0.0680862f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_luul_2 = ((code_luul * 0.00013961816f) + 0.0680862f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
+    let at_uuul_2 = ((code_uuul * 0.00013961816f) + 0.0680862f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lllu_2 = ((code_lllu * 0.00013961816f) + 0.0680862f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_ullu_2 = ((code_ullu * 0.00013961816f) + 0.0680862f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lulu_2 = ((code_lulu * 0.00013961816f) + 0.0680862f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uulu_2 = ((code_uulu * 0.00013961816f) + 0.0680862f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_lluu_2 = ((code_lluu * 0.00013961816f) + 0.0680862f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uluu_2 = ((code_uluu * 0.00013961816f) + 0.0680862f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_luuu_2 = ((code_luuu * 0.00013961816f) + 0.0680862f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
+    let at_uuuu_2 = ((code_uuuu * 0.00013961816f) + 0.0680862f);
+    return ((((((((((((((((at_llll_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_lull_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_llul_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_luul_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_lllu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-fn ggx_albedo(cos_theta_3: f32, roughness_2: f32) -> f32 {
-    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_2 = (u_cos_theta_2 * 15f);
-    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 14f);
-    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 15f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 14f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let code_ll = glazec_table_code((u32((cell_cos_theta_2 + (cell_roughness_2 * 16f))) + 15936u));
+fn ggx_albedo(cos_theta_6: f32, roughness_5: f32) -> f32 {
+    let u_cos_theta_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_5 = (u_cos_theta_5 * 15f);
+    let cell_cos_theta_5 = min(floor(node_cos_theta_5), 14f);
+    let weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 15f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 14f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let code_ll = glazec_table_code((u32((cell_cos_theta_5 + (cell_roughness_5 * 16f))) + 15936u));
     let at_ll = ((code_ll * 0.000010576748f) + 0.30685282f);
-    let code_ul = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 16f))) + 15936u));
+    let code_ul = glazec_table_code((u32(((cell_cos_theta_5 + 1f) + (cell_roughness_5 * 16f))) + 15936u));
     let at_ul = ((code_ul * 0.000010576748f) + 0.30685282f);
-    let code_lu = glazec_table_code((u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let code_lu = glazec_table_code((u32((cell_cos_theta_5 + ((cell_roughness_5 + 1f) * 16f))) + 15936u));
     let at_lu = ((code_lu * 0.000010576748f) + 0.30685282f);
-    let code_uu = glazec_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 16f))) + 15936u));
+    let code_uu = glazec_table_code((u32(((cell_cos_theta_5 + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 15936u));
     let at_uu = ((code_uu * 0.000010576748f) + 0.30685282f);
-    return ((((at_ll * ((1f - weight_cos_theta_2) * (1f - weight_roughness_2))) + (at_ul * (weight_cos_theta_2 * (1f - weight_roughness_2)))) + (at_lu * ((1f - weight_cos_theta_2) * weight_roughness_2))) + (at_uu * (weight_cos_theta_2 * weight_roughness_2)));
-}
-
-// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
-// stays near the mirror direction, inside the coat's escape cone, so it returns with the
-// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
-// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-// symmetric in i and o.
-fn interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: vec3<f32>, e_o: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
-    let _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / (vec3(1f) - _e8));
+    return ((((at_ll * ((1f - weight_cos_theta_5) * (1f - weight_roughness_5))) + (at_ul * (weight_cos_theta_5 * (1f - weight_roughness_5)))) + (at_lu * ((1f - weight_cos_theta_5) * weight_roughness_5))) + (at_uu * (weight_cos_theta_5 * weight_roughness_5)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -268,6 +429,199 @@ fn trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
     return ((cos_beta + 1f) * 0.5f);
 }
 
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+fn glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
+    let beyond_cone = trapped_share(mu_2, mu_c_1, alpha_4);
+    let below_horizon = trapped_share(mu_2, 0f, alpha_4);
+    return max((beyond_cone - below_horizon), 0f);
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
+fn glossy_quick(cos_theta_7: f32, conductor_roughness_3: f32, roughness_6: f32, eta_7: f32) -> f32 {
+    let u_cos_theta_6 = sqrt(min(max(cos_theta_7, 0f), 1f));
+    let node_cos_theta_6 = (u_cos_theta_6 * 4f);
+    let cell_cos_theta_6 = min(floor(node_cos_theta_6), 3f);
+    let weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
+    let u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0f), 1f));
+    let node_conductor_roughness_3 = (u_conductor_roughness_3 * 7f);
+    let cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 6f);
+    let weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
+    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
+    let node_roughness_6 = (u_roughness_6 * 5f);
+    let cell_roughness_6 = min(floor(node_roughness_6), 4f);
+    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    let u_eta_5 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
+    let node_eta_5 = (u_eta_5 * 5f);
+    let cell_eta_5 = min(floor(node_eta_5), 4f);
+    let weight_eta_5 = (node_eta_5 - cell_eta_5);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5f)) + (cell_roughness_6 * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_llll_3 = (code_llll * 0.000013453328f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 5f)) + (cell_roughness_6 * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_ulll_3 = (code_ulll * 0.000013453328f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 5f)) + (cell_roughness_6 * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_lull_3 = (code_lull * 0.000013453328f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 5f)) + (cell_roughness_6 * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_uull_3 = (code_uull * 0.000013453328f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_llul_3 = (code_llul * 0.000013453328f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_ulul_3 = (code_ulul * 0.000013453328f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_luul_3 = (code_luul * 0.000013453328f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + (cell_eta_5 * 240f))) + 28400u));
+    let at_uuul_3 = (code_uuul * 0.000013453328f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5f)) + (cell_roughness_6 * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_lllu_3 = (code_lllu * 0.000013453328f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 5f)) + (cell_roughness_6 * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_ullu_3 = (code_ullu * 0.000013453328f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 5f)) + (cell_roughness_6 * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_lulu_3 = (code_lulu * 0.000013453328f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 5f)) + (cell_roughness_6 * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_uulu_3 = (code_uulu * 0.000013453328f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_lluu_3 = (code_lluu * 0.000013453328f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_uluu_3 = (code_uluu * 0.000013453328f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_luuu_3 = (code_luuu * 0.000013453328f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 5f)) + ((cell_roughness_6 + 1f) * 40f)) + ((cell_eta_5 + 1f) * 240f))) + 28400u));
+    let at_uuuu_3 = (code_uuuu * 0.000013453328f);
+    return ((((((((((((((((at_llll_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * (1f - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * (1f - weight_eta_5)))) + (at_lull_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * (1f - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * (1f - weight_eta_5)))) + (at_llul_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * (1f - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * (1f - weight_eta_5)))) + (at_luul_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1f - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1f - weight_eta_5)))) + (at_lllu_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * weight_eta_5))) + (at_lulu_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * weight_eta_5))) + (at_lluu_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_luuu_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+fn glossy_steady(cos_theta_8: f32, conductor_roughness_4: f32, roughness_7: f32, eta_8: f32) -> f32 {
+    let u_cos_theta_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
+    let node_cos_theta_7 = (u_cos_theta_7 * 4f);
+    let cell_cos_theta_7 = min(floor(node_cos_theta_7), 3f);
+    let weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    let u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0f), 1f));
+    let node_conductor_roughness_4 = (u_conductor_roughness_4 * 7f);
+    let cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6f);
+    let weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
+    let u_roughness_7 = sqrt(min(max(roughness_7, 0f), 1f));
+    let node_roughness_7 = (u_roughness_7 * 5f);
+    let cell_roughness_7 = min(floor(node_roughness_7), 4f);
+    let weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    let u_eta_6 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
+    let node_eta_6 = (u_eta_6 * 5f);
+    let cell_eta_6 = min(floor(node_eta_6), 4f);
+    let weight_eta_6 = (node_eta_6 - cell_eta_6);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_llll_4 = (code_llll * 0.000013521936f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_ulll_4 = (code_ulll * 0.000013521936f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_lull_4 = (code_lull * 0.000013521936f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_uull_4 = (code_uull * 0.000013521936f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_llul_4 = (code_llul * 0.000013521936f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_ulul_4 = (code_ulul * 0.000013521936f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_luul_4 = (code_luul * 0.000013521936f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 29840u));
+    let at_uuul_4 = (code_uuul * 0.000013521936f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_lllu_4 = (code_lllu * 0.000013521936f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_ullu_4 = (code_ullu * 0.000013521936f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_lulu_4 = (code_lulu * 0.000013521936f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_uulu_4 = (code_uulu * 0.000013521936f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_lluu_4 = (code_lluu * 0.000013521936f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_uluu_4 = (code_uluu * 0.000013521936f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_luuu_4 = (code_luuu * 0.000013521936f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 29840u));
+    let at_uuuu_4 = (code_uuuu * 0.000013521936f);
+    return ((((((((((((((((at_llll_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_lull_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_llul_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_luul_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_lllu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
+}
+
+// glazec's glossy level (a conductor under a coat), the light trapped after the first
+// conductor event, per unit of it, that does not leave at the second: the generating
+// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
+// slab's round trip): a mixture of geometric event counts (B: the share that stays per
+// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+// 1 − w₀: a white conductor under a clear coat returns all of it.
+// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+fn glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
+    let quick_rate = ((c * vec3(0.5f)) / (one - (c * vec3(0.5f))));
+    let steady_rate = ((c * vec3(0.2f)) / (one - (c * vec3(0.8f))));
+    let _e27 = (c * slow);
+    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - _e27), vec3(0.000001f)));
+    let rest = max((1f - ((next + quick) + steady)), 0f);
+    return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
+}
+
+// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+fn glossy_once(single: f32, next_1: f32, c_1: vec3<f32>) -> vec3<f32> {
+    return ((c_1 * ((1f - single) * next_1)) + vec3(single));
+}
+
+// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
+// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
+// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_9: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
+}
+
+// glazec's glossy level, the directional albedo of what leaves after three or more conductor
+// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
+// and reflected by the conductor (F, at the refracted direction), but not let out at once
+// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+fn glossy_remainder(t: f32, a: vec3<f32>, fresnel_1: vec3<f32>, single_1: f32, later: vec3<f32>) -> vec3<f32> {
+    return ((((a * a) * fresnel_1) * later) * (t * (1f - single_1)));
+}
+
+// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
+// that leaves after several conductor events has forgotten where it entered, so
+// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
+fn glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f32>) -> vec3<f32> {
+    return ((m_i * m_o) / (max(m_avg, vec3(0.000001f)) * vec3(3.1415927f)));
+}
+
+// The directional albedo seen above a coat over a conductor (glazec's glossy level):
+// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+// own paths) and the remainder (`glossy_remainder`).
+fn glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_1: vec3<f32>, once: vec3<f32>, single_2: f32, later_1: vec3<f32>) -> vec3<f32> {
+    let near_1 = ((a_lobe * a_lobe) * once);
+    let far_1 = (((a_1 * a_1) * later_1) * (1f - single_2));
+    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1f - t_1)));
+}
+
+// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+// symmetric in i and o.
+fn interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: vec3<f32>, e_o: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
+    let _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
+    return (f_below / (vec3(1f) - _e8));
+}
+
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
 // cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
 // back with the slab's round-trip transmittance g and meets the body again, which (mean
@@ -277,25 +631,9 @@ fn trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
 // albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
 // all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-fn trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32, mu_c_1: f32, round_trip: vec3<f32>, rho: vec3<f32>, q: f32) -> vec3<f32> {
+fn trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32, mu_c_2: f32, round_trip: vec3<f32>, rho: vec3<f32>, q: f32) -> vec3<f32> {
     let _e21 = ((rho * round_trip) * (1f - q));
-    return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_1 * mu_c_1), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
-}
-
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_4: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
-}
-
-// The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-fn interfaced_albedo_glossy(t: f32, a: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
-    let k = ((a * a) * (1f - t));
-    let _e11 = (e_below * k);
-    return (((((a * a) * e_below) * (t * t)) / (vec3(1f) - _e11)) + vec3((1f - t)));
+    return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -324,47 +662,73 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02f);
-    let layer2_transmit_l = (1f - layer2_fresnel_l);
-    let layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02f);
-    let layer2_transmit_v = (1f - layer2_fresnel_v);
     let layer2_v = refract_down(layer1_v, n_1, 1.02f);
     let layer2_l = refract_down(layer1_l, n_1, 1.02f);
     let layer2_n_dot_v = dot(n_1, layer2_v);
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
-    let layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02f);
+    let layer2_transmit_l = (1f - layer2_fresnel_l);
+    let layer2_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
+    let layer2_fresnel_cond_l = f_schlick(f0_under_coat, layer2_cos_l);
+    let layer2_scale_l = glossy_scale(layer1_n_dot_l, 0.3f, 0f, 1.02f);
+    let layer2_next_l = glossy_next(layer1_n_dot_l, 0.3f, 0f, 1.02f);
+    let _e94 = glossy_lobe_albedo(layer1_n_dot_l, 0.3f, 0f, 1.02f);
+    let _e99 = max(layer2_cos_l, 0.19711706f);
+    let _e101 = ggx_albedo(_e99, 0.3f);
+    let _e104 = glossy_trapped_share(_e99, 0.19705611f, 0.09f);
+    let layer2_cone_share_l = (1f - _e104);
+    let layer2_lobe_normaliser_l = (_e101 * layer2_cone_share_l);
+    let layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e94) * layer2_lobe_normaliser_l), 0f), 1f);
+    let layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
+    let _e126 = glossy_quick(layer1_n_dot_l, 0.3f, 0f, 1.02f);
+    let _e130 = glossy_steady(layer1_n_dot_l, 0.3f, 0f, 1.02f);
+    let layer2_later_l = glossy_later(layer2_next_l, _e126, _e130, 0.43932146f, layer2_survival);
+    let layer2_once_l = glossy_once(layer2_single_l, layer2_next_l, layer2_survival);
+    let _e138 = glossy_once(layer2_single_l, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l = (layer2_once_l / vec3(max(_e138.x, 0.000001f)));
+    let layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02f);
+    let layer2_transmit_v = (1f - layer2_fresnel_v);
+    let layer2_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
+    let layer2_fresnel_cond_v = f_schlick(f0_under_coat, layer2_cos_v);
+    let layer2_scale_v = glossy_scale(layer1_n_dot_v, 0.3f, 0f, 1.02f);
+    let layer2_next_v = glossy_next(layer1_n_dot_v, 0.3f, 0f, 1.02f);
+    let _e164 = glossy_lobe_albedo(layer1_n_dot_v, 0.3f, 0f, 1.02f);
+    let _e169 = max(layer2_cos_v, 0.19711706f);
+    let _e171 = ggx_albedo(_e169, 0.3f);
+    let _e174 = glossy_trapped_share(_e169, 0.19705611f, 0.09f);
+    let layer2_cone_share_v = (1f - _e174);
+    let layer2_lobe_normaliser_v = (_e171 * layer2_cone_share_v);
+    let layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e164) * layer2_lobe_normaliser_v), 0f), 1f);
+    let layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1f - layer2_next_v), 0.000001f)), 0f), 1f);
+    let _e196 = glossy_quick(layer1_n_dot_v, 0.3f, 0f, 1.02f);
+    let _e200 = glossy_steady(layer1_n_dot_v, 0.3f, 0f, 1.02f);
+    let layer2_later_v = glossy_later(layer2_next_v, _e196, _e200, 0.43932146f, layer2_survival);
+    let layer2_once_v = glossy_once(layer2_single_v, layer2_next_v, layer2_survival);
+    let _e208 = glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
+    let layer2_once_colour_v = (layer2_once_v / vec3(max(_e208.x, 0.000001f)));
     let layer2_h = half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), layer2_alpha);
     let layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha);
     let layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
-    let layer2_f_base = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    let _e99 = ggx_albedo(layer2_cos_l, 0.3006279f);
-    let _e101 = f_schlick(f0_under_coat, layer2_cos_l);
-    let layer2_albedo_l = (_e101 * _e99);
-    let _e104 = ggx_albedo(layer2_cos_v, 0.3006279f);
-    let _e106 = f_schlick(f0_under_coat, layer2_cos_v);
-    let layer2_albedo_v = (_e106 * _e104);
-    let layer1_inner_l = ((layer1_absorb_l * layer1_absorb_l) * (1f - layer2_transmit_l));
-    let layer1_inner_v = ((layer1_absorb_v * layer1_absorb_v) * (1f - layer2_transmit_v));
-    let _e116 = interfaced_glossy_under(layer2_f_base, layer2_albedo_l, layer1_inner_l, layer2_albedo_v, layer1_inner_v);
-    let layer2_trapped_l = trapped_share(layer2_cos_l, layer2_mu_c, layer2_alpha);
-    let layer2_trapped_v = trapped_share(layer2_cos_v, layer2_mu_c, layer2_alpha);
-    let layer1_trapped = trapped_lobe(layer2_albedo_l, layer2_trapped_l, layer2_albedo_v, layer2_trapped_v, layer2_mu_c, vec3<f32>(0.48009053f, 0.0003817311f, 0.00011028103f), layer2_rho, layer2_trapped_escape);
-    let layer1_under = (_e116 + layer1_trapped);
-    let layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.02f);
-    let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l);
-    let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v);
+    let _e227 = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    let layer1_under = ((_e227 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    let _e233 = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
+    let _e234 = glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    let _e235 = glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    let layer1_later = glossy_remainder_lobe(_e234, _e235, layer1_remainder_avg);
+    let layer1_f = (_e233 + layer1_later);
+    let layer1_albedo_l = glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
+    let layer1_albedo_v = glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e147 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let _e251 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha);
     let layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha);
     let trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1f), layer1_rho, layer1_trapped_escape);
-    let under = (_e147 + trapped);
+    let under = (_e251 + trapped);
     let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -382,10 +746,10 @@ fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn glazec_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+fn glazec_environment(direction: vec3<f32>, roughness_8: f32) -> vec3<f32> {
     let uv = glazec_equirect_uv(direction);
     let _e3 = textureNumLevels(glazec_radiance);
-    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let lod = (roughness_8 * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -397,16 +761,24 @@ fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
     return _e5.xyz;
 }
 
+// The directional albedo seen above a coat over a glossy body (same model as
+// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+fn interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
+    let k = ((a_2 * a_2) * (1f - t_2));
+    let _e11 = (e_below * k);
+    return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / (vec3(1f) - _e11)) + vec3((1f - t_2)));
+}
+
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
 // the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
+fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
     let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_4), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    let d_2 = ((n_3 * (1f - t_1)) + (r * t_1));
+    let smoothness = min(max((1f - alpha_5), 0f), 1f);
+    let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let d_2 = ((n_3 * (1f - t_3)) + (r * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -424,29 +796,40 @@ fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let layer1_v = refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1.02f);
-    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
-    let layer2_transmit_v_1 = (1f - layer2_fresnel_l);
     let layer2_v = refract_down(layer1_v, n_4, 1.02f);
     let layer2_n_dot_v_1 = dot(n_4, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
-    let _e48 = ggx_albedo(layer2_cos_v_1, 0.3006279f);
-    let _e50 = f_schlick(f0_under_coat, layer2_cos_v_1);
-    let layer2_albedo_l_1 = (_e50 * _e48);
-    let layer2_albedo_v_1 = (_e50 * _e48);
-    let layer1_albedo_l = interfaced_albedo_glossy(layer2_transmit_l_1, layer1_absorb_l, layer2_albedo_l_1);
-    let layer1_albedo_v = interfaced_albedo_glossy(layer2_transmit_v_1, layer1_absorb_l, layer2_albedo_v_1);
+    let layer2_fresnel_l = fr_dielectric(layer1_n_dot_v_1, 1.02f);
+    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
+    let layer2_absorb_l = slab_transmittance(layer1_tau, layer2_cos_v_1);
+    let layer2_fresnel_cond_l = f_schlick(f0_under_coat, layer2_cos_v_1);
+    let layer2_scale_l = glossy_scale(layer1_n_dot_v_1, 0.3f, 0f, 1.02f);
+    let layer2_next_l = glossy_next(layer1_n_dot_v_1, 0.3f, 0f, 1.02f);
+    let _e59 = glossy_lobe_albedo(layer1_n_dot_v_1, 0.3f, 0f, 1.02f);
+    let _e64 = max(layer2_cos_v_1, 0.19711706f);
+    let _e66 = ggx_albedo(_e64, 0.3f);
+    let _e69 = glossy_trapped_share(_e64, 0.19705611f, 0.09f);
+    let layer2_cone_share_l_1 = (1f - _e69);
+    let layer2_lobe_normaliser_l_1 = (_e66 * layer2_cone_share_l_1);
+    let layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e59) * layer2_lobe_normaliser_l_1), 0f), 1f);
+    let layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
+    let _e91 = glossy_quick(layer1_n_dot_v_1, 0.3f, 0f, 1.02f);
+    let _e95 = glossy_steady(layer1_n_dot_v_1, 0.3f, 0f, 1.02f);
+    let layer2_later_l = glossy_later(layer2_next_l, _e91, _e95, 0.43932146f, layer2_survival);
+    let layer2_once_l = glossy_once(layer2_single_l_1, layer2_next_l, layer2_survival);
+    let _e103 = glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e103.x, 0.000001f)));
+    let layer1_albedo_l = glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
     let albedo_l = interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l);
-    let albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_v);
+    let albedo_v = interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = specular_dominant_direction(n_4, v_4, 0.0016f);
     let reflected_1 = specular_dominant_direction(n_4, v_4, 0.138277f);
-    let _e75 = (dot(n_4, v_4) > 0f);
+    let _e130 = (dot(n_4, v_4) > 0f);
     let light_a = glazec_environment(reflected, 0.04f);
     let light_b = glazec_environment(reflected_1, base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e75) * light_a) + (select(vec3(0f), under_albedo, _e75) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e130) * light_a) + (select(vec3(0f), under_albedo, _e130) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 

@@ -26,7 +26,7 @@ const tau_1: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.319615f, 0.4872604f, 0.545984f);
 
 @group(0) @binding(4) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 

@@ -32,7 +32,7 @@ const layer1_rho: vec3<f32> = vec3<f32>(0.2438511f, 0.38261583f, 0.59592247f);
 const layer1_r_return: vec3<f32> = vec3<f32>(0.5949677f, 0.5949677f, 0.5949677f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 

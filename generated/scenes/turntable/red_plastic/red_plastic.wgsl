@@ -25,7 +25,7 @@ const layer1_r_return: vec3<f32> = vec3<f32>(0.583854f, 0.583854f, 0.583854f);
 const layer1_albedo_v: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 
 @group(0) @binding(3) 
-var<uniform> glazec_tables: array<vec4<u32>, 2542>;
+var<uniform> glazec_tables: array<vec4<u32>, 4087>;
 @group(2) @binding(0) 
 var glazec_environment_sampler: sampler;
 @group(2) @binding(1) 
