@@ -29,10 +29,13 @@
 //!     internal reflections (TIR included) between the coat and the body, R(τ) and the escape
 //!     share E_esc(τ) from slab integrals (smooth) or tables (rough). When the layer below is
 //!     itself coated, the series starts from what its first reflection really returns
-//!     (`first_pass`): that light leaves concentrated towards the normal. A glossy body (a
-//!     conductor) keeps its lobe: f_b/(1 − √(E k E k)) for the bounces inside the escape cone, a
-//!     pool of light trapped by TIR that leaves after a few bounces, and a lobe widened by the
-//!     refraction through a rough coat above (`BLUR_WIDTH`).
+//!     (`first_pass`): that light leaves concentrated towards the normal. A conductor directly
+//!     under the coat gets the **glossy level** (`glossy`, see its essay): a lobe for the light
+//!     that leaves near the mirror direction and a separable remainder for the light trapped
+//!     by TIR, split by the number of conductor events with statistics from white random walks
+//!     (`glazec tables`). A glossy layer deeper down (a coated conductor under further coats)
+//!     keeps its lobe: f_b/(1 − √(E k E k)) for the bounces inside the escape cone, widened by
+//!     the refraction through a rough coat above (`BLUR_WIDTH`).
 //!
 //!   Reciprocal, white furnace within 2·10⁻³, exact for a smooth coat over Lambert with
 //!   absorption (research/accuracy.md §1.4); measured against the stochastic reference in
