@@ -231,18 +231,29 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     /// one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
     /// reflected twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
     /// E = 1.086 at 89°).
-    fn hemispherical(&self, c: F::Vec, of: impl Fn(&Side<F>) -> F::Vec) -> F::Vec {
+    fn hemispherical(&self, c: F::Vec, nodes: &[(F, F)], of: impl Fn(&Side<F>) -> F::Vec) -> F::Vec {
+        let mut total = self.inputs.zero();
+        for (k, &(mu, weight)) in nodes.iter().enumerate() {
+            let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}{}", ["a", "b"][k / 4], k % 4));
+            total = total + of(&side) * weight;
+        }
+        total
+    }
+
+    /// The nodes μ and weights 2μw of [`Self::hemispherical`]: made once per level, so that
+    /// ⟨M⟩ and the mean albedo evaluate their tables at the same expressions and a shader makes
+    /// each lookup once (term calls with the same arguments are shared).
+    fn hemisphere_nodes(&self) -> Vec<(F, F)> {
         let split = self.trapped_band_edge();
         let panels = [(self.inputs.lit(0.0), split), (split, split.one_minus())];
-        let mut total = self.inputs.zero();
+        let mut nodes = Vec::with_capacity(2 * GAUSS_LEGENDRE_4.len());
         for (p, (from, width)) in panels.into_iter().enumerate() {
             for (k, (x, w)) in GAUSS_LEGENDRE_4.into_iter().enumerate() {
                 let mu = (from + width * x).named(&self.name(&format!("node{}{}", ["a", "b"][p], k)));
-                let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}{}", ["a", "b"][p], k));
-                total = total + of(&side) * (mu * width * (2.0 * w));
+                nodes.push((mu, (mu * width * (2.0 * w)).named(&self.name(&format!("weight{}{}", ["a", "b"][p], k)))));
             }
         }
-        total
+        nodes
     }
 
     /// μ_b, the outer cosine whose refracted cosine lies [`TRAPPED_BAND_WIDTH`] α inside the
@@ -323,6 +334,8 @@ pub(super) fn glossy_level<F: Real>(
     let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
     let v_side = v.as_ref().unwrap_or(&l);
     let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur);
+    let hemisphere = OnceCell::new();
+    let nodes = || hemisphere.get_or_init(|| glossy.hemisphere_nodes()).as_slice();
     let f = if g.albedo_only {
         inputs.zero()
     } else {
@@ -342,7 +355,7 @@ pub(super) fn glossy_level<F: Real>(
             lobe.named(&level_name("under", k)),
             eta,
         );
-        let average = glossy.hemispherical(c, remainder).named(&level_name("remainder_avg", k));
+        let average = glossy.hemispherical(c, nodes(), remainder).named(&level_name("remainder_avg", k));
         let later =
             glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
@@ -350,7 +363,7 @@ pub(super) fn glossy_level<F: Real>(
     let albedo = want_albedo.then(|| {
         let e_l = directional_albedo(&l).named(&level_name("albedo_l", k));
         let e_v = directional_albedo(v_side).named(&level_name("albedo_v", k));
-        let mean = glossy.hemispherical(c, directional_albedo).named(&level_name("rho", k));
+        let mean = glossy.hemispherical(c, nodes(), directional_albedo).named(&level_name("rho", k));
         Albedo { e_l, e_v, mean }
     });
     Level {
