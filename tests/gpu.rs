@@ -74,6 +74,18 @@ struct Worst {
     insignificant_by_relative: usize,
 }
 
+impl Worst {
+    /// Takes in what another thread saw.
+    fn merge(&mut self, other: Worst) {
+        if other.relative > self.relative {
+            self.relative = other.relative;
+            self.detail = other.detail;
+        }
+        self.values += other.values;
+        self.insignificant_by_relative += other.insignificant_by_relative;
+    }
+}
+
 /// Compares GPU values with CPU values; returns the failures (at most a few, described).
 fn compare(
     label: &str,
@@ -167,25 +179,53 @@ fn shipped_materials_agree_with_the_cpu_in_every_language() {
     assert!(failures.is_empty(), "{} disagreements:\n{}", failures.len(), failures.join("\n"));
 }
 
+/// Checks random stacks on every core: lavapipe compiles each pipeline on the thread that
+/// creates it, and a deep stack's four shaders take seconds to compile.
 #[test]
 fn random_stacks_agree_with_the_cpu_in_every_language() {
     let Some(gpu) = gpu() else { return };
     let pairs = pairs();
     let mut runner = TestRunner::new(Config { rng_seed: RngSeed::Fixed(RANDOM_SEED), ..Config::default() });
+    let stacks: Vec<String> = (0..RANDOM_STACKS)
+        .map(|_| {
+            let stack = common::stacks::stack().new_tree(&mut runner).expect("a stack").current();
+            common::stacks::Writer { next_param: 0 }.material(&stack)
+        })
+        .collect();
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let check = |first: usize| {
+        let mut worst: [Worst; 4] = Default::default();
+        let mut failures = Vec::new();
+        for (index, text) in stacks.iter().enumerate().skip(first).step_by(workers) {
+            let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
+            let values = compiled.material.default_values();
+            let found = check_material(gpu, &format!("random stack {index}"), &compiled, &values, &pairs, &mut worst);
+            if !found.is_empty() {
+                failures.push((index, format!("{}\n{text}", found.join("\n"))));
+            }
+        }
+        (worst, failures)
+    };
+    let results: Vec<_> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..workers).map(|first| scope.spawn(move || check(first))).collect();
+        workers.into_iter().map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
+    });
     let mut worst: [Worst; 4] = Default::default();
     let mut failures = Vec::new();
-    for index in 0..RANDOM_STACKS {
-        let stack = common::stacks::stack().new_tree(&mut runner).expect("a stack").current();
-        let text = common::stacks::Writer { next_param: 0 }.material(&stack);
-        let compiled = glazec::compile(&text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
-        let values = compiled.material.default_values();
-        let found = check_material(gpu, &format!("random stack {index}"), &compiled, &values, &pairs, &mut worst);
-        if !found.is_empty() {
-            failures.push(format!("{}\n{text}", found.join("\n")));
+    for (found_worst, found) in results {
+        for (total, part) in worst.iter_mut().zip(found_worst) {
+            total.merge(part);
         }
+        failures.extend(found);
     }
+    failures.sort_by_key(|(index, _)| *index);
+    let failures: Vec<String> = failures.into_iter().map(|(_, text)| text).collect();
     report("random stacks", &worst);
-    eprintln!("GPU cases executed: {RANDOM_STACKS} stacks × {} paths × {} pairs", ShaderPath::ALL.len(), pairs.len());
+    eprintln!(
+        "GPU cases executed: {RANDOM_STACKS} stacks × {} paths × {} pairs ({workers} threads)",
+        ShaderPath::ALL.len(),
+        pairs.len()
+    );
     assert!(failures.is_empty(), "{} stacks disagree:\n{}", failures.len(), failures.join("\n\n"));
 }
 

@@ -128,6 +128,7 @@ fn image_based_lighting_matches_the_cpu_split_sum_and_a_brute_force_integral() {
     let image = environment.image(1024).expect("an analytic environment");
     let prefiltered = Arc::new(prefilter(&image));
     let points = points();
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
     println!(
         "{} points per material, {} brute-force samples per strategy and point; luminance errors relative to the mean luminance",
         points.len(),
@@ -143,24 +144,28 @@ fn image_based_lighting_matches_the_cpu_split_sum_and_a_brute_force_integral() {
         let values = m.default_values();
         let gpu_image = render_ibl(&gpu, &compiled, &prefiltered);
         let (mut agreement, mut squared, mut worst, mut error) = (0.0_f32, 0.0, 0.0_f32, 0.0_f32);
-        let rows: Vec<(Vec3, Vec3, Vec3, Vec3)> = points
-            .iter()
-            .enumerate()
-            .map(|(i, &(index, n))| {
-                let device = rgb(gpu_image[index]);
-                let cpu = prefiltered.shade(&glazec::eval::environment_lobes(m, &values, n, Vec3::Z));
-                let radiance = |d: Vec3| environment.radiance(d);
-                let (truth, std_error) = glazec::eval::environment_integral(
-                    m,
-                    &values,
-                    (n, Vec3::Z),
-                    &radiance,
-                    BRUTE_FORCE_SAMPLES,
-                    i as u64,
-                );
-                (device, cpu, truth, std_error)
-            })
-            .collect();
+        let row = |i: usize, &(index, n): &(usize, Vec3)| {
+            let device = rgb(gpu_image[index]);
+            let cpu = prefiltered.shade(&glazec::eval::environment_lobes(m, &values, n, Vec3::Z));
+            let radiance = |d: Vec3| environment.radiance(d);
+            let (truth, std_error) =
+                glazec::eval::environment_integral(m, &values, (n, Vec3::Z), &radiance, BRUTE_FORCE_SAMPLES, i as u64);
+            (device, cpu, truth, std_error)
+        };
+        // The brute force on every core, in chunks of consecutive points (each seeded by its
+        // index, so the result does not depend on the number of threads).
+        let chunk = points.len().div_ceil(workers);
+        let rows: Vec<(Vec3, Vec3, Vec3, Vec3)> = std::thread::scope(|scope| {
+            let parts: Vec<_> = points
+                .chunks(chunk)
+                .enumerate()
+                .map(|(c, part)| {
+                    let row = &row;
+                    scope.spawn(move || part.iter().enumerate().map(|(j, p)| row(c * chunk + j, p)).collect::<Vec<_>>())
+                })
+                .collect();
+            parts.into_iter().flat_map(|p| p.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
+        });
         let scale = rows.iter().map(|r| luminance(r.2)).sum::<f32>() / rows.len() as f32;
         for (device, cpu, truth, std_error) in &rows {
             agreement = agreement.max((*device - *cpu).abs().max_element() / cpu.max_element().max(scale * 0.1));

@@ -31,7 +31,7 @@ use naga::{
 };
 
 use crate::math::tables::TableId;
-use crate::math::{Kind, Logic, Named, Real, Slot, TermDef, Vector};
+use crate::math::{Kind, Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 /// Types the builder uses everywhere.
 #[derive(Clone, Copy, Debug)]
@@ -227,6 +227,98 @@ impl ModuleBuilder {
         let result = f.function.expressions.append(Expression::CallResult(function), Span::UNDEFINED);
         f.block.push(Statement::Call { function, arguments, result: Some(result) }, Span::UNDEFINED);
         result
+    }
+
+    /// A local variable of the current function (no initialiser), as its pointer expression.
+    fn local(&self, name: &str, ty: Handle<Type>) -> Handle<Expression> {
+        let variable = {
+            let mut state = self.state.borrow_mut();
+            let Some(f) = state.stack.last_mut() else {
+                unreachable!("local variable outside of a function");
+            };
+            let variable = naga::LocalVariable { name: Some(name.to_string()), ty, init: None };
+            f.function.local_variables.append(variable, Span::UNDEFINED)
+        };
+        self.append(Expression::LocalVariable(variable))
+    }
+
+    /// `pointer = value;` in the current block.
+    fn store(&self, pointer: Handle<Expression>, value: Handle<Expression>) {
+        self.statement(Statement::Store { pointer, value });
+    }
+
+    /// Builds a nested block: statements and expressions that `build` adds go into a new block,
+    /// which is returned; term calls made inside are not reused after it (their results are
+    /// not in scope there).
+    fn block<R>(&self, build: impl FnOnce() -> R) -> (Block, R) {
+        let (outer, calls) = {
+            let mut state = self.state.borrow_mut();
+            let Some(f) = state.stack.last_mut() else {
+                unreachable!("block outside of a function");
+            };
+            close_emit(f);
+            (std::mem::take(&mut f.block), f.calls.clone())
+        };
+        let result = build();
+        let mut state = self.state.borrow_mut();
+        let Some(f) = state.stack.last_mut() else {
+            unreachable!("block outside of a function");
+        };
+        close_emit(f);
+        f.calls = calls;
+        (std::mem::replace(&mut f.block, outer), result)
+    }
+
+    /// The loop of [`Real::sum_over`] in the current function:
+    ///
+    /// ```text
+    /// var index: u32 = 0u;  var total: vec3<f32> = vec3(0.0);  …
+    /// loop {
+    ///     <body at f32(index)>;  total = total + <term>;  …
+    ///     continuing { index = index + 1u;  break if index >= count; }
+    /// }
+    /// ```
+    fn sum_loop<'a>(&'a self, sum: &Sum, body: &dyn Fn(Expr<'a>) -> Vec<ExprVec<'a>>) -> Vec<ExprVec<'a>> {
+        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
+        let index = self.local(sum.index, self.types.u32);
+        self.store(index, u32_literal(0));
+        let totals: Vec<_> = sum.totals.iter().map(|name| self.local(name, self.types.vec3)).collect();
+        for &total in &totals {
+            let zero = self.vector_handle(VVal::Const([0.0; 3]), None);
+            self.store(total, zero);
+        }
+        let (body_block, ()) = self.block(|| {
+            let counter = self.append(Expression::Load { pointer: index });
+            let node = self.append(Expression::As { expr: counter, kind: naga::ScalarKind::Float, convert: Some(4) });
+            let terms = body(self.scalar(node));
+            debug_assert_eq!(terms.len(), totals.len(), "sum_over: one term per total");
+            for (&total, term) in totals.iter().zip(terms) {
+                let term = term.handle();
+                let before = self.append(Expression::Load { pointer: total });
+                let after = self.append(Expression::Binary { op: BinaryOperator::Add, left: before, right: term });
+                self.store(total, after);
+            }
+        });
+        let (continuing, done) = self.block(|| {
+            let counter = self.append(Expression::Load { pointer: index });
+            let next =
+                self.append(Expression::Binary { op: BinaryOperator::Add, left: counter, right: u32_literal(1) });
+            self.store(index, next);
+            let count = u32_literal(sum.count);
+            let done = self.append(Expression::Binary { op: BinaryOperator::GreaterEqual, left: next, right: count });
+            // The condition must be emitted inside `continuing`: close the range here.
+            self.close();
+            done
+        });
+        self.statement(Statement::Loop { body: body_block, continuing, break_if: Some(done) });
+        totals.into_iter().map(|pointer| self.vector(self.append(Expression::Load { pointer }))).collect()
+    }
+
+    /// Closes the current emit range.
+    fn close(&self) {
+        if let Some(f) = self.state.borrow_mut().stack.last_mut() {
+            close_emit(f);
+        }
     }
 
     /// Adds a finished function to the module.
@@ -805,6 +897,19 @@ impl<'a> Real for Expr<'a> {
             Kind::Vec3 => Slot::V(b.vector(result)),
         }
     }
+    fn sum_over(b: &'a ModuleBuilder, sum: &Sum, body: &dyn Fn(Self) -> Vec<ExprVec<'a>>) -> Vec<ExprVec<'a>> {
+        if !sum.fold {
+            return b.sum_loop(sum, body);
+        }
+        let zero = ExprVec { b, v: VVal::Const([0.0; 3]), name: None };
+        let mut totals = vec![zero; sum.totals.len()];
+        for i in 0..sum.count {
+            for (total, term) in totals.iter_mut().zip(body(b.constant(i as f32))) {
+                *total = *total + term;
+            }
+        }
+        totals
+    }
 }
 
 impl<'a> ExprVec<'a> {
@@ -1018,6 +1123,9 @@ impl<'a> Vector for ExprVec<'a> {
     }
     fn is_known_zero(self) -> bool {
         matches!(self.v, VVal::Const(c) if c == [0.0; 3])
+    }
+    fn is_known(self) -> bool {
+        matches!(self.v, VVal::Const(_))
     }
     fn refract(self, normal: Self, eta: Expr<'a>) -> Self {
         match (self.v, normal.v, eta.v) {

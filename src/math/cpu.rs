@@ -7,7 +7,7 @@
 use glam::Vec3;
 
 use super::tables::TableId;
-use super::{Logic, Named, Real, Slot, TermDef, Vector};
+use super::{Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 impl Named for f32 {
     fn named(self, _: &str) -> Self {
@@ -88,6 +88,15 @@ impl Real for f32 {
     fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {
         body(args)
     }
+    fn sum_over((): (), sum: &Sum, body: &dyn Fn(f32) -> Vec<Vec3>) -> Vec<Vec3> {
+        let mut totals = vec![Vec3::ZERO; sum.totals.len()];
+        for i in 0..sum.count {
+            for (total, term) in totals.iter_mut().zip(body(i as f32)) {
+                *total += term;
+            }
+        }
+        totals
+    }
 }
 
 impl Vector for Vec3 {
@@ -128,6 +137,9 @@ impl Vector for Vec3 {
     }
     fn is_known_zero(self) -> bool {
         self == Vec3::ZERO
+    }
+    fn is_known(self) -> bool {
+        true
     }
     fn refract(self, normal: Vec3, eta: f32) -> Vec3 {
         // WGSL §17.5 refract(e1, e2, e3): k = 1 − e3²(1 − dot(e2, e1)²);

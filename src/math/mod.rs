@@ -116,6 +116,14 @@ pub trait Real:
     /// Calls (or, on the CPU, simply evaluates) a term. Use [`shading_fn!`] rather than this.
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self>;
 
+    /// The sums over i = 0, 1, …, `sum.count` − 1 of the vectors `body(i)` returns (i as a
+    /// number; `body` returns as many vectors every time), added in order from zero. In a shader
+    /// this is a loop whose body is built once (`sum.index` names its counter, `sum.totals` its
+    /// accumulators), so that a quadrature over many nodes costs one node's code; with
+    /// `sum.fold` the iterations are instead built one after another with i a literal, for
+    /// bodies whose other inputs are all literals and which therefore fold to constants.
+    fn sum_over(ctx: Self::Ctx, sum: &Sum, body: &dyn Fn(Self) -> Vec<Self::Vec>) -> Vec<Self::Vec>;
+
     /// A literal in the same context as `self`.
     fn lit(self, x: f32) -> Self {
         Self::constant(self.ctx(), x)
@@ -145,6 +153,16 @@ pub trait Real:
     fn gt_lit(self, x: f32) -> Self::Bool {
         self.gt(self.lit(x))
     }
+}
+
+/// A loop of [`Real::sum_over`]: how many iterations, what the generated code calls its
+/// counter and accumulators, and whether to unroll it at compile time instead.
+#[derive(Clone, Copy, Debug)]
+pub struct Sum<'n> {
+    pub count: u32,
+    pub index: &'n str,
+    pub totals: &'n [&'n str],
+    pub fold: bool,
 }
 
 /// A three-component vector of a [`Real`] family: a direction or an RGB colour.
@@ -181,6 +199,10 @@ pub trait Vector:
     /// whether it is zero). Lets a method skip work that would multiply by one, e.g. the
     /// absorption of a clear coat; the result is the same either way.
     fn is_known_zero(self) -> bool;
+
+    /// Whether the value is known when the code is generated (always on the CPU; a folded
+    /// constant in naga).
+    fn is_known(self) -> bool;
 
     /// `1 − self`, component-wise.
     fn one_minus(self) -> Self {

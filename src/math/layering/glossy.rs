@@ -33,6 +33,7 @@
 //! is one GGX evaluation; the coat's own lobe is the other.
 
 use super::*;
+use crate::math::Sum;
 
 /// The smallest outer cosine at which the glossy tables are measured (`glazec tables` evaluates
 /// every direction node at μ ≥ this): at grazing incidence itself the light a rough coat lets in
@@ -49,6 +50,16 @@ const GAUSS_LEGENDRE_4: [(f32, f32); 4] = [
     (0.669_990_5, 0.326_072_58),
     (0.930_568_2, 0.173_927_42),
 ];
+
+/// The `k`-th node (k = 0…3, a whole number) and weight of [`GAUSS_LEGENDRE_4`], chosen by `k`
+/// as a value (the loop counter of [`Glossy::hemispherical`]).
+fn gauss_legendre_4<F: Real>(k: F) -> (F, F) {
+    let pick = |of: fn((f32, f32)) -> f32| {
+        let [a, b, c, d] = GAUSS_LEGENDRE_4.map(|node| k.lit(of(node)));
+        F::select(k.lt_lit(1.5), F::select(k.lt_lit(0.5), a, b), F::select(k.lt_lit(2.5), c, d))
+    };
+    (pick(|(x, _)| x), pick(|(_, w)| w))
+}
 
 /// The band of outer cosines [0, μ_b] whose light the conductor sends largely out of the escape
 /// cone ends where the refracted mirror direction lies this many GGX α (conductor's plus
@@ -93,6 +104,9 @@ struct Side<F: Real> {
     /// What the trapped light's events after the second return (`glossy_later`).
     later: F::Vec,
 }
+
+/// A per-direction quantity of the level, as [`Glossy::hemispherical`] averages it.
+type PerSide<F> = fn(&Side<F>) -> <F as Real>::Vec;
 
 impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     fn name(&self, base: &str) -> String {
@@ -223,37 +237,37 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         (mu.sq().one_minus() / self.eta.sq()).one_minus().at_least(0.0).sqrt().at_least(COS_EPSILON)
     }
 
-    /// ∫ 2μ x(μ) dμ of a per-direction quantity by 4-point Gauss–Legendre on two panels split at
-    /// the edge of the trapped band (folds to a number when the material's parameters are
-    /// literals). One rule over [0, 1] misses the remainder where it lives: for a coat of IOR
-    /// just above 1 the escape cone is almost the whole hemisphere and only light entering near
-    /// grazing is trapped, so M is concentrated below μ ≈ 0.2, where 6-point Gauss–Legendre had
-    /// one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
+    /// ∫ 2μ x(μ) dμ of per-direction quantities (one total per function in `of`, named
+    /// `totals` in generated code) by 4-point Gauss–Legendre on two panels split at the edge of
+    /// the trapped band. One rule over [0, 1] misses the remainder where it lives: for a coat of
+    /// IOR just above 1 the escape cone is almost the whole hemisphere and only light entering
+    /// near grazing is trapped, so M is concentrated below μ ≈ 0.2, where 6-point Gauss–Legendre
+    /// had one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
     /// reflected twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
     /// E = 1.086 at 89°).
-    fn hemispherical(&self, c: F::Vec, nodes: &[(F, F)], of: impl Fn(&Side<F>) -> F::Vec) -> F::Vec {
-        let mut total = self.inputs.zero();
-        for (k, &(mu, weight)) in nodes.iter().enumerate() {
-            let side = self.side(mu, self.refracted_cosine(mu), c, &format!("node{}{}", ["a", "b"][k / 4], k % 4));
-            total = total + of(&side) * weight;
-        }
-        total
-    }
-
-    /// The nodes μ and weights 2μw of [`Self::hemispherical`]: made once per level, so that
-    /// ⟨M⟩ and the mean albedo evaluate their tables at the same expressions and a shader makes
-    /// each lookup once (term calls with the same arguments are shared).
-    fn hemisphere_nodes(&self) -> Vec<(F, F)> {
+    ///
+    /// The eight nodes are one loop in a shader ([`Real::sum_over`]): each node looks up seven
+    /// 4D tables, and eight straight-line copies of that made a coat over a conductor with
+    /// runtime parameters a 140 KB shader that lavapipe took seconds to compile. With literal
+    /// parameters the loop folds to constants when the code is generated.
+    fn hemispherical(&self, c: F::Vec, of: &[PerSide<F>], totals: &[&str]) -> Vec<F::Vec> {
         let split = self.trapped_band_edge();
-        let panels = [(self.inputs.lit(0.0), split), (split, split.one_minus())];
-        let mut nodes = Vec::with_capacity(2 * GAUSS_LEGENDRE_4.len());
-        for (p, (from, width)) in panels.into_iter().enumerate() {
-            for (k, (x, w)) in GAUSS_LEGENDRE_4.into_iter().enumerate() {
-                let mu = (from + width * x).named(&self.name(&format!("node{}{}", ["a", "b"][p], k)));
-                nodes.push((mu, (mu * width * (2.0 * w)).named(&self.name(&format!("weight{}{}", ["a", "b"][p], k)))));
-            }
-        }
-        nodes
+        let fold = [self.eta, self.conductor_roughness, self.roughness].iter().all(|x| x.known().is_some())
+            && self.tau.is_known()
+            && c.is_known();
+        let index = self.name("node_index");
+        let sum = Sum { count: 2 * GAUSS_LEGENDRE_4.len() as u32, index: &index, totals, fold };
+        F::sum_over(self.inputs.ctx, &sum, &|i| {
+            // Node i: panel ⌊i/4⌋ (0: [0, μ_b], 1: [μ_b, 1]), Gauss–Legendre node i mod 4.
+            let panel = (i * 0.25).floor();
+            let (x, w) = gauss_legendre_4(i - panel * 4.0);
+            let from = split * panel;
+            let width = F::select(panel.lt_lit(0.5), split, split.one_minus());
+            let mu = (from + width * x).named(&self.name("node"));
+            let weight = (mu * width * (w * 2.0)).named(&self.name("weight"));
+            let side = self.side(mu, self.refracted_cosine(mu), c, "node");
+            of.iter().map(|of| of(&side) * weight).collect()
+        })
     }
 
     /// μ_b, the outer cosine whose refracted cosine lies [`TRAPPED_BAND_WIDTH`] α inside the
@@ -334,8 +348,20 @@ pub(super) fn glossy_level<F: Real>(
     let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
     let v_side = v.as_ref().unwrap_or(&l);
     let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur);
-    let hemisphere = OnceCell::new();
-    let nodes = || hemisphere.get_or_init(|| glossy.hemisphere_nodes()).as_slice();
+    // The remainder's mean ⟨M⟩ (for f) and the mean albedo (for the levels above), from the same
+    // nodes in one loop.
+    let mut wanted: Vec<PerSide<F>> = Vec::new();
+    let mut totals = Vec::new();
+    if !g.albedo_only {
+        wanted.push(remainder);
+        totals.push(level_name("remainder_total", k));
+    }
+    if want_albedo {
+        wanted.push(directional_albedo);
+        totals.push(level_name("albedo_total", k));
+    }
+    let totals: Vec<&str> = totals.iter().map(String::as_str).collect();
+    let mut means = glossy.hemispherical(c, &wanted, &totals).into_iter();
     let f = if g.albedo_only {
         inputs.zero()
     } else {
@@ -355,7 +381,10 @@ pub(super) fn glossy_level<F: Real>(
             lobe.named(&level_name("under", k)),
             eta,
         );
-        let average = glossy.hemispherical(c, nodes(), remainder).named(&level_name("remainder_avg", k));
+        let average = means
+            .next()
+            .unwrap_or_else(|| unreachable!("the remainder's mean is summed"))
+            .named(&level_name("remainder_avg", k));
         let later =
             glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
@@ -363,7 +392,8 @@ pub(super) fn glossy_level<F: Real>(
     let albedo = want_albedo.then(|| {
         let e_l = directional_albedo(&l).named(&level_name("albedo_l", k));
         let e_v = directional_albedo(v_side).named(&level_name("albedo_v", k));
-        let mean = glossy.hemispherical(c, nodes(), directional_albedo).named(&level_name("rho", k));
+        let mean =
+            means.next().unwrap_or_else(|| unreachable!("the mean albedo is summed")).named(&level_name("rho", k));
         Albedo { e_l, e_v, mean }
     });
     Level {
