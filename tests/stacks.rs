@@ -100,3 +100,29 @@ fn eight_coats_compile() {
     assert_eq!(compiled.material.coats.len(), 8);
     compiled.emit(&glazec::Target::TEXT).expect("emits");
 }
+
+/// The WGSL of a material, as text.
+fn wgsl(text: &str) -> String {
+    let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}"));
+    let artifact = compiled.emit(&[glazec::Target::Wgsl]).expect("emits").remove(0);
+    String::from_utf8(artifact.contents).expect("WGSL is UTF-8")
+}
+
+/// The glossy level's hemisphere (eight nodes, each with seven 4D lookups) is one loop per
+/// function in a shader when the material has runtime parameters, and folds to constants when it
+/// has none: unrolled, the lookup functions were called 20 times and the WGSL was 140 KB.
+#[test]
+fn a_conductor_under_a_coat_sums_its_hemisphere_in_one_loop_or_folds_it() {
+    let conductor = "Conductor(roughness: Param(\"cr\", 0.2), eta: (0.27, 0.68, 1.22), k: (3.61, 2.63, 2.29))";
+    let coat = "Coat(lobe: Ggx(roughness: Param(\"rough\", 0.3)), ior: Param(\"ior\", 1.5))";
+    let tunable = wgsl(&format!("Material(name: \"tunable_copper\", layers: [{coat}, {conductor}])"));
+    // One loop in `_brdf` and one in `_ibl`.
+    assert_eq!(tunable.matches("loop {").count(), 2, "{tunable}");
+    // glossy_scale: its definition, the light's and the view's side and the loop in `_brdf`,
+    // the view's side and the loop in `_ibl`.
+    assert_eq!(tunable.matches("glossy_scale(").count(), 6);
+
+    let literal = wgsl(&std::fs::read_to_string(common::root().join("materials/coated_gold.ron")).expect("material"));
+    assert!(!literal.contains("loop {"), "coated_gold's hemisphere folds");
+    assert!(literal.contains("const remainder_avg"), "coated_gold's remainder mean is a constant");
+}
