@@ -778,6 +778,7 @@ impl<'a> Real for Expr<'a> {
     type Vec = ExprVec<'a>;
     type Bool = ExprBool<'a>;
     type Ctx = &'a ModuleBuilder;
+    const IMMEDIATE: bool = false;
 
     fn ctx(self) -> &'a ModuleBuilder {
         self.b

@@ -33,6 +33,7 @@ impl Real for f32 {
     type Vec = Vec3;
     type Bool = bool;
     type Ctx = ();
+    const IMMEDIATE: bool = true;
 
     fn ctx(self) {}
     fn constant((): (), x: f32) -> f32 {
@@ -89,14 +90,64 @@ impl Real for f32 {
         body(args)
     }
     fn sum_over((): (), sum: &Sum, body: &dyn Fn(f32) -> Vec<Vec3>) -> Vec<Vec3> {
+        let key = (!sum.key.is_empty()).then(|| SumKey::of(sum));
+        if let Some(totals) = key.as_ref().and_then(|key| SUMS.with_borrow(|sums| sums.find(key))) {
+            return totals;
+        }
         let mut totals = vec![Vec3::ZERO; sum.totals.len()];
         for i in 0..sum.count {
             for (total, term) in totals.iter_mut().zip(body(i as f32)) {
                 *total += term;
             }
         }
+        if let Some(key) = key {
+            SUMS.with_borrow_mut(|sums| sums.keep(key, totals.clone()));
+        }
         totals
     }
+}
+
+/// What identifies a sum of [`Real::sum_over`]: its length, what it returns, and its inputs'
+/// bits.
+#[derive(PartialEq)]
+struct SumKey {
+    count: u32,
+    totals: Vec<String>,
+    inputs: Vec<u32>,
+}
+
+impl SumKey {
+    fn of(sum: &Sum) -> Self {
+        SumKey {
+            count: sum.count,
+            totals: sum.totals.iter().map(|t| t.to_string()).collect(),
+            inputs: sum.key.iter().map(|x| x.to_bits()).collect(),
+        }
+    }
+}
+
+/// The last few sums on this thread, newest last.
+#[derive(Default)]
+struct Sums(Vec<(SumKey, Vec<Vec3>)>);
+
+impl Sums {
+    /// Sums kept per thread: a material's f, its albedo-only pass and a few materials in turn.
+    const KEPT: usize = 8;
+
+    fn find(&self, key: &SumKey) -> Option<Vec<Vec3>> {
+        self.0.iter().rev().find(|(k, _)| k == key).map(|(_, totals)| totals.clone())
+    }
+
+    fn keep(&mut self, key: SumKey, totals: Vec<Vec3>) {
+        if self.0.len() == Self::KEPT {
+            self.0.remove(0);
+        }
+        self.0.push((key, totals));
+    }
+}
+
+thread_local! {
+    static SUMS: std::cell::RefCell<Sums> = std::cell::RefCell::new(Sums::default());
 }
 
 impl Vector for Vec3 {

@@ -86,6 +86,8 @@ pub trait Real:
     type Bool: Logic;
     /// What a constant needs to be created: `()` on the CPU, the module builder in naga.
     type Ctx: Copy;
+    /// Whether operations compute their values at once (the CPU) rather than build code.
+    const IMMEDIATE: bool;
 
     fn ctx(self) -> Self::Ctx;
     fn constant(ctx: Self::Ctx, x: f32) -> Self;
@@ -121,7 +123,10 @@ pub trait Real:
     /// this is a loop whose body is built once (`sum.index` names its counter, `sum.totals` its
     /// accumulators), so that a quadrature over many nodes costs one node's code; with
     /// `sum.fold` the iterations are instead built one after another with i a literal, for
-    /// bodies whose other inputs are all literals and which therefore fold to constants.
+    /// bodies whose other inputs are all literals and which therefore fold to constants. On the
+    /// CPU the last few sums are kept, by `sum.key` (every input the body reads besides i, as
+    /// numbers, with `sum.totals` naming what it returns): evaluating one material at many
+    /// directions sums its hemisphere once. An empty key keeps nothing.
     fn sum_over(ctx: Self::Ctx, sum: &Sum, body: &dyn Fn(Self) -> Vec<Self::Vec>) -> Vec<Self::Vec>;
 
     /// A literal in the same context as `self`.
@@ -163,6 +168,7 @@ pub struct Sum<'n> {
     pub index: &'n str,
     pub totals: &'n [&'n str],
     pub fold: bool,
+    pub key: &'n [f32],
 }
 
 /// A three-component vector of a [`Real`] family: a direction or an RGB colour.

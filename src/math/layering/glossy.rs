@@ -256,7 +256,8 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
             && self.tau.is_known()
             && c.is_known();
         let index = self.name("node_index");
-        let sum = Sum { count: 2 * GAUSS_LEGENDRE_4.len() as u32, index: &index, totals, fold };
+        let key = self.inputs_of_the_nodes(c);
+        let sum = Sum { count: 2 * GAUSS_LEGENDRE_4.len() as u32, index: &index, totals, fold, key: &key };
         F::sum_over(self.inputs.ctx, &sum, &|i| {
             // Node i: panel ⌊i/4⌋ (0: [0, μ_b], 1: [μ_b, 1]), Gauss–Legendre node i mod 4.
             let panel = (i * 0.25).floor();
@@ -268,6 +269,33 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
             let side = self.side(mu, self.refracted_cosine(mu), c, "node");
             of.iter().map(|of| of(&side) * weight).collect()
         })
+    }
+
+    /// Everything a node of [`Self::hemispherical`] reads besides its μ, as numbers: the key
+    /// under which the CPU keeps the sums (empty when building a shader, which keeps nothing).
+    fn inputs_of_the_nodes(&self, c: F::Vec) -> Vec<f32> {
+        if !F::IMMEDIATE {
+            return Vec::new();
+        }
+        let number = |x: F| x.known().unwrap_or(f32::NAN);
+        let mut key = vec![number(self.eta), number(self.conductor_roughness), number(self.roughness)];
+        key.push(if self.interface.roughness.is_some() { 1.0 } else { 0.0 });
+        key.push(if self.interface.approx.schlick_fresnel { 1.0 } else { 0.0 });
+        key.push(if self.interface.approx.single_scattering { 1.0 } else { 0.0 });
+        key.push(self.n_medium.map_or(-1.0, number));
+        let mut vectors = vec![self.tau, c];
+        match self.fresnel {
+            ConductorFresnel::F0(f0) => {
+                key.push(0.0);
+                vectors.push(self.inputs.color(*f0));
+            }
+            ConductorFresnel::Complex { eta, k } => {
+                key.push(1.0);
+                vectors.extend([self.inputs.color(*eta), self.inputs.color(*k)]);
+            }
+        }
+        key.extend(vectors.into_iter().flat_map(|v| [v.x(), v.y(), v.z()].map(number)));
+        key
     }
 
     /// μ_b, the outer cosine whose refracted cosine lies [`TRAPPED_BAND_WIDTH`] α inside the
