@@ -305,20 +305,11 @@ impl ModuleBuilder {
                 self.append(Expression::Binary { op: BinaryOperator::Add, left: counter, right: u32_literal(1) });
             self.store(index, next);
             let count = u32_literal(sum.count);
-            let done = self.append(Expression::Binary { op: BinaryOperator::GreaterEqual, left: next, right: count });
-            // The condition must be emitted inside `continuing`: close the range here.
-            self.close();
-            done
+            // (`block` closes the emit range inside `continuing`, where the condition must be.)
+            self.append(Expression::Binary { op: BinaryOperator::GreaterEqual, left: next, right: count })
         });
         self.statement(Statement::Loop { body: body_block, continuing, break_if: Some(done) });
         totals.into_iter().map(|pointer| self.vector(self.append(Expression::Load { pointer }))).collect()
-    }
-
-    /// Closes the current emit range.
-    fn close(&self) {
-        if let Some(f) = self.state.borrow_mut().stack.last_mut() {
-            close_emit(f);
-        }
     }
 
     /// Adds a finished function to the module.
