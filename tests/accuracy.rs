@@ -9,11 +9,13 @@
 //! its albedo is asserted against the figure measured when this test was last changed instead,
 //! so that it cannot get worse unseen (README "Accuracy", issue 4 stays open on it): the glossy
 //! level (`math::layering::glossy`) takes its lobe's scale and the share that leaves after one
-//! event from tables over (μ, r_c, r, η), and at grazing views under rough coats their
-//! interpolation, and the energy probes that keep a white conductor from gaining energy
-//! between their nodes, leave up to [`COPPER_ALBEDO_MEASURED`] of the albedo. (Before the
-//! glossy level copper missed by 13.7% in the lobe and 0.044 in the albedo; EON under a coat was
-//! a known miss, 0.0108 in albedo, until its first pass out of the body was modelled.)
+//! event from tables over (μ, r_c, r, η), and their interpolation, the energy probes that keep
+//! a white conductor from gaining energy between their nodes, and the one-event lobe's
+//! absorption at grazing views (its path factor is solved for a mirror under the coat) leave up
+//! to [`COPPER_ALBEDO_MEASURED`] of the albedo. (Before the glossy level copper missed by 13.7%
+//! in the lobe and 0.044 in the albedo, and 0.0174 before the lobe-albedo table was normalised
+//! by the widened lobe's escape-cone share; EON under a coat was a known miss, 0.0108 in albedo,
+//! until its first pass out of the body was modelled.)
 
 mod common;
 
@@ -27,7 +29,7 @@ use glazec::model::Method;
 use glazec::reference::InterfaceMode;
 
 /// Copper's worst albedo error as measured (a regression bound, not a target).
-const COPPER_ALBEDO_MEASURED: f64 = 0.0174;
+const COPPER_ALBEDO_MEASURED: f64 = 0.0122;
 /// Cases recomputed by the reproducibility test (the first ones of the set).
 const RECOMPUTED_CASES: usize = 2;
 /// Relative tolerance between recomputed and stored reference values: the file stores f32, and

@@ -2,7 +2,7 @@
 #version 450 core
 const vec3 one = vec3(1.0, 1.0, 1.0);
 const vec3 layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
-const vec3 remainder_avg = vec3(0.072688594, 0.030460551, 0.0032689103);
+const vec3 remainder_avg = vec3(0.07396161, 0.03097014, 0.0033205727);
 
 layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
@@ -272,37 +272,37 @@ float glossy_lobe_albedo(float cos_theta_4, float conductor_roughness_2, float r
     float cell_eta_4 = min(floor(node_eta_4), 4.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
     float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llll_2 = ((code_llll * 0.00013961816) + 0.0680862);
+    float at_llll_2 = ((code_llll * 6.3290056e-5) + 0.08862592);
     float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulll_2 = ((code_ulll * 0.00013961816) + 0.0680862);
+    float at_ulll_2 = ((code_ulll * 6.3290056e-5) + 0.08862592);
     float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_lull_2 = ((code_lull * 0.00013961816) + 0.0680862);
+    float at_lull_2 = ((code_lull * 6.3290056e-5) + 0.08862592);
     float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uull_2 = ((code_uull * 0.00013961816) + 0.0680862);
+    float at_uull_2 = ((code_uull * 6.3290056e-5) + 0.08862592);
     float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llul_2 = ((code_llul * 0.00013961816) + 0.0680862);
+    float at_llul_2 = ((code_llul * 6.3290056e-5) + 0.08862592);
     float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulul_2 = ((code_ulul * 0.00013961816) + 0.0680862);
+    float at_ulul_2 = ((code_ulul * 6.3290056e-5) + 0.08862592);
     float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_luul_2 = ((code_luul * 0.00013961816) + 0.0680862);
+    float at_luul_2 = ((code_luul * 6.3290056e-5) + 0.08862592);
     float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uuul_2 = ((code_uuul * 0.00013961816) + 0.0680862);
+    float at_uuul_2 = ((code_uuul * 6.3290056e-5) + 0.08862592);
     float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lllu_2 = ((code_lllu * 0.00013961816) + 0.0680862);
+    float at_lllu_2 = ((code_lllu * 6.3290056e-5) + 0.08862592);
     float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_ullu_2 = ((code_ullu * 0.00013961816) + 0.0680862);
+    float at_ullu_2 = ((code_ullu * 6.3290056e-5) + 0.08862592);
     float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lulu_2 = ((code_lulu * 0.00013961816) + 0.0680862);
+    float at_lulu_2 = ((code_lulu * 6.3290056e-5) + 0.08862592);
     float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uulu_2 = ((code_uulu * 0.00013961816) + 0.0680862);
+    float at_uulu_2 = ((code_uulu * 6.3290056e-5) + 0.08862592);
     float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lluu_2 = ((code_lluu * 0.00013961816) + 0.0680862);
+    float at_lluu_2 = ((code_lluu * 6.3290056e-5) + 0.08862592);
     float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uluu_2 = ((code_uluu * 0.00013961816) + 0.0680862);
+    float at_uluu_2 = ((code_uluu * 6.3290056e-5) + 0.08862592);
     float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_luuu_2 = ((code_luuu * 0.00013961816) + 0.0680862);
+    float at_luuu_2 = ((code_luuu * 6.3290056e-5) + 0.08862592);
     float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uuuu_2 = ((code_uuuu * 0.00013961816) + 0.0680862);
+    float at_uuuu_2 = ((code_uuuu * 6.3290056e-5) + 0.08862592);
     return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
 }
 
@@ -617,20 +617,20 @@ vec3 coated_gold_ibl(vec3 n_2, vec3 v_1) {
     float layer1_blur_v = (_e56 * 0.010000001);
     float layer1_alpha = sqrt(((0.00390625 + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
     float _e68 = ggx_albedo(_e52, sqrt(layer1_alpha));
-    float _e71 = glossy_trapped_share(_e52, 0.745356, 0.0625);
-    float layer1_cone_share_l = (1.0 - _e71);
+    float _e70 = glossy_trapped_share(_e52, 0.745356, layer1_alpha);
+    float layer1_cone_share_l = (1.0 - _e70);
     float layer1_lobe_normaliser_l = (_e68 * layer1_cone_share_l);
     float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e47) * layer1_lobe_normaliser_l), 0.0), 1.0);
     float layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
-    float _e93 = glossy_quick(n_dot_v, 0.25, 0.1, 1.5);
-    float _e97 = glossy_steady(n_dot_v, 0.25, 0.1, 1.5);
-    vec3 layer1_later_l = glossy_later(layer1_next_l, _e93, _e97, 0.9170209, layer1_survival);
+    float _e92 = glossy_quick(n_dot_v, 0.25, 0.1, 1.5);
+    float _e96 = glossy_steady(n_dot_v, 0.25, 0.1, 1.5);
+    vec3 layer1_later_l = glossy_later(layer1_next_l, _e92, _e96, 0.9170209, layer1_survival);
     vec3 layer1_once_l = glossy_once(layer1_single_l, layer1_next_l, layer1_survival);
-    vec3 _e105 = glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
-    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e105.x, 1e-6)));
-    float _e114 = glossy_blur(n_dot_v, 0.25, 0.1, 1.5);
-    float layer1_blur_l_1 = (_e114 * 0.010000001);
-    float layer1_blur_v_1 = (_e114 * 0.010000001);
+    vec3 _e104 = glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
+    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e104.x, 1e-6)));
+    float _e113 = glossy_blur(n_dot_v, 0.25, 0.1, 1.5);
+    float layer1_blur_l_1 = (_e113 * 0.010000001);
+    float layer1_blur_v_1 = (_e113 * 0.010000001);
     float layer1_alpha_1 = sqrt(((0.00390625 + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
     vec3 albedo_l = glossy_albedo(layer1_transmit_l, layer1_fresnel_cond_l, vec3(1.0), vec3(1.0), layer1_once_l, layer1_single_l, layer1_later_l);
     float coat_albedo = (1.0 - layer1_transmit_l);
@@ -638,10 +638,10 @@ vec3 coated_gold_ibl(vec3 n_2, vec3 v_1) {
     vec3 reflected = specular_dominant_direction(n_2, v_1, 0.010000001);
     float base_roughness = sqrt(min((layer1_alpha_1 * 1.5), 1.0));
     vec3 reflected_1 = specular_dominant_direction(n_2, v_1, (base_roughness * base_roughness));
-    bool _e149 = (dot(n_2, v_1) > 0.0);
+    bool _e148 = (dot(n_2, v_1) > 0.0);
     vec3 light_a = glazec_environment(reflected, 0.1);
     vec3 light_b = glazec_environment(reflected_1, base_roughness);
-    return (((_e149 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e149 ? under_albedo : vec3(0.0)) * light_b));
+    return (((_e148 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e148 ? under_albedo : vec3(0.0)) * light_b));
 }
 
 void main() {

@@ -42,8 +42,11 @@ use crate::math::Sum;
 /// the nodes beside it approach.
 pub const GLOSSY_GRAZING: f64 = 0.005;
 
+/// Panels of [`Glossy::hemispherical`]'s quadrature: [0, μ_b] and [μ_b, 1], the wider halved.
+const PANELS: u32 = 3;
+
 /// 4-point Gauss–Legendre nodes and weights on [0, 1] (for ⟨M⟩ and the mean albedo, on each
-/// of two panels).
+/// of [`PANELS`] panels).
 const GAUSS_LEGENDRE_4: [(f32, f32); 4] = [
     (0.069_431_84, 0.173_927_42),
     (0.330_009_5, 0.326_072_58),
@@ -191,9 +194,13 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     }
 
     /// E(μ′; α)·c(μ′): the white single-scattering GGX albedo at the lobe's α seen from μ (its
-    /// mirror configuration: α² = α_c² + 2σ(μ)², `ggx_albedo`) times the share of the
-    /// conductor's lobe inside the escape cone (`cone_share`): what carries the lobe's albedo's
-    /// steep dependence on α_c, μ and η, so that `glossy_lobe_albedo` need not.
+    /// mirror configuration: α² = α_c² + 2σ(μ)², `ggx_albedo`) times the share of that same
+    /// lobe inside the escape cone (`cone_share`): what carries the lobe's albedo's steep
+    /// dependence on α_c, μ and η, so that `glossy_lobe_albedo` need not. The share is the
+    /// widened lobe's, the one the level evaluates: with the conductor's own α_c it fell by a
+    /// quarter from r_c 0.18 to 0.33 under an r 0.5 coat while the lobe's albedo fell by 8%,
+    /// and K, interpolated between the two, missed the lobe's albedo (times T) by up to 0.19
+    /// between the nodes, against 0.034 now (midpoints of every cell edge with η ≥ 1.22).
     ///
     /// Guard: μ ≥ [`GLOSSY_GRAZING`], where the table's first direction node was measured. Closer
     /// to grazing the refracted mirror direction of a sharp conductor runs into the escape
@@ -205,16 +212,14 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         let mu_refracted = mu_refracted.max(self.refracted_cosine(self.inputs.lit(GLOSSY_GRAZING as f32)));
         let alpha = self.alpha(mu, mu, None);
         let white = tables::lookup(TableId::GgxAlbedo, &[mu_refracted, alpha.sqrt()]);
-        (white * self.cone_share(mu_refracted, side)).named(&self.name(&format!("lobe_normaliser_{side}")))
+        (white * self.cone_share(mu_refracted, alpha, side)).named(&self.name(&format!("lobe_normaliser_{side}")))
     }
 
-    /// The share of the conductor's own GGX lobe (α_c) from Snell's cosine μ′ that stays inside
-    /// the coat's escape cone, 1 − `glossy_trapped_share` (1 without total internal reflection,
-    /// η ≤ 1). The lobe's tail beyond the cone grows like α_c², which no multilinear table in
-    /// √r_c follows.
-    fn cone_share(&self, mu_refracted: F, side: &str) -> F {
+    /// The share of a GGX lobe (α) from Snell's cosine μ′ that stays inside the coat's escape
+    /// cone, 1 − `glossy_trapped_share` (1 without total internal reflection, η ≤ 1). The lobe's
+    /// tail beyond the cone grows like α², which no multilinear table in √r_c follows.
+    fn cone_share(&self, mu_refracted: F, alpha: F, side: &str) -> F {
         let mu_c = escape_cone_cosine(self.eta);
-        let alpha = self.conductor_roughness.sq();
         let trapped = glossy_trapped_share(mu_refracted, mu_c, alpha);
         F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0))
             .named(&self.name(&format!("cone_share_{side}")))
@@ -238,16 +243,22 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     }
 
     /// ∫ 2μ x(μ) dμ of per-direction quantities (one total per function in `of`, named
-    /// `totals` in generated code) by 4-point Gauss–Legendre on two panels split at the edge of
-    /// the trapped band. One rule over [0, 1] misses the remainder where it lives: for a coat of
+    /// `totals` in generated code) by 4-point Gauss–Legendre on three panels: [0, μ_b] and
+    /// [μ_b, 1], split at the edge of the trapped band, the wider of them halved. One rule over
+    /// [0, 1] misses the remainder where it lives: for a coat of
     /// IOR just above 1 the escape cone is almost the whole hemisphere and only light entering
     /// near grazing is trapped, so M is concentrated below μ ≈ 0.2, where 6-point Gauss–Legendre
     /// had one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
     /// reflected twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
-    /// E = 1.086 at 89°).
+    /// E = 1.086 at 89°). Two panels were not enough either: M follows the tables' piecewise
+    /// linear interpolation in √μ, and with 4 nodes over [0, 0.95] (a rough coat: the band
+    /// covers nearly everything) ⟨M⟩ came out 0.5% high, which the remainder lost at every angle
+    /// (−0.003 of a white conductor's albedo at 85° under an r 0.5 coat), and near η = 1 it
+    /// came out up to 30% low, a gain the lobe-albedo table had to be raised against (largest
+    /// probe excess 7.5 with two panels, 2.1 with three; `accuracy::glossy`).
     ///
-    /// The eight nodes are one loop in a shader ([`Real::sum_over`]): each node looks up seven
-    /// 4D tables, and eight straight-line copies of that made a coat over a conductor with
+    /// The twelve nodes are one loop in a shader ([`Real::sum_over`]): each node looks up seven
+    /// 4D tables, and straight-line copies of that (eight, then) made a coat over a conductor with
     /// runtime parameters a 140 KB shader that lavapipe took seconds to compile. With literal
     /// parameters the loop folds to constants when the code is generated.
     fn hemispherical(&self, c: F::Vec, of: &[PerSide<F>], totals: &[&str]) -> Vec<F::Vec> {
@@ -257,13 +268,18 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
             && c.is_known();
         let index = self.name("node_index");
         let key = self.inputs_of_the_nodes(c);
-        let sum = Sum { count: 2 * GAUSS_LEGENDRE_4.len() as u32, index: &index, totals, fold, key: &key };
+        // The wider of [0, μ_b] and [μ_b, 1] is halved: panels [0, e₁], [e₁, e₂], [e₂, 1].
+        let lower_is_wider = split.gt_lit(0.5);
+        let first = F::select(lower_is_wider, split * 0.5, split);
+        let second = F::select(lower_is_wider, split, (split + 1.0) * 0.5);
+        let sum = Sum { count: PANELS * GAUSS_LEGENDRE_4.len() as u32, index: &index, totals, fold, key: &key };
         F::sum_over(self.inputs.ctx, &sum, &|i| {
-            // Node i: panel ⌊i/4⌋ (0: [0, μ_b], 1: [μ_b, 1]), Gauss–Legendre node i mod 4.
+            // Node i: panel ⌊i/4⌋, Gauss–Legendre node i mod 4.
             let panel = (i * 0.25).floor();
             let (x, w) = gauss_legendre_4(i - panel * 4.0);
-            let from = split * panel;
-            let width = F::select(panel.lt_lit(0.5), split, split.one_minus());
+            let (is_first, is_second) = (panel.lt_lit(0.5), panel.lt_lit(1.5));
+            let from = F::select(is_first, self.inputs.lit(0.0), F::select(is_second, first, second));
+            let width = F::select(is_first, first, F::select(is_second, second - first, second.one_minus()));
             let mu = (from + width * x).named(&self.name("node"));
             let weight = (mu * width * (w * 2.0)).named(&self.name("weight"));
             let side = self.side(mu, self.refracted_cosine(mu), c, "node");
