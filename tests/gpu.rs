@@ -193,10 +193,15 @@ fn random_stacks_agree_with_the_cpu_in_every_language() {
         })
         .collect();
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let check = |first: usize| {
+    // Stacks are taken from a shared counter, not dealt in a fixed order: their shaders take very
+    // different times to compile on lavapipe, and a thread left with the slow ones was the tail.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let check = || {
         let mut worst: [Worst; 4] = Default::default();
         let mut failures = Vec::new();
-        for (index, text) in stacks.iter().enumerate().skip(first).step_by(workers) {
+        loop {
+            let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(text) = stacks.get(index) else { break };
             let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
             let values = compiled.material.default_values();
             let found = check_material(gpu, &format!("random stack {index}"), &compiled, &values, &pairs, &mut worst);
@@ -207,7 +212,7 @@ fn random_stacks_agree_with_the_cpu_in_every_language() {
         (worst, failures)
     };
     let results: Vec<_> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..workers).map(|first| scope.spawn(move || check(first))).collect();
+        let workers: Vec<_> = (0..workers).map(|_| scope.spawn(check)).collect();
         workers.into_iter().map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
     });
     let mut worst: [Worst; 4] = Default::default();
