@@ -7,14 +7,16 @@
 //!
 //! **Known miss.** Copper under a coat meets the lobe target but misses the albedo target, and
 //! its albedo is asserted against the figure measured when this test was last changed instead,
-//! so that it cannot get worse unseen (README "Accuracy", issue 4 stays open on it): the glossy
-//! level (`math::layering::glossy`) takes its lobe's scale and the share that leaves after one
-//! event from tables over (μ, r_c, r, η), and their interpolation, the energy probes that keep
-//! a white conductor from gaining energy between their nodes, and the one-event lobe's
-//! absorption at grazing views (its path factor is solved for a mirror under the coat) leave up
-//! to [`COPPER_ALBEDO_MEASURED`] of the albedo. (Before the glossy level copper missed by 13.7%
-//! in the lobe and 0.044 in the albedo, and 0.0174 before the lobe-albedo table was normalised
-//! by the widened lobe's escape-cone share; EON under a coat was a known miss, 0.0108 in albedo,
+//! so that it cannot get worse unseen (README "Accuracy", issue 4 stays open on it). One case
+//! of the set misses, η 1.5, r ½, τ 0: at 30° (red) by the energy probes' raise of the glossy
+//! level's lobe-albedo table, whose multilinear lookup over (μ, r_c, r, η) is raised at every
+//! corner of a cell where a white conductor gains energy between its nodes; at 85° (green) by
+//! the conductor's Fresnel factor taken at one cosine per event where the walks' events spread
+//! (README "What misses"). It leaves up to [`COPPER_ALBEDO_MEASURED`] of the albedo. (Before the
+//! glossy level copper missed by 13.7% in the lobe and 0.044 in the albedo; 0.0174 before the
+//! lobe-albedo table was normalised by the widened lobe's escape-cone share; 0.0122 before the
+//! one-event path factor was taken over the coat's mean path and the raise of the cells at
+//! η = 1 was kept to that face; EON under a coat was a known miss, 0.0108 in albedo,
 //! until its first pass out of the body was modelled.)
 
 mod common;
@@ -29,7 +31,7 @@ use glazec::model::Method;
 use glazec::reference::InterfaceMode;
 
 /// Copper's worst albedo error as measured (a regression bound, not a target).
-const COPPER_ALBEDO_MEASURED: f64 = 0.0122;
+const COPPER_ALBEDO_MEASURED: f64 = 0.0117;
 /// Cases recomputed by the reproducibility test (the first ones of the set).
 const RECOMPUTED_CASES: usize = 2;
 /// Relative tolerance between recomputed and stored reference values: the file stores f32, and

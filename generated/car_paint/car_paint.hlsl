@@ -28,9 +28,9 @@ static const float3 one = float3(1.0, 1.0, 1.0);
 static const float3 layer2_survival = float3(0.67227614, 0.004048639, 0.000535044);
 static const float layer2_alpha_1 = 0.09037713;
 static const float3 layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 layer1_remainder_avg = float3(0.002843334, 1.7804705e-8, 2.3631197e-10);
+static const float3 layer1_remainder_avg = float3(0.0027934422, 1.6045801e-8, 2.0279708e-10);
 static const float layer1_mu_c = 0.745356;
-static const float3 layer1_rho = float3(0.74046284, 0.067056276, 0.03126182);
+static const float3 layer1_rho = float3(0.74053407, 0.06705758, 0.03126201);
 static const float layer1_trapped_escape = 0.15678635;
 static const float base_roughness = 0.37185615;
 

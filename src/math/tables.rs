@@ -514,7 +514,8 @@ pub const SPECS: [TableSpec; 24] = [
             "Tabulated by `glazec tables` from random walks through the reference's coat over a mirror",
             "(f64); multilinear in √μ, τ/(1 + τ), √r, 2(η − 1)/(η + 1).",
             "q(μ; τ, r, η) ≥ 0: the light that enters at μ and leaves after one reflection keeps",
-            "e^(−τ q/μ′) of itself per crossing (μ′: Snell's cosine; q = 1 for a smooth coat).",
+            "e^(−τ q/μ_eff) of itself per crossing (μ_eff: the cosine along which the coat's transmitted",
+            "light is absorbed, Snell's over `coat_path`; q = 1 for a smooth coat).",
         ],
     ),
 ];

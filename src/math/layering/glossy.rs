@@ -16,7 +16,8 @@
 //!   after one event, and at the second from the trapped light's first return, w₀, which still
 //!   leaves near the mirror direction), coloured by √(o(μᵢ) o(μₒ)) (o: that light's colour,
 //!   F(μ′) for the first event, F(μ′)·c for the second) and attenuated along the paths that light
-//!   really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]));
+//!   really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]), as a factor on the
+//!   coat's mean path, `path_cosine`);
 //! * **the rest** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017) with
 //!   M = T a² F (1 − P₁) Ŷ(c), Ŷ the generating function of the later events (`glossy_trapped`,
 //!   from the walks' event counts, less the second event's share w₀c), c = F(μ*) e^(−2τ/μ*) the
@@ -144,31 +145,34 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         }
     }
 
-    /// Attenuation of light that leaves after one event, per crossing: e^(−τ q/μ′).
-    fn lobe_absorption(&self, mu: F, mu_refracted: F, side: &str) -> F::Vec {
+    /// Attenuation of light that leaves after one event, per crossing: e^(−τ q/μ_eff), μ_eff the
+    /// cosine along which the coat's transmitted light is absorbed (`path_cosine`: Snell's
+    /// cosine shortened by the coat's mean path factor) and q the one-event light's factor on it.
+    fn lobe_absorption(&self, mu: F, path_cosine: F, side: &str) -> F::Vec {
         let tau = self.tau;
         if tau.is_known_zero() {
             return self.inputs.lit(1.0).splat();
         }
         let name = self.name(&format!("absorb_lobe_{side}"));
         if self.interface.roughness.is_none() {
-            return slab_transmittance(tau, mu_refracted).named(&name);
+            return slab_transmittance(tau, path_cosine).named(&name);
         }
         let q = |t: F| tables::lookup(TableId::GlossyPath, &[mu, t, self.roughness, self.eta]);
         let paths = F::vec3(q(tau.x()), q(tau.y()), q(tau.z()));
-        slab_transmittance(tau * paths, mu_refracted).named(&name)
+        slab_transmittance(tau * paths, path_cosine).named(&name)
     }
 
     /// Everything about one direction at outer cosine `mu` (Snell's cosine `mu_refracted`).
     fn side(&self, mu: F, mu_refracted: F, c: F::Vec, side: &str) -> Side<F> {
         let name = |base: &str| self.name(&format!("{base}_{side}"));
         let transmission = self.interface.transmission(mu, side);
-        let absorb = if self.tau.is_known_zero() {
-            self.inputs.lit(1.0).splat()
+        let (absorb, absorb_lobe) = if self.tau.is_known_zero() {
+            (self.inputs.lit(1.0).splat(), self.inputs.lit(1.0).splat())
         } else {
-            slab_transmittance(self.tau, self.interface.path_cosine(mu, mu_refracted, side)).named(&name("absorb"))
+            let path_cosine = self.interface.path_cosine(mu, mu_refracted, side);
+            let absorb = slab_transmittance(self.tau, path_cosine).named(&name("absorb"));
+            (absorb, self.lobe_absorption(mu, path_cosine, side))
         };
-        let absorb_lobe = self.lobe_absorption(mu, mu_refracted, side);
         let fresnel =
             conductor_fresnel(self.fresnel, self.inputs, mu_refracted, self.n_medium).named(&name("fresnel_cond"));
         let scale = self.lookup(TableId::GlossyScale, mu).named(&name("scale"));

@@ -25,9 +25,9 @@ const one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
 const layer2_alpha_1: f32 = 0.09037713f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_remainder_avg: vec3<f32> = vec3<f32>(0.002843334f, 0.000000017804705f, 0.00000000023631197f);
+const layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0027934422f, 0.000000016045801f, 0.00000000020279708f);
 const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.74046284f, 0.067056276f, 0.03126182f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.74053407f, 0.06705758f, 0.03126201f);
 const layer1_trapped_escape: f32 = 0.15678635f;
 const base_roughness: f32 = 0.37185615f;
 
