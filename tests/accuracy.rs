@@ -30,8 +30,9 @@ use glazec::accuracy::{
 use glazec::model::Method;
 use glazec::reference::InterfaceMode;
 
-/// Copper's worst albedo error as measured (a regression bound, not a target).
-const COPPER_ALBEDO_MEASURED: f64 = 0.0117;
+/// Copper's worst albedo error as measured (0.01174, up to the next 10⁻⁴; a regression bound, not
+/// a target).
+const COPPER_ALBEDO_MEASURED: f64 = 0.0118;
 /// Cases recomputed by the reproducibility test (the first ones of the set).
 const RECOMPUTED_CASES: usize = 2;
 /// Relative tolerance between recomputed and stored reference values: the file stores f32, and
