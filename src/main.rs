@@ -974,7 +974,7 @@ fn tables(walks: u32, glossy_walks: u32, glossy_only: bool, out: &Path) -> Resul
         );
     }
     eprintln!(
-        "glossy level: fitted trapped-light generating function within {:.1e} of the walks'; lobe scale misses its target by up to {:.1e}; a white conductor under a clear coat reflected up to {:.1e} more than it received at the probes between nodes (K raised there)",
+        "glossy level: fitted trapped-light generating function within {:.1e} of the walks'; lobe scale misses its target by up to {:.1e}; a white conductor under a clear coat reflected up to {:.1e} more than it received at the probes between nodes (K fitted to the law there)",
         report.glossy.max_tail_fit_error, report.glossy.max_scale_miss, report.glossy.max_energy_excess
     );
     let bytes = glazec::math::tables::encode(&tables);

@@ -16,8 +16,8 @@
 //! Stacks of several coats gained up to 16% before the first pass out of a coated layer was
 //! modelled (`first_pass` in `math::layering`).
 //!
-//! **Known gains** ([`KNOWN_GAINS`]): a white conductor under a coat still gains energy in two
-//! corners of the conductor sweeps (README "Known limitations"), and those cells are held to the
+//! **Known gains** ([`KNOWN_GAINS`]): a white conductor under a coat still gains energy in one
+//! corner of the conductor sweeps (README "Known limitations"), and those cells are held to the
 //! largest E measured when this test was last changed instead of the law, so that they cannot
 //! grow unseen; every other cell of every sweep must keep the law.
 //!
@@ -42,16 +42,13 @@ struct KnownGain {
 /// The glossy level (`math::layering::glossy`) scales its lobe by s(μ) tabulated over
 /// (μ, r_c, r, η) and solved at the nodes so that the lobe of a white conductor reflects what
 /// the walks let out near the mirror direction; between the nodes the interpolated lobe can
-/// reflect more than the coat lets in, which no remainder can take back:
-/// * under a smooth coat of IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60°
-///   for η = 1 + 10⁻⁵);
-/// * for a conductor of roughness 0.005 … 0.1 under an r 0.2 coat seen within 0.1° of grazing
-///   (measured E = 1.0019; 1.0044 before the lobe-albedo table's normaliser followed the widened
-///   lobe), where the lobe's scale is held from the first direction node.
-const KNOWN_GAINS: [KnownGain; 2] = [
-    KnownGain { sweep: "IOR over a conductor", values: 1.0..=1.004, from_angle: 0.0, bound: 1.0221 },
-    KnownGain { sweep: "conductor roughness", values: 0.005..=0.2, from_angle: 89.9, bound: 1.0020 },
-];
+/// reflect more than the coat lets in, which no remainder can take back: under a smooth coat of
+/// IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60° for η = 1 + 10⁻⁵). A
+/// second known gain, a conductor of roughness 0.005 … 0.1 under an r 0.2 coat seen within 0.1°
+/// of grazing (E up to 1.0019), went when the lobe-albedo table was fitted to the energy law
+/// with probes on the cells' faces and edges (`accuracy::glossy`); this test no longer allows it.
+const KNOWN_GAINS: [KnownGain; 1] =
+    [KnownGain { sweep: "IOR over a conductor", values: 1.0..=1.004, from_angle: 0.0, bound: 1.0221 }];
 
 /// Whether a discontinuity after a parameter value is a known one: only the steepest corner of
 /// [`KNOWN_GAINS`], a white conductor under a smooth coat of IOR 1 + 10⁻⁵ … 1 + 1.8·10⁻⁴ seen at

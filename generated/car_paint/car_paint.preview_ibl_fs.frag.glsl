@@ -7,9 +7,9 @@ const vec3 one = vec3(1.0, 1.0, 1.0);
 const vec3 layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
 const float layer2_alpha_1 = 0.09037713;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_remainder_avg = vec3(0.0027934422, 1.6045801e-8, 2.0279708e-10);
+const vec3 layer1_remainder_avg = vec3(0.0026943593, 1.5088702e-8, 1.8821272e-10);
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.74053407, 0.06705758, 0.03126201);
+const vec3 layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
 const float layer1_trapped_escape = 0.15678635;
 const float base_roughness = 0.37185615;
 
@@ -255,7 +255,7 @@ float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughnes
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
-// what the lobe does not (raised where probes between the nodes found a gain).
+// what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_4, float eta_6) {
     float u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
@@ -274,37 +274,37 @@ float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float r
     float cell_eta_4 = min(floor(node_eta_4), 4.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
     float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llll_2 = ((code_llll * 6.3290056e-5) + 0.08862592);
+    float at_llll_2 = ((code_llll * 6.229872e-5) + 0.09352391);
     float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulll_2 = ((code_ulll * 6.3290056e-5) + 0.08862592);
+    float at_ulll_2 = ((code_ulll * 6.229872e-5) + 0.09352391);
     float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_lull_2 = ((code_lull * 6.3290056e-5) + 0.08862592);
+    float at_lull_2 = ((code_lull * 6.229872e-5) + 0.09352391);
     float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uull_2 = ((code_uull * 6.3290056e-5) + 0.08862592);
+    float at_uull_2 = ((code_uull * 6.229872e-5) + 0.09352391);
     float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llul_2 = ((code_llul * 6.3290056e-5) + 0.08862592);
+    float at_llul_2 = ((code_llul * 6.229872e-5) + 0.09352391);
     float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulul_2 = ((code_ulul * 6.3290056e-5) + 0.08862592);
+    float at_ulul_2 = ((code_ulul * 6.229872e-5) + 0.09352391);
     float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_luul_2 = ((code_luul * 6.3290056e-5) + 0.08862592);
+    float at_luul_2 = ((code_luul * 6.229872e-5) + 0.09352391);
     float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uuul_2 = ((code_uuul * 6.3290056e-5) + 0.08862592);
+    float at_uuul_2 = ((code_uuul * 6.229872e-5) + 0.09352391);
     float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lllu_2 = ((code_lllu * 6.3290056e-5) + 0.08862592);
+    float at_lllu_2 = ((code_lllu * 6.229872e-5) + 0.09352391);
     float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_ullu_2 = ((code_ullu * 6.3290056e-5) + 0.08862592);
+    float at_ullu_2 = ((code_ullu * 6.229872e-5) + 0.09352391);
     float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lulu_2 = ((code_lulu * 6.3290056e-5) + 0.08862592);
+    float at_lulu_2 = ((code_lulu * 6.229872e-5) + 0.09352391);
     float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uulu_2 = ((code_uulu * 6.3290056e-5) + 0.08862592);
+    float at_uulu_2 = ((code_uulu * 6.229872e-5) + 0.09352391);
     float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lluu_2 = ((code_lluu * 6.3290056e-5) + 0.08862592);
+    float at_lluu_2 = ((code_lluu * 6.229872e-5) + 0.09352391);
     float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uluu_2 = ((code_uluu * 6.3290056e-5) + 0.08862592);
+    float at_uluu_2 = ((code_uluu * 6.229872e-5) + 0.09352391);
     float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_luuu_2 = ((code_luuu * 6.3290056e-5) + 0.08862592);
+    float at_luuu_2 = ((code_luuu * 6.229872e-5) + 0.09352391);
     float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uuuu_2 = ((code_uuuu * 6.3290056e-5) + 0.08862592);
+    float at_uuuu_2 = ((code_uuuu * 6.229872e-5) + 0.09352391);
     return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
 }
 

@@ -11,9 +11,9 @@ const vec3 one = vec3(1.0, 1.0, 1.0);
 const vec3 layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
 const float layer2_alpha_1 = 0.09037713;
 const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_remainder_avg = vec3(0.0027934422, 1.6045801e-8, 2.0279708e-10);
+const vec3 layer1_remainder_avg = vec3(0.0026943593, 1.5088702e-8, 1.8821272e-10);
 const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.74053407, 0.06705758, 0.03126201);
+const vec3 layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
 const float layer1_trapped_escape = 0.15678635;
 const float base_roughness = 0.37185615;
 

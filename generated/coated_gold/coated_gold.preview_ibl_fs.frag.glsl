@@ -2,7 +2,7 @@
 #version 450 core
 const vec3 one = vec3(1.0, 1.0, 1.0);
 const vec3 layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
-const vec3 remainder_avg = vec3(0.07396161, 0.03097014, 0.0033205727);
+const vec3 remainder_avg = vec3(0.07577434, 0.03172735, 0.0034032734);
 
 layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
 
@@ -114,14 +114,51 @@ float coat_extra(float cos_theta_1, float roughness_1, float eta_3) {
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 11.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 7.0);
+    float cell_eta_2 = min(floor(node_eta_2), 6.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+}
+
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
-vec3 fr_conductor(float cos_i_1, vec3 eta_4, vec3 k) {
+vec3 fr_conductor(float cos_i_1, vec3 eta_5, vec3 k) {
     float _e6 = min(max(cos_i_1, 0.0), 1.0);
     float cos2_ = (_e6 * _e6);
     float sin2_ = (1.0 - cos2_);
-    vec3 eta2_ = (eta_4 * eta_4);
+    vec3 eta2_ = (eta_5 * eta_5);
     vec3 k2_ = (k * k);
     vec3 t0_ = ((eta2_ - k2_) - vec3(sin2_));
     vec3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4.0))));
@@ -141,111 +178,111 @@ vec3 fr_conductor(float cos_i_1, vec3 eta_4, vec3 k) {
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-float glossy_scale(float cos_theta_2, float conductor_roughness, float roughness_2, float eta_5) {
-    float u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
-    float node_cos_theta_2 = (u_cos_theta_2 * 8.0);
-    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 7.0);
-    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+float glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_3, float eta_6) {
+    float u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
+    float node_cos_theta_3 = (u_cos_theta_3 * 8.0);
+    float cell_cos_theta_3 = min(floor(node_cos_theta_3), 7.0);
+    float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
     float u_conductor_roughness = sqrt(min(max(conductor_roughness, 0.0), 1.0));
     float node_conductor_roughness = (u_conductor_roughness * 7.0);
     float cell_conductor_roughness = min(floor(node_conductor_roughness), 6.0);
     float weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 6.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 5.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 5.0);
-    float cell_eta_2 = min(floor(node_eta_2), 4.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
-    float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
-    float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
-    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lull * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_llul * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_luul * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_lllu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
-}
-
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
-// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-float glossy_next(float cos_theta_3, float conductor_roughness_1, float roughness_3, float eta_6) {
-    float u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
-    float node_cos_theta_3 = (u_cos_theta_3 * 4.0);
-    float cell_cos_theta_3 = min(floor(node_cos_theta_3), 3.0);
-    float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
-    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
-    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
-    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
-    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
     float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
-    float node_roughness_3 = (u_roughness_3 * 5.0);
-    float cell_roughness_3 = min(floor(node_roughness_3), 4.0);
+    float node_roughness_3 = (u_roughness_3 * 6.0);
+    float cell_roughness_3 = min(floor(node_roughness_3), 5.0);
     float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
     float u_eta_3 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
     float node_eta_3 = (u_eta_3 * 5.0);
     float cell_eta_3 = min(floor(node_eta_3), 4.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 20912u));
+    float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 20912u));
+    float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
+    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull * (((weight_cos_theta_3 * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu * (((weight_cos_theta_3 * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_uluu * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_luuu * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3))) + (at_uuuu * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_4, float eta_7) {
+    float u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
+    float node_cos_theta_4 = (u_cos_theta_4 * 4.0);
+    float cell_cos_theta_4 = min(floor(node_cos_theta_4), 3.0);
+    float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
+    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
+    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
+    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
+    float node_roughness_4 = (u_roughness_4 * 5.0);
+    float cell_roughness_4 = min(floor(node_roughness_4), 4.0);
+    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    float u_eta_4 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
+    float node_eta_4 = (u_eta_4 * 5.0);
+    float cell_eta_4 = min(floor(node_eta_4), 4.0);
+    float weight_eta_4 = (node_eta_4 - cell_eta_4);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_llll_1 = (code_llll * 1.5259022e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_ulll_1 = (code_ulll * 1.5259022e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_lull_1 = (code_lull * 1.5259022e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_uull_1 = (code_uull * 1.5259022e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_llul_1 = (code_llul * 1.5259022e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_ulul_1 = (code_ulul * 1.5259022e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_luul_1 = (code_luul * 1.5259022e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 26960u));
     float at_uuul_1 = (code_uuul * 1.5259022e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_lllu_1 = (code_lllu * 1.5259022e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_ullu_1 = (code_ullu * 1.5259022e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_lulu_1 = (code_lulu * 1.5259022e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_uulu_1 = (code_uulu * 1.5259022e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_lluu_1 = (code_lluu * 1.5259022e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_uluu_1 = (code_uluu * 1.5259022e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_luuu_1 = (code_luuu * 1.5259022e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 26960u));
     float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
-    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -253,57 +290,57 @@ float glossy_next(float cos_theta_3, float conductor_roughness_1, float roughnes
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
-// what the lobe does not (raised where probes between the nodes found a gain).
-float glossy_lobe_albedo(float cos_theta_4, float conductor_roughness_2, float roughness_4, float eta_7) {
-    float u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
-    float cell_cos_theta_4 = min(floor(node_cos_theta_4), 7.0);
-    float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+// what the lobe does not (fitted where probes between the nodes found a gain or a loss).
+float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_5, float eta_8) {
+    float u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
+    float node_cos_theta_5 = (u_cos_theta_5 * 8.0);
+    float cell_cos_theta_5 = min(floor(node_cos_theta_5), 7.0);
+    float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
     float u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0.0), 1.0));
     float node_conductor_roughness_2 = (u_conductor_roughness_2 * 7.0);
     float cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6.0);
     float weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
-    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
-    float node_roughness_4 = (u_roughness_4 * 6.0);
-    float cell_roughness_4 = min(floor(node_roughness_4), 5.0);
-    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    float u_eta_4 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
-    float node_eta_4 = (u_eta_4 * 5.0);
-    float cell_eta_4 = min(floor(node_eta_4), 4.0);
-    float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llll_2 = ((code_llll * 6.3290056e-5) + 0.08862592);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulll_2 = ((code_ulll * 6.3290056e-5) + 0.08862592);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_lull_2 = ((code_lull * 6.3290056e-5) + 0.08862592);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uull_2 = ((code_uull * 6.3290056e-5) + 0.08862592);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_llul_2 = ((code_llul * 6.3290056e-5) + 0.08862592);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_ulul_2 = ((code_ulul * 6.3290056e-5) + 0.08862592);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_luul_2 = ((code_luul * 6.3290056e-5) + 0.08862592);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
-    float at_uuul_2 = ((code_uuul * 6.3290056e-5) + 0.08862592);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lllu_2 = ((code_lllu * 6.3290056e-5) + 0.08862592);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_ullu_2 = ((code_ullu * 6.3290056e-5) + 0.08862592);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lulu_2 = ((code_lulu * 6.3290056e-5) + 0.08862592);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uulu_2 = ((code_uulu * 6.3290056e-5) + 0.08862592);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_lluu_2 = ((code_lluu * 6.3290056e-5) + 0.08862592);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uluu_2 = ((code_uluu * 6.3290056e-5) + 0.08862592);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_luuu_2 = ((code_luuu * 6.3290056e-5) + 0.08862592);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
-    float at_uuuu_2 = ((code_uuuu * 6.3290056e-5) + 0.08862592);
-    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
+    float node_roughness_5 = (u_roughness_5 * 6.0);
+    float cell_roughness_5 = min(floor(node_roughness_5), 5.0);
+    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    float u_eta_5 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
+    float node_eta_5 = (u_eta_5 * 5.0);
+    float cell_eta_5 = min(floor(node_eta_5), 4.0);
+    float weight_eta_5 = (node_eta_5 - cell_eta_5);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_llll_2 = ((code_llll * 6.229872e-5) + 0.09352391);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_ulll_2 = ((code_ulll * 6.229872e-5) + 0.09352391);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_lull_2 = ((code_lull * 6.229872e-5) + 0.09352391);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_uull_2 = ((code_uull * 6.229872e-5) + 0.09352391);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_llul_2 = ((code_llul * 6.229872e-5) + 0.09352391);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_ulul_2 = ((code_ulul * 6.229872e-5) + 0.09352391);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_luul_2 = ((code_luul * 6.229872e-5) + 0.09352391);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 23936u));
+    float at_uuul_2 = ((code_uuul * 6.229872e-5) + 0.09352391);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_lllu_2 = ((code_lllu * 6.229872e-5) + 0.09352391);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_ullu_2 = ((code_ullu * 6.229872e-5) + 0.09352391);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_lulu_2 = ((code_lulu * 6.229872e-5) + 0.09352391);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_uulu_2 = ((code_uulu * 6.229872e-5) + 0.09352391);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_lluu_2 = ((code_lluu * 6.229872e-5) + 0.09352391);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_uluu_2 = ((code_uluu * 6.229872e-5) + 0.09352391);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_luuu_2 = ((code_luuu * 6.229872e-5) + 0.09352391);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 23936u));
+    float at_uuuu_2 = ((code_uuuu * 6.229872e-5) + 0.09352391);
+    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5))) + (at_ulll_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_uull_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_ulul_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_uuul_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_ullu_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_uulu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -311,79 +348,79 @@ float glossy_lobe_albedo(float cos_theta_4, float conductor_roughness_2, float r
 // σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
 // per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
 // peak seen through the coat's transmission from μ, tapered towards grazing.
-float glossy_blur(float cos_theta_5, float conductor_roughness_3, float roughness_5, float eta_8) {
-    float u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float node_cos_theta_5 = (u_cos_theta_5 * 5.0);
-    float cell_cos_theta_5 = min(floor(node_cos_theta_5), 4.0);
-    float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+float glossy_blur(float cos_theta_6, float conductor_roughness_3, float roughness_6, float eta_9) {
+    float u_cos_theta_6 = sqrt(min(max(cos_theta_6, 0.0), 1.0));
+    float node_cos_theta_6 = (u_cos_theta_6 * 5.0);
+    float cell_cos_theta_6 = min(floor(node_cos_theta_6), 4.0);
+    float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
     float u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0.0), 1.0));
     float node_conductor_roughness_3 = (u_conductor_roughness_3 * 3.0);
     float cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 2.0);
     float weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
-    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
-    float node_roughness_5 = (u_roughness_5 * 5.0);
-    float cell_roughness_5 = min(floor(node_roughness_5), 4.0);
-    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    float u_eta_5 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
-    float node_eta_5 = (u_eta_5 * 3.0);
-    float cell_eta_5 = min(floor(node_eta_5), 2.0);
-    float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
+    float node_roughness_6 = (u_roughness_6 * 5.0);
+    float cell_roughness_6 = min(floor(node_roughness_6), 4.0);
+    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    float u_eta_6 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
+    float node_eta_6 = (u_eta_6 * 3.0);
+    float cell_eta_6 = min(floor(node_eta_6), 2.0);
+    float weight_eta_6 = (node_eta_6 - cell_eta_6);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_llll_3 = (code_llll * 1.9313664e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_ulll_3 = (code_ulll * 1.9313664e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_lull_3 = (code_lull * 1.9313664e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_uull_3 = (code_uull * 1.9313664e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_llul_3 = (code_llul * 1.9313664e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_ulul_3 = (code_ulul * 1.9313664e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_luul_3 = (code_luul * 1.9313664e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + (cell_eta_5 * 144.0))) + 20336u));
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 20336u));
     float at_uuul_3 = (code_uuul * 1.9313664e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_lllu_3 = (code_lllu * 1.9313664e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_ullu_3 = (code_ullu * 1.9313664e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_lulu_3 = (code_lulu * 1.9313664e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_5 * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_uulu_3 = (code_uulu * 1.9313664e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_lluu_3 = (code_lluu * 1.9313664e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_uluu_3 = (code_uluu * 1.9313664e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_luuu_3 = (code_luuu * 1.9313664e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_5 + 1.0) * 24.0)) + ((cell_eta_5 + 1.0) * 144.0))) + 20336u));
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 20336u));
     float at_uuuu_3 = (code_uuuu * 1.9313664e-5);
-    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5)));
+    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6))) + (at_ulll_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_ullu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_uluu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float ggx_albedo(float cos_theta_6, float roughness_6) {
-    float u_cos_theta_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_6 = (u_cos_theta_6 * 15.0);
-    float cell_cos_theta_6 = min(floor(node_cos_theta_6), 14.0);
-    float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
-    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
-    float node_roughness_6 = (u_roughness_6 * 15.0);
-    float cell_roughness_6 = min(floor(node_roughness_6), 14.0);
-    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    float code_ll = glazec_table_code((uint((cell_cos_theta_6 + (cell_roughness_6 * 16.0))) + 15936u));
+float ggx_albedo(float cos_theta_7, float roughness_7) {
+    float u_cos_theta_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_7 = (u_cos_theta_7 * 15.0);
+    float cell_cos_theta_7 = min(floor(node_cos_theta_7), 14.0);
+    float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
+    float node_roughness_7 = (u_roughness_7 * 15.0);
+    float cell_roughness_7 = min(floor(node_roughness_7), 14.0);
+    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    float code_ll = glazec_table_code((uint((cell_cos_theta_7 + (cell_roughness_7 * 16.0))) + 15936u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    float code_ul = glazec_table_code((uint(((cell_cos_theta_6 + 1.0) + (cell_roughness_6 * 16.0))) + 15936u));
+    float code_ul = glazec_table_code((uint(((cell_cos_theta_7 + 1.0) + (cell_roughness_7 * 16.0))) + 15936u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    float code_lu = glazec_table_code((uint((cell_cos_theta_6 + ((cell_roughness_6 + 1.0) * 16.0))) + 15936u));
+    float code_lu = glazec_table_code((uint((cell_cos_theta_7 + ((cell_roughness_7 + 1.0) * 16.0))) + 15936u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    float code_uu = glazec_table_code((uint(((cell_cos_theta_6 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0))) + 15936u));
+    float code_uu = glazec_table_code((uint(((cell_cos_theta_7 + 1.0) + ((cell_roughness_7 + 1.0) * 16.0))) + 15936u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
-    return ((((at_ll * ((1.0 - weight_cos_theta_6) * (1.0 - weight_roughness_6))) + (at_ul * (weight_cos_theta_6 * (1.0 - weight_roughness_6)))) + (at_lu * ((1.0 - weight_cos_theta_6) * weight_roughness_6))) + (at_uu * (weight_cos_theta_6 * weight_roughness_6)));
+    return ((((at_ll * ((1.0 - weight_cos_theta_7) * (1.0 - weight_roughness_7))) + (at_ul * (weight_cos_theta_7 * (1.0 - weight_roughness_7)))) + (at_lu * ((1.0 - weight_cos_theta_7) * weight_roughness_7))) + (at_uu * (weight_cos_theta_7 * weight_roughness_7)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -425,71 +462,15 @@ float glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) {
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-float glossy_quick(float cos_theta_7, float conductor_roughness_4, float roughness_7, float eta_9) {
-    float u_cos_theta_7 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
-    float node_cos_theta_7 = (u_cos_theta_7 * 4.0);
-    float cell_cos_theta_7 = min(floor(node_cos_theta_7), 3.0);
-    float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
-    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
-    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
-    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
-    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
-    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
-    float node_roughness_7 = (u_roughness_7 * 5.0);
-    float cell_roughness_7 = min(floor(node_roughness_7), 4.0);
-    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
-    float u_eta_6 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
-    float node_eta_6 = (u_eta_6 * 5.0);
-    float cell_eta_6 = min(floor(node_eta_6), 4.0);
-    float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_llll_4 = (code_llll * 1.3453328e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_ulll_4 = (code_ulll * 1.3453328e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_lull_4 = (code_lull * 1.3453328e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_uull_4 = (code_uull * 1.3453328e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_llul_4 = (code_llul * 1.3453328e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_ulul_4 = (code_ulul * 1.3453328e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_luul_4 = (code_luul * 1.3453328e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 28400u));
-    float at_uuul_4 = (code_uuul * 1.3453328e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_lllu_4 = (code_lllu * 1.3453328e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_ullu_4 = (code_ullu * 1.3453328e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_lulu_4 = (code_lulu * 1.3453328e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_uulu_4 = (code_uulu * 1.3453328e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_lluu_4 = (code_lluu * 1.3453328e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_uluu_4 = (code_uluu * 1.3453328e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_luuu_4 = (code_luuu * 1.3453328e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 28400u));
-    float at_uuuu_4 = (code_uuuu * 1.3453328e-5);
-    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
-}
-
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
-// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
-// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-float glossy_steady(float cos_theta_8, float conductor_roughness_5, float roughness_8, float eta_10) {
+float glossy_quick(float cos_theta_8, float conductor_roughness_4, float roughness_8, float eta_10) {
     float u_cos_theta_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float node_cos_theta_8 = (u_cos_theta_8 * 4.0);
     float cell_cos_theta_8 = min(floor(node_cos_theta_8), 3.0);
     float weight_cos_theta_8 = (node_cos_theta_8 - cell_cos_theta_8);
-    float u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0.0), 1.0));
-    float node_conductor_roughness_5 = (u_conductor_roughness_5 * 7.0);
-    float cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6.0);
-    float weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
+    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
+    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
+    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
     float u_roughness_8 = sqrt(min(max(roughness_8, 0.0), 1.0));
     float node_roughness_8 = (u_roughness_8 * 5.0);
     float cell_roughness_8 = min(floor(node_roughness_8), 4.0);
@@ -498,39 +479,95 @@ float glossy_steady(float cos_theta_8, float conductor_roughness_5, float roughn
     float node_eta_7 = (u_eta_7 * 5.0);
     float cell_eta_7 = min(floor(node_eta_7), 4.0);
     float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_llll_4 = (code_llll * 1.3453328e-5);
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_ulll_4 = (code_ulll * 1.3453328e-5);
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_lull_4 = (code_lull * 1.3453328e-5);
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_uull_4 = (code_uull * 1.3453328e-5);
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_llul_4 = (code_llul * 1.3453328e-5);
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_ulul_4 = (code_ulul * 1.3453328e-5);
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_luul_4 = (code_luul * 1.3453328e-5);
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 28400u));
+    float at_uuul_4 = (code_uuul * 1.3453328e-5);
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_lllu_4 = (code_lllu * 1.3453328e-5);
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_ullu_4 = (code_ullu * 1.3453328e-5);
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_lulu_4 = (code_lulu * 1.3453328e-5);
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_uulu_4 = (code_uulu * 1.3453328e-5);
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_lluu_4 = (code_lluu * 1.3453328e-5);
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_uluu_4 = (code_uluu * 1.3453328e-5);
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_luuu_4 = (code_luuu * 1.3453328e-5);
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 28400u));
+    float at_uuuu_4 = (code_uuuu * 1.3453328e-5);
+    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7))) + (at_ulll_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_uull_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_ulul_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_uuul_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_ullu_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_uulu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+float glossy_steady(float cos_theta_9, float conductor_roughness_5, float roughness_9, float eta_11) {
+    float u_cos_theta_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
+    float node_cos_theta_9 = (u_cos_theta_9 * 4.0);
+    float cell_cos_theta_9 = min(floor(node_cos_theta_9), 3.0);
+    float weight_cos_theta_9 = (node_cos_theta_9 - cell_cos_theta_9);
+    float u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0.0), 1.0));
+    float node_conductor_roughness_5 = (u_conductor_roughness_5 * 7.0);
+    float cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6.0);
+    float weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    float u_roughness_9 = sqrt(min(max(roughness_9, 0.0), 1.0));
+    float node_roughness_9 = (u_roughness_9 * 5.0);
+    float cell_roughness_9 = min(floor(node_roughness_9), 4.0);
+    float weight_roughness_9 = (node_roughness_9 - cell_roughness_9);
+    float u_eta_8 = min(max((((eta_11 - 1.0) * 2.0) / (eta_11 + 1.0)), 0.0), 1.0);
+    float node_eta_8 = (u_eta_8 * 5.0);
+    float cell_eta_8 = min(floor(node_eta_8), 4.0);
+    float weight_eta_8 = (node_eta_8 - cell_eta_8);
+    float code_llll = glazec_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_llll_5 = (code_llll * 1.3521936e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_ulll_5 = (code_ulll * 1.3521936e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_lull = glazec_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_lull_5 = (code_lull * 1.3521936e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_uull = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_uull_5 = (code_uull * 1.3521936e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_llul = glazec_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_llul_5 = (code_llul * 1.3521936e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_ulul_5 = (code_ulul * 1.3521936e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_luul = glazec_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_luul_5 = (code_luul * 1.3521936e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 29840u));
+    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 29840u));
     float at_uuul_5 = (code_uuul * 1.3521936e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_lllu = glazec_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_lllu_5 = (code_lllu * 1.3521936e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_ullu_5 = (code_ullu * 1.3521936e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_lulu = glazec_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_lulu_5 = (code_lulu * 1.3521936e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_uulu_5 = (code_uulu * 1.3521936e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_lluu = glazec_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_lluu_5 = (code_lluu * 1.3521936e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_uluu_5 = (code_uluu * 1.3521936e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_luuu = glazec_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_luuu_5 = (code_luuu * 1.3521936e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 29840u));
+    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 29840u));
     float at_uuuu_5 = (code_uuuu * 1.3521936e-5);
-    return ((((((((((((((((at_llll_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7))) + (at_ulll_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_lull_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_uull_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_llul_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_ulul_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_luul_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_uuul_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_lllu_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_ullu_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lulu_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_uulu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lluu_5 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_5 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_5 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7)));
+    return ((((((((((((((((at_llll_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8))) + (at_ulll_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_lull_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_uull_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_llul_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_ulul_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_luul_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_uuul_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_lllu_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_ullu_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_lulu_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_uulu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_lluu_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_uluu_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_luuu_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8))) + (at_uuuu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8)));
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -564,9 +601,9 @@ vec2 glazec_equirect_uv(vec3 d) {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 glazec_environment(vec3 direction, float roughness_9) {
+vec3 glazec_environment(vec3 direction, float roughness_10) {
     vec2 uv = glazec_equirect_uv(direction);
-    float lod = (roughness_9 * (float(uint(textureQueryLevels(_group_2_binding_1_fs))) - 1.0));
+    float lod = (roughness_10 * (float(uint(textureQueryLevels(_group_2_binding_1_fs))) - 1.0));
     vec4 _e11 = textureLod(_group_2_binding_1_fs, vec2(uv), lod);
     return _e11.xyz;
 }
@@ -607,30 +644,32 @@ vec3 coated_gold_ibl(vec3 n_2, vec3 v_1) {
     float _e16 = coat_deficit(n_dot_v, 0.1, 1.5);
     float layer1_restored_l = coat_extra(n_dot_v, 0.1, 1.5);
     float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e16) - layer1_restored_l), 0.0), 1.0);
-    vec3 layer1_fresnel_cond_l = fr_conductor(layer1_cos_v, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
+    float _e28 = coat_path(n_dot_v, 0.1, 1.5);
+    float layer1_path_cos_l = (layer1_cos_v / _e28);
+    vec3 layer1_fresnel_cond_l = fr_conductor(layer1_path_cos_l, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
     float layer1_scale_l = glossy_scale(n_dot_v, 0.25, 0.1, 1.5);
     float layer1_next_l = glossy_next(n_dot_v, 0.25, 0.1, 1.5);
-    float _e47 = glossy_lobe_albedo(n_dot_v, 0.25, 0.1, 1.5);
-    float _e52 = max(layer1_cos_v, 0.7453635);
-    float _e56 = glossy_blur(max(n_dot_v, 0.005), 0.25, 0.1, 1.5);
-    float layer1_blur_l = (_e56 * 0.010000001);
-    float layer1_blur_v = (_e56 * 0.010000001);
+    float _e51 = glossy_lobe_albedo(n_dot_v, 0.25, 0.1, 1.5);
+    float _e56 = max(layer1_cos_v, 0.7453635);
+    float _e60 = glossy_blur(max(n_dot_v, 0.005), 0.25, 0.1, 1.5);
+    float layer1_blur_l = (_e60 * 0.010000001);
+    float layer1_blur_v = (_e60 * 0.010000001);
     float layer1_alpha = sqrt(((0.00390625 + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
-    float _e68 = ggx_albedo(_e52, sqrt(layer1_alpha));
-    float _e70 = glossy_trapped_share(_e52, 0.745356, layer1_alpha);
-    float layer1_cone_share_l = (1.0 - _e70);
-    float layer1_lobe_normaliser_l = (_e68 * layer1_cone_share_l);
-    float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e47) * layer1_lobe_normaliser_l), 0.0), 1.0);
+    float _e72 = ggx_albedo(_e56, sqrt(layer1_alpha));
+    float _e74 = glossy_trapped_share(_e56, 0.745356, layer1_alpha);
+    float layer1_cone_share_l = (1.0 - _e74);
+    float layer1_lobe_normaliser_l = (_e72 * layer1_cone_share_l);
+    float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e51) * layer1_lobe_normaliser_l), 0.0), 1.0);
     float layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
-    float _e92 = glossy_quick(n_dot_v, 0.25, 0.1, 1.5);
-    float _e96 = glossy_steady(n_dot_v, 0.25, 0.1, 1.5);
-    vec3 layer1_later_l = glossy_later(layer1_next_l, _e92, _e96, 0.9170209, layer1_survival);
+    float _e96 = glossy_quick(n_dot_v, 0.25, 0.1, 1.5);
+    float _e100 = glossy_steady(n_dot_v, 0.25, 0.1, 1.5);
+    vec3 layer1_later_l = glossy_later(layer1_next_l, _e96, _e100, 0.9170209, layer1_survival);
     vec3 layer1_once_l = glossy_once(layer1_single_l, layer1_next_l, layer1_survival);
-    vec3 _e104 = glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
-    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e104.x, 1e-6)));
-    float _e113 = glossy_blur(n_dot_v, 0.25, 0.1, 1.5);
-    float layer1_blur_l_1 = (_e113 * 0.010000001);
-    float layer1_blur_v_1 = (_e113 * 0.010000001);
+    vec3 _e108 = glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
+    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e108.x, 1e-6)));
+    float _e117 = glossy_blur(n_dot_v, 0.25, 0.1, 1.5);
+    float layer1_blur_l_1 = (_e117 * 0.010000001);
+    float layer1_blur_v_1 = (_e117 * 0.010000001);
     float layer1_alpha_1 = sqrt(((0.00390625 + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
     vec3 albedo_l = glossy_albedo(layer1_transmit_l, layer1_fresnel_cond_l, vec3(1.0), vec3(1.0), layer1_once_l, layer1_single_l, layer1_later_l);
     float coat_albedo = (1.0 - layer1_transmit_l);
@@ -638,10 +677,10 @@ vec3 coated_gold_ibl(vec3 n_2, vec3 v_1) {
     vec3 reflected = specular_dominant_direction(n_2, v_1, 0.010000001);
     float base_roughness = sqrt(min((layer1_alpha_1 * 1.5), 1.0));
     vec3 reflected_1 = specular_dominant_direction(n_2, v_1, (base_roughness * base_roughness));
-    bool _e148 = (dot(n_2, v_1) > 0.0);
+    bool _e152 = (dot(n_2, v_1) > 0.0);
     vec3 light_a = glazec_environment(reflected, 0.1);
     vec3 light_b = glazec_environment(reflected_1, base_roughness);
-    return (((_e148 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e148 ? under_albedo : vec3(0.0)) * light_b));
+    return (((_e152 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e152 ? under_albedo : vec3(0.0)) * light_b));
 }
 
 void main() {

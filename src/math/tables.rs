@@ -464,7 +464,7 @@ pub const SPECS: [TableSpec; 24] = [
             "K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),",
             "over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the",
             "share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes",
-            "what the lobe does not (raised where probes between the nodes found a gain).",
+            "what the lobe does not (fitted where probes between the nodes found a gain or a loss).",
         ],
     ),
     table(

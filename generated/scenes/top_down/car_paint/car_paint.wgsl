@@ -25,9 +25,9 @@ const one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
 const layer2_alpha_1: f32 = 0.09037713f;
 const layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0027934422f, 0.000000016045801f, 0.00000000020279708f);
+const layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026943593f, 0.000000015088702f, 0.00000000018821272f);
 const layer1_mu_c: f32 = 0.745356f;
-const layer1_rho: vec3<f32> = vec3<f32>(0.74053407f, 0.06705758f, 0.03126201f);
+const layer1_rho: vec3<f32> = vec3<f32>(0.7406756f, 0.06705829f, 0.031262092f);
 const layer1_trapped_escape: f32 = 0.15678635f;
 const base_roughness: f32 = 0.37185615f;
 
@@ -331,7 +331,7 @@ fn glossy_next(cos_theta_4: f32, conductor_roughness_1: f32, roughness_3: f32, e
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
-// what the lobe does not (raised where probes between the nodes found a gain).
+// what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 fn glossy_lobe_albedo(cos_theta_5: f32, conductor_roughness_2: f32, roughness_4: f32, eta_6: f32) -> f32 {
     let u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
     let node_cos_theta_4 = (u_cos_theta_4 * 8f);
@@ -350,37 +350,37 @@ fn glossy_lobe_albedo(cos_theta_5: f32, conductor_roughness_2: f32, roughness_4:
     let cell_eta_4 = min(floor(node_eta_4), 4f);
     let weight_eta_4 = (node_eta_4 - cell_eta_4);
     let code_llll = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_llll_2 = ((code_llll * 0.000063290056f) + 0.08862592f);
+    let at_llll_2 = ((code_llll * 0.00006229872f) + 0.09352391f);
     let code_ulll = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_ulll_2 = ((code_ulll * 0.000063290056f) + 0.08862592f);
+    let at_ulll_2 = ((code_ulll * 0.00006229872f) + 0.09352391f);
     let code_lull = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_lull_2 = ((code_lull * 0.000063290056f) + 0.08862592f);
+    let at_lull_2 = ((code_lull * 0.00006229872f) + 0.09352391f);
     let code_uull = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_uull_2 = ((code_uull * 0.000063290056f) + 0.08862592f);
+    let at_uull_2 = ((code_uull * 0.00006229872f) + 0.09352391f);
     let code_llul = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_llul_2 = ((code_llul * 0.000063290056f) + 0.08862592f);
+    let at_llul_2 = ((code_llul * 0.00006229872f) + 0.09352391f);
     let code_ulul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_ulul_2 = ((code_ulul * 0.000063290056f) + 0.08862592f);
+    let at_ulul_2 = ((code_ulul * 0.00006229872f) + 0.09352391f);
     let code_luul = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_luul_2 = ((code_luul * 0.000063290056f) + 0.08862592f);
+    let at_luul_2 = ((code_luul * 0.00006229872f) + 0.09352391f);
     let code_uuul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_uuul_2 = ((code_uuul * 0.000063290056f) + 0.08862592f);
+    let at_uuul_2 = ((code_uuul * 0.00006229872f) + 0.09352391f);
     let code_lllu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lllu_2 = ((code_lllu * 0.000063290056f) + 0.08862592f);
+    let at_lllu_2 = ((code_lllu * 0.00006229872f) + 0.09352391f);
     let code_ullu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_ullu_2 = ((code_ullu * 0.000063290056f) + 0.08862592f);
+    let at_ullu_2 = ((code_ullu * 0.00006229872f) + 0.09352391f);
     let code_lulu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lulu_2 = ((code_lulu * 0.000063290056f) + 0.08862592f);
+    let at_lulu_2 = ((code_lulu * 0.00006229872f) + 0.09352391f);
     let code_uulu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uulu_2 = ((code_uulu * 0.000063290056f) + 0.08862592f);
+    let at_uulu_2 = ((code_uulu * 0.00006229872f) + 0.09352391f);
     let code_lluu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lluu_2 = ((code_lluu * 0.000063290056f) + 0.08862592f);
+    let at_lluu_2 = ((code_lluu * 0.00006229872f) + 0.09352391f);
     let code_uluu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uluu_2 = ((code_uluu * 0.000063290056f) + 0.08862592f);
+    let at_uluu_2 = ((code_uluu * 0.00006229872f) + 0.09352391f);
     let code_luuu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_luuu_2 = ((code_luuu * 0.000063290056f) + 0.08862592f);
+    let at_luuu_2 = ((code_luuu * 0.00006229872f) + 0.09352391f);
     let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uuuu_2 = ((code_uuuu * 0.000063290056f) + 0.08862592f);
+    let at_uuuu_2 = ((code_uuuu * 0.00006229872f) + 0.09352391f);
     return ((((((((((((((((at_llll_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_lull_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_llul_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_luul_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_lllu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
 }
 

@@ -20,7 +20,7 @@ struct PreviewVarying {
 
 const one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const layer1_survival: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const remainder_avg: vec3<f32> = vec3<f32>(0.07396161f, 0.03097014f, 0.0033205727f);
+const remainder_avg: vec3<f32> = vec3<f32>(0.07577434f, 0.03172735f, 0.0034032734f);
 
 @group(0) @binding(3) 
 var<uniform> glazec_tables: array<vec4<u32>, 4087>;
@@ -142,14 +142,51 @@ fn coat_extra(cos_theta_1: f32, roughness_1: f32, eta_3: f32) -> f32 {
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+fn coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
+    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 11f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 7f);
+    let cell_eta_2 = min(floor(node_eta_2), 6f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let code_lll = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
+    let code_ull = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
+    let code_lul = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
+    let code_uul = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
+    let code_llu = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
+    let code_ulu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
+    let code_luu = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
+    let code_uuu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+}
+
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
-fn fr_conductor(cos_i_1: f32, eta_4: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
+fn fr_conductor(cos_i_1: f32, eta_5: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
     let _e6 = min(max(cos_i_1, 0f), 1f);
     let cos2_ = (_e6 * _e6);
     let sin2_ = (1f - cos2_);
-    let eta2_ = (eta_4 * eta_4);
+    let eta2_ = (eta_5 * eta_5);
     let k2_ = (k * k);
     let t0_ = ((eta2_ - k2_) - vec3(sin2_));
     let a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4f))));
@@ -169,111 +206,111 @@ fn fr_conductor(cos_i_1: f32, eta_4: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-fn glossy_scale(cos_theta_2: f32, conductor_roughness: f32, roughness_2: f32, eta_5: f32) -> f32 {
-    let u_cos_theta_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let node_cos_theta_2 = (u_cos_theta_2 * 8f);
-    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 7f);
-    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+fn glossy_scale(cos_theta_3: f32, conductor_roughness: f32, roughness_3: f32, eta_6: f32) -> f32 {
+    let u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let node_cos_theta_3 = (u_cos_theta_3 * 8f);
+    let cell_cos_theta_3 = min(floor(node_cos_theta_3), 7f);
+    let weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
     let u_conductor_roughness = sqrt(min(max(conductor_roughness, 0f), 1f));
     let node_conductor_roughness = (u_conductor_roughness * 7f);
     let cell_conductor_roughness = min(floor(node_conductor_roughness), 6f);
     let weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 6f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 5f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let u_eta_2 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
-    let node_eta_2 = (u_eta_2 * 5f);
-    let cell_eta_2 = min(floor(node_eta_2), 4f);
-    let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_llll = ((code_llll * 0.000034481873f) + 0.16788425f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_ulll = ((code_ulll * 0.000034481873f) + 0.16788425f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_lull = ((code_lull * 0.000034481873f) + 0.16788425f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_uull = ((code_uull * 0.000034481873f) + 0.16788425f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_llul = ((code_llul * 0.000034481873f) + 0.16788425f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_ulul = ((code_ulul * 0.000034481873f) + 0.16788425f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_luul = ((code_luul * 0.000034481873f) + 0.16788425f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + (cell_eta_2 * 504f))) + 20912u));
-    let at_uuul = ((code_uuul * 0.000034481873f) + 0.16788425f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_lllu = ((code_lllu * 0.000034481873f) + 0.16788425f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_ullu = ((code_ullu * 0.000034481873f) + 0.16788425f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_lulu = ((code_lulu * 0.000034481873f) + 0.16788425f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_2 * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_uulu = ((code_uulu * 0.000034481873f) + 0.16788425f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_2 + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_lluu = ((code_lluu * 0.000034481873f) + 0.16788425f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_uluu = ((code_uluu * 0.000034481873f) + 0.16788425f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_2 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_luuu = ((code_luuu * 0.000034481873f) + 0.16788425f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_2 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_2 + 1f) * 72f)) + ((cell_eta_2 + 1f) * 504f))) + 20912u));
-    let at_uuuu = ((code_uuuu * 0.000034481873f) + 0.16788425f);
-    return ((((((((((((((((at_llll * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lull * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_llul * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_luul * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_lllu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1f - weight_cos_theta_2) * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1f - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1f - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
-}
-
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
-// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-fn glossy_next(cos_theta_3: f32, conductor_roughness_1: f32, roughness_3: f32, eta_6: f32) -> f32 {
-    let u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let node_cos_theta_3 = (u_cos_theta_3 * 4f);
-    let cell_cos_theta_3 = min(floor(node_cos_theta_3), 3f);
-    let weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
-    let u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0f), 1f));
-    let node_conductor_roughness_1 = (u_conductor_roughness_1 * 7f);
-    let cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6f);
-    let weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
     let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
-    let node_roughness_3 = (u_roughness_3 * 5f);
-    let cell_roughness_3 = min(floor(node_roughness_3), 4f);
+    let node_roughness_3 = (u_roughness_3 * 6f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 5f);
     let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
     let u_eta_3 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
     let node_eta_3 = (u_eta_3 * 5f);
     let cell_eta_3 = min(floor(node_eta_3), 4f);
     let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness * 9f)) + (cell_roughness_3 * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_llll = ((code_llll * 0.000034481873f) + 0.16788425f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_3 * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_ulll = ((code_ulll * 0.000034481873f) + 0.16788425f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_3 * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_lull = ((code_lull * 0.000034481873f) + 0.16788425f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_3 * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_uull = ((code_uull * 0.000034481873f) + 0.16788425f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_llul = ((code_llul * 0.000034481873f) + 0.16788425f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_ulul = ((code_ulul * 0.000034481873f) + 0.16788425f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_luul = ((code_luul * 0.000034481873f) + 0.16788425f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + (cell_eta_3 * 504f))) + 20912u));
+    let at_uuul = ((code_uuul * 0.000034481873f) + 0.16788425f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness * 9f)) + (cell_roughness_3 * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_lllu = ((code_lllu * 0.000034481873f) + 0.16788425f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness * 9f)) + (cell_roughness_3 * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_ullu = ((code_ullu * 0.000034481873f) + 0.16788425f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_3 * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_lulu = ((code_lulu * 0.000034481873f) + 0.16788425f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + (cell_roughness_3 * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_uulu = ((code_uulu * 0.000034481873f) + 0.16788425f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_lluu = ((code_lluu * 0.000034481873f) + 0.16788425f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_uluu = ((code_uluu * 0.000034481873f) + 0.16788425f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_luuu = ((code_luuu * 0.000034481873f) + 0.16788425f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness + 1f) * 9f)) + ((cell_roughness_3 + 1f) * 72f)) + ((cell_eta_3 + 1f) * 504f))) + 20912u));
+    let at_uuuu = ((code_uuuu * 0.000034481873f) + 0.16788425f);
+    return ((((((((((((((((at_llll * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ulll * (((weight_cos_theta_3 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lull * ((((1f - weight_cos_theta_3) * weight_conductor_roughness) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_uull * (((weight_cos_theta_3 * weight_conductor_roughness) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_llul * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_ulul * (((weight_cos_theta_3 * (1f - weight_conductor_roughness)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_luul * ((((1f - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uuul * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_lllu * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ullu * (((weight_cos_theta_3 * (1f - weight_conductor_roughness)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lulu * ((((1f - weight_cos_theta_3) * weight_conductor_roughness) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_uulu * (((weight_cos_theta_3 * weight_conductor_roughness) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lluu * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_uluu * (((weight_cos_theta_3 * (1f - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_luuu * ((((1f - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3))) + (at_uuuu * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
+fn glossy_next(cos_theta_4: f32, conductor_roughness_1: f32, roughness_4: f32, eta_7: f32) -> f32 {
+    let u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
+    let node_cos_theta_4 = (u_cos_theta_4 * 4f);
+    let cell_cos_theta_4 = min(floor(node_cos_theta_4), 3f);
+    let weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    let u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0f), 1f));
+    let node_conductor_roughness_1 = (u_conductor_roughness_1 * 7f);
+    let cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6f);
+    let weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 5f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 4f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let u_eta_4 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
+    let node_eta_4 = (u_eta_4 * 5f);
+    let cell_eta_4 = min(floor(node_eta_4), 4f);
+    let weight_eta_4 = (node_eta_4 - cell_eta_4);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_4 * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_llll_1 = (code_llll * 0.000015259022f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_4 * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_ulll_1 = (code_ulll * 0.000015259022f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_4 * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_lull_1 = (code_lull * 0.000015259022f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_4 * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_uull_1 = (code_uull * 0.000015259022f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_llul_1 = (code_llul * 0.000015259022f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_ulul_1 = (code_ulul * 0.000015259022f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_luul_1 = (code_luul * 0.000015259022f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + (cell_eta_3 * 240f))) + 26960u));
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + (cell_eta_4 * 240f))) + 26960u));
     let at_uuul_1 = (code_uuul * 0.000015259022f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_4 * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_lllu_1 = (code_lllu * 0.000015259022f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_1 * 5f)) + (cell_roughness_4 * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_ullu_1 = (code_ullu * 0.000015259022f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_4 * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_lulu_1 = (code_lulu * 0.000015259022f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_3 * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + (cell_roughness_4 * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_uulu_1 = (code_uulu * 0.000015259022f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_lluu_1 = (code_lluu * 0.000015259022f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_1 * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_uluu_1 = (code_uluu * 0.000015259022f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_luuu_1 = (code_luuu * 0.000015259022f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_3 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_3 + 1f) * 40f)) + ((cell_eta_3 + 1f) * 240f))) + 26960u));
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_1 + 1f) * 5f)) + ((cell_roughness_4 + 1f) * 40f)) + ((cell_eta_4 + 1f) * 240f))) + 26960u));
     let at_uuuu_1 = (code_uuuu * 0.000015259022f);
-    return ((((((((((((((((at_llll_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lull_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_llul_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_luul_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_lllu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1f - weight_cos_theta_3) * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1f - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1f - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+    return ((((((((((((((((at_llll_1 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_4)) * (1f - weight_eta_4))) + (at_ulll_1 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_lull_1 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_1) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_uull_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_llul_1 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_1)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_ulul_1 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_1)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_luul_1 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_uuul_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_lllu_1 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_ullu_1 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_1)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lulu_1 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_1) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_uulu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lluu_1 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_1 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_1 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -281,57 +318,57 @@ fn glossy_next(cos_theta_3: f32, conductor_roughness_1: f32, roughness_3: f32, e
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
-// what the lobe does not (raised where probes between the nodes found a gain).
-fn glossy_lobe_albedo(cos_theta_4: f32, conductor_roughness_2: f32, roughness_4: f32, eta_7: f32) -> f32 {
-    let u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let node_cos_theta_4 = (u_cos_theta_4 * 8f);
-    let cell_cos_theta_4 = min(floor(node_cos_theta_4), 7f);
-    let weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+// what the lobe does not (fitted where probes between the nodes found a gain or a loss).
+fn glossy_lobe_albedo(cos_theta_5: f32, conductor_roughness_2: f32, roughness_5: f32, eta_8: f32) -> f32 {
+    let u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
+    let node_cos_theta_5 = (u_cos_theta_5 * 8f);
+    let cell_cos_theta_5 = min(floor(node_cos_theta_5), 7f);
+    let weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
     let u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0f), 1f));
     let node_conductor_roughness_2 = (u_conductor_roughness_2 * 7f);
     let cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6f);
     let weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
-    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
-    let node_roughness_4 = (u_roughness_4 * 6f);
-    let cell_roughness_4 = min(floor(node_roughness_4), 5f);
-    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let u_eta_4 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
-    let node_eta_4 = (u_eta_4 * 5f);
-    let cell_eta_4 = min(floor(node_eta_4), 4f);
-    let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_llll_2 = ((code_llll * 0.000063290056f) + 0.08862592f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_ulll_2 = ((code_ulll * 0.000063290056f) + 0.08862592f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_lull_2 = ((code_lull * 0.000063290056f) + 0.08862592f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_uull_2 = ((code_uull * 0.000063290056f) + 0.08862592f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_llul_2 = ((code_llul * 0.000063290056f) + 0.08862592f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_ulul_2 = ((code_ulul * 0.000063290056f) + 0.08862592f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_luul_2 = ((code_luul * 0.000063290056f) + 0.08862592f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + (cell_eta_4 * 504f))) + 23936u));
-    let at_uuul_2 = ((code_uuul * 0.000063290056f) + 0.08862592f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lllu_2 = ((code_lllu * 0.000063290056f) + 0.08862592f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_ullu_2 = ((code_ullu * 0.000063290056f) + 0.08862592f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lulu_2 = ((code_lulu * 0.000063290056f) + 0.08862592f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_4 * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uulu_2 = ((code_uulu * 0.000063290056f) + 0.08862592f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_lluu_2 = ((code_lluu * 0.000063290056f) + 0.08862592f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uluu_2 = ((code_uluu * 0.000063290056f) + 0.08862592f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_luuu_2 = ((code_luuu * 0.000063290056f) + 0.08862592f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_4 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_4 + 1f) * 72f)) + ((cell_eta_4 + 1f) * 504f))) + 23936u));
-    let at_uuuu_2 = ((code_uuuu * 0.000063290056f) + 0.08862592f);
-    return ((((((((((((((((at_llll_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_lull_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * (1f - weight_eta_4)))) + (at_llul_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_luul_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1f - weight_eta_4)))) + (at_lllu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1f - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1f - weight_cos_theta_4) * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1f - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1f - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 6f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 5f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let u_eta_5 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
+    let node_eta_5 = (u_eta_5 * 5f);
+    let cell_eta_5 = min(floor(node_eta_5), 4f);
+    let weight_eta_5 = (node_eta_5 - cell_eta_5);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_5 * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_llll_2 = ((code_llll * 0.00006229872f) + 0.09352391f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_5 * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_ulll_2 = ((code_ulll * 0.00006229872f) + 0.09352391f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_5 * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_lull_2 = ((code_lull * 0.00006229872f) + 0.09352391f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_5 * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_uull_2 = ((code_uull * 0.00006229872f) + 0.09352391f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_llul_2 = ((code_llul * 0.00006229872f) + 0.09352391f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_ulul_2 = ((code_ulul * 0.00006229872f) + 0.09352391f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_luul_2 = ((code_luul * 0.00006229872f) + 0.09352391f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + (cell_eta_5 * 504f))) + 23936u));
+    let at_uuul_2 = ((code_uuul * 0.00006229872f) + 0.09352391f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_5 * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_lllu_2 = ((code_lllu * 0.00006229872f) + 0.09352391f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_2 * 9f)) + (cell_roughness_5 * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_ullu_2 = ((code_ullu * 0.00006229872f) + 0.09352391f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_5 * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_lulu_2 = ((code_lulu * 0.00006229872f) + 0.09352391f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + (cell_roughness_5 * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_uulu_2 = ((code_uulu * 0.00006229872f) + 0.09352391f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_lluu_2 = ((code_lluu * 0.00006229872f) + 0.09352391f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_2 * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_uluu_2 = ((code_uluu * 0.00006229872f) + 0.09352391f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_luuu_2 = ((code_luuu * 0.00006229872f) + 0.09352391f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_2 + 1f) * 9f)) + ((cell_roughness_5 + 1f) * 72f)) + ((cell_eta_5 + 1f) * 504f))) + 23936u));
+    let at_uuuu_2 = ((code_uuuu * 0.00006229872f) + 0.09352391f);
+    return ((((((((((((((((at_llll_2 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_5)) * (1f - weight_eta_5))) + (at_ulll_2 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_lull_2 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_2) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_uull_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_llul_2 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_2)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_ulul_2 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_2)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_luul_2 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_uuul_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_lllu_2 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_ullu_2 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_2)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lulu_2 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_2) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_uulu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lluu_2 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_2 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_2 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -339,79 +376,79 @@ fn glossy_lobe_albedo(cos_theta_4: f32, conductor_roughness_2: f32, roughness_4:
 // σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
 // per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
 // peak seen through the coat's transmission from μ, tapered towards grazing.
-fn glossy_blur(cos_theta_5: f32, conductor_roughness_3: f32, roughness_5: f32, eta_8: f32) -> f32 {
-    let u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let node_cos_theta_5 = (u_cos_theta_5 * 5f);
-    let cell_cos_theta_5 = min(floor(node_cos_theta_5), 4f);
-    let weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+fn glossy_blur(cos_theta_6: f32, conductor_roughness_3: f32, roughness_6: f32, eta_9: f32) -> f32 {
+    let u_cos_theta_6 = sqrt(min(max(cos_theta_6, 0f), 1f));
+    let node_cos_theta_6 = (u_cos_theta_6 * 5f);
+    let cell_cos_theta_6 = min(floor(node_cos_theta_6), 4f);
+    let weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
     let u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0f), 1f));
     let node_conductor_roughness_3 = (u_conductor_roughness_3 * 3f);
     let cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 2f);
     let weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
-    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
-    let node_roughness_5 = (u_roughness_5 * 5f);
-    let cell_roughness_5 = min(floor(node_roughness_5), 4f);
-    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    let u_eta_5 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
-    let node_eta_5 = (u_eta_5 * 3f);
-    let cell_eta_5 = min(floor(node_eta_5), 2f);
-    let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
+    let node_roughness_6 = (u_roughness_6 * 5f);
+    let cell_roughness_6 = min(floor(node_roughness_6), 4f);
+    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    let u_eta_6 = min(max((((eta_9 - 1f) * 2f) / (eta_9 + 1f)), 0f), 1f);
+    let node_eta_6 = (u_eta_6 * 3f);
+    let cell_eta_6 = min(floor(node_eta_6), 2f);
+    let weight_eta_6 = (node_eta_6 - cell_eta_6);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_6 * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_llll_3 = (code_llll * 0.000019313664f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_6 * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_ulll_3 = (code_ulll * 0.000019313664f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_6 * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_lull_3 = (code_lull * 0.000019313664f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_6 * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_uull_3 = (code_uull * 0.000019313664f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_llul_3 = (code_llul * 0.000019313664f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_ulul_3 = (code_ulul * 0.000019313664f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_luul_3 = (code_luul * 0.000019313664f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + (cell_eta_5 * 144f))) + 20336u));
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + (cell_eta_6 * 144f))) + 20336u));
     let at_uuul_3 = (code_uuul * 0.000019313664f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_6 * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_lllu_3 = (code_lllu * 0.000019313664f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 6f)) + (cell_roughness_6 * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_ullu_3 = (code_ullu * 0.000019313664f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_6 * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_lulu_3 = (code_lulu * 0.000019313664f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_5 * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + (cell_roughness_6 * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_uulu_3 = (code_uulu * 0.000019313664f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_5 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_lluu_3 = (code_lluu * 0.000019313664f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + (cell_conductor_roughness_3 * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_uluu_3 = (code_uluu * 0.000019313664f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_5 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_luuu_3 = (code_luuu * 0.000019313664f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_5 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_5 + 1f) * 24f)) + ((cell_eta_5 + 1f) * 144f))) + 20336u));
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_6 + 1f) + ((cell_conductor_roughness_3 + 1f) * 6f)) + ((cell_roughness_6 + 1f) * 24f)) + ((cell_eta_6 + 1f) * 144f))) + 20336u));
     let at_uuuu_3 = (code_uuuu * 0.000019313664f);
-    return ((((((((((((((((at_llll_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * (1f - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_lull_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_llul_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_luul_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_lllu_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lulu_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_lluu_3 * ((((1f - weight_cos_theta_5) * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_5 * (1f - weight_conductor_roughness_3)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_3 * ((((1f - weight_cos_theta_5) * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_5 * weight_conductor_roughness_3) * weight_roughness_5) * weight_eta_5)));
+    return ((((((((((((((((at_llll_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * (1f - weight_eta_6))) + (at_ulll_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * (1f - weight_eta_6)))) + (at_lull_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * (1f - weight_eta_6)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * (1f - weight_eta_6)))) + (at_llul_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_luul_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_lllu_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_ullu_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_lulu_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_lluu_3 * ((((1f - weight_cos_theta_6) * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_uluu_3 * (((weight_cos_theta_6 * (1f - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_luuu_3 * ((((1f - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-fn ggx_albedo(cos_theta_6: f32, roughness_6: f32) -> f32 {
-    let u_cos_theta_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_6 = (u_cos_theta_6 * 15f);
-    let cell_cos_theta_6 = min(floor(node_cos_theta_6), 14f);
-    let weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
-    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
-    let node_roughness_6 = (u_roughness_6 * 15f);
-    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
-    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    let code_ll = glazec_table_code((u32((cell_cos_theta_6 + (cell_roughness_6 * 16f))) + 15936u));
+fn ggx_albedo(cos_theta_7: f32, roughness_7: f32) -> f32 {
+    let u_cos_theta_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_7 = (u_cos_theta_7 * 15f);
+    let cell_cos_theta_7 = min(floor(node_cos_theta_7), 14f);
+    let weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    let u_roughness_7 = sqrt(min(max(roughness_7, 0f), 1f));
+    let node_roughness_7 = (u_roughness_7 * 15f);
+    let cell_roughness_7 = min(floor(node_roughness_7), 14f);
+    let weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
+    let code_ll = glazec_table_code((u32((cell_cos_theta_7 + (cell_roughness_7 * 16f))) + 15936u));
     let at_ll = ((code_ll * 0.000010576748f) + 0.30685282f);
-    let code_ul = glazec_table_code((u32(((cell_cos_theta_6 + 1f) + (cell_roughness_6 * 16f))) + 15936u));
+    let code_ul = glazec_table_code((u32(((cell_cos_theta_7 + 1f) + (cell_roughness_7 * 16f))) + 15936u));
     let at_ul = ((code_ul * 0.000010576748f) + 0.30685282f);
-    let code_lu = glazec_table_code((u32((cell_cos_theta_6 + ((cell_roughness_6 + 1f) * 16f))) + 15936u));
+    let code_lu = glazec_table_code((u32((cell_cos_theta_7 + ((cell_roughness_7 + 1f) * 16f))) + 15936u));
     let at_lu = ((code_lu * 0.000010576748f) + 0.30685282f);
-    let code_uu = glazec_table_code((u32(((cell_cos_theta_6 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 15936u));
+    let code_uu = glazec_table_code((u32(((cell_cos_theta_7 + 1f) + ((cell_roughness_7 + 1f) * 16f))) + 15936u));
     let at_uu = ((code_uu * 0.000010576748f) + 0.30685282f);
-    return ((((at_ll * ((1f - weight_cos_theta_6) * (1f - weight_roughness_6))) + (at_ul * (weight_cos_theta_6 * (1f - weight_roughness_6)))) + (at_lu * ((1f - weight_cos_theta_6) * weight_roughness_6))) + (at_uu * (weight_cos_theta_6 * weight_roughness_6)));
+    return ((((at_ll * ((1f - weight_cos_theta_7) * (1f - weight_roughness_7))) + (at_ul * (weight_cos_theta_7 * (1f - weight_roughness_7)))) + (at_lu * ((1f - weight_cos_theta_7) * weight_roughness_7))) + (at_uu * (weight_cos_theta_7 * weight_roughness_7)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -453,71 +490,15 @@ fn glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32 {
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-fn glossy_quick(cos_theta_7: f32, conductor_roughness_4: f32, roughness_7: f32, eta_9: f32) -> f32 {
-    let u_cos_theta_7 = sqrt(min(max(cos_theta_7, 0f), 1f));
-    let node_cos_theta_7 = (u_cos_theta_7 * 4f);
-    let cell_cos_theta_7 = min(floor(node_cos_theta_7), 3f);
-    let weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
-    let u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0f), 1f));
-    let node_conductor_roughness_4 = (u_conductor_roughness_4 * 7f);
-    let cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6f);
-    let weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
-    let u_roughness_7 = sqrt(min(max(roughness_7, 0f), 1f));
-    let node_roughness_7 = (u_roughness_7 * 5f);
-    let cell_roughness_7 = min(floor(node_roughness_7), 4f);
-    let weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
-    let u_eta_6 = min(max((((eta_9 - 1f) * 2f) / (eta_9 + 1f)), 0f), 1f);
-    let node_eta_6 = (u_eta_6 * 5f);
-    let cell_eta_6 = min(floor(node_eta_6), 4f);
-    let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_llll_4 = (code_llll * 0.000013453328f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_ulll_4 = (code_ulll * 0.000013453328f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_lull_4 = (code_lull * 0.000013453328f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_uull_4 = (code_uull * 0.000013453328f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_llul_4 = (code_llul * 0.000013453328f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_ulul_4 = (code_ulul * 0.000013453328f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_luul_4 = (code_luul * 0.000013453328f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + (cell_eta_6 * 240f))) + 28400u));
-    let at_uuul_4 = (code_uuul * 0.000013453328f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_lllu_4 = (code_lllu * 0.000013453328f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_ullu_4 = (code_ullu * 0.000013453328f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_lulu_4 = (code_lulu * 0.000013453328f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_7 * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_uulu_4 = (code_uulu * 0.000013453328f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_lluu_4 = (code_lluu * 0.000013453328f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_uluu_4 = (code_uluu * 0.000013453328f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_luuu_4 = (code_luuu * 0.000013453328f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_7 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_7 + 1f) * 40f)) + ((cell_eta_6 + 1f) * 240f))) + 28400u));
-    let at_uuuu_4 = (code_uuuu * 0.000013453328f);
-    return ((((((((((((((((at_llll_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_lull_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * (1f - weight_eta_6)))) + (at_llul_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_luul_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1f - weight_eta_6)))) + (at_lllu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1f - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1f - weight_cos_theta_7) * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1f - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1f - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
-}
-
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
-// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
-// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-fn glossy_steady(cos_theta_8: f32, conductor_roughness_5: f32, roughness_8: f32, eta_10: f32) -> f32 {
+fn glossy_quick(cos_theta_8: f32, conductor_roughness_4: f32, roughness_8: f32, eta_10: f32) -> f32 {
     let u_cos_theta_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let node_cos_theta_8 = (u_cos_theta_8 * 4f);
     let cell_cos_theta_8 = min(floor(node_cos_theta_8), 3f);
     let weight_cos_theta_8 = (node_cos_theta_8 - cell_cos_theta_8);
-    let u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0f), 1f));
-    let node_conductor_roughness_5 = (u_conductor_roughness_5 * 7f);
-    let cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6f);
-    let weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    let u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0f), 1f));
+    let node_conductor_roughness_4 = (u_conductor_roughness_4 * 7f);
+    let cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6f);
+    let weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
     let u_roughness_8 = sqrt(min(max(roughness_8, 0f), 1f));
     let node_roughness_8 = (u_roughness_8 * 5f);
     let cell_roughness_8 = min(floor(node_roughness_8), 4f);
@@ -526,39 +507,95 @@ fn glossy_steady(cos_theta_8: f32, conductor_roughness_5: f32, roughness_8: f32,
     let node_eta_7 = (u_eta_7 * 5f);
     let cell_eta_7 = min(floor(node_eta_7), 4f);
     let weight_eta_7 = (node_eta_7 - cell_eta_7);
-    let code_llll = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_llll_4 = (code_llll * 0.000013453328f);
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_ulll_4 = (code_ulll * 0.000013453328f);
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_lull_4 = (code_lull * 0.000013453328f);
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_uull_4 = (code_uull * 0.000013453328f);
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_llul_4 = (code_llul * 0.000013453328f);
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_ulul_4 = (code_ulul * 0.000013453328f);
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_luul_4 = (code_luul * 0.000013453328f);
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 28400u));
+    let at_uuul_4 = (code_uuul * 0.000013453328f);
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_lllu_4 = (code_lllu * 0.000013453328f);
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_4 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_ullu_4 = (code_ullu * 0.000013453328f);
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_lulu_4 = (code_lulu * 0.000013453328f);
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_uulu_4 = (code_uulu * 0.000013453328f);
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_lluu_4 = (code_lluu * 0.000013453328f);
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_4 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_uluu_4 = (code_uluu * 0.000013453328f);
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_luuu_4 = (code_luuu * 0.000013453328f);
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_4 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 28400u));
+    let at_uuuu_4 = (code_uuuu * 0.000013453328f);
+    return ((((((((((((((((at_llll_4 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_8)) * (1f - weight_eta_7))) + (at_ulll_4 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_lull_4 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_4) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_uull_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_llul_4 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_4)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_ulul_4 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_4)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_luul_4 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_uuul_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_lllu_4 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_ullu_4 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_4)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lulu_4 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_4) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_uulu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lluu_4 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_4 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_4 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7)));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
+// rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
+fn glossy_steady(cos_theta_9: f32, conductor_roughness_5: f32, roughness_9: f32, eta_11: f32) -> f32 {
+    let u_cos_theta_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
+    let node_cos_theta_9 = (u_cos_theta_9 * 4f);
+    let cell_cos_theta_9 = min(floor(node_cos_theta_9), 3f);
+    let weight_cos_theta_9 = (node_cos_theta_9 - cell_cos_theta_9);
+    let u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0f), 1f));
+    let node_conductor_roughness_5 = (u_conductor_roughness_5 * 7f);
+    let cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6f);
+    let weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
+    let u_roughness_9 = sqrt(min(max(roughness_9, 0f), 1f));
+    let node_roughness_9 = (u_roughness_9 * 5f);
+    let cell_roughness_9 = min(floor(node_roughness_9), 4f);
+    let weight_roughness_9 = (node_roughness_9 - cell_roughness_9);
+    let u_eta_8 = min(max((((eta_11 - 1f) * 2f) / (eta_11 + 1f)), 0f), 1f);
+    let node_eta_8 = (u_eta_8 * 5f);
+    let cell_eta_8 = min(floor(node_eta_8), 4f);
+    let weight_eta_8 = (node_eta_8 - cell_eta_8);
+    let code_llll = glazec_table_code((u32((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_9 * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_llll_5 = (code_llll * 0.000013521936f);
-    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_ulll = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_9 * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_ulll_5 = (code_ulll * 0.000013521936f);
-    let code_lull = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_lull = glazec_table_code((u32((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_9 * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_lull_5 = (code_lull * 0.000013521936f);
-    let code_uull = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_uull = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_9 * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_uull_5 = (code_uull * 0.000013521936f);
-    let code_llul = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_llul = glazec_table_code((u32((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_llul_5 = (code_llul * 0.000013521936f);
-    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_ulul = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_ulul_5 = (code_ulul * 0.000013521936f);
-    let code_luul = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_luul = glazec_table_code((u32((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_luul_5 = (code_luul * 0.000013521936f);
-    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + (cell_eta_7 * 240f))) + 29840u));
+    let code_uuul = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + (cell_eta_8 * 240f))) + 29840u));
     let at_uuul_5 = (code_uuul * 0.000013521936f);
-    let code_lllu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_lllu = glazec_table_code((u32((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_9 * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_lllu_5 = (code_lllu * 0.000013521936f);
-    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_ullu = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + (cell_conductor_roughness_5 * 5f)) + (cell_roughness_9 * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_ullu_5 = (code_ullu * 0.000013521936f);
-    let code_lulu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_lulu = glazec_table_code((u32((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_9 * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_lulu_5 = (code_lulu * 0.000013521936f);
-    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_8 * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_uulu = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + (cell_roughness_9 * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_uulu_5 = (code_uulu * 0.000013521936f);
-    let code_lluu = glazec_table_code((u32((((cell_cos_theta_8 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_lluu = glazec_table_code((u32((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_lluu_5 = (code_lluu * 0.000013521936f);
-    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_uluu = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + (cell_conductor_roughness_5 * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_uluu_5 = (code_uluu * 0.000013521936f);
-    let code_luuu = glazec_table_code((u32((((cell_cos_theta_8 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_luuu = glazec_table_code((u32((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_luuu_5 = (code_luuu * 0.000013521936f);
-    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_8 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_8 + 1f) * 40f)) + ((cell_eta_7 + 1f) * 240f))) + 29840u));
+    let code_uuuu = glazec_table_code((u32(((((cell_cos_theta_9 + 1f) + ((cell_conductor_roughness_5 + 1f) * 5f)) + ((cell_roughness_9 + 1f) * 40f)) + ((cell_eta_8 + 1f) * 240f))) + 29840u));
     let at_uuuu_5 = (code_uuuu * 0.000013521936f);
-    return ((((((((((((((((at_llll_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * (1f - weight_eta_7))) + (at_ulll_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_lull_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_uull_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * (1f - weight_eta_7)))) + (at_llul_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_ulul_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_luul_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_uuul_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * (1f - weight_eta_7)))) + (at_lllu_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_ullu_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lulu_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_uulu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * (1f - weight_roughness_8)) * weight_eta_7))) + (at_lluu_5 * ((((1f - weight_cos_theta_8) * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_5 * (((weight_cos_theta_8 * (1f - weight_conductor_roughness_5)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_5 * ((((1f - weight_cos_theta_8) * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_5 * (((weight_cos_theta_8 * weight_conductor_roughness_5) * weight_roughness_8) * weight_eta_7)));
+    return ((((((((((((((((at_llll_5 * ((((1f - weight_cos_theta_9) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_9)) * (1f - weight_eta_8))) + (at_ulll_5 * (((weight_cos_theta_9 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_9)) * (1f - weight_eta_8)))) + (at_lull_5 * ((((1f - weight_cos_theta_9) * weight_conductor_roughness_5) * (1f - weight_roughness_9)) * (1f - weight_eta_8)))) + (at_uull_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1f - weight_roughness_9)) * (1f - weight_eta_8)))) + (at_llul_5 * ((((1f - weight_cos_theta_9) * (1f - weight_conductor_roughness_5)) * weight_roughness_9) * (1f - weight_eta_8)))) + (at_ulul_5 * (((weight_cos_theta_9 * (1f - weight_conductor_roughness_5)) * weight_roughness_9) * (1f - weight_eta_8)))) + (at_luul_5 * ((((1f - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * (1f - weight_eta_8)))) + (at_uuul_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * (1f - weight_eta_8)))) + (at_lllu_5 * ((((1f - weight_cos_theta_9) * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_9)) * weight_eta_8))) + (at_ullu_5 * (((weight_cos_theta_9 * (1f - weight_conductor_roughness_5)) * (1f - weight_roughness_9)) * weight_eta_8))) + (at_lulu_5 * ((((1f - weight_cos_theta_9) * weight_conductor_roughness_5) * (1f - weight_roughness_9)) * weight_eta_8))) + (at_uulu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1f - weight_roughness_9)) * weight_eta_8))) + (at_lluu_5 * ((((1f - weight_cos_theta_9) * (1f - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_uluu_5 * (((weight_cos_theta_9 * (1f - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_luuu_5 * ((((1f - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8))) + (at_uuuu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8)));
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -646,8 +683,8 @@ fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
 // coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
 // (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
 // with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_11: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_11 * eta_11))));
+fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_12: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -682,77 +719,81 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let _e25 = coat_deficit(n_dot_l_2, 0.1f, 1.5f);
     let layer1_restored_l = coat_extra(n_dot_l_2, 0.1f, 1.5f);
     let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e25) - layer1_restored_l), 0f), 1f);
-    let layer1_fresnel_cond_l = fr_conductor(layer1_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let _e37 = coat_path(n_dot_l_2, 0.1f, 1.5f);
+    let layer1_path_cos_l = (layer1_cos_l / _e37);
+    let layer1_fresnel_cond_l = fr_conductor(layer1_path_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_l = glossy_scale(n_dot_l_2, 0.25f, 0.1f, 1.5f);
     let layer1_next_l = glossy_next(n_dot_l_2, 0.25f, 0.1f, 1.5f);
-    let _e56 = glossy_lobe_albedo(n_dot_l_2, 0.25f, 0.1f, 1.5f);
-    let _e61 = max(layer1_cos_l, 0.7453635f);
-    let _e65 = glossy_blur(max(n_dot_l_2, 0.005f), 0.25f, 0.1f, 1.5f);
-    let layer1_blur_l = (_e65 * 0.010000001f);
-    let layer1_blur_v = (_e65 * 0.010000001f);
+    let _e60 = glossy_lobe_albedo(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let _e65 = max(layer1_cos_l, 0.7453635f);
+    let _e69 = glossy_blur(max(n_dot_l_2, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l = (_e69 * 0.010000001f);
+    let layer1_blur_v = (_e69 * 0.010000001f);
     let layer1_alpha = sqrt(((0.00390625f + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
-    let _e77 = ggx_albedo(_e61, sqrt(layer1_alpha));
-    let _e79 = glossy_trapped_share(_e61, 0.745356f, layer1_alpha);
-    let layer1_cone_share_l = (1f - _e79);
-    let layer1_lobe_normaliser_l = (_e77 * layer1_cone_share_l);
-    let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e56) * layer1_lobe_normaliser_l), 0f), 1f);
+    let _e81 = ggx_albedo(_e65, sqrt(layer1_alpha));
+    let _e83 = glossy_trapped_share(_e65, 0.745356f, layer1_alpha);
+    let layer1_cone_share_l = (1f - _e83);
+    let layer1_lobe_normaliser_l = (_e81 * layer1_cone_share_l);
+    let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e60) * layer1_lobe_normaliser_l), 0f), 1f);
     let layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e101 = glossy_quick(n_dot_l_2, 0.25f, 0.1f, 1.5f);
-    let _e105 = glossy_steady(n_dot_l_2, 0.25f, 0.1f, 1.5f);
-    let layer1_later_l = glossy_later(layer1_next_l, _e101, _e105, 0.9170209f, layer1_survival);
+    let _e105 = glossy_quick(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let _e109 = glossy_steady(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let layer1_later_l = glossy_later(layer1_next_l, _e105, _e109, 0.9170209f, layer1_survival);
     let layer1_once_l = glossy_once(layer1_single_l, layer1_next_l, layer1_survival);
-    let _e113 = glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e113.x, 0.000001f)));
+    let _e117 = glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e117.x, 0.000001f)));
     let layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5f);
-    let _e125 = coat_deficit(n_dot_v_2, 0.1f, 1.5f);
+    let _e129 = coat_deficit(n_dot_v_2, 0.1f, 1.5f);
     let layer1_restored_v = coat_extra(n_dot_v_2, 0.1f, 1.5f);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e125) - layer1_restored_v), 0f), 1f);
-    let layer1_fresnel_cond_v = fr_conductor(layer1_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e129) - layer1_restored_v), 0f), 1f);
+    let _e141 = coat_path(n_dot_v_2, 0.1f, 1.5f);
+    let layer1_path_cos_v = (layer1_cos_v / _e141);
+    let layer1_fresnel_cond_v = fr_conductor(layer1_path_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_v = glossy_scale(n_dot_v_2, 0.25f, 0.1f, 1.5f);
     let layer1_next_v = glossy_next(n_dot_v_2, 0.25f, 0.1f, 1.5f);
-    let _e156 = glossy_lobe_albedo(n_dot_v_2, 0.25f, 0.1f, 1.5f);
-    let _e161 = max(layer1_cos_v, 0.7453635f);
-    let _e165 = glossy_blur(max(n_dot_v_2, 0.005f), 0.25f, 0.1f, 1.5f);
-    let layer1_blur_l_1 = (_e165 * 0.010000001f);
-    let layer1_blur_v_1 = (_e165 * 0.010000001f);
+    let _e164 = glossy_lobe_albedo(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let _e169 = max(layer1_cos_v, 0.7453635f);
+    let _e173 = glossy_blur(max(n_dot_v_2, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_1 = (_e173 * 0.010000001f);
+    let layer1_blur_v_1 = (_e173 * 0.010000001f);
     let layer1_alpha_1 = sqrt(((0.00390625f + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
-    let _e177 = ggx_albedo(_e161, sqrt(layer1_alpha_1));
-    let _e179 = glossy_trapped_share(_e161, 0.745356f, layer1_alpha_1);
-    let layer1_cone_share_v = (1f - _e179);
-    let layer1_lobe_normaliser_v = (_e177 * layer1_cone_share_v);
-    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e156) * layer1_lobe_normaliser_v), 0f), 1f);
+    let _e185 = ggx_albedo(_e169, sqrt(layer1_alpha_1));
+    let _e187 = glossy_trapped_share(_e169, 0.745356f, layer1_alpha_1);
+    let layer1_cone_share_v = (1f - _e187);
+    let layer1_lobe_normaliser_v = (_e185 * layer1_cone_share_v);
+    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e164) * layer1_lobe_normaliser_v), 0f), 1f);
     let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
-    let _e201 = glossy_quick(n_dot_v_2, 0.25f, 0.1f, 1.5f);
-    let _e205 = glossy_steady(n_dot_v_2, 0.25f, 0.1f, 1.5f);
-    let layer1_later_v = glossy_later(layer1_next_v, _e201, _e205, 0.9170209f, layer1_survival);
+    let _e209 = glossy_quick(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let _e213 = glossy_steady(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let layer1_later_v = glossy_later(layer1_next_v, _e209, _e213, 0.9170209f, layer1_survival);
     let layer1_once_v = glossy_once(layer1_single_v, layer1_next_v, layer1_survival);
-    let _e213 = glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
-    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e213.x, 0.000001f)));
-    let _e222 = glossy_blur(n_dot_l_2, 0.25f, 0.1f, 1.5f);
-    let layer1_blur_l_2 = (_e222 * 0.010000001f);
-    let _e228 = glossy_blur(n_dot_v_2, 0.25f, 0.1f, 1.5f);
-    let layer1_blur_v_2 = (_e228 * 0.010000001f);
+    let _e221 = glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
+    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e221.x, 0.000001f)));
+    let _e230 = glossy_blur(n_dot_l_2, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_2 = (_e230 * 0.010000001f);
+    let _e236 = glossy_blur(n_dot_v_2, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_v_2 = (_e236 * 0.010000001f);
     let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
     let h = half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
     let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
     let g = g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
     let fresnel = fr_dielectric(dot(v_1, h), 1.5f);
-    let _e249 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let _e251 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
-    let specular = (_e249 + vec3(_e251));
+    let _e257 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let _e259 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
+    let specular = (_e257 + vec3(_e259));
     let layer1_h = half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_1, layer1_h);
     let layer1_d = d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     let layer1_g = g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let _e272 = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    let _e281 = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    let _e284 = glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e287 = glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let later = glossy_remainder_lobe(_e284, _e287, remainder_avg);
-    let f = (_e281 + later);
+    let _e280 = f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e280 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e289 = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let _e292 = glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e295 = glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let later = glossy_remainder_lobe(_e292, _e295, remainder_avg);
+    let f = (_e289 + later);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
@@ -769,10 +810,10 @@ fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn glazec_environment(direction: vec3<f32>, roughness_9: f32) -> vec3<f32> {
+fn glazec_environment(direction: vec3<f32>, roughness_10: f32) -> vec3<f32> {
     let uv = glazec_equirect_uv(direction);
     let _e3 = textureNumLevels(glazec_radiance);
-    let lod = (roughness_9 * (f32(_e3) - 1f));
+    let lod = (roughness_10 * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -820,30 +861,32 @@ fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let _e16 = coat_deficit(n_dot_v_3, 0.1f, 1.5f);
     let layer1_restored_l = coat_extra(n_dot_v_3, 0.1f, 1.5f);
     let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e16) - layer1_restored_l), 0f), 1f);
-    let layer1_fresnel_cond_l = fr_conductor(layer1_cos_v_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let _e28 = coat_path(n_dot_v_3, 0.1f, 1.5f);
+    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e28);
+    let layer1_fresnel_cond_l = fr_conductor(layer1_path_cos_l_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_l = glossy_scale(n_dot_v_3, 0.25f, 0.1f, 1.5f);
     let layer1_next_l = glossy_next(n_dot_v_3, 0.25f, 0.1f, 1.5f);
-    let _e47 = glossy_lobe_albedo(n_dot_v_3, 0.25f, 0.1f, 1.5f);
-    let _e52 = max(layer1_cos_v_1, 0.7453635f);
-    let _e56 = glossy_blur(max(n_dot_v_3, 0.005f), 0.25f, 0.1f, 1.5f);
-    let layer1_blur_l_3 = (_e56 * 0.010000001f);
-    let layer1_blur_v_3 = (_e56 * 0.010000001f);
+    let _e51 = glossy_lobe_albedo(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let _e56 = max(layer1_cos_v_1, 0.7453635f);
+    let _e60 = glossy_blur(max(n_dot_v_3, 0.005f), 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_3 = (_e60 * 0.010000001f);
+    let layer1_blur_v_3 = (_e60 * 0.010000001f);
     let layer1_alpha_3 = sqrt(((0.00390625f + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
-    let _e68 = ggx_albedo(_e52, sqrt(layer1_alpha_3));
-    let _e70 = glossy_trapped_share(_e52, 0.745356f, layer1_alpha_3);
-    let layer1_cone_share_l_1 = (1f - _e70);
-    let layer1_lobe_normaliser_l_1 = (_e68 * layer1_cone_share_l_1);
-    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e47) * layer1_lobe_normaliser_l_1), 0f), 1f);
+    let _e72 = ggx_albedo(_e56, sqrt(layer1_alpha_3));
+    let _e74 = glossy_trapped_share(_e56, 0.745356f, layer1_alpha_3);
+    let layer1_cone_share_l_1 = (1f - _e74);
+    let layer1_lobe_normaliser_l_1 = (_e72 * layer1_cone_share_l_1);
+    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e51) * layer1_lobe_normaliser_l_1), 0f), 1f);
     let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e92 = glossy_quick(n_dot_v_3, 0.25f, 0.1f, 1.5f);
-    let _e96 = glossy_steady(n_dot_v_3, 0.25f, 0.1f, 1.5f);
-    let layer1_later_l = glossy_later(layer1_next_l, _e92, _e96, 0.9170209f, layer1_survival);
+    let _e96 = glossy_quick(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let _e100 = glossy_steady(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let layer1_later_l = glossy_later(layer1_next_l, _e96, _e100, 0.9170209f, layer1_survival);
     let layer1_once_l = glossy_once(layer1_single_l_1, layer1_next_l, layer1_survival);
-    let _e104 = glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e104.x, 0.000001f)));
-    let _e113 = glossy_blur(n_dot_v_3, 0.25f, 0.1f, 1.5f);
-    let layer1_blur_l_4 = (_e113 * 0.010000001f);
-    let layer1_blur_v_4 = (_e113 * 0.010000001f);
+    let _e108 = glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e108.x, 0.000001f)));
+    let _e117 = glossy_blur(n_dot_v_3, 0.25f, 0.1f, 1.5f);
+    let layer1_blur_l_4 = (_e117 * 0.010000001f);
+    let layer1_blur_v_4 = (_e117 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
     let albedo_l = glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
     let coat_albedo = (1f - layer1_transmit_l_1);
@@ -851,10 +894,10 @@ fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let reflected = specular_dominant_direction(n_4, v_4, 0.010000001f);
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
     let reflected_1 = specular_dominant_direction(n_4, v_4, (base_roughness * base_roughness));
-    let _e148 = (dot(n_4, v_4) > 0f);
+    let _e152 = (dot(n_4, v_4) > 0f);
     let light_a = glazec_environment(reflected, 0.1f);
     let light_b = glazec_environment(reflected_1, base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e148) * light_a) + (select(vec3(0f), under_albedo, _e148) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e152) * light_a) + (select(vec3(0f), under_albedo, _e152) * light_b));
 }
 
 @compute @workgroup_size(64, 1, 1) 
