@@ -680,7 +680,7 @@ fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> f64 {
         .filter_map(|(&at, &(excess, unit))| EnergyConstraint::new(at, excess, unit))
         .collect();
     let lobe_albedo = &mut tables[TableId::GlossyLobeAlbedo as usize];
-    let start = raise_near_one(&probes, &measured, lobe_albedo.len());
+    let start = raise_near_one(&constraints, lobe_albedo.len());
     let change = least_change(&constraints, start);
     for (value, delta) in lobe_albedo.iter_mut().zip(&change) {
         *value += *delta as f32;
@@ -690,7 +690,7 @@ fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> f64 {
 
 /// The most a white conductor under a clear coat may reflect at a probe once K is fitted:
 /// 8·10⁻⁴ below the law, for the points between the probes (the stability sweeps find no cell
-/// over 1 + 10⁻³ away from the two known corners).
+/// over 1 + 10⁻³ away from the known corner near η = 1).
 const PROBE_ENERGY_CEILING: f64 = 1.0 - 8e-4;
 
 /// How much less than all of it a white conductor may reflect at a probe before K is lowered
@@ -744,8 +744,12 @@ fn probe_energy(at: [f64; 4]) -> (f64, f64) {
 /// What one probe asks of the change x of K: lower ≤ Σ wᵢ xᵢ ≤ upper over the corners of its
 /// cell (upper infinite for a probe that may lose).
 struct EnergyConstraint {
+    /// Where the probe is, (μ, r_c, r, η).
+    at: [f64; 4],
     /// (index into the K table, lookup weight, metric weight) of each corner.
     corners: Vec<(usize, f64, f64)>,
+    /// The change of the looked-up K the probe needs to keep under [`PROBE_ENERGY_CEILING`]
+    /// (nothing when it is not positive).
     lower: f64,
     upper: f64,
     /// Σ w² m: how far the looked-up change moves per unit of the multiplier.
@@ -767,7 +771,7 @@ impl EnergyConstraint {
         }
         let corners = lookup_corners(at);
         let norm = corners.iter().map(|&(_, w, m)| w * w * m).sum();
-        Some(EnergyConstraint { corners, lower, upper, norm })
+        Some(EnergyConstraint { at, corners, lower, upper, norm })
     }
 
     fn looked_up(&self, change: &[f64]) -> f64 {
@@ -782,25 +786,26 @@ impl EnergyConstraint {
     }
 }
 
-/// The corners of the `GLOSSY_SINGLE_GRID` cell holding `at`, as (index of the K table, weight
-/// of the multilinear lookup, metric weight: 1 on the η = 1 face, [`OFF_FACE_WEIGHT`] off it).
-fn lookup_corners(at: [f64; 4]) -> Vec<(usize, f64, f64)> {
-    let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
-    let per_axis: Vec<[(usize, f64); 2]> = (0..4)
-        .map(|a| {
-            let (axis, n) = GLOSSY_SINGLE_GRID[a];
-            let x = f64::from(axis.coordinate(at[a] as f32)) * (n - 1) as f64;
-            let i = (x.floor() as usize).min(n - 2);
-            let t = x - i as f64;
-            [(i, 1.0 - t), (i + 1, t)]
-        })
-        .collect();
+/// Where `at` lies in `GLOSSY_SINGLE_GRID`, per axis: the cell's lower node i and the fraction t
+/// of the way to node i + 1.
+fn single_cell(at: [f64; 4]) -> [(usize, f64); 4] {
+    std::array::from_fn(|a| {
+        let (axis, n) = GLOSSY_SINGLE_GRID[a];
+        let x = f64::from(axis.coordinate(at[a] as f32)) * (n - 1) as f64;
+        let i = (x.floor() as usize).min(n - 2);
+        (i, x - i as f64)
+    })
+}
+
+/// The corners spanned by one list of (node, weight) per axis, each with the product of its
+/// axes' weights.
+fn span(per_axis: &[Vec<(usize, f64)>; 4]) -> Vec<([usize; 4], f64)> {
     let mut corners = vec![([0usize; 4], 1.0)];
     for (a, side) in per_axis.iter().enumerate() {
         corners = corners
             .iter()
             .flat_map(|&(corner, weight)| {
-                side.iter().filter(|&&(_, w)| w > 1e-12).map(move |&(i, w)| {
+                side.iter().map(move |&(i, w)| {
                     let mut c = corner;
                     c[a] = i;
                     (c, weight * w)
@@ -809,34 +814,42 @@ fn lookup_corners(at: [f64; 4]) -> Vec<(usize, f64, f64)> {
             .collect();
     }
     corners
+}
+
+/// A corner's index in the `GLOSSY_SINGLE_GRID` tables (the first axis fastest).
+fn single_index(corner: [usize; 4]) -> usize {
+    let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
+    corner[0] + dims[0] * (corner[1] + dims[1] * (corner[2] + dims[2] * corner[3]))
+}
+
+/// The corners of the `GLOSSY_SINGLE_GRID` cell holding `at`, as (index of the K table, weight
+/// of the multilinear lookup, metric weight: 1 on the η = 1 face, [`OFF_FACE_WEIGHT`] off it).
+fn lookup_corners(at: [f64; 4]) -> Vec<(usize, f64, f64)> {
+    let per_axis = single_cell(at)
+        .map(|(i, t)| [(i, 1.0 - t), (i + 1, t)].into_iter().filter(|&(_, w)| w > 1e-12).collect::<Vec<_>>());
+    span(&per_axis)
         .into_iter()
-        .map(|(c, w)| {
-            let index = c[0] + dims[0] * (c[1] + dims[1] * (c[2] + dims[2] * c[3]));
-            (index, w, if c[3] == 0 { 1.0 } else { OFF_FACE_WEIGHT })
-        })
+        .map(|(c, w)| (single_index(c), w, if c[3] == 0 { 1.0 } else { OFF_FACE_WEIGHT }))
         .collect()
 }
 
 /// The raise of K on the η = 1 face that the least change starts from: every probe inside the
-/// first η cell (η 1 … 1.22, within three quarters of it from η = 1) with an excess raises the
-/// corners of its cell's η = 1 face nearest to it ([`nearest_corners`]) by what it needs, each
-/// corner by the largest need among its probes. Near η = 1 the gains come from the escape cone
-/// closing (like √(2(η − 1))), steeply in μ and η between the probes: the least change alone,
-/// exact at the probes, left a white conductor under a smooth η 1.008 coat gaining E = 1.012 at
-/// 85° (1.080 before any change of K); this generous raise leaves none.
-fn raise_near_one(probes: &[[f64; 4]], measured: &[(f64, f64)], len: usize) -> Vec<f64> {
-    let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
-    let index = |i: [usize; 4]| i[0] + dims[0] * (i[1] + dims[1] * (i[2] + dims[2] * i[3]));
-    let (ior_axis, n_ior) = GLOSSY_SINGLE_GRID[3];
+/// first η cell (η 1 … 1.22, within three quarters of it from η = 1) that needs a raise raises
+/// the corners of its cell's η = 1 face nearest to it ([`nearest_corners`]) by what it needs,
+/// each corner by the largest need among its probes. Near η = 1 the gains come from the escape
+/// cone closing (like √(2(η − 1))), steeply in μ and η between the probes: the least change
+/// alone, exact at the probes, left a white conductor under a smooth η 1.008 coat gaining
+/// E = 1.012 at 85° (1.080 before any change of K); this generous raise leaves none.
+fn raise_near_one(constraints: &[EnergyConstraint], len: usize) -> Vec<f64> {
     let mut raise = vec![0.0_f64; len];
-    for (&at, &(excess, unit)) in probes.iter().zip(measured) {
-        let first_cell = f64::from(ior_axis.coordinate(at[3] as f32)) * (n_ior - 1) as f64;
-        let needed = (1.0 + excess - PROBE_ENERGY_CEILING) / unit.max(1e-3);
-        if first_cell >= 0.75 || needed <= 0.0 {
+    for c in constraints {
+        let (ior_cell, ior_fraction) = single_cell(c.at)[3];
+        if ior_cell > 0 || ior_fraction >= 0.75 || c.lower <= 0.0 {
             continue;
         }
-        for (corner, share) in nearest_corners(at) {
-            raise[index(corner)] = raise[index(corner)].max(needed / share);
+        for (corner, share) in nearest_corners(c.at) {
+            let index = single_index(corner);
+            raise[index] = raise[index].max(c.lower / share);
         }
     }
     raise
@@ -847,34 +860,16 @@ fn raise_near_one(probes: &[[f64; 4]], measured: &[(f64, f64)], len: usize) -> V
 /// over the axes of their weights): the η = 1 face, and along the other axes, where `at` lies
 /// within a quarter of the cell from a node only that node's side, else both.
 fn nearest_corners(at: [f64; 4]) -> Vec<([usize; 4], f64)> {
-    let per_axis: Vec<Vec<(usize, f64)>> = (0..4)
-        .map(|a| {
-            let (axis, n) = GLOSSY_SINGLE_GRID[a];
-            let x = f64::from(axis.coordinate(at[a] as f32)) * (n - 1) as f64;
-            let i = (x.floor() as usize).min(n - 2);
-            let t = x - i as f64;
-            match t {
-                t if t <= 0.25 || axis == Axis::Ior => vec![(i, 1.0 - t)],
-                t if t >= 0.75 => vec![(i + 1, t)],
-                t => vec![(i, 1.0 - t), (i + 1, t)],
-            }
-        })
-        .collect();
+    let per_axis: [Vec<(usize, f64)>; 4] = std::array::from_fn(|a| {
+        let (i, t) = single_cell(at)[a];
+        match t {
+            t if t <= 0.25 || GLOSSY_SINGLE_GRID[a].0 == Axis::Ior => vec![(i, 1.0 - t)],
+            t if t >= 0.75 => vec![(i + 1, t)],
+            t => vec![(i, 1.0 - t), (i + 1, t)],
+        }
+    });
     let share: f64 = per_axis.iter().map(|side| side.iter().map(|&(_, w)| w).sum::<f64>()).product();
-    let mut corners = vec![([0usize; 4], share)];
-    for (a, side) in per_axis.iter().enumerate() {
-        corners = corners
-            .iter()
-            .flat_map(|&(corner, share)| {
-                side.iter().map(move |&(i, _)| {
-                    let mut c = corner;
-                    c[a] = i;
-                    (c, share)
-                })
-            })
-            .collect();
-    }
-    corners
+    span(&per_axis).into_iter().map(|(corner, _)| (corner, share)).collect()
 }
 
 /// The least change x of the K table (in the metric) from `start` within the constraints:
