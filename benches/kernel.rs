@@ -3,13 +3,14 @@
 //! dispatches of 1M direction pairs, and the ratio to a baseline measured in the same run (a
 //! bare Lambert material: the cost of the dispatch and the memory traffic alone). Then the
 //! generated WeidlichWilkie clay kernel against the same shader written by hand
-//! (`benches/clay_by_hand.wgsl`), after checking that both compute the same values.
+//! (`crates/glazec-lab/data/clay_by_hand.wgsl`), after checking that both compute the same values.
 //!
 //! `cargo bench --bench kernel` (set `LP_NUM_THREADS` to change lavapipe's worker count); the
 //! same measurements, with more, are `glazec bench`.
 
-use glazec::bench::{self, CLAY_STACK, PAIRS};
-use glazec::run::{EvalKernel, Gpu, ShaderPath};
+use glazec_gpu::throughput::{self, PAIRS};
+use glazec_gpu::{EvalKernel, Gpu, ShaderPath};
+use glazec_lab::bench::{self, CLAY_STACK};
 
 /// Largest relative difference allowed between the hand-written and the generated clay where
 /// |f| is significant (the GPU agreement tests' tolerance).
@@ -18,7 +19,7 @@ const SAME_VALUES: f32 = 2e-4;
 fn median_seconds(gpu: &Gpu, text: &str, pairs: &[glazec::eval::Pair]) -> f64 {
     let compiled = glazec::compile(text).expect("compiles");
     let kernel = EvalKernel::new(gpu, &compiled, ShaderPath::NagaIr).expect("kernel");
-    bench::kernel_seconds(gpu, &kernel, pairs).expect("runs")
+    throughput::kernel_seconds(gpu, &kernel, pairs).expect("runs")
 }
 
 fn main() {
@@ -29,12 +30,12 @@ fn main() {
             return;
         }
     };
-    let pairs = bench::pairs(PAIRS);
+    let pairs = throughput::pairs(PAIRS);
     println!(
         "eval_pairs throughput on {}, {} pairs, median of {} dispatches",
         gpu.describe(),
         pairs.len(),
-        bench::REPEATS
+        throughput::REPEATS
     );
     let baseline = median_seconds(&gpu, "Material(name: \"lambert\", layers: [Lambert(0.5)])", &pairs);
     println!("{:<16} {:>10.1} M evals/s  (baseline)", "Lambert", pairs.len() as f64 / baseline / 1e6);

@@ -3,7 +3,7 @@
 //!
 //! The reference values are the stored `data/reference/standard-multiple.bin` (computed by
 //! `glazec accuracy --regenerate-reference`; one test recomputes a few cases and checks they
-//! come out the same). The targets are `glazec::accuracy::{LOBE_TARGET, ALBEDO_TARGET, …}`.
+//! come out the same). The targets are `glazec_lab::accuracy::{LOBE_TARGET, ALBEDO_TARGET, …}`.
 //!
 //! Every case of the set meets the targets on both; copper under a coat was a known miss until
 //! the glossy level's lobe-albedo table was fitted to the energy law (a least change instead of
@@ -16,11 +16,11 @@ mod common;
 
 use std::path::PathBuf;
 
-use glazec::accuracy::{
+use glazec::model::Method;
+use glazec_lab::accuracy::{
     self, ALBEDO_TARGET, Case, ENERGY_TARGET, FURNACE_TARGET, LOBE_TARGET, Metrics, RECIPROCITY_TARGET, ReferenceData,
 };
-use glazec::model::Method;
-use glazec::reference::InterfaceMode;
+use glazec_lab::reference::InterfaceMode;
 
 /// Cases recomputed by the reproducibility test (the first ones of the set).
 const RECOMPUTED_CASES: usize = 2;
@@ -30,8 +30,8 @@ const STORED_REL_TOL: f64 = 1e-6;
 
 fn reference() -> (Vec<Case>, ReferenceData) {
     let cases = accuracy::standard_set();
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/reference/standard-multiple.bin");
-    let data = ReferenceData::read(&path, cases.len()).unwrap_or_else(|e| panic!("{e}"));
+    let path = accuracy::stored_reference(InterfaceMode::Multiple);
+    let data = ReferenceData::read(&path, cases.len()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert_eq!(data.mode, InterfaceMode::Multiple);
     (cases, data)
 }
@@ -90,11 +90,7 @@ fn default_method_meets_the_targets_on_the_cpu() {
 #[test]
 fn laws_hold_for_the_default_method_and_the_others_are_reported() {
     let (cases, data) = reference();
-    let measure = |method| -> Vec<Metrics> {
-        cases.iter().enumerate().map(|(i, c)| accuracy::measure(c, method, &data.under[i], &data.albedo[i])).collect()
-    };
-    let methods: Vec<(Method, Vec<Metrics>)> =
-        [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive].into_iter().map(|m| (m, measure(m))).collect();
+    let methods = accuracy::measure_methods(&cases, &data);
     let interfaced = accuracy::laws(&cases, &methods[0].1);
     let ww = accuracy::laws(&cases, &methods[1].1);
     let additive = accuracy::laws(&cases, &methods[2].1);
@@ -115,7 +111,7 @@ fn laws_hold_for_the_default_method_and_the_others_are_reported() {
     assert!(additive.energy_max > ENERGY_TARGET && additive.furnace > FURNACE_TARGET);
     assert!(ww.min_value >= 0.0 && additive.min_value >= 0.0);
     // The published table (docs/accuracy.md, quoted in the README) is what these numbers give.
-    let table = accuracy::report(&cases, &methods, &data, None, None).expect("no files to write");
+    let table = accuracy::markdown(&cases, &methods, &data);
     let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/accuracy.md"))
         .expect("docs/accuracy.md");
     assert_eq!(table, docs, "docs/accuracy.md is out of date: run `glazec accuracy`");
@@ -142,13 +138,12 @@ fn stored_reference_is_reproducible() {
 
 // ----- on the device ----------------------------------------------------------------------
 
-#[cfg(feature = "gpu")]
 mod on_the_device {
     use glam::{DVec3, Vec3};
-    use glazec::accuracy::{self, BaseKind, Case, Variant};
     use glazec::eval::Pair;
     use glazec::model::{Method, ParamValue};
-    use glazec::run::{EvalKernel, Gpu, ShaderPath};
+    use glazec_gpu::{EvalKernel, Gpu, ShaderPath};
+    use glazec_lab::accuracy::{self, BaseKind, Case, Variant};
 
     use super::{check_default_method, common, reference};
 

@@ -4,7 +4,6 @@
 //!
 //! Without an adapter the tests skip with a visible message; with `GLAZEC_REQUIRE_GPU=1` (set by
 //! `.ci/run`) they fail instead. Each test prints how many GPU cases it executed.
-#![cfg(feature = "gpu")]
 
 mod common;
 
@@ -13,7 +12,7 @@ use std::sync::OnceLock;
 use glam::Vec3;
 use glazec::eval::Pair;
 use glazec::model::ParamValue;
-use glazec::run::{EvalKernel, Gpu, ShaderPath};
+use glazec_gpu::{EvalKernel, Gpu, ShaderPath};
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngSeed, TestRunner};
 
@@ -265,7 +264,7 @@ const PREVIEW_SIZE: u32 = 96;
 /// Mean and peak luminance over the sphere, and the share of sphere pixels brighter than half
 /// the peak (how wide the highlight is), of a preview under the key light alone.
 fn preview_stats(gpu: &Gpu, name: &str) -> (f32, f32, f32) {
-    use glazec::run::preview;
+    use glazec_gpu::preview;
     let compiled = common::compile_file(&common::root().join(format!("materials/{name}.ron")));
     let options =
         preview::PreviewOptions { size: PREVIEW_SIZE, environment: preview::Environment::None, ..Default::default() };
@@ -298,7 +297,7 @@ fn previews_show_the_differences_seed_000_describes() {
 
 #[test]
 fn preview_covers_a_disk_and_writes_a_png() {
-    use glazec::run::preview;
+    use glazec_gpu::preview;
     let Some(gpu) = gpu() else { return };
     let compiled = common::compile_file(&common::root().join("materials/tunable_glaze.ron"));
     let options = preview::PreviewOptions { size: PREVIEW_SIZE, ..Default::default() };
@@ -317,6 +316,8 @@ fn preview_covers_a_disk_and_writes_a_png() {
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
 }
 
+/// (The CLI's GPU backends are in builds with the `gpu` feature.)
+#[cfg(feature = "gpu")]
 #[test]
 fn eval_command_runs_every_backend() {
     if gpu().is_none() {

@@ -9,8 +9,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use glazec::Compiled;
-use glazec::run::environment::{EnvironmentImage, Prefiltered, prefilter};
-use glazec::run::preview::{self, Environment, Lighting, PreviewOptions};
+use glazec_gpu::environment::{EnvironmentImage, Prefiltered, prefilter};
+use glazec_gpu::preview::{self, Environment, Lighting, PreviewOptions};
 
 /// Preview size in pixels.
 const SIZE: u32 = 64;
@@ -45,7 +45,7 @@ fn compile(text: &str) -> Compiled {
 }
 
 /// The preview under image-based lighting alone (the key light is off).
-fn render_ibl(gpu: &glazec::run::Gpu, compiled: &Compiled, prefiltered: &Arc<Prefiltered>) -> Vec<[f32; 4]> {
+fn render_ibl(gpu: &glazec_gpu::Gpu, compiled: &Compiled, prefiltered: &Arc<Prefiltered>) -> Vec<[f32; 4]> {
     let options = PreviewOptions {
         size: SIZE,
         light_radiance: 0.0,
@@ -148,8 +148,14 @@ fn image_based_lighting_matches_the_cpu_split_sum_and_a_brute_force_integral() {
             let device = rgb(gpu_image[index]);
             let cpu = prefiltered.shade(&glazec::eval::environment_lobes(m, &values, n, Vec3::Z));
             let radiance = |d: Vec3| environment.radiance(d);
-            let (truth, std_error) =
-                glazec::eval::environment_integral(m, &values, (n, Vec3::Z), &radiance, BRUTE_FORCE_SAMPLES, i as u64);
+            let (truth, std_error) = glazec_lab::reference::environment::environment_integral(
+                m,
+                &values,
+                (n, Vec3::Z),
+                &radiance,
+                BRUTE_FORCE_SAMPLES,
+                i as u64,
+            );
             (device, cpu, truth, std_error)
         };
         // The brute force on every core, in chunks of consecutive points (each seeded by its

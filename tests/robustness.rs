@@ -8,7 +8,7 @@ use common::glazec;
 
 use std::path::{Path, PathBuf};
 
-use glazec::fuzzing;
+use glazec_lab::fuzzing;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
@@ -38,7 +38,7 @@ fn the_fuzzers_seed_from_every_shipped_material() {
     assert_eq!(
         fuzzing::SHIPPED.len(),
         on_disk.len(),
-        "a material was added or removed: update glazec::fuzzing::SHIPPED"
+        "a material was added or removed: update glazec_lab::fuzzing::SHIPPED"
     );
     assert!(on_disk.iter().all(|text| fuzzing::SHIPPED.contains(&text.as_str())));
 }

@@ -20,7 +20,7 @@ const TOP_DOWN_GLAZE_CUT: f64 = 0.30;
 fn scenes() -> Vec<SceneFile> {
     common::scene_files()
         .iter()
-        .map(|p| project::read_scene(p).expect("readable").unwrap_or_else(|(_, d)| panic!("{}: {d:?}", p.display())))
+        .map(|p| project::read_scene(p).unwrap_or_else(|e| panic!("{}: {e:?}", p.display())))
         .collect()
 }
 
@@ -82,10 +82,9 @@ fn top_down_cuts_the_tunable_glaze_and_studio_leaves_car_paint_alone() {
     assert_eq!(simplified.material, full[car_paint].material);
 }
 
-#[cfg(feature = "gpu")]
 #[test]
 fn simplified_materials_are_within_tolerance_on_lavapipe() {
-    use glazec::run::{EvalKernel, ShaderPath};
+    use glazec_gpu::{EvalKernel, ShaderPath};
     let Some(gpu) = common::open_gpu() else { return };
     let full = materials();
     let mut checked = 0;

@@ -27,7 +27,7 @@
 mod common;
 
 use glazec::model::Method;
-use glazec::stability::{self, ANGLES, Failures, Map, Sweep};
+use glazec_lab::stability::{self, ANGLES, Failures, Map, Sweep};
 
 /// A documented energy gain of the default method: cells of `sweep` whose parameter lies in
 /// `values` and whose polar angle is at least `from_angle` (the denormal-cosine column counts as
@@ -128,7 +128,6 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
     }
 }
 
-#[cfg(feature = "gpu")]
 #[test]
 fn default_method_is_stable_on_the_gpu() {
     use glam::Vec3;

@@ -9,8 +9,8 @@ use glazec::Target;
 use glazec::diag::Code;
 use glazec::eval::Pair;
 use glazec::model::ParamValue;
-use glazec::run::ShaderPath;
-use glazec::run::textures::TextureImage;
+use glazec_gpu::ShaderPath;
+use glazec_gpu::textures::TextureImage;
 
 /// The example material: two textures, three reads (a packed map's G and B, an albedo map).
 fn textured_clay() -> String {
@@ -213,7 +213,7 @@ fn uniform_textures_equal_the_constant_case_on_the_gpu() {
     // GLSL and HLSL bind textures differently (a combined `sampler2D`; D3D12's sampler heap):
     // they are validated above, not run here.
     for path in [ShaderPath::NagaIr, ShaderPath::Wgsl] {
-        let kernel = glazec::run::EvalKernel::new(gpu, &textured, path).expect("kernel");
+        let kernel = glazec_gpu::EvalKernel::new(gpu, &textured, path).expect("kernel");
         let values = kernel.eval(gpu, &pairs, &constant_values()).expect("runs");
         for (v, e) in values.iter().zip(&expected) {
             for c in 0..3 {
@@ -230,7 +230,7 @@ fn uniform_textures_equal_the_constant_case_on_the_gpu() {
 
 #[test]
 fn previews_sample_the_images_at_the_sphere_uv() {
-    use glazec::run::preview::{self, Environment, PreviewOptions};
+    use glazec_gpu::preview::{self, Environment, PreviewOptions};
     let Some(gpu) = common::open_gpu() else { return };
     let gpu = &gpu;
     let textured = glazec::compile(&textured_clay()).expect("compiles");
@@ -262,6 +262,8 @@ fn previews_sample_the_images_at_the_sphere_uv() {
     assert!((side_mean(&c, false) - side_mean(&b, false)).abs() < 0.1 * side_mean(&b, false), "right side changed");
 }
 
+/// (`preview` is in builds with the `gpu` feature.)
+#[cfg(feature = "gpu")]
 #[test]
 fn preview_rejects_an_image_for_a_texture_no_material_reads() {
     let out = tempfile::tempdir().expect("temp dir");
@@ -392,7 +394,7 @@ fn normal_mapped_shading_matches_the_cpu_on_the_gpu() {
     eprintln!("normal maps change {changed} of {} values by more than 2%", expected.len());
     assert!(changed > expected.len() / 4, "the normal maps should change the BRDF");
     for path in [ShaderPath::NagaIr, ShaderPath::Wgsl] {
-        let kernel = glazec::run::EvalKernel::new(gpu, &compiled, path).expect("kernel");
+        let kernel = glazec_gpu::EvalKernel::new(gpu, &compiled, path).expect("kernel");
         let values = kernel.eval_textured(gpu, &pairs_at, &uvs, &[], &images).expect("runs");
         for ((v, e), uv) in values.iter().zip(&expected).zip(&uvs) {
             for c in 0..3 {

@@ -6,6 +6,6 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let text = glazec::fuzzing::mutate_shipped(data);
-    glazec::fuzzing::whole_pipeline(&text);
+    let text = glazec_lab::fuzzing::mutate_shipped(data);
+    glazec_lab::fuzzing::whole_pipeline(&text);
 });

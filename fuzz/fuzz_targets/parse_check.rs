@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
-    glazec::fuzzing::parse_and_check(text);
+    glazec_lab::fuzzing::parse_and_check(text);
 });

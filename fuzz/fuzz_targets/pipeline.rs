@@ -5,5 +5,5 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
-    glazec::fuzzing::whole_pipeline(text);
+    glazec_lab::fuzzing::whole_pipeline(text);
 });

@@ -7,14 +7,13 @@ pub mod stacks;
 
 /// Opens the Vulkan device for a test binary. Without an adapter: `None` and a visible
 /// "SKIPPED" line — or, with `GLAZEC_REQUIRE_GPU=1` (set by `.ci/run`), a panic.
-#[cfg(feature = "gpu")]
-pub fn open_gpu() -> Option<glazec::run::Gpu> {
-    match glazec::run::Gpu::new() {
+pub fn open_gpu() -> Option<glazec_gpu::Gpu> {
+    match glazec_gpu::Gpu::new() {
         Ok(gpu) => {
             eprintln!("GPU tests run on {}", gpu.describe());
             Some(gpu)
         }
-        Err(e @ glazec::run::RunError::NoAdapter { .. }) => {
+        Err(e @ glazec_gpu::RunError::NoAdapter { .. }) => {
             if std::env::var("GLAZEC_REQUIRE_GPU").is_ok_and(|v| v == "1") {
                 panic!("GLAZEC_REQUIRE_GPU=1 but {e}");
             }

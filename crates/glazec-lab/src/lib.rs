@@ -1,0 +1,30 @@
+//! # glazec-lab — the measurement lab beside the compiler
+//!
+//! Everything here measures or produces what the compiler uses; none of it is in the compiler
+//! that `build.rs` users get:
+//!
+//! * [`reference`]: the ground truth, an independent f64 Monte Carlo random walk through the
+//!   layer stack (position-free, in the style of pbrt-v4's `LayeredBxDF`), with the exact
+//!   closed forms that exist.
+//! * [`accuracy`]: every layering method against the reference on an evaluation set, and the
+//!   BRDF laws (reciprocity, energy) — `glazec accuracy`.
+//! * [`accuracy::tables`] and [`accuracy::glossy`]: baking the tabulated terms of the default
+//!   method from the reference's microsurfaces into `crates/glazec/data/tables.bin` —
+//!   `glazec tables`.
+//! * [`stability`]: sweeps to the limits where layering breaks — `glazec stability`.
+//! * [`bench`] and [`chart`] (feature `gpu`): speed against accuracy — `glazec bench`.
+//! * [`fuzzing`]: the harnesses of the fuzz targets and of the tests that replay their corpus.
+
+pub mod accuracy;
+#[cfg(feature = "gpu")]
+pub mod bench;
+#[cfg(feature = "gpu")]
+pub mod chart;
+pub mod fuzzing;
+pub mod reference;
+pub mod stability;
+
+use glazec::model::Method;
+
+/// The layering methods the lab compares, the default first.
+pub const METHODS: [Method; 3] = [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive];

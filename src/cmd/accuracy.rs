@@ -1,0 +1,70 @@
+//! `glazec accuracy`: every layering method against the stored stochastic reference on the
+//! standard set, and the BRDF laws (`glazec_lab::accuracy`).
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use anyhow::Context;
+use glazec::output::{self, OutputFile};
+use glazec_lab::accuracy::{self, ReferenceData};
+use glazec_lab::reference::InterfaceMode;
+
+use crate::choice;
+use crate::report::Failure;
+
+/// Measure every layering method against the stochastic reference on the standard set (120
+/// single-coat materials) and check the BRDF laws; prints a Markdown table and writes it
+/// (`accuracy.md`, `accuracy.csv`) into `--out`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Rough interfaces of the reference.
+    #[arg(long, value_parser = choice::parser::<InterfaceMode>(), default_value = "multiple")]
+    interfaces: InterfaceMode,
+    /// The stored reference values [default: the lab's `data/reference/standard-<interfaces>.bin`].
+    #[arg(long)]
+    data: Option<PathBuf>,
+    /// Recompute the reference and store it at --data (minutes, in a release build).
+    #[arg(long)]
+    regenerate_reference: bool,
+    /// With --regenerate-reference: Monte Carlo samples per BRDF value.
+    #[arg(long, default_value_t = 4096)]
+    samples: u32,
+    /// With --regenerate-reference: analog walks per directional albedo.
+    #[arg(long, default_value_t = 200_000)]
+    walks: u32,
+    /// Directory for `accuracy.md` and `accuracy.csv`.
+    #[arg(long, short, default_value = "docs")]
+    out: PathBuf,
+}
+
+pub fn run(args: Args) -> Result<(), Failure> {
+    let cases = accuracy::standard_set();
+    let path = args.data.unwrap_or_else(|| accuracy::stored_reference(args.interfaces));
+    let reference = if args.regenerate_reference {
+        let start = Instant::now();
+        let done = AtomicUsize::new(0);
+        let progress = |_| {
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            eprint!("\rreference: {n}/{} cases", cases.len());
+        };
+        let data = ReferenceData::compute(&cases, args.interfaces, args.samples, args.walks, &progress);
+        eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
+        data.write(&path).with_context(|| format!("cannot write {}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+        data
+    } else {
+        ReferenceData::read(&path, cases.len()).with_context(|| {
+            format!("cannot read the reference {} (--regenerate-reference computes it)", path.display())
+        })?
+    };
+    let methods = accuracy::measure_methods(&cases, &reference);
+    let markdown = accuracy::markdown(&cases, &methods, &reference);
+    let files = [
+        OutputFile { path: args.out.join("accuracy.md"), contents: markdown.clone().into_bytes() },
+        OutputFile { path: args.out.join("accuracy.csv"), contents: accuracy::csv(&cases, &methods).into_bytes() },
+    ];
+    output::write_all(&files).with_context(|| format!("cannot write to {}", args.out.display()))?;
+    println!("{markdown}");
+    Ok(())
+}
