@@ -112,9 +112,9 @@ fn laws_hold_for_the_default_method_and_the_others_are_reported() {
     assert!(ww.min_value >= 0.0 && additive.min_value >= 0.0);
     // The published table (docs/accuracy.md, quoted in the README) is what these numbers give.
     let table = accuracy::markdown(&cases, &methods, &data);
-    let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/accuracy.md"))
-        .expect("docs/accuracy.md");
-    assert_eq!(table, docs, "docs/accuracy.md is out of date: run `glazec accuracy`");
+    let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/results/accuracy.md"))
+        .expect("docs/results/accuracy.md");
+    assert_eq!(table, docs, "docs/results/accuracy.md is out of date: run `glazec accuracy`");
 }
 
 #[test]

@@ -34,7 +34,7 @@ pub struct Args {
     #[arg(long, default_value_t = 200_000)]
     walks: u32,
     /// Directory for `accuracy.md` and `accuracy.csv`.
-    #[arg(long, short, default_value = "docs")]
+    #[arg(long, short, default_value = "docs/results")]
     out: PathBuf,
 }
 

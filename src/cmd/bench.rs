@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(default_value = "materials")]
     materials: PathBuf,
     /// Directory for `bench.md` and the chart.
-    #[arg(long, short, default_value = "docs")]
+    #[arg(long, short, default_value = "docs/results")]
     out: PathBuf,
     /// Also draw error against cost, with the Pareto front.
     #[arg(long)]

@@ -24,7 +24,7 @@ pub struct Args {
     #[arg(long)]
     gpu: bool,
     /// Directory for `summary.md` and `<method>.png`.
-    #[arg(long, short, default_value = "docs/stability")]
+    #[arg(long, short, default_value = "docs/results/stability")]
     out: PathBuf,
 }
 

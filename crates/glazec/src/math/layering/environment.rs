@@ -34,7 +34,14 @@
 //! grows (the lobe's dominant direction, Lagarde & de Rousiers 2014); normal maps bend the coat's
 //! lobe by the top layer's normal and the irradiance by the base's.
 
-use super::*;
+use super::base::{body_albedo, conductor_alpha};
+use super::geometry::{Geometry, facing, level_name};
+use super::inputs::{Body, Depth, Inputs, Stack, expand};
+use super::interfaced::interfaced;
+use crate::math::tables::{self, TableId};
+use crate::math::terms::*;
+use crate::math::{Named, Real, Vector};
+use crate::model::{Approximations, Coat, Lobe, Material, Method};
 
 /// How a lobe samples the environment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,7 +104,7 @@ fn interfaced_lobes<F: Real>(
     approx: Approximations,
 ) -> Vec<EnvironmentLobe<F>> {
     let g = Geometry::albedo_only(top_normal, v, 0);
-    let level = interfaced(coats, body, inputs, &g, 0, None, None, true, approx);
+    let level = interfaced(&Stack { coats, body, inputs, approx }, &g, Depth::top(), true);
     let Some(albedo) = level.albedo else { unreachable!("the albedo was asked for") };
     let total = albedo.e_v.named("stack_albedo");
     let Some(coat) = coats.first() else {

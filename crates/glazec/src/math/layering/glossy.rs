@@ -35,8 +35,17 @@
 //! the coat lets in (at the nodes; at most that between them). Reciprocal by construction (every factor is symmetric in i and o). The lobe
 //! is one GGX evaluation; the coat's own lobe is the other.
 
-use super::*;
+use super::base::conductor_fresnel;
+use super::geometry::{COS_EPSILON, Geometry, level_name};
+use super::inputs::{Depth, Inputs, Stack};
+use super::interface::{CoatInterface, interfaced_lobe};
+use super::level::{Albedo, Level};
 use crate::math::Sum;
+use crate::math::quadrature::GAUSS_LEGENDRE_4;
+use crate::math::tables::{self, TableId};
+use crate::math::terms::*;
+use crate::math::{Named, Real, Vector};
+use crate::model::{Approximations, Coat, Color, ConductorFresnel, Lobe, Scalar};
 
 /// The smallest outer cosine at which the glossy tables are measured (`glazec tables` evaluates
 /// every direction node at μ ≥ this): at grazing incidence itself the light a rough coat lets in
@@ -365,16 +374,15 @@ fn conductor_lobe<F: Real>(
 /// essay). `blur` is the widening of rough coats above coat `k`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn glossy_level<F: Real>(
-    coat: &Coat,
+    stack: &Stack<'_, F>,
     (roughness, fresnel): (Scalar, &ConductorFresnel),
-    inputs: &Inputs<F>,
     g: &Geometry<F>,
-    k: usize,
-    n_medium: Option<F>,
-    blur: Option<F>,
+    at: Depth<F>,
     want_albedo: bool,
-    approx: Approximations,
 ) -> Level<F> {
+    let Stack { coats, inputs, approx, .. } = *stack;
+    let Depth { k, n_medium, blur } = at;
+    let coat = &coats[k];
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));
     let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
@@ -526,4 +534,28 @@ pub fn glossy_coat_transmission(r: f64, eta: f64, mu: f64) -> f64 {
 fn clear_coat(r: f64, eta: f64) -> Coat {
     let lobe = if r == 0.0 { Lobe::Smooth } else { Lobe::Ggx { roughness: Scalar::Lit(r as f32) } };
     Coat { lobe, ior: Scalar::Lit(eta as f32), absorption: Color::Lit([0.0; 3]), thickness: Scalar::Lit(0.0) }
+}
+
+/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`);
+/// `r_clear` is the clear slab's return R(0).
+pub(super) fn trapped<F: Real>(
+    interface: &CoatInterface<'_, F>,
+    below: &Geometry<F>,
+    albedo: &Albedo<F>,
+    alpha: Option<F>,
+    (r_return, r_clear): (F::Vec, F::Vec),
+    inputs: &Inputs<F>,
+) -> F::Vec {
+    let Some(alpha) = alpha else { return inputs.zero() };
+    let name = |base: &str| level_name(base, below.level);
+    let eta = interface.eta;
+    let mu_c = escape_cone_cosine(eta).named(&name("mu_c"));
+    let p_l = trapped_share(below.n_dot_l, mu_c, alpha).named(&name("trapped_l"));
+    let p_v = trapped_share(below.n_dot_v, mu_c, alpha).named(&name("trapped_v"));
+    // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
+    let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
+    let q = trapped_escape(mu_c, alpha).named(&name("trapped_escape"));
+    let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
+    // Without total internal reflection (η ≤ 1) nothing is trapped.
+    F::Vec::select(mu_c.gt_lit(0.0), lobe, inputs.zero())
 }

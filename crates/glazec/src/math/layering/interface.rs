@@ -1,0 +1,217 @@
+//! A coat's interface in the interfaced method ([`CoatInterface`]): transmission, the path
+//! factor, the slab's return and escape, the multiple-scattering lobe, and its own reflection.
+
+use super::geometry::{Geometry, level_name};
+use super::inputs::Inputs;
+use crate::math::tables::{self, TableId};
+use crate::math::terms::*;
+use crate::math::{Named, Real, Vector};
+use crate::model::{Approximations, Lobe, Scalar};
+
+/// A coat's interface as the interfaced method sees it: smooth (exact Fresnel, slab integrals by
+/// quadrature) or rough (tabulated: `crate::math::tables`).
+pub(super) struct CoatInterface<'i, F: Real> {
+    pub(super) eta: F,
+    /// `None` for a smooth coat.
+    pub(super) roughness: Option<F>,
+    pub(super) inputs: &'i Inputs<F>,
+    pub(super) level: usize,
+    pub(super) approx: Approximations,
+}
+
+impl<'i, F: Real> CoatInterface<'i, F> {
+    pub(super) fn new(lobe: &Lobe, eta: F, inputs: &'i Inputs<F>, k: usize, approx: Approximations) -> Self {
+        // A literal roughness of 0 is a smooth interface. (A runtime roughness always takes the
+        // tabulated path, whose r = 0 nodes are the smooth interface, so the CPU and the shader
+        // evaluate the same formula.)
+        let roughness = match lobe {
+            Lobe::Smooth | Lobe::Ggx { roughness: Scalar::Lit(0.0) } | Lobe::Gtr1 { roughness: Scalar::Lit(0.0) } => {
+                None
+            }
+            Lobe::Ggx { roughness } | Lobe::Gtr1 { roughness } => Some(inputs.scalar(*roughness)),
+        };
+        CoatInterface { eta, roughness, inputs, level: k + 1, approx }
+    }
+
+    pub(super) fn name(&self, base: &str) -> String {
+        level_name(base, self.level)
+    }
+
+    /// The mean cosine of the escape cone seen from inside, weighted by projected solid angle:
+    /// (2/3)(1 − μc³)/(1 − μc²) with μc = √(1 − 1/η²) (2/3 without TIR). Guard: 1 − μc² ≥ 10⁻⁶.
+    pub(super) fn escape_cone_mean_cosine(&self) -> F {
+        let mu_c = escape_cone_cosine(self.eta);
+        ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0)
+    }
+
+    /// The tables cover η ∈ [1, 3]. A rough coat of lower relative IOR (optically thinner than
+    /// the medium above it) uses the smooth interface's transmission, path and slab terms
+    /// instead (its own lobe stays rough): outside their range the tables would give a
+    /// hemispherical transmittance above η², i.e. a negative internal reflection. A runtime η
+    /// selects between both.
+    pub(super) fn unless_below_one<T>(
+        &self,
+        smooth: impl FnOnce() -> T,
+        rough: T,
+        select: fn(F::Bool, T, T) -> T,
+    ) -> T {
+        match self.eta.known() {
+            Some(eta) if eta < 1.0 => smooth(),
+            Some(_) => rough,
+            None => select(self.eta.lt_lit(1.0), smooth(), rough),
+        }
+    }
+
+    /// T(μ): the share of light from above at cosine μ that enters the coat. Rough:
+    /// T = 1 − F + G − E_ms (single-scattering deficit and multiple-scattering share, tabulated).
+    pub(super) fn transmission(&self, mu: F, side: &str) -> F {
+        let name = self.name(&format!("transmit_{side}"));
+        let smooth =
+            dielectric_fresnel(mu, self.eta, self.approx).named(&self.name(&format!("fresnel_{side}"))).one_minus();
+        match self.roughness {
+            None => smooth.named(&name),
+            Some(r) => {
+                let deficit = tables::lookup(TableId::CoatDeficit, &[mu, r, self.eta]);
+                let extra = self.extra(mu, r).named(&self.name(&format!("restored_{side}")));
+                let rough = (smooth + deficit - extra).clamp(0.0, 1.0);
+                self.unless_below_one(|| smooth, rough, F::select).named(&name)
+            }
+        }
+    }
+
+    /// E_ms(μ): the reflection the single-scattering lobe misses.
+    pub(super) fn extra(&self, mu: F, r: F) -> F {
+        tables::lookup(TableId::CoatExtra, &[mu, r, self.eta])
+    }
+
+    /// ⟨T⟩ for either kind of interface.
+    pub(super) fn transmission_hemispherical(&self) -> F {
+        match self.roughness {
+            None => tables::lookup(TableId::FresnelTransmitAvg, &[self.eta]),
+            Some(r) => self.transmission_avg(r),
+        }
+    }
+
+    /// ⟨T⟩: the coat's hemispherical transmittance from above, consistent with
+    /// [`Self::transmission`] (the averages of the same interpolated curves).
+    pub(super) fn transmission_avg(&self, r: F) -> F {
+        let smooth = tables::lookup(TableId::FresnelTransmitAvg, &[self.eta]);
+        let deficit = tables::lookup(TableId::CoatDeficitAvg, &[r, self.eta]);
+        let extra = tables::lookup(TableId::CoatExtraAvg, &[r, self.eta]);
+        (smooth + deficit - extra).named(&self.name("transmit_avg"))
+    }
+
+    /// The cosine along which light entering at outer cosine `mu` (refracted cosine
+    /// `mu_refracted`) is absorbed: Snell's for a smooth coat, shortened by the tabulated path
+    /// factor for a rough one.
+    pub(super) fn path_cosine(&self, mu: F, mu_refracted: F, side: &str) -> F {
+        match self.roughness {
+            None => mu_refracted,
+            Some(r) => {
+                let q = tables::lookup(TableId::CoatPath, &[mu, r, self.eta]);
+                self.unless_below_one(|| mu_refracted, mu_refracted / q, F::select)
+                    .named(&self.name(&format!("path_cos_{side}")))
+            }
+        }
+    }
+
+    /// The multiple-scattering reflection that the coat's single-scattering lobe misses, as a
+    /// Kulla–Conty lobe.
+    pub(super) fn restored_lobe(&self, g: &Geometry<F>) -> F::Vec {
+        let Some(r) = self.roughness.filter(|_| !self.approx.single_scattering) else { return self.inputs.zero() };
+        let e_l = self.extra(g.raw_n_dot_l, r).named(&self.name("restored_l"));
+        let e_v = self.extra(g.raw_n_dot_v, r).named(&self.name("restored_v"));
+        let e_avg = tables::lookup(TableId::CoatExtraAvg, &[r, self.eta]);
+        multiple_scattering_lobe(e_l, e_v, e_avg).splat()
+    }
+
+    /// (R(τ), E_esc(τ)) of the coat's slab.
+    pub(super) fn slab(&self, tau: F::Vec) -> (F::Vec, F::Vec) {
+        let smooth = || (slab_return(self.eta, tau), slab_escape(self.eta, tau));
+        let (r_return, e_escape) = match self.roughness {
+            None => smooth(),
+            Some(r) => {
+                // Both tables are normalised by the internal transmittance ⟨T_int⟩ = ⟨T⟩/η²,
+                // so both are exactly 1 for a clear slab (τ = 0): no lookup needed then.
+                let scale = self.transmission_avg(r) / self.eta.sq();
+                let per_channel = |id: TableId| {
+                    if tau.is_known_zero() {
+                        return scale.splat();
+                    }
+                    let at = |t: F| tables::lookup(id, &[t, r, self.eta]);
+                    F::vec3(at(tau.x()), at(tau.y()), at(tau.z())) * scale
+                };
+                // Guard: R(τ) → 0 for a thick slab, where 1 − (interpolated ratio) may round to
+                // −10⁻⁸; a reflectance is ≥ 0.
+                let zero = self.inputs.zero();
+                let r_return = per_channel(TableId::CoatReturn).one_minus().max(zero);
+                let rough = (r_return, per_channel(TableId::CoatEscape));
+                let pick = |c: F::Bool, a: (F::Vec, F::Vec), b: (F::Vec, F::Vec)| {
+                    (F::Vec::select(c, a.0, b.0), F::Vec::select(c, a.1, b.1))
+                };
+                self.unless_below_one(smooth, rough, pick)
+            }
+        };
+        (r_return.named(&self.name("r_return")), e_escape)
+    }
+}
+
+/// A coat's own reflection lobe in the interfaced method: exact dielectric Fresnel at the
+/// microfacet normal and the exact height-correlated Smith term. Zero for a smooth coat (a delta
+/// lobe that point lights cannot see).
+pub(super) fn interfaced_lobe<F: Real>(
+    lobe: &Lobe,
+    eta: F,
+    inputs: &Inputs<F>,
+    g: &Geometry<F>,
+    approx: Approximations,
+) -> F::Vec {
+    let (distribution, alpha_g) = match lobe {
+        Lobe::Smooth => return inputs.zero(),
+        Lobe::Ggx { roughness } => {
+            let r = inputs.scalar(*roughness);
+            (d_ggx(g.half().n_dot_h, g.half().sin2_h, r * r), r * r)
+        }
+        Lobe::Gtr1 { roughness } => {
+            let r = inputs.scalar(*roughness);
+            (d_gtr1(g.half().n_dot_h, g.half().sin2_h, r * r), inputs.lit(GTR1_SMITH_ROUGHNESS))
+        }
+    };
+    let name = |base| level_name(base, g.level);
+    let distribution = distribution.named(&name("d"));
+    let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha_g).named(&name("g"));
+    let microfacet = || dielectric_fresnel(g.half().v_dot_h, eta, approx);
+    // A coat optically thinner than the medium above (η < 1) keeps its rough lobe but takes the
+    // smooth interface's transmission 1 − F(μ) (the tables stop at η = 1; see
+    // `CoatInterface::unless_below_one`). Near the critical angle, facets tilted past it reflect
+    // totally, so a lobe with the microfacet Fresnel F(v·h) reflects more than F(μ) and the two
+    // together gained up to 14% energy. With min(F(n·v), F(n·l)) instead (symmetric, so
+    // reciprocal) the lobe's albedo is at most F(μ) times the white lobe's, ≤ F(μ): no gain.
+    let macro_surface = || {
+        let f_v = dielectric_fresnel(g.n_dot_v, eta, approx);
+        let f_l = dielectric_fresnel(g.n_dot_l, eta, approx);
+        f_v.min(f_l)
+    };
+    let fresnel = match eta.known() {
+        Some(e) if e >= 1.0 => microfacet(),
+        Some(_) => macro_surface(),
+        None => F::select(eta.lt_lit(1.0), macro_surface(), microfacet()),
+    }
+    .named(&name("fresnel"));
+    f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
+}
+
+/// A coat's dielectric Fresnel reflectance at cosine `cos_i` from above: exact, or Schlick's
+/// approximation when asked for ([`Approximations::schlick_fresnel`]). Schlick's needs the
+/// cosine on the optically thinner side, which for η < 1 is the refracted one, with total
+/// internal reflection where it does not exist (`fr_dielectric_schlick`); a literal η ≥ 1
+/// skips that.
+pub(super) fn dielectric_fresnel<F: Real>(cos_i: F, eta: F, approx: Approximations) -> F {
+    if !approx.schlick_fresnel {
+        return fr_dielectric(cos_i, eta);
+    }
+    match eta.known() {
+        Some(e) if e >= 1.0 => f_schlick_scalar(f0_dielectric(eta), cos_i.clamp(0.0, 1.0)),
+        _ => fr_dielectric_schlick(cos_i, eta),
+    }
+}

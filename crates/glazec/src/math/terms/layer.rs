@@ -1,0 +1,172 @@
+//! How one coat combines with what lies under it: the seed's Weidlich–Wilkie recurrence and
+//! glazec's interfaced layering (the layer's BRDF, the series of internal reflections, the
+//! glossy level's lobes), and their albedos.
+
+use std::f32::consts::PI;
+
+use crate::math::Vector;
+use crate::shading_fn;
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 (seed 000 eq. 14–15): the absorption a = e^{−α l} along the path
+    /// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
+    pub fn absorption_ww(sigma_a: V, thickness: S, n_dot_l1: S, n_dot_v1: S) -> V {
+        let path = thickness * (n_dot_l1.recip() + n_dot_v1.recip());
+        (-(sigma_a * path)).exp()
+    }
+}
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 via seed 000 §3.0.3: the internal-reflection term
+    /// t = (1 − G) + T21·G, with T21 = T12.
+    pub fn ww_inner_reflection(g: S, t21: V) -> V {
+        t21 * g + g.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,
+    /// f = f_r1(L, V) + T12 · f_r2(L′, V′) · a · t.
+    pub fn ww_layer(f_top: V, t12: V, absorption: V, inner: V, f_below: V) -> V {
+        f_top + f_below * t12 * absorption * inner
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
+    /// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
+    /// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
+    /// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+    pub fn interfaced_layer(f_top: V, t_i: S, t_o: S, a_i: V, a_o: V, f_under: V, eta: S) -> V {
+        f_top + f_under * a_i * a_o * (t_i * t_o / (eta * eta))
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
+    /// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
+    /// back down (R, the slab's diffuse return reflectance) and that then bounces between body
+    /// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
+    /// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+    pub fn interfaced_diffuse_under(f_below: V, e_i: V, e_o: V, rho_below: V, r_return: V) -> V {
+        f_below + e_i * e_o * r_return / ((rho_below * r_return).one_minus() * PI)
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
+    /// stays near the mirror direction, inside the coat's escape cone, so it returns with the
+    /// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
+    /// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
+    /// symmetric in i and o.
+    pub fn interfaced_glossy_under(f_below: V, e_i: V, k_i: V, e_o: V, k_o: V) -> V {
+        f_below / (e_i * k_i * e_o * k_o).sqrt().one_minus()
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
+    /// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
+    /// back with the slab's round-trip transmittance g and meets the body again, which (mean
+    /// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
+    /// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
+    /// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
+    /// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
+    /// all trapped light.
+    /// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
+    pub fn trapped_lobe(e_i: V, p_i: S, e_o: V, p_o: S, mu_c: S, round_trip: V, rho: V, q: S) -> V {
+        e_i * e_o * round_trip * (p_i * p_o / (mu_c.sq().at_least(1e-4) * PI)) / (rho * round_trip * q.one_minus()).one_minus()
+    }
+}
+
+shading_fn! {
+    /// glazec's glossy level (a conductor under a coat), the light trapped after the first
+    /// conductor event, per unit of it, that does not leave at the second: the generating
+    /// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
+    /// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
+    /// slab's round trip): a mixture of geometric event counts (B: the share that stays per
+    /// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
+    /// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
+    /// 1 − w₀: a white conductor under a clear coat returns all of it.
+    /// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+    pub fn glossy_later(next: S, quick: S, steady: S, slow: S, c: V) -> V {
+        let one = c.x().lit(1.0).splat();
+        let quick_rate = c * 0.5 / (one - c * 0.5);
+        let steady_rate = c * 0.2 / (one - c * 0.8);
+        let slow_rate = c * slow.one_minus() / (c * slow).one_minus().max(c.x().lit(1e-6).splat());
+        let rest = (next + quick + steady).one_minus().at_least(0.0);
+        quick_rate * quick + steady_rate * steady + slow_rate * rest
+    }
+}
+
+shading_fn! {
+    /// glazec's glossy level, the light that leaves near the conductor's mirror direction, per
+    /// unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
+    /// trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
+    pub fn glossy_once(single: S, next: S, c: V) -> V {
+        c * (single.one_minus() * next) + single.splat()
+    }
+}
+
+shading_fn! {
+    /// glazec's glossy level, the directional albedo of what leaves after three or more conductor
+    /// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
+    /// and reflected by the conductor (F, at the refracted direction), but not let out at once
+    /// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+    pub fn glossy_remainder(t: S, a: V, fresnel: V, single: S, later: V) -> V {
+        a * a * fresnel * later * (t * single.one_minus())
+    }
+}
+
+shading_fn! {
+    /// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
+    /// that leaves after several conductor events has forgotten where it entered, so
+    /// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+    /// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
+    pub fn glossy_remainder_lobe(m_i: V, m_o: V, m_avg: V) -> V {
+        m_i * m_o / (m_avg.max(m_avg.x().lit(1e-6).splat()) * PI)
+    }
+}
+
+shading_fn! {
+    /// The directional albedo seen above a coat over a conductor (glazec's glossy level):
+    /// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
+    /// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
+    /// own paths) and the remainder (`glossy_remainder`).
+    pub fn glossy_albedo(t: S, fresnel: V, a_lobe: V, a: V, once: V, single: S, later: V) -> V {
+        let near = a_lobe * a_lobe * once;
+        let far = a * a * later * single.one_minus();
+        fresnel * (near + far) * t + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// The directional albedo seen above a coat over a diffusing layer (same model as
+    /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+    /// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+    /// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+    pub fn interfaced_albedo_dir(t: S, a: V, e_below: V, rho_below: V, r_return: V, e_escape: V, first_escape: V, first_return: V) -> V {
+        let series = first_return * rho_below * r_return / (rho_below * r_return).one_minus();
+        a * e_below * e_escape * (first_escape + series) * t + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// The directional albedo seen above a coat over a glossy body (same model as
+    /// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
+    pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V) -> V {
+        let k = a * a * t.one_minus();
+        a * a * e_below * (t * t) / (e_below * k).one_minus() + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
+    /// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
+    /// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
+    pub fn interfaced_albedo(eta: S, e_escape_clear: S, e_escape: V, r_return: V, rho_below: V) -> V {
+        let eta_sq = eta * eta;
+        let e_fresnel = (eta_sq * e_escape_clear).one_minus();
+        e_escape * e_escape * rho_below * eta_sq / (rho_below * r_return).one_minus() + e_fresnel.splat()
+    }
+}

@@ -1,0 +1,252 @@
+//! Microfacet terms: normal distributions (GGX, GTR1), masking–shadowing (Smith, Schlick-GGX),
+//! Fresnel (dielectric, conductor, Schlick), the Cook–Torrance lobe, the half vector and
+//! refraction, and the multiple-scattering lobe of Kulla & Conty.
+
+use std::f32::consts::PI;
+
+use crate::math::Vector;
+use crate::shading_fn;
+
+/// Smallest GGX / GTR1 α. Below it a microfacet lobe is a mirror for all practical purposes
+/// (pbrt-v4's `EffectivelySmooth` threshold); clamping keeps D finite at n·h = 1, where its peak
+/// value 1/(πα²) ≈ 3.2·10⁵ is still representable in f32.
+pub const ALPHA_MIN: f32 = 1e-3;
+
+/// Roughness above which GTR1's α²−1 → 0 and ln α² → 0 cancel badly; the limit there is D = 1/π.
+const GTR1_ALPHA_MAX: f32 = 0.9999;
+
+/// Largest Schlick F0 accepted when converting F0 back to an IOR (η = (1+√F0)/(1−√F0) → ∞ at 1).
+const F0_MAX: f32 = 0.9999;
+
+/// Smallest argument of a square root or reciprocal that would otherwise hit 0 at grazing angles.
+const TINY: f32 = 1e-12;
+
+/// The roughness α_g of the Disney clear-coat's Smith term: fixed at 0.25 (Burley 2012;
+/// seed 000 §3.0.2).
+pub const GTR1_SMITH_ROUGHNESS: f32 = 0.25;
+
+shading_fn! {
+    /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
+    /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+    /// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
+    /// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
+    /// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
+    /// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
+    /// zero half vector (two zero directions under total internal reflection), where it would
+    /// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+    pub fn d_ggx(cos_h: S, sin2_h: S, alpha: S) -> S {
+        let a = alpha.at_least(ALPHA_MIN);
+        let a_sq = a * a;
+        let denom = (cos_h * cos_h * a_sq + sin2_h).at_least(TINY);
+        a_sq / (denom * denom * PI)
+    }
+}
+
+shading_fn! {
+    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
+    /// eq. 10): the clear-coat distribution D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with
+    /// 1 + (α² − 1) cos²θh written as α² cos²θh + sin²θh (as in `d_ggx`).
+    /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly; the
+    /// bracket ≥ TINY for a zero half vector, as in `d_ggx`.
+    pub fn d_gtr1(cos_h: S, sin2_h: S, alpha: S) -> S {
+        let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
+        let a_sq = a * a;
+        let d = (a_sq - 1.0) / (a_sq.ln() * (cos_h * cos_h * a_sq + sin2_h).at_least(TINY) * PI);
+        F::select(alpha.gt_lit(GTR1_ALPHA_MAX), alpha.lit(1.0 / PI), d)
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
+    /// the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
+    pub fn g1_schlick_ggx(n_dot_x: S, k: S) -> S {
+        n_dot_x / (n_dot_x * k.one_minus() + k)
+    }
+}
+
+shading_fn! {
+    /// Karis 2013 with Burley's remapping (seed 000 eq. 8–9): Smith's separable product of two
+    /// Schlick-GGX terms with k = (roughness + 1)² / 8.
+    pub fn g_smith_schlick_ggx(n_dot_v: S, n_dot_l: S, roughness: S) -> S {
+        let k = (roughness + 1.0).sq() / 8.0;
+        g1_schlick_ggx(n_dot_v, k) * g1_schlick_ggx(n_dot_l, k)
+    }
+}
+
+shading_fn! {
+    /// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+    /// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+    /// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+    pub fn lambda_ggx(n_dot_x: S, alpha: S) -> S {
+        let mu_sq = (n_dot_x * n_dot_x).at_least(TINY);
+        let tan_sq = mu_sq.one_minus() / mu_sq;
+        ((alpha * alpha * tan_sq + 1.0).sqrt() - 1.0) * 0.5
+    }
+}
+
+shading_fn! {
+    /// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+    /// G2 = 1 / (1 + Λ(v) + Λ(l)).
+    pub fn g_smith_ggx_correlated(n_dot_v: S, n_dot_l: S, alpha: S) -> S {
+        let alpha = alpha.at_least(ALPHA_MIN);
+        (lambda_ggx(n_dot_v, alpha) + lambda_ggx(n_dot_l, alpha) + 1.0).recip()
+    }
+}
+
+shading_fn! {
+    /// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
+    /// The caller passes cosines clamped to ≥ COS_EPSILON.
+    pub fn f_cook_torrance(d: S, g: S, fresnel: V, n_dot_v: S, n_dot_l: S) -> V {
+        fresnel * (d * g / (n_dot_v * n_dot_l * 4.0))
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
+    /// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+    pub fn f_schlick(f0: V, cos_theta: S) -> V {
+        let m = cos_theta.clamp(0.0, 1.0).one_minus();
+        let m_sq = m * m;
+        f0 + f0.one_minus() * (m_sq * m_sq * m)
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering", eq. 15, for one
+    /// scalar reflectance (a dielectric's): F = F0 + (1 − F0)(1 − cos θ)⁵.
+    pub fn f_schlick_scalar(f0: S, cos_theta: S) -> S {
+        let m = cos_theta.one_minus();
+        let m_sq = m * m;
+        f0 + f0.one_minus() * (m_sq * m_sq * m)
+    }
+}
+
+shading_fn! {
+    /// Schlick 1994 eq. 15 for a dielectric interface of relative IOR η from either side: the
+    /// cosine in the power term must be the one in the optically thinner medium, so for η < 1
+    /// it is the refracted cosine √(1 − (1 − cos²θ)/η²), and beyond the critical angle the
+    /// reflectance is 1 (total internal reflection; the rejected branch is then NaN).
+    pub fn fr_dielectric_schlick(cos_i: S, eta: S) -> S {
+        let cos_i = cos_i.clamp(0.0, 1.0);
+        let sin2_t = cos_i.sq().one_minus() / (eta * eta);
+        let cos_t = sin2_t.one_minus().at_least(0.0).sqrt();
+        let cos_thin = F::select(eta.lt_lit(1.0), cos_t, cos_i);
+        let f0 = ((eta - 1.0) / (eta + 1.0)).sq();
+        let m = cos_thin.one_minus();
+        let m_sq = m * m;
+        let schlick = f0 + f0.one_minus() * (m_sq * m_sq * m);
+        F::select(sin2_t.lt_lit(1.0), schlick, cos_i.lit(1.0))
+    }
+}
+
+shading_fn! {
+    /// The normal-incidence reflectance of a dielectric interface, F0 = ((η − 1)/(η + 1))².
+    pub fn f0_dielectric(eta: S) -> S {
+        ((eta - 1.0) / (eta + 1.0)).sq()
+    }
+}
+
+shading_fn! {
+    /// Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
+    /// `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
+    /// Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
+    /// rejected by the select.
+    pub fn fr_dielectric(cos_i: S, eta: S) -> S {
+        let cos_i = cos_i.clamp(0.0, 1.0);
+        let sin2_t = cos_i.sq().one_minus() / (eta * eta);
+        let cos_t = sin2_t.one_minus().at_least(0.0).sqrt();
+        let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+        let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+        let fresnel = (r_parl * r_parl + r_perp * r_perp) * 0.5;
+        F::select(sin2_t.lt_lit(1.0), fresnel, cos_i.lit(1.0))
+    }
+}
+
+shading_fn! {
+    /// Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
+    /// (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
+    /// the medium above.
+    pub fn fr_conductor(cos_i: S, eta: V, k: V) -> V {
+        let cos2 = cos_i.clamp(0.0, 1.0).sq();
+        let sin2 = cos2.one_minus();
+        let eta2 = eta * eta;
+        let k2 = k * k;
+        let t0 = eta2 - k2 - sin2.splat();
+        let a2_plus_b2 = (t0 * t0 + eta2 * k2 * 4.0).sqrt();
+        let t1 = a2_plus_b2 + cos2.splat();
+        let a = ((a2_plus_b2 + t0) * 0.5).sqrt();
+        let t2 = a * (cos2.sqrt() * 2.0);
+        let r_s = (t1 - t2) / (t1 + t2);
+        let t3 = a2_plus_b2 * cos2 + (sin2 * sin2).splat();
+        let t4 = t2 * sin2;
+        let r_p = r_s * (t3 - t4) / (t3 + t4);
+        (r_p + r_s) * 0.5
+    }
+}
+
+shading_fn! {
+    /// Re-expresses a conductor's F0 (given against air) for a base that sits in a medium of
+    /// absolute index `n_medium`: F0 → η = (1+√F0)/(1−√F0) → η/n → F0′ (the approach of
+    /// Filament's `f0ClearCoatToSurface`, generalised from n = 1.5). Guard: F0 ≤ F0_MAX.
+    pub fn f0_under_medium(f0: V, n_medium: S) -> V {
+        let s = f0.min(n_medium.lit(F0_MAX).splat()).sqrt();
+        let eta = (s + n_medium.lit(1.0).splat()) / s.one_minus() / n_medium;
+        let r = (eta - n_medium.lit(1.0).splat()) / (eta + n_medium.lit(1.0).splat());
+        r * r
+    }
+}
+
+shading_fn! {
+    /// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": the hemispherical
+    /// average of Schlick's Fresnel, F_avg = F0 + (1 − F0)/21. Used as a conductor's mean albedo
+    /// (an approximation that ignores the lobe's single-scattering loss).
+    pub fn albedo_avg_conductor(f0: V) -> V {
+        f0 + f0.one_minus() * (1.0 / 21.0)
+    }
+}
+
+shading_fn! {
+    /// Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
+    /// above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
+    /// −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
+    /// zero vector, whose cosine 0 makes every transmission factor 0.
+    pub fn refract_down(w: V, n: V, eta: S) -> V {
+        -((-w).refract(n, eta.recip()))
+    }
+}
+
+shading_fn! {
+    /// The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
+    /// Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
+    /// vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
+    /// transmission anyway).
+    pub fn half_vector(v: V, l: V) -> V {
+        let sum = v + l;
+        sum / sum.dot(sum).at_least(TINY).sqrt()
+    }
+}
+
+shading_fn! {
+    /// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
+    /// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
+    /// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
+    /// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
+    pub fn multiple_scattering_lobe(e_i: S, e_o: S, e_avg: S) -> S {
+        e_i * e_o / (e_avg.at_least(1e-6) * PI)
+    }
+}
+
+shading_fn! {
+    /// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
+    /// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
+    /// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
+    /// s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
+    /// and |mix| ≥ TINY.
+    pub fn specular_dominant_direction(n: V, v: V, alpha: S) -> V {
+        let r = n * (n.dot(v).at_least(0.0) * 2.0) - v;
+        let smoothness = alpha.one_minus().clamp(0.0, 1.0);
+        let t = smoothness * (smoothness.sqrt() + alpha);
+        let d = n * t.one_minus() + r * t;
+        d / d.dot(d).at_least(TINY).sqrt()
+    }
+}
