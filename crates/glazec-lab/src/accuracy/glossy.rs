@@ -454,10 +454,6 @@ fn path_column(r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
 }
 
 /// The node of `axis` `i` of `n`.
-fn node(axis: Axis, i: usize, n: usize) -> f64 {
-    axis.node(i, n)
-}
-
 /// The (r_c, r, η) node triples of a glossy grid whose axes after the first are those three, in
 /// table order (r_c fastest), with their arguments.
 fn node_triples(axes: &[(Axis, usize)]) -> Vec<(f64, f64, f64)> {
@@ -466,7 +462,7 @@ fn node_triples(axes: &[(Axis, usize)]) -> Vec<(f64, f64, f64)> {
     for e in 0..eta.1 {
         for j in 0..r.1 {
             for c in 0..rc.1 {
-                triples.push((node(rc.0, c, rc.1), node(r.0, j, r.1), node(eta.0, e, eta.1)));
+                triples.push((rc.0.node(c, rc.1), r.0.node(j, r.1), eta.0.node(e, eta.1)));
             }
         }
     }
@@ -476,7 +472,7 @@ fn node_triples(axes: &[(Axis, usize)]) -> Vec<(f64, f64, f64)> {
 /// The direction nodes of a glossy grid (its first axis), each at least [`GLOSSY_GRAZING`].
 fn direction_nodes(axes: &[(Axis, usize)]) -> Vec<f64> {
     let (axis, n) = axes[0];
-    (0..n).map(|i| node(axis, i, n).max(GLOSSY_GRAZING)).collect()
+    (0..n).map(|i| axis.node(i, n).max(GLOSSY_GRAZING)).collect()
 }
 
 /// P₁ at every direction of `GLOSSY_SINGLE_GRID` for one (r_c, r, η).
@@ -556,7 +552,7 @@ pub fn generate(tables: &mut [Vec<f32>], walks: u32, progress: &(dyn Fn(usize, u
     let blur_nodes = node_triples(&GLOSSY_BLUR_GRID);
     let [_, _, (_, n_r), (_, n_eta)] = GLOSSY_PATH_GRID;
     let path_nodes: Vec<(f64, f64)> = (0..n_eta)
-        .flat_map(|e| (0..n_r).map(move |j| (node(Axis::Roughness, j, n_r), node(Axis::Ior, e, n_eta))))
+        .flat_map(|e| (0..n_r).map(move |j| (Axis::Roughness.node(j, n_r), Axis::Ior.node(e, n_eta))))
         .collect();
     let total =
         2 * single_nodes.len() + trapped_nodes.len() + blur_nodes.len() + path_nodes.len() + energy_probes().len();
@@ -921,7 +917,7 @@ fn energy_probes() -> Vec<[f64; 4]> {
     let dims: [usize; 4] = GLOSSY_SINGLE_GRID.map(|(_, n)| n);
     let midpoint = |axis: usize, i: usize| -> f64 {
         let (kind, n) = GLOSSY_SINGLE_GRID[axis];
-        super::tables::argument_at(kind, i as f64 + 0.5, n)
+        kind.argument(i as f64 + 0.5, n)
     };
     let mut probes = Vec::new();
     for e in 0..dims[3] - 1 {
@@ -947,7 +943,7 @@ fn energy_probes() -> Vec<[f64; 4]> {
     // probes just above it look at what closes).
     let node = |axis: usize, i: usize| -> f64 {
         let (kind, n) = GLOSSY_SINGLE_GRID[axis];
-        super::tables::argument_at(kind, i as f64, n)
+        kind.node(i, n)
     };
     for at_node in [
         [true, false, false],

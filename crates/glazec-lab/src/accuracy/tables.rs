@@ -99,14 +99,14 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
         let seed = k as u64;
         match jobs[k] {
             Job::Deficit(r, e) => {
-                deficit_column(node(Axis::Roughness, r, deficit[1]), node(Axis::Ior, e, deficit[2]), deficit[0])
+                deficit_column(Axis::Roughness.node(r, deficit[1]), Axis::Ior.node(e, deficit[2]), deficit[0])
             }
             Job::ExtraAndSlab(r, e) => {
-                let (roughness, eta) = (node(Axis::Roughness, r, extra[1]), node(Axis::Ior, e, extra[2]));
+                let (roughness, eta) = (Axis::Roughness.node(r, extra[1]), Axis::Ior.node(e, extra[2]));
                 extra_and_slab_column(roughness, eta, extra[0], slab[0], walks, seed)
             }
             Job::Path(r, e) => {
-                path_column(node(Axis::Roughness, r, path[1]), node(Axis::Ior, e, path[2]), path[0], walks, seed)
+                path_column(Axis::Roughness.node(r, path[1]), Axis::Ior.node(e, path[2]), path[0], walks, seed)
             }
         }
     };
@@ -144,11 +144,11 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
         }
     }
     let n_eta = TableId::FresnelTransmitAvg.spec().axes[0].1;
-    let fresnel: Vec<f64> = (0..n_eta).map(|e| smooth_transmission_average(node(Axis::Ior, e, n_eta))).collect();
+    let fresnel: Vec<f64> = (0..n_eta).map(|e| smooth_transmission_average(Axis::Ior.node(e, n_eta))).collect();
     put(TableId::FresnelTransmitAvg, 0, &fresnel);
     let n_eta = TableId::EonEscapeShape.spec().axes[0].1;
     let shape: Vec<f64> = (0..n_eta)
-        .map(|e| f64::from(glazec::math::terms::eon_escape_shape_exact::<f32>(node(Axis::Ior, e, n_eta) as f32)))
+        .map(|e| f64::from(glazec::math::terms::eon_escape_shape_exact::<f32>(Axis::Ior.node(e, n_eta) as f32)))
         .collect();
     put(TableId::EonEscapeShape, 0, &shape);
     report.max_deficit_excess = make_deficit_conservative(&mut tables[TableId::CoatDeficit as usize], &deficit);
@@ -242,10 +242,6 @@ fn seed_dfg(lobe: SeedLobe, spec: &TableSpec) -> (Vec<f32>, Vec<f32>) {
         .collect();
     let values: Vec<_> = nodes.par_iter().map(|&(mu, r)| seed_dfg_at(lobe, mu, r)).collect();
     values.into_iter().map(|(a, b)| (a as f32, b as f32)).unzip()
-}
-
-fn node(axis: Axis, i: usize, n: usize) -> f64 {
-    axis.node(i, n)
 }
 
 /// The single-scattering reflection lobe of a rough dielectric seen from the side where the
@@ -453,21 +449,6 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
     Some(fresnel_dielectric(mu, eta) - single_scattering_albedo(mu, eta, alpha))
 }
 
-/// The argument of an axis at a fractional node position `x` (the inverse of its coordinate).
-pub(crate) fn argument_at(axis: Axis, x: f64, n: usize) -> f64 {
-    let u = x / (n - 1) as f64;
-    match axis {
-        Axis::Cosine => {
-            let root = f64::from(glazec::math::tables::COSINE_FLOOR_ROOT);
-            (root + (1.0 - root) * u).powi(4)
-        }
-        Axis::Roughness => u * u,
-        Axis::Ior => (2.0 + u) / (2.0 - u),
-        Axis::Depth => u / (1.0 - u),
-        Axis::RootCosine => u * u,
-    }
-}
-
 /// Makes the deficit table never overestimate: the transmission T = 1 − F + G − E_ms must not
 /// exceed what the analytic single-scattering lobe beside it leaves (1 − E_ss − E_ms), or a
 /// white stack reflects more than it receives. Near grazing incidence, where α ≈ μ, G bends
@@ -499,9 +480,9 @@ fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
                         interpolated += w * snapshot[index(i + di, j + dj, k + dk)];
                     }
                     let truth = deficit_at(
-                        argument_at(Axis::Cosine, i as f64 + sm, n_mu),
-                        argument_at(Axis::Roughness, j as f64 + sr, n_r),
-                        argument_at(Axis::Ior, k as f64 + se, n_eta),
+                        Axis::Cosine.argument(i as f64 + sm, n_mu),
+                        Axis::Roughness.argument(j as f64 + sr, n_r),
+                        Axis::Ior.argument(k as f64 + se, n_eta),
                     );
                     if let Some(truth) = truth {
                         worst = worst.max(interpolated - truth);

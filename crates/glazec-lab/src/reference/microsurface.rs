@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::Rng;
+use super::rng::Rng;
 
 /// Directions this close to the pole are treated as exactly normal (Λ = 0).
 const POLE: f64 = 0.999_999;

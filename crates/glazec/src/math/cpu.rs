@@ -6,8 +6,7 @@
 
 use glam::Vec3;
 
-use super::tables::TableId;
-use super::{Logic, Named, Real, Slot, Sum, TermDef, Vector};
+use super::{Codes, Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 impl Named for f32 {
     fn named(self, _: &str) -> Self {
@@ -81,9 +80,9 @@ impl Real for f32 {
     fn known(self) -> Option<f32> {
         Some(self)
     }
-    fn fetch(table: TableId, index: f32) -> f32 {
+    fn fetch(table: Codes, index: f32) -> f32 {
         // `as` saturates: a negative index reads entry 0.
-        let codes = table.codes();
+        let codes = table.codes;
         f32::from(codes[(index as usize).min(codes.len() - 1)])
     }
     fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {

@@ -46,6 +46,15 @@ pub struct TermDef {
     pub doc: &'static [&'static str],
 }
 
+/// A table's stored codes as [`Real::fetch`] reads them: the codes themselves (for an index
+/// known now) and where they start in the table buffer `glazec_tables`.
+#[derive(Clone, Copy, Debug)]
+pub struct Codes {
+    pub codes: &'static [u16],
+    /// In entries (16-bit codes) from the start of the buffer.
+    pub buffer_offset: u32,
+}
+
 /// A term argument or result of either shape.
 pub enum Slot<F: Real> {
     S(F),
@@ -115,7 +124,7 @@ pub trait Real:
     /// The 16-bit code of entry `index` of a table, as a number (in a shader: from the table
     /// buffer `glazec_tables`; `tables::lookup` scales it to the value); `index` holds a whole
     /// number in range (callers clamp).
-    fn fetch(table: tables::TableId, index: Self) -> Self;
+    fn fetch(table: Codes, index: Self) -> Self;
 
     /// Calls (or, on the CPU, simply evaluates) a term. Use [`shading_fn!`] rather than this.
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self>;

@@ -37,7 +37,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use super::{Kind, Real, Slot, TermDef};
+use super::{Codes, Kind, Real, Slot, TermDef};
 
 /// The smallest cosine a cosine axis resolves: the lobes' clamp, `layering::COS_EPSILON`.
 pub const COSINE_FLOOR: f64 = 1e-4;
@@ -87,7 +87,13 @@ impl Axis {
     /// The argument at node `i` of `n` (the inverse of [`Self::coordinate`]); `f64::INFINITY`
     /// for the last node of a depth axis.
     pub fn node(self, i: usize, n: usize) -> f64 {
-        let u = i as f64 / (n - 1) as f64;
+        self.argument(i as f64, n)
+    }
+
+    /// The argument at the fractional node position `x` of `n` nodes (`x = i + ½` is the middle
+    /// of cell `i`): the inverse of [`Self::coordinate`] at u = x/(n − 1).
+    pub fn argument(self, x: f64, n: usize) -> f64 {
+        let u = x / (n - 1) as f64;
         match self {
             Axis::Cosine => {
                 let root = f64::from(COSINE_FLOOR_ROOT);
@@ -95,7 +101,7 @@ impl Axis {
             }
             Axis::Roughness => u * u,
             Axis::Ior => (2.0 + u) / (2.0 - u),
-            Axis::Depth if i + 1 == n => f64::INFINITY,
+            // u = 1 (the last node) is τ = ∞.
             Axis::Depth => u / (1.0 - u),
             Axis::RootCosine => u * u,
         }
@@ -824,7 +830,7 @@ fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&
         }
         // The entry's value: offset + scale·code, the stored encoding.
         let quantization = id.quantization();
-        let mut code = F::fetch(id, index);
+        let mut code = F::fetch(Codes { codes: id.codes(), buffer_offset: id.buffer_offset() }, index);
         // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
         let corner_name =
             || -> String { (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect() };

@@ -1,330 +1,18 @@
-//! The naga implementation of the shading ops: values are IR expressions.
-//!
-//! [`ModuleBuilder`] owns a `naga::Module` under construction and a stack of functions being
-//! built (a term's function is built to completion the first time the term is called, while the
-//! caller waits on the stack). [`Expr`], [`ExprVec`] and [`ExprBool`] implement
-//! [`Real`]/[`Vector`]/[`Logic`]: each operation appends an expression to the current function.
-//!
-//! Three duties that naga leaves to whoever builds IR by hand:
-//!
-//! * **Emit ranges.** Every expression that is not pre-emitted (literals, arguments, globals)
-//!   must be covered by exactly one `Statement::Emit`; call results must not be. The builder
-//!   keeps one open range and closes it before any statement or pre-emitted expression.
-//! * **Constant folding.** naga does not fold. Values start as Rust constants and become IR only
-//!   when they meet a runtime value, so literal arithmetic (`roughness²`, F0 from an IOR, whole
-//!   slab integrals) is computed here, in f32, exactly as the CPU path computes it; a term whose
-//!   arguments are all constants is evaluated, not called. Identities (x·1, x+0, 0·x) fold too;
-//!   0·x → 0 is sound because every x in the formulas is finite by its guards.
-//! * **Names.** Named `let`s come from the terms' source (see `shading_fn!`), so the generated
-//!   code reads like the Rust it came from.
-//!
-//! Invariant: an expression handle is used only in the function that created it (checked in
-//! debug builds via a function id carried by each value).
+//! The folding value types of the builder: [`Expr`], [`ExprVec`] and [`ExprBool`] implement
+//! [`Real`]/[`Vector`]/[`Logic`]. A value is a Rust constant until it meets a runtime value; then
+//! each operation appends an expression to the function being built (see the [builder](super)).
 
-use std::cell::RefCell;
-use std::collections::HashMap;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use naga::{
-    BinaryOperator, Block, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, MathFunction,
-    Module, Scalar as NagaScalar, Span, Statement, Type, TypeInner, UnaryOperator, VectorSize,
+    BinaryOperator, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, MathFunction, Statement,
+    UnaryOperator, VectorSize,
 };
 
-use crate::math::tables::TableId;
-use crate::math::{Kind, Logic, Named, Real, Slot, Sum, TermDef, Vector};
-
-/// Types the builder uses everywhere.
-#[derive(Clone, Copy, Debug)]
-pub struct CommonTypes {
-    pub f32: Handle<Type>,
-    pub u32: Handle<Type>,
-    pub bool: Handle<Type>,
-    pub vec2: Handle<Type>,
-    pub vec3: Handle<Type>,
-    pub vec4: Handle<Type>,
-    pub uvec3: Handle<Type>,
-}
-
-struct FnState {
-    function: Function,
-    block: Block,
-    emit_start: Option<usize>,
-    id: u32,
-    /// Results of the term calls made so far, by term and arguments: terms are pure and the
-    /// functions straight-line, so a repeated call (the same table lookup for the three
-    /// channels of a grey absorption, say) reuses the first result instead of calling again.
-    calls: HashMap<CallKey, Handle<Expression>>,
-}
-
-/// A term call's identity: the term's name and each argument (a constant's bits or an
-/// expression handle).
-type CallKey = (&'static str, Vec<ArgKey>);
-
-#[derive(Clone, PartialEq, Eq, Hash)]
-enum ArgKey {
-    Const([u32; 3]),
-    Dyn(Handle<Expression>),
-}
-
-struct State {
-    module: Module,
-    stack: Vec<FnState>,
-    terms: HashMap<&'static str, Handle<Function>>,
-    next_id: u32,
-    const_names: Vec<String>,
-    /// Named module constants already created, by (name, value bits).
-    constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
-    /// The table buffer, once used.
-    tables_buffer: Option<Handle<naga::GlobalVariable>>,
-}
-
-/// The name of the table buffer in generated code.
-pub const TABLES_BUFFER_NAME: &str = "glazec_tables";
-
-/// The function that reads an entry of the table buffer.
-const TABLE_CODE_FUNCTION: &str = "glazec_table_code";
-
-/// Builds one `naga::Module`; see the module docs.
-pub struct ModuleBuilder {
-    state: RefCell<State>,
-    pub types: CommonTypes,
-}
-
-fn insert_type(module: &mut Module, name: Option<&str>, inner: TypeInner) -> Handle<Type> {
-    module.types.insert(Type { name: name.map(str::to_string), inner }, Span::UNDEFINED)
-}
-
-impl Default for ModuleBuilder {
-    fn default() -> Self {
-        Self::new()
-    }
-}
+use super::{ArgKey, CallKey, ConstName, ModuleBuilder};
+use crate::math::{Codes, Kind, Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 impl ModuleBuilder {
-    pub fn new() -> Self {
-        let mut module = Module::default();
-        let vector = |size, scalar| TypeInner::Vector { size, scalar };
-        let types = CommonTypes {
-            f32: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::F32)),
-            u32: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::U32)),
-            bool: insert_type(&mut module, None, TypeInner::Scalar(NagaScalar::BOOL)),
-            vec2: insert_type(&mut module, None, vector(VectorSize::Bi, NagaScalar::F32)),
-            vec3: insert_type(&mut module, None, vector(VectorSize::Tri, NagaScalar::F32)),
-            vec4: insert_type(&mut module, None, vector(VectorSize::Quad, NagaScalar::F32)),
-            uvec3: insert_type(&mut module, None, vector(VectorSize::Tri, NagaScalar::U32)),
-        };
-        ModuleBuilder {
-            state: RefCell::new(State {
-                module,
-                stack: Vec::new(),
-                terms: HashMap::new(),
-                next_id: 0,
-                const_names: Vec::new(),
-                constants: HashMap::new(),
-                tables_buffer: None,
-            }),
-            types,
-        }
-    }
-
-    /// Runs `f` with mutable access to the module (types, globals, entry points).
-    pub fn with_module<R>(&self, f: impl FnOnce(&mut Module) -> R) -> R {
-        f(&mut self.state.borrow_mut().module)
-    }
-
-    pub fn finish(self) -> Module {
-        self.state.into_inner().module
-    }
-
-    pub fn kind_type(&self, kind: Kind) -> Handle<Type> {
-        match kind {
-            Kind::Scalar => self.types.f32,
-            Kind::Vec3 => self.types.vec3,
-        }
-    }
-
-    // ----- functions -------------------------------------------------------------------------
-
-    /// Starts a new function; expressions now go into it until [`Self::end_function`].
-    pub fn begin_function(&self, name: &str, arguments: Vec<FunctionArgument>, result: Option<FunctionResult>) {
-        let mut state = self.state.borrow_mut();
-        let id = state.next_id;
-        state.next_id += 1;
-        let function = Function { name: Some(name.to_string()), arguments, result, ..Function::default() };
-        state.stack.push(FnState { function, block: Block::new(), emit_start: None, id, calls: HashMap::new() });
-    }
-
-    /// Finishes the current function (closing its last emit range) and returns it.
-    pub fn end_function(&self) -> Function {
-        let mut state = self.state.borrow_mut();
-        let Some(mut f) = state.stack.pop() else {
-            unreachable!("end_function without begin_function");
-        };
-        close_emit(&mut f);
-        f.function.body = f.block;
-        f.function
-    }
-
-    /// The `index`-th argument of the current function.
-    pub fn argument(&self, index: u32) -> Handle<Expression> {
-        self.append(Expression::FunctionArgument(index))
-    }
-
-    fn current_id(&self) -> u32 {
-        self.state.borrow().stack.last().map_or(u32::MAX, |f| f.id)
-    }
-
-    /// Appends an expression to the current function, keeping emit ranges right.
-    pub fn append(&self, expression: Expression) -> Handle<Expression> {
-        let mut state = self.state.borrow_mut();
-        let Some(f) = state.stack.last_mut() else {
-            unreachable!("expression built outside of a function");
-        };
-        if expression.needs_pre_emit() {
-            close_emit(f);
-        } else if f.emit_start.is_none() {
-            f.emit_start = Some(f.function.expressions.len());
-        }
-        f.function.expressions.append(expression, Span::UNDEFINED)
-    }
-
-    /// Appends a statement to the current function's body.
-    pub fn statement(&self, statement: Statement) {
-        let mut state = self.state.borrow_mut();
-        let Some(f) = state.stack.last_mut() else {
-            unreachable!("statement outside of a function");
-        };
-        close_emit(f);
-        f.block.push(statement, Span::UNDEFINED);
-    }
-
-    /// `if (condition) { return; }` in the current function.
-    pub fn return_if(&self, condition: Handle<Expression>) {
-        let mut accept = Block::new();
-        accept.push(Statement::Return { value: None }, Span::UNDEFINED);
-        self.statement(Statement::If { condition, accept, reject: Block::new() });
-    }
-
-    /// Names an expression of the current function (`let name = …` in every backend).
-    pub fn name(&self, handle: Handle<Expression>, name: &str) {
-        let mut state = self.state.borrow_mut();
-        let Some(f) = state.stack.last_mut() else { return };
-        let expression = &f.function.expressions[handle];
-        if expression.needs_pre_emit() || f.function.named_expressions.contains_key(&handle) {
-            return;
-        }
-        f.function.named_expressions.insert(handle, name.to_string());
-    }
-
-    /// Calls `function` with `arguments`; returns the result expression.
-    pub fn call(&self, function: Handle<Function>, arguments: Vec<Handle<Expression>>) -> Handle<Expression> {
-        let mut state = self.state.borrow_mut();
-        let Some(f) = state.stack.last_mut() else {
-            unreachable!("call outside of a function");
-        };
-        // A call result is defined by its Call statement and must not be inside an Emit range.
-        close_emit(f);
-        let result = f.function.expressions.append(Expression::CallResult(function), Span::UNDEFINED);
-        f.block.push(Statement::Call { function, arguments, result: Some(result) }, Span::UNDEFINED);
-        result
-    }
-
-    /// A local variable of the current function (no initialiser), as its pointer expression.
-    fn local(&self, name: &str, ty: Handle<Type>) -> Handle<Expression> {
-        let variable = {
-            let mut state = self.state.borrow_mut();
-            let Some(f) = state.stack.last_mut() else {
-                unreachable!("local variable outside of a function");
-            };
-            let variable = naga::LocalVariable { name: Some(name.to_string()), ty, init: None };
-            f.function.local_variables.append(variable, Span::UNDEFINED)
-        };
-        self.append(Expression::LocalVariable(variable))
-    }
-
-    /// `pointer = value;` in the current block.
-    fn store(&self, pointer: Handle<Expression>, value: Handle<Expression>) {
-        self.statement(Statement::Store { pointer, value });
-    }
-
-    /// Builds a nested block: statements and expressions that `build` adds go into a new block,
-    /// which is returned; term calls made inside are not reused after it (their results are
-    /// not in scope there).
-    fn block<R>(&self, build: impl FnOnce() -> R) -> (Block, R) {
-        let (outer, calls) = {
-            let mut state = self.state.borrow_mut();
-            let Some(f) = state.stack.last_mut() else {
-                unreachable!("block outside of a function");
-            };
-            close_emit(f);
-            (std::mem::take(&mut f.block), f.calls.clone())
-        };
-        let result = build();
-        let mut state = self.state.borrow_mut();
-        let Some(f) = state.stack.last_mut() else {
-            unreachable!("block outside of a function");
-        };
-        close_emit(f);
-        f.calls = calls;
-        (std::mem::replace(&mut f.block, outer), result)
-    }
-
-    /// The loop of [`Real::sum_over`] in the current function:
-    ///
-    /// ```text
-    /// var index: u32 = 0u;  var total: vec3<f32> = vec3(0.0);  …
-    /// loop {
-    ///     <body at f32(index)>;  total = total + <term>;  …
-    ///     continuing { index = index + 1u;  break if index >= count; }
-    /// }
-    /// ```
-    fn sum_loop<'a>(&'a self, sum: &Sum, body: &dyn Fn(Expr<'a>) -> Vec<ExprVec<'a>>) -> Vec<ExprVec<'a>> {
-        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
-        let index = self.local(sum.index, self.types.u32);
-        self.store(index, u32_literal(0));
-        let totals: Vec<_> = sum.totals.iter().map(|name| self.local(name, self.types.vec3)).collect();
-        for &total in &totals {
-            let zero = self.vector_handle(VVal::Const([0.0; 3]), None);
-            self.store(total, zero);
-        }
-        let (body_block, ()) = self.block(|| {
-            let counter = self.append(Expression::Load { pointer: index });
-            let node = self.append(Expression::As { expr: counter, kind: naga::ScalarKind::Float, convert: Some(4) });
-            let terms = body(self.scalar(node));
-            debug_assert_eq!(terms.len(), totals.len(), "sum_over: one term per total");
-            for (&total, term) in totals.iter().zip(terms) {
-                let term = term.handle();
-                let before = self.append(Expression::Load { pointer: total });
-                let after = self.append(Expression::Binary { op: BinaryOperator::Add, left: before, right: term });
-                self.store(total, after);
-            }
-        });
-        let (continuing, done) = self.block(|| {
-            let counter = self.append(Expression::Load { pointer: index });
-            let next =
-                self.append(Expression::Binary { op: BinaryOperator::Add, left: counter, right: u32_literal(1) });
-            self.store(index, next);
-            let count = u32_literal(sum.count);
-            // (`block` closes the emit range inside `continuing`, where the condition must be.)
-            self.append(Expression::Binary { op: BinaryOperator::GreaterEqual, left: next, right: count })
-        });
-        self.statement(Statement::Loop { body: body_block, continuing, break_if: Some(done) });
-        totals.into_iter().map(|pointer| self.vector(self.append(Expression::Load { pointer }))).collect()
-    }
-
-    /// Adds a finished function to the module.
-    pub fn add_function(&self, function: Function, doc: &[&str]) -> Handle<Function> {
-        let mut state = self.state.borrow_mut();
-        let handle = state.module.functions.append(function, Span::UNDEFINED);
-        if !doc.is_empty() {
-            let docs = state.module.doc_comments.get_or_insert_with(Default::default);
-            docs.functions.insert(handle, doc.iter().map(|l| l.trim().to_string()).collect());
-        }
-        handle
-    }
-
-    // ----- values ----------------------------------------------------------------------------
-
     pub fn scalar(&self, handle: Handle<Expression>) -> Expr<'_> {
         Expr { b: self, v: Val::Dyn(handle, self.current_id()), name: None }
     }
@@ -335,130 +23,6 @@ impl ModuleBuilder {
 
     pub fn constant(&self, x: f32) -> Expr<'_> {
         Expr { b: self, v: Val::Const(x), name: None }
-    }
-
-    fn literal(&self, x: f32) -> Handle<Expression> {
-        self.append(Expression::Literal(Literal::F32(x)))
-    }
-
-    fn check_owner(&self, id: u32) {
-        debug_assert_eq!(id, self.current_id(), "expression used outside the function that built it");
-    }
-
-    fn const_name(&self, name: &str) -> ConstName {
-        let mut state = self.state.borrow_mut();
-        state.const_names.push(name.to_string());
-        ConstName(state.const_names.len() as u32 - 1)
-    }
-
-    /// A named module constant holding `value` (a scalar, or a vec3 when `vector`).
-    fn named_constant(&self, name: ConstName, value: [f32; 3], vector: bool) -> Handle<Expression> {
-        let constant = {
-            let mut state = self.state.borrow_mut();
-            let name = state.const_names[name.0 as usize].clone();
-            let key = (name.clone(), value.map(f32::to_bits), vector);
-            match state.constants.get(&key) {
-                Some(&h) => h,
-                None => {
-                    let module = &mut state.module;
-                    let literal = |m: &mut Module, x: f32| {
-                        m.global_expressions.append(Expression::Literal(Literal::F32(x)), Span::UNDEFINED)
-                    };
-                    let (ty, init) = if vector {
-                        let components = value.iter().map(|&x| literal(module, x)).collect();
-                        let ty = self.types.vec3;
-                        (ty, module.global_expressions.append(Expression::Compose { ty, components }, Span::UNDEFINED))
-                    } else {
-                        (self.types.f32, literal(module, value[0]))
-                    };
-                    let h = module.constants.append(naga::Constant { name: Some(name), ty, init }, Span::UNDEFINED);
-                    state.constants.insert(key, h);
-                    h
-                }
-            }
-        };
-        self.append(Expression::Constant(constant))
-    }
-
-    /// The table buffer `glazec_tables: array<vec4<u32>, N>` (a uniform buffer; created on
-    /// first use; its binding is assigned by `lower` once the module is complete), as a pointer
-    /// expression. Entries are 16-bit codes, two to a word (`crate::math::tables::buffer`):
-    /// entry i is the low (i even) or high half of component (i / 2) % 4 of element i / 8.
-    ///
-    /// Tables are read from a buffer rather than from constant arrays: naga's SPIR-V writer
-    /// spills a dynamically indexed array *value* into a local variable at every access and
-    /// lavapipe's compiler lowers that to a chain of selects. Even 16-entry curves folded from
-    /// the tables made a two-coat shader take 3 s to compile (0.2 s from a buffer), and an
-    /// 8,192-entry table took minutes. A uniform rather than a storage buffer: an eight-coat
-    /// shader with runtime parameters compiled in 2.3 s instead of 6.0 s (all tables fit the
-    /// 64 KiB that WebGPU guarantees for a uniform binding).
-    fn tables_buffer(&self) -> Handle<Expression> {
-        let global = {
-            let mut state = self.state.borrow_mut();
-            match state.tables_buffer {
-                Some(h) => h,
-                None => {
-                    let module = &mut state.module;
-                    // A fixed size, so that a device's bounds checks clamp to a constant
-                    // instead of reading the buffer's length at every access.
-                    let entries = std::num::NonZeroU32::new(crate::math::tables::buffer_vec4s() as u32)
-                        .unwrap_or_else(|| unreachable!("the tables are not empty"));
-                    let size = naga::ArraySize::Constant(entries);
-                    let words = TypeInner::Vector { size: VectorSize::Quad, scalar: NagaScalar::U32 };
-                    let words = insert_type(module, None, words);
-                    let ty = insert_type(module, None, TypeInner::Array { base: words, size, stride: 16 });
-                    let global = naga::GlobalVariable {
-                        name: Some(TABLES_BUFFER_NAME.to_string()),
-                        space: naga::AddressSpace::Uniform,
-                        binding: Some(naga::ResourceBinding { group: 0, binding: u32::MAX }),
-                        ty,
-                        init: None,
-                        memory_decorations: Default::default(),
-                    };
-                    let h = module.global_variables.append(global, Span::UNDEFINED);
-                    state.tables_buffer = Some(h);
-                    h
-                }
-            }
-        };
-        self.append(Expression::GlobalVariable(global))
-    }
-
-    /// `glazec_table_code(entry: u32) -> f32`: the 16-bit code of an entry of the table buffer
-    /// (see [`Self::tables_buffer`]), created once per module.
-    fn table_code_function(&self) -> Handle<Function> {
-        if let Some(&f) = self.state.borrow().terms.get(TABLE_CODE_FUNCTION) {
-            return f;
-        }
-        let argument = FunctionArgument { name: Some("entry".to_string()), ty: self.types.u32, binding: None };
-        let result = FunctionResult { ty: self.types.f32, binding: None };
-        self.begin_function(TABLE_CODE_FUNCTION, vec![argument], Some(result));
-        let entry = self.argument(0);
-        let literal = |x| self.append(Expression::Literal(Literal::U32(x)));
-        let binary = |op, left, right| self.append(Expression::Binary { op, left, right });
-        // Word entry / 2 holds entries entry (low half, entry even) and entry + 1; four words
-        // make an element of the buffer.
-        let word = binary(BinaryOperator::ShiftRight, entry, literal(1));
-        self.name(word, "word");
-        let base = self.tables_buffer();
-        let pointer =
-            self.append(Expression::Access { base, index: binary(BinaryOperator::ShiftRight, word, literal(2)) });
-        let pointer =
-            self.append(Expression::Access { base: pointer, index: binary(BinaryOperator::And, word, literal(3)) });
-        let bits = self.append(Expression::Load { pointer });
-        self.name(bits, "codes");
-        let shift = binary(BinaryOperator::ShiftLeft, binary(BinaryOperator::And, entry, literal(1)), literal(4));
-        let code = binary(BinaryOperator::And, binary(BinaryOperator::ShiftRight, bits, shift), literal(0xffff));
-        let value = self.append(Expression::As { expr: code, kind: naga::ScalarKind::Float, convert: Some(4) });
-        self.statement(Statement::Return { value: Some(value) });
-        let function = self.end_function();
-        let doc = [
-            "The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even",
-            "entry in the low half (`glazec tables`; each lookup scales the code to its table's range).",
-        ];
-        let handle = self.add_function(function, &doc);
-        self.state.borrow_mut().terms.insert(TABLE_CODE_FUNCTION, handle);
-        handle
     }
 
     fn scalar_handle(&self, v: Val, name: Option<ConstName>) -> Handle<Expression> {
@@ -524,24 +88,47 @@ impl ModuleBuilder {
         }
     }
 
-    fn earlier_call(&self, key: &CallKey) -> Option<Handle<Expression>> {
-        self.state.borrow().stack.last().and_then(|f| f.calls.get(key).copied())
-    }
-
-    fn remember_call(&self, key: CallKey, result: Handle<Expression>) {
-        if let Some(f) = self.state.borrow_mut().stack.last_mut() {
-            f.calls.insert(key, result);
+    /// The loop of [`Real::sum_over`] in the current function:
+    ///
+    /// ```text
+    /// var index: u32 = 0u;  var total: vec3<f32> = vec3(0.0);  …
+    /// loop {
+    ///     <body at f32(index)>;  total = total + <term>;  …
+    ///     continuing { index = index + 1u;  break if index >= count; }
+    /// }
+    /// ```
+    fn sum_loop<'a>(&'a self, sum: &Sum, body: &dyn Fn(Expr<'a>) -> Vec<ExprVec<'a>>) -> Vec<ExprVec<'a>> {
+        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
+        let index = self.local(sum.index, self.types.u32);
+        self.store(index, u32_literal(0));
+        let totals: Vec<_> = sum.totals.iter().map(|name| self.local(name, self.types.vec3)).collect();
+        for &total in &totals {
+            let zero = self.vector_handle(VVal::Const([0.0; 3]), None);
+            self.store(total, zero);
         }
-    }
-
-    pub(crate) fn math(&self, fun: MathFunction, args: &[Handle<Expression>]) -> Handle<Expression> {
-        self.append(Expression::Math {
-            fun,
-            arg: args[0],
-            arg1: args.get(1).copied(),
-            arg2: args.get(2).copied(),
-            arg3: None,
-        })
+        let (body_block, ()) = self.block(|| {
+            let counter = self.append(Expression::Load { pointer: index });
+            let node = self.append(Expression::As { expr: counter, kind: naga::ScalarKind::Float, convert: Some(4) });
+            let terms = body(self.scalar(node));
+            debug_assert_eq!(terms.len(), totals.len(), "sum_over: one term per total");
+            for (&total, term) in totals.iter().zip(terms) {
+                let term = term.handle();
+                let before = self.append(Expression::Load { pointer: total });
+                let after = self.append(Expression::Binary { op: BinaryOperator::Add, left: before, right: term });
+                self.store(total, after);
+            }
+        });
+        let (continuing, done) = self.block(|| {
+            let counter = self.append(Expression::Load { pointer: index });
+            let next =
+                self.append(Expression::Binary { op: BinaryOperator::Add, left: counter, right: u32_literal(1) });
+            self.store(index, next);
+            let count = u32_literal(sum.count);
+            // (`block` closes the emit range inside `continuing`, where the condition must be.)
+            self.append(Expression::Binary { op: BinaryOperator::GreaterEqual, left: next, right: count })
+        });
+        self.statement(Statement::Loop { body: body_block, continuing, break_if: Some(done) });
+        totals.into_iter().map(|pointer| self.vector(self.append(Expression::Load { pointer }))).collect()
     }
 
     /// The function that implements `def`, building it on first use.
@@ -586,17 +173,6 @@ impl ModuleBuilder {
     }
 }
 
-fn close_emit(f: &mut FnState) {
-    if let Some(start) = f.emit_start.take() {
-        if f.function.expressions.len() > start {
-            let range = f.function.expressions.range_from(start);
-            f.block.push(Statement::Emit(range), Span::UNDEFINED);
-        }
-    }
-}
-
-// ----- value types -------------------------------------------------------------------------------
-
 #[derive(Clone, Copy, Debug)]
 enum Val {
     Const(f32),
@@ -632,10 +208,6 @@ pub struct ExprVec<'a> {
     v: VVal,
     name: Option<ConstName>,
 }
-
-/// Index into the builder's table of constant names.
-#[derive(Clone, Copy, Debug)]
-struct ConstName(u32);
 
 /// A `bool` value.
 #[derive(Clone, Copy)]
@@ -846,15 +418,15 @@ impl<'a> Real for Expr<'a> {
     fn known(self) -> Option<f32> {
         self.as_const()
     }
-    fn fetch(table: TableId, index: Self) -> Self {
+    fn fetch(table: Codes, index: Self) -> Self {
         let b = index.b;
         if let Val::Const(i) = index.v {
-            let codes = table.codes();
+            let codes = table.codes;
             return b.constant(f32::from(codes[(i as usize).min(codes.len() - 1)]));
         }
         let expr = index.handle();
         let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
-        let offset = b.append(Expression::Literal(Literal::U32(table.buffer_offset())));
+        let offset = b.append(Expression::Literal(Literal::U32(table.buffer_offset)));
         let entry = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
         let function = b.table_code_function();
         index.dynamic(b.call(function, vec![entry]))
