@@ -101,7 +101,7 @@ pub fn stage_suffix(stage: ShaderStage) -> &'static str {
 /// A backend error (never expected for a module that passed validation).
 pub fn emit(
     name: &str,
-    origin: &crate::Origin,
+    origin: &crate::origin::Origin,
     module: &Module,
     info: &ModuleInfo,
     targets: &[Target],
@@ -192,8 +192,8 @@ fn write_hlsl(module: &Module, info: &ModuleInfo) -> Result<String, EmitError> {
 
 /// The first line of every text output: the glazec version, the source file and the hash of
 /// its text (which the `build` module's generated Rust checks at compile time).
-pub fn header(material: &str, origin: &crate::Origin) -> String {
-    let version = crate::VERSION;
+pub fn header(material: &str, origin: &crate::origin::Origin) -> String {
+    let version = crate::origin::VERSION;
     let hash = origin.hash;
     let source = origin.file.as_deref().map_or_else(|| format!("material `{material}`"), |f| format!("`{f}`"));
     let scene = origin

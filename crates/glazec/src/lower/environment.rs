@@ -25,7 +25,7 @@ use naga::{
     ScalarKind, Statement, SwizzleComponent, Type, VectorSize,
 };
 
-use super::builder::{ExprVec, ModuleBuilder};
+use super::builder::{Expr, ExprVec, ModuleBuilder, argument, global_in};
 use crate::math::layering::Inputs;
 use crate::math::layering::environment::{Lookup, environment_lobes};
 use crate::math::{Named, Real, Vector};
@@ -63,14 +63,10 @@ pub fn build_lookups(b: &ModuleBuilder) -> Lookups {
     let irradiance = global(b, bindings::IRRADIANCE_NAME, bindings::IRRADIANCE, image_ty);
     let uv_function = equirect_uv_function(b);
 
-    let direction_arg = || super::argument("direction", b.types.vec3, None);
+    let direction_arg = || argument("direction", b.types.vec3, None);
     let result = || Some(FunctionResult { ty: b.types.vec3, binding: None });
 
-    b.begin_function(
-        "glazec_environment",
-        vec![direction_arg(), super::argument("roughness", b.types.f32, None)],
-        result(),
-    );
+    b.begin_function("glazec_environment", vec![direction_arg(), argument("roughness", b.types.f32, None)], result());
     let uv = b.call(uv_function, vec![b.argument(0)]);
     b.name(uv, "uv");
     let image = b.append(Expression::GlobalVariable(radiance));
@@ -100,7 +96,7 @@ pub fn build_lookups(b: &ModuleBuilder) -> Lookups {
 fn equirect_uv_function(b: &ModuleBuilder) -> Handle<naga::Function> {
     use std::f32::consts::PI;
     let result = Some(FunctionResult { ty: b.types.vec2, binding: None });
-    b.begin_function("glazec_equirect_uv", vec![super::argument("d", b.types.vec3, None)], result);
+    b.begin_function("glazec_equirect_uv", vec![argument("d", b.types.vec3, None)], result);
     let d = b.vector(b.argument(0));
     let longitude = b.scalar(b.math(naga::MathFunction::Atan2, &[d.x().handle(), d.z().handle()]));
     // Guard: acos of |y| ≤ 1 only; a normalised vector can exceed it by rounding.
@@ -144,7 +140,7 @@ fn sample(
 }
 
 fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
-    super::global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
+    global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
 
 /// The radiance `material` reflects towards `v` from the environment: Σ weight · lookup.
@@ -152,7 +148,7 @@ pub fn reflected<'a>(
     b: &'a ModuleBuilder,
     lookups: Lookups,
     material: &Material,
-    inputs: &Inputs<super::builder::Expr<'a>>,
+    inputs: &Inputs<Expr<'a>>,
     n: ExprVec<'a>,
     v: ExprVec<'a>,
 ) -> ExprVec<'a> {

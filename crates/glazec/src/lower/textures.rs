@@ -24,7 +24,8 @@ use naga::{
     SampleLevel, ScalarKind, Span, Statement, StructMember, SwizzleComponent, Type, TypeInner, VectorSize,
 };
 
-use super::builder::{Expr, ExprVec, ModuleBuilder};
+use super::builder::{Expr, ExprVec, ModuleBuilder, argument, global_in};
+use super::layout::member_offsets;
 use crate::math::Named;
 use crate::math::terms::{normal_from_texel, rnm_blend, tangent_to_world};
 use crate::model::{Channel, Material, TextureRead};
@@ -71,10 +72,10 @@ pub fn build(b: &ModuleBuilder, material: &Material) -> Option<TextureReads> {
         .map(|(i, name)| (name.to_string(), global(b, name, bindings::FIRST_TEXTURE + i as u32, image_ty)))
         .collect();
 
-    let mut arguments = vec![super::argument("uv", b.types.vec2, None)];
+    let mut arguments = vec![argument("uv", b.types.vec2, None)];
     if !material.normals.is_empty() {
         for frame in ["n", "t", "b"] {
-            arguments.push(super::argument(frame, b.types.vec3, None));
+            arguments.push(argument(frame, b.types.vec3, None));
         }
     }
     let name = format!("{}_textures", material.name);
@@ -185,15 +186,11 @@ fn channel_value(b: &ModuleBuilder, texel: Handle<Expression>, read: &TextureRea
 }
 
 /// lo + (hi − lo)·t, folded to t for the range [0, 1].
-fn remap(t: super::builder::Expr<'_>, [lo, hi]: [f32; 2]) -> super::builder::Expr<'_> {
+fn remap(t: Expr<'_>, [lo, hi]: [f32; 2]) -> Expr<'_> {
     if lo == 0.0 && hi == 1.0 { t } else { t * (hi - lo) + lo }
 }
 
-fn remap_vec<'a>(
-    b: &'a ModuleBuilder,
-    t: super::builder::ExprVec<'a>,
-    [lo, hi]: [f32; 2],
-) -> super::builder::ExprVec<'a> {
+fn remap_vec<'a>(b: &'a ModuleBuilder, t: ExprVec<'a>, [lo, hi]: [f32; 2]) -> ExprVec<'a> {
     use crate::math::Real;
     if lo == 0.0 && hi == 1.0 { t } else { t * (hi - lo) + b.constant(lo).splat() }
 }
@@ -203,7 +200,7 @@ fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
     let reads = material.texture_params().map(|(_, param, read)| (param.name.clone(), read.channel == Channel::Rgb));
     let normals = material.normals.iter().map(|(layer, _)| (format!("{}_normal", material.layer_name(*layer)), true));
     let fields: Vec<(String, bool)> = reads.chain(normals).collect();
-    let (offsets, span) = super::member_offsets(fields.iter().map(|&(_, is_vec3)| is_vec3));
+    let (offsets, span) = member_offsets(fields.iter().map(|&(_, is_vec3)| is_vec3));
     let members = fields
         .into_iter()
         .zip(offsets)
@@ -219,7 +216,7 @@ fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
 }
 
 fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
-    super::global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
+    global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
 
 /// The texture bindings of a module built by `lower`: (name, binding) in group

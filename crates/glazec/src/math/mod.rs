@@ -243,7 +243,6 @@ pub trait Vector:
 /// Argument and result kinds are `S` (scalar) or `V` (`vec3`). The body is a sequence of
 /// `let name = expr;` followed by the result expression; each `let` becomes a named `let` in
 /// the generated shader.
-#[macro_export]
 macro_rules! shading_fn {
     (
         $(#[doc = $doc:literal])*
@@ -251,23 +250,23 @@ macro_rules! shading_fn {
     ) => {
         $(#[doc = $doc])*
         #[allow(clippy::too_many_arguments)]
-        $vis fn $name<F: $crate::math::Real>( $( $arg: $crate::shading_fn!(@ty F $kind) ),* )
-            -> $crate::shading_fn!(@ty F $ret)
+        $vis fn $name<F: $crate::math::Real>( $( $arg: $crate::math::shading_fn!(@ty F $kind) ),* )
+            -> $crate::math::shading_fn!(@ty F $ret)
         {
             static DEF: $crate::math::TermDef = $crate::math::TermDef {
                 name: stringify!($name),
-                params: &[ $( (stringify!($arg), $crate::shading_fn!(@kind $kind)) ),* ],
-                ret: $crate::shading_fn!(@kind $ret),
+                params: &[ $( (stringify!($arg), $crate::math::shading_fn!(@kind $kind)) ),* ],
+                ret: $crate::math::shading_fn!(@kind $ret),
                 doc: &[ $( $doc ),* ],
             };
-            let args = [ $( $crate::shading_fn!(@slot $kind $arg) ),* ];
+            let args = [ $( $crate::math::shading_fn!(@slot $kind $arg) ),* ];
             let result = F::call(&DEF, &args, &|slots: &[$crate::math::Slot<F>]| {
                 let mut slots = slots.iter().copied();
-                $( let $arg = $crate::shading_fn!(@unslot $kind slots.next()); )*
-                let result = $crate::shading_fn!(@body [] $($body)*);
-                $crate::shading_fn!(@slot $ret result)
+                $( let $arg = $crate::math::shading_fn!(@unslot $kind slots.next()); )*
+                let result = $crate::math::shading_fn!(@body [] $($body)*);
+                $crate::math::shading_fn!(@slot $ret result)
             });
-            $crate::shading_fn!(@unslot $ret Some(result))
+            $crate::math::shading_fn!(@unslot $ret Some(result))
         }
     };
     (@ty $f:ident S) => { $f };
@@ -290,8 +289,8 @@ macro_rules! shading_fn {
         }
     };
     (@body [$($done:tt)*] let $n:ident = $e:expr; $($rest:tt)*) => {
-        $crate::shading_fn!(@body [$($done)* let $n = $crate::math::Named::named($e, stringify!($n));] $($rest)*)
+        $crate::math::shading_fn!(@body [$($done)* let $n = $crate::math::Named::named($e, stringify!($n));] $($rest)*)
     };
     (@body [$($done:tt)*] $e:expr) => { { $($done)* $e } };
 }
-pub use shading_fn;
+pub(crate) use shading_fn;

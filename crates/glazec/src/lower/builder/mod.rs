@@ -25,8 +25,9 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 use naga::{
-    Block, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, MathFunction, Module,
-    Scalar as NagaScalar, Span, Statement, Type, TypeInner, VectorSize,
+    AddressSpace, Binding, Block, Expression, Function, FunctionArgument, FunctionResult, GlobalVariable, Handle,
+    Literal, MathFunction, MemoryDecorations, Module, ResourceBinding, Scalar as NagaScalar, Span, Statement,
+    StructMember, Type, TypeInner, VectorSize,
 };
 
 use crate::math::Kind;
@@ -355,4 +356,61 @@ fn close_emit(f: &mut FnState) {
             f.block.push(Statement::Emit(range), Span::UNDEFINED);
         }
     }
+}
+
+/// A module-scope resource at `binding` (any group).
+pub fn global_in(
+    b: &ModuleBuilder,
+    name: &str,
+    space: AddressSpace,
+    binding: ResourceBinding,
+    ty: Handle<Type>,
+) -> Handle<GlobalVariable> {
+    b.with_module(|m| {
+        m.global_variables.append(
+            GlobalVariable {
+                name: Some(name.to_string()),
+                space,
+                binding: Some(binding),
+                ty,
+                init: None,
+                memory_decorations: MemoryDecorations::empty(),
+            },
+            Span::UNDEFINED,
+        )
+    })
+}
+
+pub fn argument(name: &str, ty: Handle<Type>, binding: Option<Binding>) -> FunctionArgument {
+    FunctionArgument { name: Some(name.to_string()), ty, binding }
+}
+
+pub fn struct_type(
+    b: &ModuleBuilder,
+    name: &str,
+    members: &[(&str, Handle<Type>, u32, Option<Binding>)],
+    span: u32,
+) -> Handle<Type> {
+    let members = members
+        .iter()
+        .map(|(name, ty, offset, binding)| StructMember {
+            name: Some((*name).to_string()),
+            ty: *ty,
+            binding: binding.clone(),
+            offset: *offset,
+        })
+        .collect();
+    b.with_module(|m| {
+        m.types
+            .insert(Type { name: Some(name.to_string()), inner: TypeInner::Struct { members, span } }, Span::UNDEFINED)
+    })
+}
+
+pub fn runtime_array(b: &ModuleBuilder, base: Handle<Type>, stride: u32) -> Handle<Type> {
+    b.with_module(|m| {
+        m.types.insert(
+            Type { name: None, inner: TypeInner::Array { base, size: naga::ArraySize::Dynamic, stride } },
+            Span::UNDEFINED,
+        )
+    })
 }

@@ -4,7 +4,7 @@
 use std::f32::consts::PI;
 
 use crate::math::Vector;
-use crate::shading_fn;
+use crate::math::shading_fn;
 
 shading_fn! {
     /// Lambert 1760: the ideal diffuse BRDF f = ρ/π.

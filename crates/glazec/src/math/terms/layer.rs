@@ -5,7 +5,7 @@
 use std::f32::consts::PI;
 
 use crate::math::Vector;
-use crate::shading_fn;
+use crate::math::shading_fn;
 
 shading_fn! {
     /// Weidlich & Wilkie 2007 (seed 000 eq. 14–15): the absorption a = e^{−α l} along the path

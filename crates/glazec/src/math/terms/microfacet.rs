@@ -5,7 +5,7 @@
 use std::f32::consts::PI;
 
 use crate::math::Vector;
-use crate::shading_fn;
+use crate::math::shading_fn;
 
 /// Smallest GGX / GTR1 α. Below it a microfacet lobe is a mirror for all practical purposes
 /// (pbrt-v4's `EffectivelySmooth` threshold); clamping keeps D finite at n·h = 1, where its peak

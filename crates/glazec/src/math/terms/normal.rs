@@ -2,7 +2,7 @@
 //! tangent-space normal to the surface frame.
 
 use crate::math::Vector;
-use crate::shading_fn;
+use crate::math::shading_fn;
 
 shading_fn! {
     /// A normal-map texel (RGB in [0, 1], as normal maps store n·½ + ½) back to the tangent-space

@@ -2,8 +2,8 @@
 //! return and escape through the top interface (with total internal reflection) by
 //! Gauss–Legendre quadrature, and the share of a glossy lobe trapped outside the escape cone.
 
+use crate::math::shading_fn;
 use crate::math::{Named, Real, Vector};
-use crate::shading_fn;
 
 use super::diffuse::{FON_C1, FON_C2};
 use super::microfacet::*;
