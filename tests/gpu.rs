@@ -32,8 +32,7 @@ fn gpu() -> Option<&'static Gpu> {
 }
 
 fn direction(theta_deg: f32, phi_deg: f32) -> Vec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+    glazec::math::sampling::direction_f32(theta_deg.to_radians(), phi_deg.to_radians())
 }
 
 /// ≥ 4096 pairs: a θi × θo × Δφ grid up to 89.5°, exact mirror pairs, exactly grazing pairs

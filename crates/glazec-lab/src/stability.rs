@@ -16,6 +16,7 @@
 //! `eval_pairs` kernel on a GPU (`glazec stability --gpu`, and the tests on lavapipe).
 
 use glam::{DVec3, Vec3};
+use glazec::math::sampling::direction_f32;
 
 use crate::accuracy::quadrature;
 use glazec::model::{Base, Coat, Color, ConductorFresnel, Lobe, Material, Method, Scalar};
@@ -189,10 +190,9 @@ pub fn sweeps(reduced: bool) -> Vec<Sweep> {
 
 /// A direction at polar angle `theta` (degrees) and azimuth `phi` (degrees).
 fn direction(theta: f32, phi: f32) -> Vec3 {
-    let (t, p) = (theta.to_radians(), phi.to_radians());
+    let d = direction_f32(theta.to_radians(), phi.to_radians());
     // θ = 90° exactly: cos(π/2) in f32 is −4.4·10⁻⁸; the column means "exactly grazing".
-    let z = if theta == 90.0 { 0.0 } else { t.cos() };
-    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), z)
+    if theta == 90.0 { Vec3::new(d.x, d.y, 0.0) } else { d }
 }
 
 /// The outgoing direction of column `column` ([`ANGLES`], then the denormal cosine).

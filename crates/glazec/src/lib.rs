@@ -32,6 +32,7 @@ pub mod eval;
 pub mod lower;
 pub mod math;
 pub mod model;
+pub mod names;
 pub mod optics;
 mod origin;
 pub mod output;

@@ -220,7 +220,7 @@ pub fn simplify_all(
     scene: &SceneFile,
 ) -> Result<Vec<(Compiled, crate::simplify::Report)>, ProjectError> {
     let materials: Vec<&crate::Material> = compiled.iter().map(|c| &c.material).collect();
-    let mut diagnostics = crate::simplify::check_scene_params(&scene.scene, &materials);
+    let mut diagnostics = crate::check::check_scene_params(&scene.scene, &materials);
     let mut out = Vec::new();
     for c in compiled {
         match crate::simplify::simplify(&c.material, &scene.scene) {

@@ -56,6 +56,7 @@
 //! conductor, exact Fresnel for smooth interfaces), in f64 with deterministic seeds.
 
 use glam::DVec3;
+use glazec::math::sampling::direction_at_cosine;
 
 use crate::reference::microsurface::{RoughConductor, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
@@ -151,10 +152,6 @@ fn conductor_sample(alpha: f64, w: DVec3, rng: &mut Rng) -> DVec3 {
     RoughConductor { alpha }.sample_multiple(w, &|_| DVec3::ONE, rng).0
 }
 
-fn direction(mu: f64) -> DVec3 {
-    DVec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
-}
-
 /// One white walk from `wo` (above the coat) into a slab of thickness 1 over the conductor:
 /// `None` if the coat reflects it at once, else the cosines of its slab crossings and of its
 /// conductor events (in order) until it leaves or is cut.
@@ -187,7 +184,7 @@ fn walk(eta: f64, alpha: f64, alpha_c: f64, wo: DVec3, rng: &mut Rng) -> Option<
 /// Event counts of `walks` white walks from outside cosine `mu`.
 pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> EventCounts {
     let mut rng = Rng::seeded(seed);
-    let wo = direction(mu.max(GLOSSY_GRAZING));
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
     let mut counts = EventCounts { events: vec![0; EVENT_CAP], ..Default::default() };
     for _ in 0..walks {
         let Some((_, events)) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
@@ -313,7 +310,7 @@ pub fn peak_blur(mu: f64, alpha_c: f64, r: f64, eta: f64, walks: u32, seed: u64)
         return 0.0;
     }
     let a2 = alpha_c.max(PEAK_ALPHA_MIN).powi(2);
-    let wo = direction(mu.max(GLOSSY_GRAZING));
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
     // Snell's direction of the refracted ray, reversed to point up (away from the conductor),
     // and its mirror image: the conductor's lobe peaks at the half vector between u and it.
     let snell = DVec3::new(wo.x / eta, 0.0, (1.0 - wo.x * wo.x / (eta * eta)).max(0.0).sqrt());
@@ -351,7 +348,7 @@ fn mirror_path_lengths(mu: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<
     let mut rng = Rng::seeded(seed);
     (0..walks)
         .filter_map(|_| {
-            let (crossings, events) = walk(eta, r * r, 0.0, direction(mu), &mut rng)?;
+            let (crossings, events) = walk(eta, r * r, 0.0, direction_at_cosine(mu), &mut rng)?;
             (events.len() == 1).then(|| crossings.iter().map(|c| 1.0 / c.max(1e-6)).sum())
         })
         .collect()
@@ -410,7 +407,7 @@ fn path_column(r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
     let columns: Vec<Vec<(f64, f64)>> = mus
         .iter()
         .map(|&mu| {
-            let v = direction(mu);
+            let v = direction_at_cosine(mu);
             super::quadrature::albedo_nodes(v, SMOOTH_ALPHA.max(1e-2))
                 .into_iter()
                 .filter_map(|(l, w)| {
@@ -727,7 +724,7 @@ const FIT_TOLERANCE: f64 = 1e-6;
 fn probe_energy(at: [f64; 4]) -> (f64, f64) {
     let [mu, r_c, r, eta] = at;
     let material = white_conductor_under(r_c, r, eta);
-    let wo = direction(mu);
+    let wo = direction_at_cosine(mu);
     let f = |wi: DVec3, wo: DVec3| glazec::eval::brdf(&material, &[], wi.as_vec3(), wo.as_vec3()).as_dvec3();
     let sharpest = (r_c * r_c).min(r * r).max(SMOOTH_ALPHA);
     let e = super::quadrature::directional_albedo_f64(&f, wo, sharpest).x
@@ -1014,7 +1011,7 @@ fn solve_scale(r_c: f64, r: f64, eta: f64, single: &[f64]) -> (Vec<f64>, f64) {
         .iter()
         .enumerate()
         .map(|(i, &mu)| {
-            let v = direction(mu);
+            let v = direction_at_cosine(mu);
             // What leaves near the mirror direction: after one event, or after the second
             // (the trapped light's share w₀, from the table just computed).
             let next = f64::from(glazec::math::tables::lookup::<f32>(

@@ -21,6 +21,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
+use glazec::math::sampling::direction_deg;
 
 use crate::reference::{self, InterfaceMode, Stack};
 use glazec::model::{Base, Coat, Color, ConductorFresnel, Lobe, Material, Method, Scalar};
@@ -138,18 +139,13 @@ pub(crate) fn parallel_map<R: Send>(
         .collect()
 }
 
-fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
-
 /// The BRDF grid: (wi, wo) for every θi, θo and Δφ (320 pairs).
 pub fn grid() -> Vec<(DVec3, DVec3)> {
     let mut pairs = Vec::new();
     for ti in GRID_THETAS {
         for to in GRID_THETAS {
             for phi in GRID_PHIS {
-                pairs.push((direction(ti, 0.0), direction(to, phi)));
+                pairs.push((direction_deg(ti, 0.0), direction_deg(to, phi)));
             }
         }
     }
@@ -204,7 +200,7 @@ impl ReferenceData {
             }
             let under = estimates.iter().map(|e| e.mean).collect();
             let noise = if sq_val > 0.0 { (sq_err / sq_val).sqrt() } else { 0.0 };
-            let albedo = ALBEDO_THETAS.iter().map(|&t| stack.albedo(direction(t, 0.0), &a_opts).mean).collect();
+            let albedo = ALBEDO_THETAS.iter().map(|&t| stack.albedo(direction_deg(t, 0.0), &a_opts).mean).collect();
             (under, albedo, noise)
         };
         let results = parallel_map(cases.len(), compute_case, progress);
@@ -318,7 +314,7 @@ pub fn cpu_evaluator(case: &Case, method: Method) -> impl FnMut(Variant, &[(DVec
 /// evaluation of f sees; closed form, `glazec::eval::mirror_reflectance`).
 pub fn method_albedo(case: &Case, method: Method, theta_deg: f64) -> DVec3 {
     let mut eval = cpu_evaluator(case, method);
-    let wo = direction(theta_deg, 0.0);
+    let wo = direction_deg(theta_deg, 0.0);
     let nodes = quadrature::albedo_nodes(wo, case.sharpest_alpha());
     let pairs: Vec<(DVec3, DVec3)> = nodes.iter().map(|&(wi, _)| (wi, wo)).collect();
     let values = eval(Variant::Full, &pairs);
@@ -348,9 +344,9 @@ pub fn measure_with(
     let mut full_pairs = grid.clone();
     full_pairs.extend(grid.iter().map(|&(wi, wo)| (wo, wi)));
     let albedo_nodes: Vec<Vec<(DVec3, f64)>> =
-        ALBEDO_THETAS.iter().map(|&t| quadrature::albedo_nodes(direction(t, 0.0), case.sharpest_alpha())).collect();
+        ALBEDO_THETAS.iter().map(|&t| quadrature::albedo_nodes(direction_deg(t, 0.0), case.sharpest_alpha())).collect();
     for (nodes, &theta) in albedo_nodes.iter().zip(&ALBEDO_THETAS) {
-        let wo = direction(theta, 0.0);
+        let wo = direction_deg(theta, 0.0);
         full_pairs.extend(nodes.iter().map(|&(wi, _)| (wi, wo)));
     }
     let full = eval(Variant::Full, &full_pairs);
@@ -379,7 +375,7 @@ pub fn measure_with(
     for (k, nodes) in albedo_nodes.iter().enumerate() {
         let (values, rest) = albedo_values.split_at(nodes.len());
         albedo_values = rest;
-        let wo = direction(ALBEDO_THETAS[k], 0.0);
+        let wo = direction_deg(ALBEDO_THETAS[k], 0.0);
         let e = nodes.iter().zip(values).map(|(&(_, w), &f)| f * w).sum::<DVec3>() + mirror_albedo(case, method, wo);
         albedo_error = albedo_error.max((e - albedo_ref[k]).abs().max_element());
         energy_max = energy_max.max(e.max_element());

@@ -20,6 +20,7 @@
 //! equations. Cosine axes start at μ = [`GRAZING_COSINE`], where the lobes clamp their cosines.
 
 use glam::DVec3;
+use glazec::math::sampling::direction_at_cosine;
 use rayon::prelude::*;
 
 use super::quadrature::directional_albedo_f64;
@@ -219,7 +220,7 @@ impl SeedLobe {
 /// own albedo.
 pub fn seed_dfg_at(lobe: SeedLobe, mu: f64, roughness: f64) -> (f64, f64) {
     let model = lobe.at(roughness);
-    let wo = direction(mu.max(GRAZING_COSINE));
+    let wo = direction_at_cosine(mu.max(GRAZING_COSINE));
     let alpha = (roughness * roughness).max(SMOOTH_ALPHA);
     let (mut a, mut b) = (0.0, 0.0);
     for (wi, weight) in super::quadrature::albedo_nodes(wo, alpha) {
@@ -255,14 +256,10 @@ fn dielectric_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
         / (4.0 * wi.z * wo.z)
 }
 
-fn direction(mu: f64) -> DVec3 {
-    DVec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu)
-}
-
 /// E_ss(μ): the single-scattering reflection albedo, by quadrature.
 fn single_scattering_albedo(mu: f64, eta: f64, alpha: f64) -> f64 {
     let lobe = |wi: DVec3, wo: DVec3| DVec3::splat(dielectric_lobe(wi, wo, eta, alpha));
-    directional_albedo_f64(&lobe, direction(mu), alpha).x
+    directional_albedo_f64(&lobe, direction_at_cosine(mu), alpha).x
 }
 
 /// What a microsurface's walks from one direction show.
@@ -280,7 +277,7 @@ fn walk(mu: f64, eta: f64, alpha: f64, walks: u32, seed: u64) -> Walks {
     let mut rng = Rng::seeded(seed);
     let (mut multiple, mut first, mut crossed, mut log_cosine) = (0u64, 0u64, 0u64, 0.0);
     for _ in 0..walks {
-        let (out, events) = surface.walk(direction(mu), &mut rng);
+        let (out, events) = surface.walk(direction_at_cosine(mu), &mut rng);
         if out.z > 0.0 {
             if events >= 2 {
                 multiple += 1;
@@ -555,7 +552,7 @@ fn ggx_albedo(spec: &TableSpec) -> (Vec<f32>, Vec<f32>) {
                     let h = (wi + wo).normalize();
                     DVec3::splat(microsurface::ggx_d(h, alpha) * microsurface::g2(wi, wo, alpha) / (4.0 * wi.z * wo.z))
                 };
-                directional_albedo_f64(&lobe, direction(mu.max(GRAZING_COSINE)), alpha).x.min(1.0)
+                directional_albedo_f64(&lobe, direction_at_cosine(mu.max(GRAZING_COSINE)), alpha).x.min(1.0)
             };
             column.push(e);
         }

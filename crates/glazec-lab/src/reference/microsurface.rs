@@ -371,9 +371,7 @@ mod tests {
     const SAMPLES: usize = 200_000;
     const SIGMAS: f64 = 4.0;
 
-    fn dir(theta: f64, phi: f64) -> DVec3 {
-        DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
-    }
+    use glazec::math::sampling::direction as dir;
 
     #[test]
     fn visible_normals_have_the_right_distribution() {

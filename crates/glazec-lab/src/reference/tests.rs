@@ -17,10 +17,7 @@ const ALBEDO_TOLERANCE: f64 = 2e-3;
 /// BRDF tolerance against the closed form, in standard errors.
 const SIGMAS: f64 = 3.0;
 
-fn dir(theta_deg: f64, phi_deg: f64) -> DVec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
+use glazec::math::sampling::direction_deg as dir;
 
 fn smooth_coat(eta: f64, rho: f64, tau: f64) -> Stack {
     let medium = Medium { absorption: DVec3::splat(tau), scattering: 0.0, g: 0.0, thickness: 1.0 };

@@ -11,7 +11,9 @@
 //! Optional `roughness` makes the base EON (else Lambert). The derived coefficients are reported
 //! in a note (`N0401`); a single reflectance is `E0401`, readings no layer produces `E0402`.
 
-use super::{Checker, FieldSpec, Rule, opt, req};
+use super::checker::Checker;
+use super::fields::{FieldSpec, opt, req};
+use super::rules::Rule;
 use crate::diag::{Code, Diagnostic, Severity, Span, Spanned};
 use crate::model::{Base, Color, Scalar};
 use crate::optics::{self, Observation, OpticsError, Slab, SlabModel};

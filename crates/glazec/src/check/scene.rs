@@ -2,9 +2,11 @@
 //! (unknown, missing and duplicate fields, wrong types, `did you mean`), plus the scene's own
 //! ranges (`E0301`) and `Range(lo, hi)` order (`E0302`).
 
-use super::{Checker, FieldSpec, Rule, opt, req};
+use super::checker::Checker;
+use super::fields::{FieldSpec, opt, req};
+use super::rules::Rule;
 use crate::diag::{Code, Diagnostic, Span, Spanned};
-use crate::model::ParamValue;
+use crate::model::{Material, ParamValue};
 use crate::parse::Value;
 use crate::scene::{DISPLAY_TOLERANCE, Light, ParamDomain, Scene, SceneParam, Tolerance};
 
@@ -193,6 +195,29 @@ impl Checker {
             _ => Tolerance::DeltaE(amount),
         })
     }
+}
+
+/// `E0303` for each parameter the scene sets that none of `materials` has.
+pub fn check_scene_params(scene: &Scene, materials: &[&Material]) -> Vec<Diagnostic> {
+    let names: Vec<&str> = materials.iter().flat_map(|m| m.params.iter().map(|p| p.name.as_str())).collect();
+    scene
+        .params
+        .iter()
+        .filter(|p| !names.contains(&p.name.as_str()))
+        .map(|p| {
+            let d = Diagnostic::error(
+                Code::UnknownSceneParam,
+                format!("no material compiled with this scene has a parameter `{}`", p.name),
+                p.span,
+                "not a parameter of any material here",
+            );
+            match crate::check::suggest(&p.name, &names) {
+                Some(s) => d.with_help(format!("did you mean `{s}`?")),
+                None if names.is_empty() => d.with_help("these materials have no runtime parameters"),
+                None => d.with_help(format!("their parameters are {}", names.join(", "))),
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

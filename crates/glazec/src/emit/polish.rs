@@ -128,7 +128,7 @@ fn choose_names(body: &[&str], results: &[(usize, &str)]) -> HashMap<usize, Stri
         let mut n = 1;
         while used.contains(&chosen.as_str())
             || renames.values().any(|c| *c == chosen)
-            || crate::check::is_reserved(&chosen)
+            || crate::names::is_reserved(&chosen)
         {
             chosen = format!("{wanted}_{n}");
             n += 1;
