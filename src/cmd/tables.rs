@@ -36,14 +36,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let progress = |done: usize, total: usize| eprint!("\rtables: {done}/{total} columns");
     let (values, report) = if args.glossy_only {
         let existing = std::fs::read(&args.out).with_context(|| format!("cannot read {}", args.out.display()))?;
-        glazec_lab::accuracy::tables::generate_glossy_only(
-            tables::decode_by_name(&existing),
-            args.glossy_walks,
-            &progress,
-        )
-        .map_err(Failure::usage)?
+        glazec_lab::bake::generate_glossy_only(tables::decode_by_name(&existing), args.glossy_walks, &progress)
+            .map_err(Failure::usage)?
     } else {
-        glazec_lab::accuracy::tables::generate(args.walks, args.glossy_walks, &progress)
+        glazec_lab::bake::generate(args.walks, args.glossy_walks, &progress)
     };
     eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
     if !args.glossy_only {

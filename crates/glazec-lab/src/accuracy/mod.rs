@@ -12,11 +12,8 @@
 //! agreement tests tie to every shader language; the albedos are deterministic quadratures
 //! ([`quadrature`]). The reference side is Monte Carlo with a stated standard error.
 
-pub mod glossy;
 pub mod quadrature;
-pub mod tables;
 
-use rayon::prelude::*;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
@@ -121,24 +118,6 @@ pub fn standard_set() -> Vec<Case> {
     cases
 }
 
-/// `f(0)`, …, `f(count − 1)` computed on every available core, in index order (each result
-/// depends only on its index, so the output does not depend on scheduling); `progress(i)` after
-/// each.
-pub(crate) fn parallel_map<R: Send>(
-    count: usize,
-    f: impl Fn(usize) -> R + Sync,
-    progress: impl Fn(usize) + Sync,
-) -> Vec<R> {
-    (0..count)
-        .into_par_iter()
-        .map(|i| {
-            let r = f(i);
-            progress(i);
-            r
-        })
-        .collect()
-}
-
 /// The BRDF grid: (wi, wo) for every θi, θo and Δφ (320 pairs).
 pub fn grid() -> Vec<(DVec3, DVec3)> {
     let mut pairs = Vec::new();
@@ -203,7 +182,7 @@ impl ReferenceData {
             let albedo = ALBEDO_THETAS.iter().map(|&t| stack.albedo(direction_deg(t, 0.0), &a_opts).mean).collect();
             (under, albedo, noise)
         };
-        let results = parallel_map(cases.len(), compute_case, progress);
+        let results = crate::parallel_map(cases.len(), compute_case, progress);
         let (mut under, mut albedo, mut noise) = (Vec::new(), Vec::new(), Vec::new());
         for (u, a, n) in results {
             under.push(u);

@@ -19,11 +19,13 @@
 //! Smooth columns (α < 10⁻³, as in the reference) and η = 1 (no interface) are exact: Fresnel's
 //! equations. Cosine axes start at μ = [`GRAZING_COSINE`], where the lobes clamp their cosines.
 
+pub mod glossy;
+
 use glam::DVec3;
 use glazec::math::sampling::direction_at_cosine;
 use rayon::prelude::*;
 
-use super::quadrature::directional_albedo_f64;
+use crate::accuracy::quadrature::directional_albedo_f64;
 use crate::reference::microsurface::{self, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
 use glazec::math::quadrature::gauss_legendre_16;
@@ -50,7 +52,7 @@ pub struct Report {
     /// between its nodes before generation lowered them (see `glazec tables`).
     pub max_deficit_excess: f64,
     /// What the glossy level's tables measured about themselves.
-    pub glossy: super::glossy::GlossyReport,
+    pub glossy: glossy::GlossyReport,
 }
 
 /// One column of a table (every node along its first axis) at an (r, η) node pair.
@@ -111,7 +113,7 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
             }
         }
     };
-    let results = super::parallel_map(jobs.len(), run, |_| {
+    let results = crate::parallel_map(jobs.len(), run, |_| {
         progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len())
     });
     let mut tables: Vec<Vec<f32>> = TableId::ALL.iter().map(|id| vec![0.0; id.spec().len()]).collect();
@@ -168,7 +170,7 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
         tables[scale as usize] = a;
         tables[bias as usize] = b;
     }
-    report.glossy = super::glossy::generate(&mut tables, glossy_walks, progress);
+    report.glossy = glossy::generate(&mut tables, glossy_walks, progress);
     (tables, report)
 }
 
@@ -191,7 +193,7 @@ pub fn generate_glossy_only(
             None => return Err(format!("the table file has no {} table; run a full `glazec tables`", id.spec().name)),
         }
     }
-    let glossy = super::glossy::generate(&mut tables, glossy_walks, progress);
+    let glossy = glossy::generate(&mut tables, glossy_walks, progress);
     Ok((tables, Report { glossy, ..Report::default() }))
 }
 
@@ -223,7 +225,7 @@ pub fn seed_dfg_at(lobe: SeedLobe, mu: f64, roughness: f64) -> (f64, f64) {
     let wo = direction_at_cosine(mu.max(GRAZING_COSINE));
     let alpha = (roughness * roughness).max(SMOOTH_ALPHA);
     let (mut a, mut b) = (0.0, 0.0);
-    for (wi, weight) in super::quadrature::albedo_nodes(wo, alpha) {
+    for (wi, weight) in crate::accuracy::quadrature::albedo_nodes(wo, alpha) {
         let (v, l) = (wo.as_vec3(), wi.as_vec3());
         let f = f64::from(glazec::math::layering::seed_lobe_white(&model, glam::Vec3::Z, v, l));
         let h = (v + l).normalize();
