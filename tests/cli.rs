@@ -123,6 +123,22 @@ fn usage_errors_exit_with_2() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
 }
 
+/// An unreadable input is reported with its cause once, not once per layer of error wrapping.
+#[test]
+fn unreadable_inputs_name_their_cause_once() {
+    let out = glazec(&["compile", "does/not/exist.ron"]);
+    assert_eq!(code(&out), 2);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.matches("No such file or directory").count(), 1, "{stderr}");
+    let dir = tempfile::tempdir().expect("tmp");
+    let binary = dir.path().join("binary.ron");
+    std::fs::write(&binary, [0xff, 0xfe, 0x00]).expect("writes");
+    let out = glazec(&["check", binary.to_str().expect("utf-8")]);
+    assert_eq!(code(&out), 2);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim(), format!("error: cannot read {}: stream did not contain valid UTF-8", binary.display()));
+}
+
 #[test]
 fn check_accepts_every_shipped_material() {
     let out = glazec(&["check", "materials/"]);

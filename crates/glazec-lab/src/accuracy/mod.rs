@@ -288,18 +288,6 @@ pub fn cpu_evaluator(case: &Case, method: Method) -> impl FnMut(Variant, &[(DVec
     }
 }
 
-/// The directional albedo of a method on a case at polar angle `theta_deg`: quadrature of f
-/// ([`quadrature::albedo_nodes`]), plus the mirror lobe of a smooth coat (a delta that no
-/// evaluation of f sees; closed form, `glazec::eval::mirror_reflectance`).
-pub fn method_albedo(case: &Case, method: Method, theta_deg: f64) -> DVec3 {
-    let mut eval = cpu_evaluator(case, method);
-    let wo = direction_deg(theta_deg, 0.0);
-    let nodes = quadrature::albedo_nodes(wo, case.sharpest_alpha());
-    let pairs: Vec<(DVec3, DVec3)> = nodes.iter().map(|&(wi, _)| (wi, wo)).collect();
-    let values = eval(Variant::Full, &pairs);
-    nodes.iter().zip(values).map(|(&(_, w), f)| f * w).sum::<DVec3>() + mirror_albedo(case, method, wo)
-}
-
 fn mirror_albedo(case: &Case, method: Method, wo: DVec3) -> DVec3 {
     glazec::eval::mirror_reflectance(&case.material(method, false), &[], wo.as_vec3()).as_dvec3()
 }

@@ -404,14 +404,6 @@ fn refracted_cosine(mu: f64, eta: f64) -> f64 {
     (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
 }
 
-/// The rough interface seen from outside at one point, computed directly (not from the
-/// tables): (G(μ) = F − E_ss, E_ms(μ)). For checking the tables' interpolation.
-pub fn interface_direct(mu: f64, roughness: f64, eta: f64, walks: u32, seed: u64) -> (f64, f64) {
-    let (mu, alpha) = (mu.max(GRAZING_COSINE), roughness * roughness);
-    let single = single_scattering_albedo(mu, eta, alpha);
-    (fresnel_dielectric(mu, eta) - single, walk(mu, eta, alpha, walks, seed).multiple)
-}
-
 /// ∫₀¹ 2μ (1 − F(μ)) dμ for a smooth interface seen from outside (Gauss–Legendre on 16 cells in
 /// u = √μ; the integrand is smooth there).
 fn smooth_transmission_average(eta: f64) -> f64 {

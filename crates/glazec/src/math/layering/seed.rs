@@ -22,7 +22,7 @@ pub(super) fn additive<F: Real>(coats: &[Coat], body: &Body<'_>, inputs: &Inputs
 }
 
 /// A coat's specular lobe as the seed computes it (Schlick F, Schlick-GGX G).
-pub(super) struct SeedLobe<F: Real> {
+pub(super) struct SeedSpecular<F: Real> {
     pub(super) specular: F::Vec,
     pub(super) fresnel: F::Vec,
     pub(super) distribution: F,
@@ -30,7 +30,7 @@ pub(super) struct SeedLobe<F: Real> {
 }
 
 /// The seed's Cook–Torrance coat lobe (seed 000 §3.0.1–3.0.2), `None` for a smooth coat.
-pub(super) fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedLobe<F>> {
+pub(super) fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedSpecular<F>> {
     let name = |base| level_name(base, g.level);
     let (roughness, distribution) = match lobe {
         Lobe::Smooth => return None,
@@ -47,7 +47,7 @@ pub(super) fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Ge
     let shadowing = g_smith_schlick_ggx(g.n_dot_v, g.n_dot_l, roughness).named(&name("g"));
     let fresnel = f_schlick(f0_dielectric(eta).splat(), g.half().v_dot_h).named(&name("fresnel"));
     let specular = f_cook_torrance(distribution, shadowing, fresnel, g.n_dot_v, g.n_dot_l).named(&name("specular"));
-    Some(SeedLobe { specular, fresnel, distribution, shadowing })
+    Some(SeedSpecular { specular, fresnel, distribution, shadowing })
 }
 
 /// The seed's coat lobe without its Fresnel factor, D·G/(4 μv μl), for unit directions in the
