@@ -15,10 +15,13 @@ use glazec::model::ParamValue;
 use glazec_gpu::{EvalKernel, Gpu, ShaderPath};
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngSeed, TestRunner};
+use rayon::prelude::*;
 
 use common::agreement::{ABS_TOL, REL_TOL, SIGNIFICANT};
 
-/// Random stacks checked (fixed seed).
+/// Random stacks checked in every language (fixed seed): the quick tier's sample and the deep
+/// tier's sweep.
+const RANDOM_STACKS_QUICK: usize = 16;
 const RANDOM_STACKS: usize = 200;
 const RANDOM_SEED: u64 = 0x0bad_5eed;
 /// Polar-angle and azimuth resolution of the direction grid (16 × 16 × 16 = 4096 pairs), before
@@ -183,36 +186,27 @@ fn shipped_materials_agree_with_the_cpu_in_every_language() {
 fn random_stacks_agree_with_the_cpu_in_every_language() {
     let Some(gpu) = gpu() else { return };
     let pairs = pairs();
+    let count = common::tier("random stacks", RANDOM_STACKS_QUICK, RANDOM_STACKS);
     let mut runner = TestRunner::new(Config { rng_seed: RngSeed::Fixed(RANDOM_SEED), ..Config::default() });
-    let stacks: Vec<String> = (0..RANDOM_STACKS)
+    let stacks: Vec<String> = (0..count)
         .map(|_| {
             let stack = common::stacks::stack().new_tree(&mut runner).expect("a stack").current();
             common::stacks::Writer { next_param: 0 }.material(&stack)
         })
         .collect();
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    // Stacks are taken from a shared counter, not dealt in a fixed order: their shaders take very
-    // different times to compile on lavapipe, and a thread left with the slow ones was the tail.
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let check = || {
-        let mut worst: [Worst; 4] = Default::default();
-        let mut failures = Vec::new();
-        loop {
-            let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let Some(text) = stacks.get(index) else { break };
+    // rayon hands stacks out as threads come free: their shaders take very different times to
+    // compile on lavapipe.
+    let results: Vec<([Worst; 4], Option<String>)> = stacks
+        .par_iter()
+        .enumerate()
+        .map(|(index, text)| {
+            let mut worst: [Worst; 4] = Default::default();
             let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
             let values = compiled.material.default_values();
             let found = check_material(gpu, &format!("random stack {index}"), &compiled, &values, &pairs, &mut worst);
-            if !found.is_empty() {
-                failures.push((index, format!("{}\n{text}", found.join("\n"))));
-            }
-        }
-        (worst, failures)
-    };
-    let results: Vec<_> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..workers).map(|_| scope.spawn(check)).collect();
-        workers.into_iter().map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
-    });
+            (worst, (!found.is_empty()).then(|| format!("{}\n{text}", found.join("\n"))))
+        })
+        .collect();
     let mut worst: [Worst; 4] = Default::default();
     let mut failures = Vec::new();
     for (found_worst, found) in results {
@@ -221,14 +215,8 @@ fn random_stacks_agree_with_the_cpu_in_every_language() {
         }
         failures.extend(found);
     }
-    failures.sort_by_key(|(index, _)| *index);
-    let failures: Vec<String> = failures.into_iter().map(|(_, text)| text).collect();
     report("random stacks", &worst);
-    eprintln!(
-        "GPU cases executed: {RANDOM_STACKS} stacks × {} paths × {} pairs ({workers} threads)",
-        ShaderPath::ALL.len(),
-        pairs.len()
-    );
+    eprintln!("GPU cases executed: {count} stacks × {} paths × {} pairs", ShaderPath::ALL.len(), pairs.len());
     assert!(failures.is_empty(), "{} stacks disagree:\n{}", failures.len(), failures.join("\n\n"));
 }
 

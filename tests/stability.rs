@@ -111,7 +111,7 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
     let sweeps = stability::sweeps(true);
     let mut maps = Vec::new();
     let mut problems = Vec::new();
-    for method in [Method::INTERFACED, Method::WeidlichWilkie, Method::Additive] {
+    for method in glazec_lab::METHODS {
         for sweep in &sweeps {
             let map = stability::run(sweep, method, &mut stability::cpu_evaluator, true);
             if method == Method::INTERFACED {
@@ -148,4 +148,32 @@ fn default_method_is_stable_on_the_gpu() {
     }
     report(&format!("lavapipe, reduced sweep ({shaders} shaders)"), &maps, &sweeps);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// (Deep tier.) The full sweep on the CPU, every method, as `glazec stability` runs it: the
+/// default method keeps the law everywhere but the known gains, and the published summary is
+/// what the sweep gives.
+#[test]
+fn the_full_sweep_is_the_published_summary() {
+    if !common::deep() {
+        eprintln!("the full stability sweep runs in the deep tier (GLAZEC_DEEP=1)");
+        return;
+    }
+    let sweeps = stability::sweeps(false);
+    let mut maps = Vec::new();
+    let mut problems = Vec::new();
+    for method in glazec_lab::METHODS {
+        for sweep in &sweeps {
+            let map = stability::run(sweep, method, &mut stability::cpu_evaluator, true);
+            if method == Method::INTERFACED {
+                problems.extend(check_default(&map, sweep));
+            }
+            maps.push(map);
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    let page = stability::summary_page(&maps, &sweeps, false);
+    let published = std::fs::read_to_string(common::root().join("docs/results/stability/summary.md"))
+        .expect("docs/results/stability/summary.md");
+    assert_eq!(page, published, "docs/results/stability/summary.md is out of date: run `glazec stability`");
 }

@@ -57,8 +57,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             maps.push(stability::run(sweep, method, &mut *evaluate, !gpu));
         }
     }
-    let backend = if gpu { "the GPU (naga-IR kernel)" } else { "the CPU" };
-    let md = format!("Evaluated on {backend}.\n\n{}", stability::summary(&maps, &sweeps));
+    let md = stability::summary_page(&maps, &sweeps, gpu);
     print!("{md}");
     let summary = OutputFile { path: args.out.join("summary.md"), contents: md.into_bytes() };
     #[cfg(feature = "gpu")]

@@ -97,6 +97,19 @@ pub fn tool_available(tool: &str) -> bool {
     found
 }
 
+/// Whether the deep tier runs (`GLAZEC_DEEP=1`, set by `.ci/run`): the exhaustive sweeps that
+/// the quick tier samples. See docs/tests.md for what each tier covers and costs.
+pub fn deep() -> bool {
+    std::env::var("GLAZEC_DEEP").is_ok_and(|v| v == "1")
+}
+
+/// `quick` in the quick tier, `deep` in the deep tier, and a line saying which.
+pub fn tier<T: std::fmt::Debug>(what: &str, quick: T, deep: T) -> T {
+    let (tier, value) = if self::deep() { ("deep", deep) } else { ("quick", quick) };
+    eprintln!("{what}: {value:?} ({tier} tier; GLAZEC_DEEP=1 runs the deep tier)");
+    value
+}
+
 /// `GLAZEC_BLESS=1` rewrites expected files instead of comparing.
 pub fn blessing() -> bool {
     std::env::var("GLAZEC_BLESS").is_ok_and(|v| v == "1")

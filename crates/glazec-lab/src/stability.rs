@@ -436,6 +436,13 @@ impl Failures {
     }
 }
 
+/// The published page (`docs/results/stability/summary.md`): where f was evaluated, then the
+/// [`summary`].
+pub fn summary_page(maps: &[Map], sweeps: &[Sweep], on_gpu: bool) -> String {
+    let backend = if on_gpu { "the GPU (naga-IR kernel)" } else { "the CPU" };
+    format!("Evaluated on {backend}.\n\n{}", summary(maps, sweeps))
+}
+
 /// The Markdown summary: one row per method and sweep.
 pub fn summary(maps: &[Map], sweeps: &[Sweep]) -> String {
     let mut md = String::from(
