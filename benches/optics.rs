@@ -1,14 +1,14 @@
 //! Time per solve of each `glazec::optics` inversion (one channel), and a batch of 1M solves.
-//! Seed 002's MMSE solver takes 40 ms per solve; the target is < 1 µs per channel.
+//! The clay-optics paper's MMSE solver takes 40 ms per solve; the target is < 1 µs per channel.
 //!
-//! `cargo bench --bench optics`; the README quotes the medians and the ratio to 40 ms.
+//! `cargo bench --bench optics`; docs/optics.md quotes the medians and the ratio to 40 ms.
 
 use std::hint::black_box;
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use glazec::optics::{self, Observation, Slab, SlabModel};
 
-/// The paper's time per solve (seed 002), in seconds.
+/// The clay-optics paper's time per solve, in seconds.
 const SEED_SOLVE_SECONDS: f64 = 0.040;
 /// Solves in the batch benchmark.
 const BATCH: usize = 1 << 20;
@@ -84,7 +84,7 @@ fn batch(c: &mut Criterion) {
         )
     });
     group.finish();
-    eprintln!("seed 002's solver: {SEED_SOLVE_SECONDS} s per solve; the ratio is printed by README's table");
+    eprintln!("the clay-optics paper's solver: {SEED_SOLVE_SECONDS} s per solve (docs/optics.md)");
 }
 
 criterion_group!(benches, per_solve, batch);

@@ -1,16 +1,17 @@
-//! Accuracy of the default method against the stochastic reference (issue 4), on the CPU and on
-//! a Vulkan device, and the BRDF laws of every method.
+//! Accuracy of the default method against the stochastic reference, on the CPU and on a Vulkan
+//! device, and the BRDF laws of every method.
 //!
-//! The reference values are the stored `data/reference/standard-multiple.bin` (computed by
-//! `glazec accuracy --regenerate-reference`; one test recomputes a few cases and checks they
-//! come out the same). The targets are `glazec_lab::accuracy::{LOBE_TARGET, ALBEDO_TARGET, …}`.
+//! The reference values are the stored
+//! `crates/glazec-lab/data/reference/standard-multiple.bin` (computed by
+//! `glazec accuracy --regenerate-reference`; in the deep tier one test recomputes a few cases and
+//! checks they come out the same). The targets are `glazec_lab::accuracy::{LOBE_TARGET, ALBEDO_TARGET, …}`.
 //!
-//! Every case of the set meets the targets on both; copper under a coat was a known miss until
-//! the glossy level's lobe-albedo table was fitted to the energy law (a least change instead of
-//! a raise of every corner) and its trapped light's first Fresnel factor taken at the coat's
-//! mean-path cosine (README "Accuracy"): 0.0117 before, 0.0174 before the lobe-albedo table was
-//! normalised by the widened lobe's escape-cone share, 0.044 before the glossy level. EON under a
-//! coat was a known miss, 0.0108 in albedo, until its first pass out of the body was modelled.
+//! Every case of the set meets the targets on both. Copper under a coat meets them through the
+//! glossy level: its lobe-albedo table is fitted to the energy law (the least change that keeps
+//! every probe within the law) and its trapped light's first Fresnel factor is taken at the coat's
+//! mean-path cosine (docs/accuracy.md, "The glossy level: a conductor under a coat"). EON under a
+//! coat meets them because its first pass out of the body is modelled (docs/accuracy.md, "EON
+//! under a coat").
 
 mod common;
 
@@ -110,7 +111,8 @@ fn laws_hold_for_the_default_method_and_the_others_are_reported() {
     assert!(ww.reciprocity > RECIPROCITY_TARGET && ww.energy_max > ENERGY_TARGET);
     assert!(additive.energy_max > ENERGY_TARGET && additive.furnace > FURNACE_TARGET);
     assert!(ww.min_value >= 0.0 && additive.min_value >= 0.0);
-    // The published table (docs/accuracy.md, quoted in the README) is what these numbers give.
+    // The published table (docs/results/accuracy.md, quoted in docs/accuracy.md) is what these
+    // numbers give.
     let table = accuracy::markdown(&cases, &methods, &data);
     let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/results/accuracy.md"))
         .expect("docs/results/accuracy.md");

@@ -3,7 +3,7 @@
 //! * WGSL: re-parsed by naga's own WGSL front end and validated again (a text round trip);
 //! * GLSL: `glslangValidator -V` (Vulkan GLSL → SPIR-V), then `spirv-val`;
 //! * HLSL: `glslangValidator -D -V -S <stage> -e <entry>` (glslang's HLSL front end), then
-//!   `spirv-val` (there is no dxc on Linux here; see README);
+//!   `spirv-val` (there is no dxc on Linux here; see docs/limitations.md);
 //! * SPIR-V from naga's own backend: `spirv-val`.
 //!
 //! The tools come from Debian's `glslang-tools` and `spirv-tools`. Without them the test skips

@@ -273,7 +273,7 @@ fn previews_show_the_differences_seed_000_describes() {
     eprintln!("clay: mean {clay_mean:.4}, peak {clay_peak:.3}, highlight share {clay_bright:.4}");
     eprintln!("wet_clay: mean {wet_mean:.4}, peak {wet_peak:.3}");
     eprintln!("disney_clay: mean {coat_mean:.4}, peak {coat_peak:.3}, highlight share {coat_bright:.4}");
-    // Wet clay is darker and glossier (seed 000 §2.4, Figure 3).
+    // Wet clay is darker and glossier (Bowsher 2022, §2.4, Figure 3).
     assert!(wet_mean < clay_mean, "wet clay is not darker");
     assert!(wet_peak > clay_peak, "wet clay is not glossier");
     // The clear coat's highlight is brighter and sharper, and nothing darkens its body (§4).

@@ -21,8 +21,8 @@ const STRIDE: usize = 4;
 /// faster than a pixel, and views graze the surface.
 const MAX_R2: f32 = 0.9;
 /// A white stack under a white environment reflects at most 1 + this. The half-float images and
-/// target round by 2⁻¹¹ ≈ 4.9·10⁻⁴; the method's own white furnace is within 2·10⁻³ (README
-/// "Accuracy").
+/// target round by 2⁻¹¹ ≈ 4.9·10⁻⁴; the method's own white furnace is within 2·10⁻³
+/// (docs/accuracy.md).
 const FURNACE_TOLERANCE: f32 = 2.5e-3;
 /// Largest difference between lavapipe and the CPU split sum, relative to the CPU value (the
 /// same lobes and images: half-float storage and the device's 8-bit filtering weights).
@@ -32,8 +32,9 @@ const SPLIT_SUM_AGREEMENT: f32 = 0.02;
 const BRUTE_FORCE_SAMPLES: u32 = 4096;
 /// Largest root-mean-square luminance error of the split sum against the brute-force integral,
 /// relative to the mean brute-force luminance, over the compared points of one material: the
-/// stated error of glazec's image-based lighting (README "Image-based lighting"; measured
-/// 0.017–0.119 on the seven materials below, largest for car_paint, then the seed's clay).
+/// stated error of glazec's image-based lighting (docs/accuracy.md, "Image-based lighting against
+/// brute force"; measured 0.017–0.119 on the seven materials below, largest for car_paint, then
+/// the seed's clay).
 const SPLIT_SUM_RMS: f32 = 0.13;
 
 fn material(name: &str) -> Compiled {

@@ -1,6 +1,6 @@
 //! `simplify` under every shipped scene: the result stays within the scene's tolerance when
 //! measured independently of the pass (a denser Halton sample set, on the CPU and on lavapipe),
-//! never costs more, cuts what the README claims, and leaves alone what it must.
+//! never costs more, cuts what docs/scenes.md claims, and leaves alone what it must.
 
 mod common;
 
@@ -14,7 +14,7 @@ const CHECK_PARAM_POINTS: usize = 8;
 /// The whole tolerance: the pass keeps PASS_BUDGET of it on its own grid, the rest is for what
 /// a grid misses; the check set must find no more than all of it.
 const TOLERANCE_SHARE: f32 = 1.0;
-/// The README's claim: top_down cuts tunable_glaze's static cost by at least this share.
+/// docs/scenes.md's claim: top_down cuts tunable_glaze's static cost by at least this share.
 const TOP_DOWN_GLAZE_CUT: f64 = 0.30;
 
 fn scenes() -> Vec<SceneFile> {

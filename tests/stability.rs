@@ -1,23 +1,25 @@
 //! The stability map on a reduced sweep (`glazec stability --reduced`): on the CPU for every
-//! method and on lavapipe for the default one.
+//! method and on lavapipe for the default one; in the deep tier also the full sweep on the CPU,
+//! which must give the published summary (`docs/results/stability/summary.md`).
 //!
 //! The default method must show no non-finite values, no negative values, no discontinuities
-//! and no energy gain (E ≤ [`stability::ENERGY_BOUND`]) anywhere in the sweep. Two places did
-//! gain energy until the tables and the quadrature were mended (README "Stability"):
-//! * rough coats seen within 1° of grazing, up to E = 1.0031: the lookup of the tabulated
-//!   single-scattering deficit overshot the analytic lobe beside it where α ≈ μ; the table is
-//!   now generated conservative (`accuracy::tables`, nodes lowered until no probe between them
+//! and no energy gain (E ≤ [`stability::ENERGY_BOUND`]) anywhere in the sweep. Three places
+//! would gain energy without a part of the method made for them (docs/stability.md, "What keeps
+//! the default method stable"):
+//! * rough coats seen within 1° of grazing: where α ≈ μ the lookup of the tabulated
+//!   single-scattering deficit would overshoot the analytic lobe beside it, so the table is
+//!   generated conservative (`glazec_lab::bake`, nodes lowered until no probe between them
 //!   overshoots);
-//! * a rough coat optically thinner than the medium above (η < 1), up to E = 1.0012 at oblique
-//!   views: the albedo quadrature's error at the transmission's cut-off at the critical angle;
-//!   the quadrature now splits its panels where the light direction crosses that angle
-//!   (`quadrature::albedo_nodes_with_jump`).
+//! * a rough coat optically thinner than the medium above (η < 1), at oblique views: the
+//!   transmission's cut-off at the critical angle is a jump that the albedo quadrature would
+//!   integrate with an error, so the quadrature splits its panels where the light direction
+//!   crosses that angle (`quadrature::albedo_nodes_with_jump`);
+//! * stacks of several coats, which would gain up to 16% if the light a coated layer returns
+//!   were taken as diffuse: the first pass out of a coated layer is modelled (`first_pass` in
+//!   `math::layering`).
 //!
-//! Stacks of several coats gained up to 16% before the first pass out of a coated layer was
-//! modelled (`first_pass` in `math::layering`).
-//!
-//! **Known gains** ([`KNOWN_GAINS`]): a white conductor under a coat still gains energy in one
-//! corner of the conductor sweeps (README "Known limitations"), and those cells are held to the
+//! **Known gains** ([`KNOWN_GAINS`]): a white conductor under a coat gains energy in one corner
+//! of the conductor sweeps (docs/stability.md, "Known gains"), and those cells are held to the
 //! largest E measured when this test was last changed instead of the law, so that they cannot
 //! grow unseen; every other cell of every sweep must keep the law.
 //!
@@ -43,10 +45,10 @@ struct KnownGain {
 /// (μ, r_c, r, η) and solved at the nodes so that the lobe of a white conductor reflects what
 /// the walks let out near the mirror direction; between the nodes the interpolated lobe can
 /// reflect more than the coat lets in, which no remainder can take back: under a smooth coat of
-/// IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60° for η = 1 + 10⁻⁵). A
-/// second known gain, a conductor of roughness 0.005 … 0.1 under an r 0.2 coat seen within 0.1°
-/// of grazing (E up to 1.0019), went when the lobe-albedo table was fitted to the energy law
-/// with probes on the cells' faces and edges (`accuracy::glossy`); this test no longer allows it.
+/// IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60° for η = 1 + 10⁻⁵). The
+/// conductor-roughness sweep has no known gain, also within 0.1° of grazing: the lobe-albedo
+/// table is fitted to the energy law with probes on the cells' faces and edges
+/// (`glazec_lab::bake::glossy`).
 const KNOWN_GAINS: [KnownGain; 1] =
     [KnownGain { sweep: "IOR over a conductor", values: 1.0..=1.004, from_angle: 0.0, bound: 1.0221 }];
 

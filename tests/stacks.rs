@@ -76,7 +76,8 @@ fn check_stack(s: &Stack) -> Result<(), TestCaseError> {
         prop_assert!(artifacts == again, "output is not deterministic\n{}", text);
 
         // Every method is reciprocal except the seed's Weidlich–Wilkie over a smooth coat, whose
-        // T12 = 1 − F(n·v) depends on the view direction only (seed 000 eq. 5; README).
+        // T12 = 1 − F(n·v) depends on the view direction only (Bowsher 2022, eq. 5;
+        // docs/language.md, "How Bowsher 2022 is read").
         let reciprocal = s.method != WEIDLICH_WILKIE || s.coats.iter().all(|c| c.lobe != 0);
         let values = compiled.material.default_values();
         for (wi, wo) in directions() {
@@ -110,8 +111,7 @@ fn wgsl(text: &str) -> String {
 
 /// The glossy level's hemisphere (twelve nodes, each with seven 4D lookups) is one loop per
 /// function in a shader when the material has runtime parameters, and folds to constants when it
-/// has none: unrolled (eight nodes, then), the lookup functions were called 20 times and the WGSL
-/// was 140 KB.
+/// has none (unrolled, eight nodes call the lookup functions 20 times and make 140 KB of WGSL).
 #[test]
 fn a_conductor_under_a_coat_sums_its_hemisphere_in_one_loop_or_folds_it() {
     let conductor = "Conductor(roughness: Param(\"cr\", 0.2), eta: (0.27, 0.68, 1.22), k: (3.61, 2.63, 2.29))";

@@ -70,7 +70,7 @@ float3 half_vector(float3 v, float3 l)
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -120,8 +120,8 @@ float fr_dielectric(float cos_i, float eta)
     return ((sin2_t < 1.0) ? fresnel_3 : 1.0);
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float n_dot_l_1)
 {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
@@ -240,8 +240,8 @@ float3 slab_transmittance(float3 tau, float mu)
     return exp(-((tau / (mu).xxx)));
 }
 
-// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
-// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
+// (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 float3 f_schlick(float3 f0_, float cos_theta_2)
 {
     float m = (1.0 - min(max(cos_theta_2, 0.0), 1.0));
@@ -476,7 +476,7 @@ float trapped_share(float mu_1, float mu_c, float alpha_3)
 // total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
 // the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
 float glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4)
 {
@@ -625,10 +625,11 @@ float3 glossy_once(float single, float next_1, float3 c_1)
     return ((c_1 * ((1.0 - single) * next_1)) + (single).xxx);
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_9)
 {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));

@@ -129,8 +129,8 @@ vec3 slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
-// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
-// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
+// (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 vec3 f_schlick(vec3 f0_, float cos_theta_2) {
     float m = (1.0 - min(max(cos_theta_2, 0.0), 1.0));
     float m_sq = (m * m);
@@ -359,7 +359,7 @@ float trapped_share(float mu_1, float mu_c, float alpha) {
 // total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
 // the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
 float glossy_trapped_share(float mu_2, float mu_c_1, float alpha_1) {
     float beyond_cone = trapped_share(mu_2, mu_c_1, alpha_1);

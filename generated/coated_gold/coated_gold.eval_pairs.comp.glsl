@@ -464,7 +464,7 @@ float trapped_share(float mu, float mu_c, float alpha) {
 // total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
 // the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
 float glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) {
     float beyond_cone = trapped_share(mu_1, mu_c_1, alpha_1);
@@ -617,7 +617,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -649,8 +649,8 @@ float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_4) {
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
@@ -663,10 +663,11 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
     return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_12) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }

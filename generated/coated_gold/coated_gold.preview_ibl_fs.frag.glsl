@@ -451,7 +451,7 @@ float trapped_share(float mu, float mu_c, float alpha) {
 // total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
 // the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
 float glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) {
     float beyond_cone = trapped_share(mu_1, mu_c_1, alpha_1);

@@ -112,8 +112,8 @@ float fr_dielectric(float cos_i, float eta)
     return ((sin2_t < 1.0) ? fresnel_1 : 1.0);
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 float3 f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_1, float n_dot_l_1)
 {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
@@ -233,7 +233,7 @@ float3 slab_transmittance(float3 tau, float mu)
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -335,17 +335,19 @@ float3 albedo_eon(float3 albedo_2, float r_3, float mu_2)
 // `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
 // back down (R, the slab's diffuse return reflectance) and that then bounces between body
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+// sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
+// Lambert").
 float3 interfaced_diffuse_under(float3 f_below, float3 e_i_1, float3 e_o_1, float3 rho_below, float3 r_return)
 {
     float3 _e7 = (rho_below * r_return);
     return (f_below + (((e_i_1 * e_o_1) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 float3 interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i, float3 a_o, float3 f_under, float eta_5)
 {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));

@@ -36,7 +36,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -82,8 +82,8 @@ float fr_dielectric(float cos_i, float eta) {
     return ((sin2_t < 1.0) ? fresnel_1 : 1.0);
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
@@ -185,10 +185,11 @@ vec3 refract_down(vec3 w, vec3 n, float eta_3) {
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_4) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
 }

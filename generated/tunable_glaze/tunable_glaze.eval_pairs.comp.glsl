@@ -40,7 +40,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -86,8 +86,8 @@ float fr_dielectric(float cos_i, float eta) {
     return ((sin2_t < 1.0) ? fresnel_1 : 1.0);
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
@@ -435,8 +435,9 @@ vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float we
 
 // The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
 // diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
-// absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
-// by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+// absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
+// Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
+// τ are literals.
 vec3 slab_return(float eta_10, vec3 tau_5) {
     float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
     float inv_eta_2 = (1.0 / eta_10);
@@ -476,8 +477,9 @@ vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, floa
 }
 
 // The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
-// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
-// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+// diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
+// coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
+// literals.
 vec3 slab_escape(float eta_11, vec3 tau_7) {
     float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
     float inv_eta_3 = (1.0 / eta_11);
@@ -516,15 +518,17 @@ float eon_escape_shape(float eta_12) {
 // `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
 // back down (R, the slab's diffuse return reflectance) and that then bounces between body
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+// sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
+// Lambert").
 vec3 interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
     return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_13) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
 }

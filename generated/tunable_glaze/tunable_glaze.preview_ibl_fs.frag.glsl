@@ -352,8 +352,9 @@ vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float we
 
 // The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
 // diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
-// absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
-// by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+// absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
+// Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
+// τ are literals.
 vec3 slab_return(float eta_10, vec3 tau_5) {
     float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
     float inv_eta_2 = (1.0 / eta_10);
@@ -393,8 +394,9 @@ vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, floa
 }
 
 // The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
-// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
-// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+// diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
+// coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
+// literals.
 vec3 slab_escape(float eta_11, vec3 tau_7) {
     float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
     float inv_eta_3 = (1.0 / eta_11);

@@ -1,5 +1,5 @@
 //! `glazec tables`: bakes the tabulated terms of the default method from the reference's
-//! microsurfaces (`glazec_lab::accuracy::tables`) into the file the compiler includes.
+//! microsurfaces (`glazec_lab::bake`) into the file the compiler includes.
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -1,4 +1,4 @@
-// The seed's clay (seed 000 §3.0.3, eq. 12–19; materials/clay.ron) written by hand, the way a
+// The clay of Bowsher 2022 (§3.0.3, eq. 12–19; materials/clay.ron) written by hand, the way a
 // person would write it for this kernel: in the local shading frame (n = +z), constants inlined,
 // one function. It is the baseline that `cargo bench --bench kernel` compares glazec's generated
 // WeidlichWilkie kernel against; the bench first checks that both give the same values.

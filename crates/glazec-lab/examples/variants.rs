@@ -1,6 +1,6 @@
 //! The default method's variants on the accuracy set, per base: the largest directional-albedo
 //! error against the stored reference and the white furnace (Lambert ρ = 1 under a clear coat,
-//! lowest and highest albedo). README "Speed against accuracy" quotes this.
+//! lowest and highest albedo). docs/speed.md quotes this.
 //!
 //! `cargo run --release --example variants`
 

@@ -30,7 +30,7 @@ pub const CLAY_STACK: &str = "layers: [
     OrenNayar(albedo: (0.72, 0.42, 0.30), roughness: 0.6),
 ]";
 
-/// The seed's clay written by hand (`benches/clay_by_hand.wgsl`).
+/// The seed's clay written by hand (`crates/glazec-lab/data/clay_by_hand.wgsl`).
 pub const CLAY_BY_HAND: &str = include_str!("../data/clay_by_hand.wgsl");
 
 fn compile(text: &str) -> Result<glazec::Compiled, String> {
@@ -282,7 +282,7 @@ impl Report {
         }
         let (g, h, worst) = self.hand_written;
         md.push_str(&format!(
-            "\nGenerated WeidlichWilkie clay against the same shader written by hand (`benches/clay_by_hand.wgsl`; values agree to {worst:.1e}): generated/hand-written time **{:.2}×** (target ≤ 1.10×).\n",
+            "\nGenerated WeidlichWilkie clay against the same shader written by hand (`crates/glazec-lab/data/clay_by_hand.wgsl`; values agree to {worst:.1e}): generated/hand-written time **{:.2}×** (target ≤ 1.10×).\n",
             g / h
         ));
         md.push_str("\nCompile time from text, median µs (parse, check, lower, validate, emit one target):\n\n| material | WGSL | GLSL (3 entry points) | HLSL |\n|---|---|---|---|\n");

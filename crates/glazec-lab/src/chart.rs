@@ -238,7 +238,7 @@ mod tests {
         assert_eq!(written.len(), 2);
         let svg = std::fs::read_to_string(&written[0]).expect("svg");
         for label in
-            ["Interfaced (default)", "WeidlichWilkie (seed 000)", "Additive (Disney clear-coat)", "test device"]
+            ["Interfaced (default)", "WeidlichWilkie (Bowsher 2022)", "Additive (Disney clear-coat)", "test device"]
         {
             assert!(svg.contains(label), "{label} missing from the SVG");
         }

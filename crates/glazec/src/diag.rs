@@ -64,7 +64,7 @@ macro_rules! codes {
             pub fn as_str(self) -> &'static str {
                 match self { $( Code::$name => $text, )* }
             }
-            /// Every code, in numeric order (used by the README's table and its test).
+            /// Every code, in numeric order (used by docs/diagnostics.md's table and its test).
             pub const ALL: &'static [Code] = &[ $( Code::$name, )* ];
         }
     };

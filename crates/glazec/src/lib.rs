@@ -21,8 +21,8 @@
 //! [`snapshot`] the golden-shader helper for users' tests, and [`simplify`] (between check and
 //! lower) drops what a [`scene`] cannot see, within its tolerance.
 //!
-//! `build.rs` users depend on this crate with `default-features = false`: they get the whole
-//! compiler (naga, codespan-reporting) without the CLI.
+//! `build.rs` users depend on `glazec`: the whole compiler (naga, codespan-reporting), without
+//! the CLI or a GPU.
 
 pub mod build;
 pub mod check;

@@ -69,10 +69,10 @@ impl NormalMap {
 /// How a stack of layers is combined into one BRDF.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
-    /// Disney clear-coat (Burley 2012; seed 000 §3.0.2): each coat adds a specular lobe on top of
-    /// the base, with no attenuation. The cheapest; creates energy.
+    /// Disney clear-coat (Burley 2012; Bowsher 2022, §3.0.2): each coat adds a specular lobe on
+    /// top of the base, with no attenuation. The cheapest; creates energy.
     Additive,
-    /// The recurrence of Weidlich & Wilkie 2007 as the seed writes it (seed 000 §3.0.3,
+    /// The recurrence of Weidlich & Wilkie 2007 as the seed writes it (Bowsher 2022, §3.0.3,
     /// eq. 12–19). Kept faithful so it can be measured.
     WeidlichWilkie,
     /// glazec's default: reciprocal, energy-conserving layering that is exact for a smooth
@@ -186,8 +186,8 @@ impl Lobe {
 pub enum Base {
     /// Lambertian diffuse, f = ρ/π.
     Lambert { albedo: Color },
-    /// The qualitative Oren–Nayar model (Oren & Nayar 1994; seed 000 eq. 17); `roughness` is σ
-    /// in radians.
+    /// The qualitative Oren–Nayar model (Oren & Nayar 1994; Bowsher 2022, eq. 17); `roughness`
+    /// is σ in radians.
     OrenNayar { albedo: Color, roughness: Scalar },
     /// Energy-preserving Oren–Nayar (Portsmouth, Kutz & Hill 2025), roughness r ∈ [0, 1].
     Eon { albedo: Color, roughness: Scalar },

@@ -1,8 +1,8 @@
 //! Accuracy: the compiled methods measured against the stochastic reference, and the BRDF laws.
 //!
 //! **Input:** an evaluation set of single-coat materials ([`standard_set`]: coat IOR × coat
-//! roughness × base × optical depth, research/accuracy.md §8 "LAYER-40"), a direction grid, and
-//! the reference's values on it ([`ReferenceData`], computed once by
+//! roughness × base × optical depth; docs/derivations.md, "Accuracy targets"), a direction grid,
+//! and the reference's values on it ([`ReferenceData`], computed once by
 //! `glazec accuracy --regenerate-reference` and stored in `data/reference/`).
 //! **Output:** per method and case, [`Metrics`]: the cosine-weighted relative RMSE of the
 //! under-coat lobe (f minus the coat's own reflection), the largest directional-albedo error,
@@ -403,7 +403,7 @@ pub fn stored_reference(mode: InterfaceMode) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/reference").join(format!("standard-{}.bin", mode.name()))
 }
 
-/// The accuracy table in Markdown (`docs/accuracy.md`).
+/// The accuracy table in Markdown (`docs/results/accuracy.md`, quoted in `docs/accuracy.md`).
 pub fn markdown(cases: &[Case], methods: &[(Method, Vec<Metrics>)], reference: &ReferenceData) -> String {
     let mut md = String::new();
     let mode = reference.mode.name();
@@ -453,7 +453,7 @@ pub fn markdown(cases: &[Case], methods: &[(Method, Vec<Metrics>)], reference: &
             ));
         }
     }
-    md.push_str("\nLaws (seed 003), worst case over the set:\n\n| method | f ≥ 0 | reciprocity ≤ 1e-5 | E ≤ 1 + 1e-3 | white furnace |E − 1| ≤ 5e-3 |\n|---|---|---|---|---|\n");
+    md.push_str("\nLaws (CS184/284A Lecture 14), worst case over the set:\n\n| method | f ≥ 0 | reciprocity ≤ 1e-5 | E ≤ 1 + 1e-3 | white furnace |E − 1| ≤ 5e-3 |\n|---|---|---|---|---|\n");
     for (method, metrics) in methods {
         let l = laws(cases, metrics);
         let mark = |ok: bool| if ok { "✓" } else { "✗" };
@@ -493,7 +493,8 @@ pub fn csv(cases: &[Case], methods: &[(Method, Vec<Metrics>)]) -> String {
     text
 }
 
-/// The targets of the default method on the standard set (issue 4; research/accuracy.md §8).
+/// The targets of the default method on the standard set (issue 4; docs/derivations.md, "Accuracy
+/// targets").
 pub const LOBE_TARGET: f64 = 0.10;
 pub const ALBEDO_TARGET: f64 = 0.01;
 pub const RECIPROCITY_TARGET: f64 = 1e-5;
@@ -536,7 +537,7 @@ pub fn method_label(method: Method) -> String {
             let names: Vec<&str> = a.taken().map(|(_, name)| name).collect();
             format!("Interfaced ({})", names.join(", "))
         }
-        Method::WeidlichWilkie => "WeidlichWilkie (seed 000)".into(),
+        Method::WeidlichWilkie => "WeidlichWilkie (Bowsher 2022)".into(),
         Method::Additive => "Additive (Disney clear-coat)".into(),
     }
 }

@@ -1,5 +1,5 @@
-//! `glazec tables`: generates `data/tables.bin`, the tabulated terms of the default method
-//! (layout and meaning in `glazec::math::tables`).
+//! `glazec tables`: generates `crates/glazec/data/tables.bin`, the tabulated terms of the default
+//! method (layout and meaning in `glazec::math::tables`).
 //!
 //! Every value is computed in f64 from the reference's microsurface (Heitz et al. 2016), never
 //! from the compiled math it will feed:
@@ -444,7 +444,7 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
 /// exceed what the analytic single-scattering lobe beside it leaves (1 − E_ss − E_ms), or a
 /// white stack reflects more than it receives. Near grazing incidence, where α ≈ μ, G bends
 /// sharply between nodes and the multilinear lookup overshoots it by up to 3·10⁻³ (the energy
-/// gains of README "Stability"). Each cell is probed at [`DEFICIT_PROBES`] ×
+/// gains in docs/stability.md). Each cell is probed at [`DEFICIT_PROBES`] ×
 /// [`DEFICIT_PROBES`] × [`DEFICIT_PROBES_IOR`] against the true deficit (quadrature; probes
 /// with α below [`SMOOTH_ALPHA`] are skipped, as the nodes there are), and
 /// every node is lowered by the largest overshoot found in any cell it is a corner of: the

@@ -5,11 +5,12 @@
 //! directional albedo E(wo), with its standard error.
 //!
 //! This is independent code: f64, its own Fresnel, microfacet and diffuse terms, and no use of
-//! `glazec::math`. It follows pbrt-v4's `LayeredBxDF` (research/accuracy.md §1.3): a random walk
-//! from the view direction through the slab under each coat, with next-event estimation towards
-//! the light through the coat (the light's refraction is sampled from the light side, in
-//! importance mode; the view side carries the radiance factor 1/η²). Deeper coats nest: what
-//! lies under a slab is the rest of the stack, whose f and sampling are themselves stochastic.
+//! `glazec::math`. It follows pbrt-v4's `LayeredBxDF` (pbrt-v4 §14.3; docs/derivations.md, "The
+//! layered random walk of pbrt-v4"): a random walk from the view direction through the slab under
+//! each coat, with next-event estimation towards the light through the coat (the light's
+//! refraction is sampled from the light side, in importance mode; the view side carries the
+//! radiance factor 1/η²). Deeper coats nest: what lies under a slab is the rest of the stack,
+//! whose f and sampling are themselves stochastic.
 //! Unlike pbrt, only this one connection strategy is used (no MIS with the BTDF-evaluating one),
 //! so no probability density is ever needed and nested stacks stay unbiased.
 //!

@@ -33,7 +33,7 @@ fn integrate(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
     (0..n).map(|i| f(a + (i as f64 + 0.5) * h)).sum::<f64>() * h
 }
 
-/// The closed form of research/accuracy.md §1.4, written here from scratch.
+/// The closed form of docs/derivations.md, "Smooth coat over Lambert", written here from scratch.
 struct ClosedForm {
     eta: f64,
     rho: f64,
@@ -159,9 +159,9 @@ fn single_scattering_interfaces_lose_energy() {
     // stack's albedo follows from four fluxes of the interface alone: E = R + T·Esc/(1 − K)
     // (reflected and transmitted from outside at θo; escape and internal reflection of cosine-
     // distributed light from inside). Computed here from the interface's own sampler; the walk
-    // must agree. research/accuracy.md §1.6 reports 0.8069 and 0.5552 from a prototype of pbrt's
-    // algorithm, about 1% lower than both estimates here (its interface fluxes do agree with
-    // these, to 5·10⁻⁴).
+    // must agree. docs/derivations.md, "Single-scattering interfaces lose energy", reports 0.8069
+    // and 0.5552 from a prototype of pbrt's algorithm, about 1% lower than both estimates here
+    // (its interface fluxes do agree with these, to 5·10⁻⁴).
     let opts = Options { mode: InterfaceMode::Single, samples: ALBEDO_WALKS, ..Options::default() };
     let white = BaseBsdf::Lambert { albedo: DVec3::ONE };
     let n = 400_000;

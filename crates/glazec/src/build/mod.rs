@@ -1,10 +1,10 @@
 //! The `build.rs` API: compile a directory of materials into `OUT_DIR` as part of a cargo build.
 //!
-//! Available without the default features (no wgpu, no CLI):
+//! Depend on `glazec` (the core crate has no features, and no wgpu or CLI in its tree):
 //!
 //! ```toml
 //! [build-dependencies]
-//! glazec = { version = "0.1", default-features = false }
+//! glazec = "0.1"
 //! [dependencies]
 //! bytemuck = "1"   # the generated parameter structs are `Pod`
 //! ```

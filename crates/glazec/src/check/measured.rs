@@ -1,5 +1,6 @@
-//! `Measured(…)`: a diffuse base declared from reflectance measurements (seed 002); `check`
-//! solves for σa and σs′ per channel ([`crate::optics`]) and uses the diffuse albedo they imply.
+//! `Measured(…)`: a diffuse base declared from reflectance measurements (the clay-optics paper);
+//! `check` solves for σa and σs′ per channel ([`crate::optics`]) and uses the diffuse albedo they
+//! imply.
 //!
 //! ```ron
 //! // Over a black and over a white backing (Kubelka–Munk, closed form):

@@ -129,7 +129,7 @@ impl Rule {
                           (water 1.33, glass 1.5, diamond 2.42)"
             }
             Rule::Absorption => "absorption σa is per unit length; 0 means a clear coat",
-            Rule::Thickness => "thickness is a length (the seed's density d); 0 means an interface with no slab",
+            Rule::Thickness => "thickness is a length (Bowsher 2022's density d); 0 means an interface with no slab",
             Rule::Extinction => {
                 "the imaginary part κ of a conductor's IOR is 0 or more (gold: (0.2, 0.92, 1.1) + i(3.9, 2.45, 2.14))"
             }

@@ -159,7 +159,7 @@ fn single_entry_point(material: &str, module: &Module, entry: &str) -> Result<(M
 fn write_glsl(module: &Module, info: &ModuleInfo, stage: ShaderStage, entry: &str) -> Result<String, EmitError> {
     let glsl_error = |source| EmitError::Glsl { entry: entry.to_string(), source };
     // Vulkan GLSL: naga's GLSL backend never writes `set =`, so every resource lives in set 0
-    // (research/probe.md §3, gotcha 10) with its WGSL binding number.
+    // (docs/derivations.md, "Building a naga module by hand") with its WGSL binding number.
     use crate::lower::textures::bindings::GLSL_OFFSET;
     let glsl_binding = |rb: naga::ResourceBinding| GLSL_OFFSET * rb.group + rb.binding;
     let binding_map = module

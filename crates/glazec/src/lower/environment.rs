@@ -17,7 +17,7 @@
 //!   [`crate::math::layering::environment`];
 //! * the fragment entry point `preview_ibl_fs`, the preview sphere lit by it.
 //!
-//! `glazec::run::environment` prefilters images for these bindings (and documents the sampler:
+//! `glazec_gpu::environment` prefilters images for these bindings (and documents the sampler:
 //! repeat in u, clamp in v, linear filtering between texels and levels).
 
 use naga::{

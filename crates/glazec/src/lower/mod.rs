@@ -16,7 +16,8 @@
 //! The binding layout is fixed and the same in every backend (group 0): see [`bindings`]. The
 //! kernel reads its element count from a uniform rather than from `arrayLength`, because
 //! glslang's HLSL front end lowers `GetDimensions` on byte-address buffers to a dword count
-//! (research/probe.md §4), which would cover only a quarter of the buffer.
+//! (docs/derivations.md, "glslang and the HLSL path"), which would cover only a quarter of the
+//! buffer.
 //!
 //! **Invariants:** the module validates with all of naga's validation flags (checked by
 //! `validate`); output is a pure function of the material (no hash-map iteration order, no

@@ -16,9 +16,9 @@
 //! carried into the emitted code, and each `let` inside it becomes a named `let` in the output.
 //! A term whose arguments are all literals is folded at compile time instead of being called.
 //!
-//! Conventions (design.md): directions in the local shading frame with z the normal; `wi`/`l` and
-//! `wo`/`v` both point away from the surface; `f` is the BRDF **without** the cosine; RGB is
-//! linear radiometric.
+//! Conventions (docs/derivations.md, "One source for the math"): directions in the local shading
+//! frame with z the normal; `wi`/`l` and `wo`/`v` both point away from the surface; `f` is the
+//! BRDF **without** the cosine; RGB is linear radiometric.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 

@@ -1,24 +1,25 @@
-//! Measured optics (seed 002): absorption σa and reduced scattering σs′ of a turbid layer (clay)
-//! from measured diffuse reflectance, and the diffuse albedo a renderer needs.
+//! Measured optics (the clay-optics paper): absorption σa and reduced scattering σs′ of a turbid
+//! layer (clay) from measured diffuse reflectance, and the diffuse albedo a renderer needs.
 //!
-//! Seed 002 recovers (σa, σs′) from one spectrophotometer reading with an MMSE fit (40 ms per
-//! solve). One reflectance cannot fix two unknowns (research/accuracy.md §7.1): every inversion
-//! here takes a second observation or a prior, and says which when it is missing. All arithmetic
-//! is f64; every solve is closed form or a safeguarded Newton iteration of a few steps.
+//! The clay-optics paper recovers (σa, σs′) from one spectrophotometer reading with an MMSE fit
+//! (40 ms per solve). One reflectance cannot fix two unknowns (docs/derivations.md, "The
+//! clay-optics forward model"): every inversion here takes a second observation or a prior, and
+//! says which when it is missing. All arithmetic is f64; every solve is closed form or a
+//! safeguarded Newton iteration of a few steps.
 //!
 //! | observation | model | solver |
 //! |---|---|---|
 //! | over black and over white backing (one thickness) | Kubelka–Munk | closed form |
-//! | two thicknesses | seed eq. 1, or its exponential form | 2×2 Newton in log σ, analytic Jacobian |
-//! | one reflectance + known σs′ | seed eq. 1 (quadratic, closed form) or exponential (1-D Newton) | |
-//! | one reflectance + known ratio σs′/σa | seed eq. 1 or exponential | bracketed 1-D solve |
+//! | two thicknesses | paper's eq. 1, or its exponential form | 2×2 Newton in log σ, analytic Jacobian |
+//! | one reflectance + known σs′ | paper's eq. 1 (quadratic, closed form) or exponential (1-D Newton) | |
+//! | one reflectance + known ratio σs′/σa | paper's eq. 1 or exponential | bracketed 1-D solve |
 //! | one reflectance + diffuse mean free path | diffusion dipole (Jensen et al. 2001) | 1-D Newton |
 //!
 //! The diffuse albedo of the material (what a Lambert or EON base uses) is Kubelka–Munk's R∞ for
 //! Kubelka–Munk inversions, and otherwise the dipole's R_d(α′) with α′ = σs′/(σa + σs′).
 
 /// The seed model is only sound while its linearisation (1 − x)² ≈ e^(−2x) holds: −4.5% at
-/// x = σt·d = 0.2 (research/accuracy.md §7.1).
+/// x = σt·d = 0.2 (docs/derivations.md, "The clay-optics forward model").
 pub const SEED_MODEL_MAX_OPTICAL_DEPTH: f64 = 0.2;
 /// Newton iterations before a solve gives up.
 const MAX_ITERATIONS: usize = 100;
@@ -72,21 +73,23 @@ fn positive(what: &'static str, value: f64) -> Result<(), OpticsError> {
 
 /// Egan & Hilgeman 1979 fit of the internal diffuse Fresnel reflectance of a boundary of relative
 /// index η (light inside the medium): F_dr(η) = −1.440/η² + 0.710/η + 0.668 + 0.0636η. Within
-/// 5·10⁻⁴ of 1 − (1 − E_F)/η² for η ∈ [1.3, 2] (research/accuracy.md §7.3).
+/// 5·10⁻⁴ of 1 − (1 − E_F)/η² for η ∈ [1.3, 2] (docs/derivations.md, "Diffuse reflectance
+/// relations").
 pub fn diffuse_fresnel_internal(eta: f64) -> f64 {
     -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta
 }
 
 /// The external diffuse Fresnel reflectance (light from outside, averaged over a cosine-weighted
 /// hemisphere), from the internal one by energy balance across the boundary:
-/// E_F = 1 − η²(1 − F_dr) (research/accuracy.md §7.3). About 0.09 for η = 1.5.
+/// E_F = 1 − η²(1 − F_dr) (docs/derivations.md, "Diffuse reflectance relations"). About 0.09
+/// for η = 1.5.
 pub fn diffuse_fresnel_external(eta: f64) -> f64 {
     1.0 - eta * eta * (1.0 - diffuse_fresnel_internal(eta))
 }
 
-/// The boundaries of a slab in seed 002's eq. 1: transmission loss at the top (F_dr,t) and
-/// reflection at the bottom (F_dr,b), and P(g), the share of the phase function scattering
-/// backwards.
+/// The boundaries of a slab in the clay-optics paper's eq. 1: transmission loss at the top
+/// (F_dr,t) and reflection at the bottom (F_dr,b), and P(g), the share of the phase function
+/// scattering backwards.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slab {
     pub f_top: f64,
@@ -106,9 +109,10 @@ impl Default for Slab {
 // ---------------------------------------------------------------------------------------------
 // Forward models
 
-/// Seed 002 eq. 1 (after its ref. 4): R_d = (1 − F_dr,t)·[s(d − σa d² + σa² d³/3) +
-/// F_dr,b (1 − σa d − s d)²] with s = σs′·P(g): single scattering with the two-way attenuation
-/// e^(−2σa z) linearised to (1 − σa z)², plus the bottom's reflection, attenuation linearised too.
+/// The clay-optics paper, eq. 1 (after its ref. 4):
+/// R_d = (1 − F_dr,t)·[s(d − σa d² + σa² d³/3) + F_dr,b (1 − σa d − s d)²] with s = σs′·P(g):
+/// single scattering with the two-way attenuation e^(−2σa z) linearised to (1 − σa z)², plus the
+/// bottom's reflection, attenuation linearised too.
 /// Sound only for σt·d ≲ [`SEED_MODEL_MAX_OPTICAL_DEPTH`].
 pub fn seed_reflectance(slab: Slab, d: f64, sigma_a: f64, sigma_s: f64) -> f64 {
     let s = sigma_s * slab.p_g;
@@ -117,8 +121,9 @@ pub fn seed_reflectance(slab: Slab, d: f64, sigma_a: f64, sigma_s: f64) -> f64 {
     (1.0 - slab.f_top) * (single + bottom)
 }
 
-/// The exact exponential counterpart of seed eq. 1 (research/accuracy.md §7.1): R_d =
-/// (1 − F_dr,t)·[s(1 − e^(−2σa d))/(2σa) + F_dr,b e^(−2σt d)], σt = σa + s, s = σs′·P(g).
+/// The exact exponential counterpart of the clay-optics paper's eq. 1 (docs/derivations.md, "The
+/// clay-optics forward model"): R_d = (1 − F_dr,t)·[s(1 − e^(−2σa d))/(2σa) + F_dr,b e^(−2σt d)],
+/// σt = σa + s, s = σs′·P(g).
 pub fn exponential_reflectance(slab: Slab, d: f64, sigma_a: f64, sigma_s: f64) -> f64 {
     let s = sigma_s * slab.p_g;
     (1.0 - slab.f_top) * (s * single_path(sigma_a, d) + slab.f_bottom * (-2.0 * (sigma_a + s) * d).exp())
@@ -147,7 +152,8 @@ pub fn km_reflectance(k: f64, s: f64, x: f64, r_g: f64) -> f64 {
 }
 
 /// Kubelka–Munk coefficients → transport coefficients by the common diffusion correspondence
-/// K = 2σa, S = (3σs′ − σa)/4 (several conventions exist; research/accuracy.md §7.3).
+/// K = 2σa, S = (3σs′ − σa)/4 (several conventions exist; docs/derivations.md, "Diffuse
+/// reflectance relations").
 pub fn km_to_transport(k: f64, s: f64) -> (f64, f64) {
     let sigma_a = k / 2.0;
     (sigma_a, (4.0 * s + sigma_a) / 3.0)
@@ -180,7 +186,7 @@ fn dipole_albedo_derivative(alpha: f64, eta: f64) -> f64 {
 /// Which slab formula an inversion uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SlabModel {
-    /// Seed 002 eq. 1 as published (linearised attenuation).
+    /// The clay-optics paper's eq. 1 as published (linearised attenuation).
     Seed,
     /// Its exact exponential form.
     Exponential,
@@ -316,7 +322,7 @@ fn regime_warnings(model: SlabModel, sigma_a: f64, sigma_s: f64, slab: Slab, d: 
     let depth = (sigma_a + sigma_s * slab.p_g) * d;
     if model == SlabModel::Seed && depth > SEED_MODEL_MAX_OPTICAL_DEPTH {
         vec![format!(
-            "σt·d = {depth:.3} exceeds {SEED_MODEL_MAX_OPTICAL_DEPTH}: seed eq. 1 linearises e^(−2x) as (1 − x)², \
+            "σt·d = {depth:.3} exceeds {SEED_MODEL_MAX_OPTICAL_DEPTH}: eq. 1 of the clay-optics paper linearises e^(−2x) as (1 − x)², \
              {:.0}% off here; use the exponential model",
             100.0 * (1.0 - (1.0 - depth).powi(2) / (-2.0 * depth).exp()).abs()
         )]
@@ -393,8 +399,9 @@ fn known_scattering(model: SlabModel, slab: Slab, d: f64, r: f64, sigma_s: f64) 
     }
 }
 
-/// Seed eq. 1 is quadratic in σa for fixed s (research/accuracy.md §7.2): A σa² + B σa + C = 0
-/// with A = s d³/3 + F_b d², B = −s d² − 2F_b(1 − s d)d, C = s d + F_b(1 − s d)² − R/(1 − F_t).
+/// The clay-optics paper's eq. 1 is quadratic in σa for fixed s (docs/derivations.md, "Solving
+/// for σa and σs′"): A σa² + B σa + C = 0 with A = s d³/3 + F_b d², B = −s d² − 2F_b(1 − s d)d,
+/// C = s d + F_b(1 − s d)² − R/(1 − F_t).
 /// The root on the model's monotone branch (1 − σa d − s d ≥ 0 side, the smaller one) is taken,
 /// by the cancellation-free formula q = −(B + sign(B)√Δ)/2, roots q/A and C/q.
 fn seed_sigma_a(slab: Slab, d: f64, r: f64, sigma_s: f64) -> Result<f64, OpticsError> {
@@ -412,7 +419,7 @@ fn seed_sigma_a(slab: Slab, d: f64, r: f64, sigma_s: f64) -> Result<f64, OpticsE
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
-        return Err(OpticsError::Inconsistent(format!("seed eq. 1 reaches no {r} with this σs′")));
+        return Err(OpticsError::Inconsistent(format!("the clay-optics paper's eq. 1 reaches no {r} with this σs′")));
     }
     let q = -0.5 * (b + b.signum() * disc.sqrt());
     let (r1, r2) = (q / a, c / q);

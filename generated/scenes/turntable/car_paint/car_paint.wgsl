@@ -58,7 +58,7 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
 // D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
 // α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
 // 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -104,8 +104,8 @@ fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     return select(1f, fresnel_3, (sin2_t < 1f));
 }
 
-// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-// The caller passes cosines clamped to ≥ COS_EPSILON.
+// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
 fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1: f32) -> vec3<f32> {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
@@ -213,8 +213,8 @@ fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
     return exp(-((tau / vec3(mu))));
 }
 
-// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
-// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
+// (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
 fn f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
     let m = (1f - min(max(cos_theta_2, 0f), 1f));
     let m_sq = (m * m);
@@ -443,7 +443,7 @@ fn trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
 // total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
 // the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
 fn glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
     let beyond_cone = trapped_share(mu_2, mu_c_1, alpha_4);
@@ -587,10 +587,11 @@ fn glossy_once(single: f32, next_1: f32, c_1: vec3<f32>) -> vec3<f32> {
     return ((c_1 * ((1f - single) * next_1)) + vec3(single));
 }
 
-// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+// (étendue). Symmetric in i and o, so reciprocal.
 fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_9: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
 }

@@ -27,11 +27,11 @@ use glazec::math::tables::{Axis, GLOSSY_SINGLE_GRID, TableId};
 /// solved by Hildreth's dual coordinate ascent ([`least_change`]). Returns the largest excess
 /// E − 1 found before the change.
 ///
-/// It replaced a rule that raised each corner by the largest need of the cells around it, which
-/// took up to 0.049 from K around η 1.33–1.5 for cells beside them and darkened copper under an
-/// η 1.5, r ½ coat by 0.0116 at 30°; and, with the lowering, the light that K's interpolation
-/// took from the remainder between the r nodes (a white conductor under that coat reflected 0.993
-/// at 85°) is given back.
+/// A simpler rule, raising each corner by the largest need of the cells around it, takes up to
+/// 0.049 from K around η 1.33–1.5 for cells beside them and darkens copper under an η 1.5, r ½
+/// coat by 0.0116 at 30°; and the lowering gives back the light that K's interpolation takes from
+/// the remainder between the r nodes (without it a white conductor under that coat reflects 0.993
+/// at 85°).
 pub(super) fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> f64 {
     let probes = energy_probes();
     let measured = crate::parallel_map(probes.len(), |k| probe_energy(probes[k]), |_| tick());
@@ -56,10 +56,10 @@ pub(super) const PROBE_ENERGY_CEILING: f64 = 1.0 - 8e-4;
 
 /// How much less than all of it a white conductor may reflect at a probe before K is lowered
 /// there, and which probes ask for it: directions near grazing, μ within
-/// [`LOSS_PROBE_COSINES`] (where the loss was measured: a white conductor of roughness 0.3 under
-/// an η 1.5, r ½ coat reflected 0.993 at 85°; lowering K for probes at steeper directions too
-/// made a white conductor gain at 0° on the table's last r_c and r nodes, E = 1.0015 and
-/// 1.0025, corners the probes between the nodes see only in part), coats of
+/// [`LOSS_PROBE_COSINES`] (where the loss is: a white conductor of roughness 0.3 under an η 1.5,
+/// r ½ coat reflects 0.993 at 85° without the lowering; lowering K for probes at steeper
+/// directions too makes a white conductor gain at 0° on the table's last r_c and r nodes,
+/// E = 1.0015 and 1.0025, corners the probes between the nodes see only in part), coats of
 /// η ≥ [`LOSS_PROBE_MIN_IOR`], and a lookup that moves E by at least [`LOSS_PROBE_MIN_UNIT`] per
 /// unit of K (elsewhere a loss would need K moved by more than its neighbours can follow). Part
 /// of a loss is the coat's own (its reflection and transmission at grazing incidence), which K
@@ -79,8 +79,8 @@ pub(super) const LOSS_MULTIPLIER_CAP: f64 = 6.0;
 
 /// The metric's weight of the corners off the η = 1 face (those on it weigh 1): a cell that
 /// touches η = 1 is changed on that face. Its gains come from the escape cone closing near
-/// η = 1, and changing the face at the next node (η 1.22) for them took energy from every coat
-/// up to η 1.5.
+/// η = 1, and changing the face at the next node (η 1.22) for them would take energy from every
+/// coat up to η 1.5.
 pub(super) const OFF_FACE_WEIGHT: f64 = 0.01;
 
 /// Sweeps of [`least_change`] (it stops earlier once no constraint is violated by more than
@@ -203,8 +203,8 @@ pub(super) fn lookup_corners(at: [f64; 4]) -> Vec<(usize, f64, f64)> {
 /// the corners of its cell's η = 1 face nearest to it ([`nearest_corners`]) by what it needs,
 /// each corner by the largest need among its probes. Near η = 1 the gains come from the escape
 /// cone closing (like √(2(η − 1))), steeply in μ and η between the probes: the least change
-/// alone, exact at the probes, left a white conductor under a smooth η 1.008 coat gaining
-/// E = 1.012 at 85° (1.080 before any change of K); this generous raise leaves none.
+/// alone, exact at the probes, leaves a white conductor under a smooth η 1.008 coat gaining
+/// E = 1.012 at 85° (1.080 with K unchanged); this generous raise leaves none.
 pub(super) fn raise_near_one(constraints: &[EnergyConstraint], len: usize) -> Vec<f64> {
     let mut raise = vec![0.0_f64; len];
     for c in constraints {

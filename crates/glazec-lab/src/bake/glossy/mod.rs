@@ -19,7 +19,7 @@
 //!   from, so its slowest rate does not depend on μ), the weights per direction by
 //!   simplex-constrained least squares. With fixed retentions the weights are linear in the
 //!   generating function, so interpolating them between nodes interpolates it (two fitted rates
-//!   per node did not: they trade off against each other from node to node);
+//!   per node would not: they trade off against each other from node to node);
 //! * μ*: the mean cosine at which the trapped light meets the conductor (where the method
 //!   evaluates its Fresnel factor for the events after the first);
 //! * σ: how much the coat's two crossings widen the conductor's lobe, the GGX width whose peak
@@ -47,10 +47,10 @@
 //!   (two crossings; solved like the scale). μ_eff is the cosine along which the method absorbs
 //!   the coat's transmitted light (Snell's cosine over the `coat_path` factor), so q is a
 //!   correction to a path that already follows the coat's roughness and IOR, and interpolates
-//!   between the coarse (r, η) nodes where q over Snell's cosine did not: copper under an η 1.33,
-//!   r ½, τ ½ coat at 85° came out 0.0122 high with q over Snell's cosine, 0.0080 with this.
-//!   Kept at four depths, so that Jensen's gap between E[e^(−τL)] and e^(−τE[L]) (15% at τ = ½
-//!   under a coat of roughness ½) is interpolated, not ignored.
+//!   between the coarse (r, η) nodes, which a q over Snell's cosine does not (it leaves copper
+//!   under an η 1.33, r ½, τ ½ coat too bright at 85°). Kept at four depths, so that Jensen's
+//!   gap between E[e^(−τL)] and e^(−τE[L]) (15% at τ = ½ under a coat of roughness ½) is
+//!   interpolated, not ignored.
 //!
 //! Walks are the reference's own (Heitz et al. 2016 microsurfaces for rough interfaces and the
 //! conductor, exact Fresnel for smooth interfaces), in f64 with deterministic seeds.

@@ -200,7 +200,7 @@ pub(super) fn path_depths() -> Vec<f64> {
 /// attenuated by e^(−τ q/μ_eff) on each side, keeps of its white albedo what the walks' one-event
 /// light keeps, E[e^(−τL)]: the symmetric iteration of the scale's, on the attenuation. Solving
 /// rather than setting e^(−2τq/μ_eff) = E[e^(−τL)] matters under rough coats, where the lobe spreads
-/// over directions whose attenuation differs (set directly, the albedo at 85° came out 10% high).
+/// over directions whose attenuation differs (set directly, the albedo at 85° comes out 10% high).
 pub(super) fn path_column(r: f64, eta: f64, walks: u32, seed: u64) -> Vec<f64> {
     let mus = direction_nodes(&GLOSSY_PATH_GRID);
     let depths = path_depths();

@@ -9,7 +9,7 @@
 //! where L̄ is either the environment **prefiltered** with a GGX lobe of roughness r_k around the
 //! direction d_k (for specular lobes), or the **irradiance** around the normal divided by π (for
 //! lobes that leave the surface diffusely). Both are lookups into images that the renderer
-//! prepares (`glazec::run::environment`, or the user's own); this module only says which lobes a
+//! prepares (`glazec_gpu::environment`, or the user's own); this module only says which lobes a
 //! material has and how much each weighs.
 //!
 //! The weights come from the method's own albedos, so the lighting conserves exactly what the
@@ -231,7 +231,7 @@ mod tests {
     }
 
     /// The weights add up to the method's directional albedo; for a clear smooth coat over
-    /// white Lambert that is exactly 1 (research/accuracy.md §1.4).
+    /// white Lambert that is exactly 1 (docs/derivations.md, "Smooth coat over Lambert").
     #[test]
     fn weights_of_a_white_stack_add_to_one() {
         let source = r#"Material(name: "white", layers: [Coat(lobe: Smooth, ior: 1.5), Lambert(albedo: 1.0)])"#;

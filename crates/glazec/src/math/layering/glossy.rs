@@ -6,7 +6,7 @@
 //! the light drifts back into the cone. How many events it takes sets the colour (each one
 //! multiplies by the conductor's Fresnel factor), and where it leaves sets the shape. The level
 //! is split by that count, with statistics `glazec tables` measures by white random walks through
-//! the reference's own microsurfaces (`crate::accuracy::glossy`):
+//! the reference's own microsurfaces (`glazec_lab::bake::glossy`):
 //!
 //! * **near the mirror direction** — a lobe: the conductor's GGX lobe at the refracted
 //!   directions, widened by the coat's two crossings (α² = α_c² + σ(μᵢ)² + σ(μₒ)², σ tabulated:
@@ -180,8 +180,9 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         // once, taken at the coat's mean-path cosine rather than Snell's: under a rough coat that
         // light meets the conductor at flatter angles (white walks under an η 1.5, r ½ coat at
         // 85°: mean cosine 0.526 at the first event, Snell's 0.748), where a conductor reflects
-        // more; at Snell's cosine copper under that coat came out 0.0117 dark in green at 85°,
-        // 0.0033 with this. The lobe itself takes its Fresnel per microfacet (`conductor_lobe`).
+        // more; at Snell's cosine copper under that coat would be 0.0117 too dark in green at
+        // 85°, against 0.0033 with this. The lobe itself takes its Fresnel per microfacet
+        // (`conductor_lobe`).
         let fresnel =
             conductor_fresnel(self.fresnel, self.inputs, path_cosine, self.n_medium).named(&name("fresnel_cond"));
         let scale = self.lookup(TableId::GlossyScale, mu).named(&name("scale"));
@@ -210,16 +211,17 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     /// mirror configuration: α² = α_c² + 2σ(μ)², `ggx_albedo`) times the share of that same
     /// lobe inside the escape cone (`cone_share`): what carries the lobe's albedo's steep
     /// dependence on α_c, μ and η, so that `glossy_lobe_albedo` need not. The share is the
-    /// widened lobe's, the one the level evaluates: with the conductor's own α_c it fell by a
-    /// quarter from r_c 0.18 to 0.33 under an r 0.5 coat while the lobe's albedo fell by 8%,
-    /// and K, interpolated between the two, missed the lobe's albedo (times T) by up to 0.19
-    /// between the nodes, against 0.034 now (midpoints of every cell edge with η ≥ 1.22).
+    /// widened lobe's, the one the level evaluates: with the conductor's own α_c it would fall by
+    /// a quarter from r_c 0.18 to 0.33 under an r 0.5 coat while the lobe's albedo falls by 8%,
+    /// and K, interpolated between the two, would miss the lobe's albedo (times T) by up to 0.19
+    /// between the nodes, against 0.034 with the widened lobe's share (midpoints of every cell
+    /// edge with η ≥ 1.22).
     ///
     /// Guard: μ ≥ [`GLOSSY_GRAZING`], where the table's first direction node was measured. Closer
     /// to grazing the refracted mirror direction of a sharp conductor runs into the escape
     /// cone's edge and c(μ′) falls steeply to ½, while the lobe, scaled by s(μ) held from that
     /// node, does not: K·E·c would then promise the remainder more than the lobe takes (a white
-    /// conductor of roughness 10⁻⁴ under an r 0.2 coat reflected E = 1.043 at 90°).
+    /// conductor of roughness 10⁻⁴ under an r 0.2 coat would reflect E = 1.043 at 90°).
     fn normaliser(&self, mu: F, mu_refracted: F, side: &str) -> F {
         let mu = mu.at_least(GLOSSY_GRAZING as f32);
         let mu_refracted = mu_refracted.max(self.refracted_cosine(self.inputs.lit(GLOSSY_GRAZING as f32)));
@@ -261,19 +263,19 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     /// [0, 1] misses the remainder where it lives: for a coat of
     /// IOR just above 1 the escape cone is almost the whole hemisphere and only light entering
     /// near grazing is trapped, so M is concentrated below μ ≈ 0.2, where 6-point Gauss–Legendre
-    /// had one node; ⟨M⟩ came out less than half the truth and the remainder, divided by it,
-    /// reflected twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
-    /// E = 1.086 at 89°). Two panels were not enough either: M follows the tables' piecewise
+    /// has one node; ⟨M⟩ comes out less than half the truth and the remainder, divided by it,
+    /// reflects twice its M (a white conductor of roughness 0.3 under a smooth η 1.003 coat:
+    /// E = 1.086 at 89°). Two panels are not enough either: M follows the tables' piecewise
     /// linear interpolation in √μ, and with 4 nodes over [0, 0.95] (a rough coat: the band
-    /// covers nearly everything) ⟨M⟩ came out 0.5% high, which the remainder lost at every angle
-    /// (−0.003 of a white conductor's albedo at 85° under an r 0.5 coat), and near η = 1 it
-    /// came out up to 30% low, a gain the lobe-albedo table had to be raised against (largest
-    /// probe excess 7.5 with two panels, 2.1 with three; `accuracy::glossy`).
+    /// covers nearly everything) ⟨M⟩ comes out 0.5% high, which the remainder loses at every
+    /// angle (−0.003 of a white conductor's albedo at 85° under an r 0.5 coat), and near η = 1
+    /// up to 30% low, a gain the lobe-albedo table would have to be raised against (largest
+    /// probe excess 7.5 with two panels, 2.1 with three; `glazec_lab::bake::glossy`).
     ///
     /// The twelve nodes are one loop in a shader ([`Real::sum_over`]): each node looks up seven
-    /// 4D tables, and straight-line copies of that (eight, then) made a coat over a conductor with
-    /// runtime parameters a 140 KB shader that lavapipe took seconds to compile. With literal
-    /// parameters the loop folds to constants when the code is generated.
+    /// 4D tables, and straight-line copies of that make a coat over a conductor with runtime
+    /// parameters a shader that lavapipe takes seconds to compile (140 KB of WGSL with eight
+    /// nodes). With literal parameters the loop folds to constants when the code is generated.
     fn hemispherical(&self, c: F::Vec, of: &[PerSide<F>], totals: &[&str]) -> Vec<F::Vec> {
         let split = self.trapped_band_edge();
         let fold = [self.eta, self.conductor_roughness, self.roughness].iter().all(|x| x.known().is_some())

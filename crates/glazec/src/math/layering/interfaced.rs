@@ -143,9 +143,10 @@ pub(super) struct FirstPass<F: Real> {
 /// diffuse light: the share Y ≈ E_esc(0)·b, b = T′(μ̄c)/⟨T′⟩ times the same factor of the coats
 /// further down, μ̄c the mean cosine of coat `k`'s escape cone. The first pass then escapes
 /// ξ = [(1 − T′)T + (E − (1 − T′))Y]/E and returns 1 − ξ, against E_esc(0) and R(0) = 1 − E_esc(0)
-/// for diffuse light. Treating that light as diffuse counted part of it twice (energy gains of up
-/// to 16% for sixteen coats, README "Stability"); compounding b down the stack over-corrects
-/// deep stacks instead (a white stack of sixteen coats reflects 0.47–0.76).
+/// for diffuse light. Treating that light as diffuse would count part of it twice (energy gains
+/// of up to 16% for sixteen coats; docs/stability.md, "What keeps the default method stable");
+/// compounding b down the stack over-corrects deep stacks instead (a white stack of sixteen coats
+/// reflects 0.47–0.76).
 /// Guards: the return factor is clamped to [0, 1] (never more than a diffusing body returns),
 /// ξ to [0, 1], E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, E_esc(0) ≥ 10⁻⁴.
 pub(super) fn first_pass<F: Real>(
@@ -203,14 +204,15 @@ pub(super) fn first_pass<F: Real>(
 /// The first pass out of an EON body (Portsmouth et al. 2025) under coat `k`. EON's
 /// multiple-scattering lobe sends light in proportion to 1 − E_FON(μₒ), which is largest
 /// towards the normal, so more of the first reflection leaves through the escape cone than of
-/// diffuse light (treating it as diffuse made a water-coated EON 0.011 too bright at normal
-/// incidence; README "Accuracy"). Of the body's albedo E(μ) = ρE_FON(μ) + ρ_ms(1 − E_FON(μ)),
-/// the FON part is taken to leave like diffuse light and the multiple-scattering part with the
-/// cone's weight for its shape, `eon_escape_shape_exact` s (of the smooth interface, tabulated
-/// over η; for a rough coat an approximation): escape factor x(μ) = 1 + ρ_ms(1 − E_FON(μ))(s − 1)/E(μ), return factor
-/// (1 − x E_esc(0))/R(0) clamped to [0, 1] (R(0) = 1 − E_esc(0): a white body still returns
-/// everything, E = 1). The return factor at the cone's mean cosine normalises the viewer's side
-/// as in [`first_pass`]. Guards: E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, the return at the mean ≥ 10⁻³.
+/// diffuse light (treated as diffuse, a water-coated EON comes out 0.011 too bright at normal
+/// incidence; docs/accuracy.md, "EON under a coat"). Of the body's albedo
+/// E(μ) = ρE_FON(μ) + ρ_ms(1 − E_FON(μ)), the FON part is taken to leave like diffuse light and
+/// the multiple-scattering part with the cone's weight for its shape, `eon_escape_shape_exact` s
+/// (of the smooth interface, tabulated over η; for a rough coat an approximation): escape factor
+/// x(μ) = 1 + ρ_ms(1 − E_FON(μ))(s − 1)/E(μ), return factor (1 − x E_esc(0))/R(0) clamped to
+/// [0, 1] (R(0) = 1 − E_esc(0): a white body still returns everything, E = 1). The return factor
+/// at the cone's mean cosine normalises the viewer's side as in [`first_pass`]. Guards:
+/// E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, the return at the mean ≥ 10⁻³.
 pub(super) fn eon_first_pass<F: Real>(
     interface: &CoatInterface<'_, F>,
     (albedo_color, roughness): (Color, Scalar),

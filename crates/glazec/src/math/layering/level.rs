@@ -37,7 +37,7 @@ pub(super) struct Albedo<F: Real> {
 /// spread is (1/√2)(1 − 1/η) α_coat in the conductor's α. GGX slopes are heavy-tailed, so the
 /// added width adds to the conductor's own linearly rather than in quadrature (Belcour 2018 adds
 /// variances). Against the reference (standard set, copper under coats of roughness 0.5) this
-/// gives a lobe error of 9–14%; the earlier ½ (a guess) gave 14–20%.
+/// gives a lobe error of 9–14%.
 pub(super) const BLUR_WIDTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
 
 /// The blur a coat of roughness `roughness` (α = r²) and relative IOR `eta` adds to the `blur`

@@ -5,10 +5,11 @@
 //! naga builder, the body of `<material>_brdf`. Every method goes through [`brdf`], so clay,
 //! Disney clear-coat and eight-layer stacks share one code path.
 //!
-//! * [`Method::Additive`] (Burley 2012; seed 000 §3.0.2): the base at the outer directions plus
-//!   one specular lobe per coat, nothing attenuated.
-//! * [`Method::WeidlichWilkie`] (seed 000 §3.0.3, eq. 12–19), as the seed writes it. Readings
-//!   where the seed is ambiguous (also in README.md):
+//! * [`Method::Additive`] (Burley 2012; Bowsher 2022, §3.0.2): the base at the outer directions
+//!   plus one specular lobe per coat, nothing attenuated.
+//! * [`Method::WeidlichWilkie`] (Bowsher 2022, §3.0.3, eq. 12–19), as the seed writes it.
+//!   Readings where the seed is ambiguous (also in docs/language.md, "How Bowsher 2022 is
+//!   read"):
 //!   - eq. 12 evaluates the lower layer at (L′, V) but eq. 13's legend at (L′, V′); we refract
 //!     **both** directions (V′), as Weidlich & Wilkie 2007 do, which also keeps f reciprocal;
 //!     eq. 15's path length likewise uses n·V′.
@@ -38,8 +39,8 @@
 //!     the refraction through a rough coat above (`BLUR_WIDTH`).
 //!
 //!   Reciprocal, white furnace within 2·10⁻³, exact for a smooth coat over Lambert with
-//!   absorption (research/accuracy.md §1.4); measured against the stochastic reference in
-//!   `crate::accuracy` (README "Accuracy").
+//!   absorption (docs/derivations.md, "Smooth coat over Lambert"); measured against the
+//!   stochastic reference in `glazec_lab::accuracy` (docs/accuracy.md).
 
 mod base;
 pub mod environment;

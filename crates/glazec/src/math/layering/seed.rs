@@ -29,7 +29,7 @@ pub(super) struct SeedSpecular<F: Real> {
     pub(super) shadowing: F,
 }
 
-/// The seed's Cook–Torrance coat lobe (seed 000 §3.0.1–3.0.2), `None` for a smooth coat.
+/// The seed's Cook–Torrance coat lobe (Bowsher 2022, §3.0.1–3.0.2), `None` for a smooth coat.
 pub(super) fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedSpecular<F>> {
     let name = |base| level_name(base, g.level);
     let (roughness, distribution) = match lobe {

@@ -136,9 +136,9 @@ pub enum TableId {
 
 /// The single-scattering deficit decides the energy balance and switches on sharply near
 /// grazing incidence (where α ≈ μ): it gets 32 × 32 (μ, r) nodes, and its nodes are lowered
-/// until the lookup never overshoots the quadrature between them (up to 7·10⁻³ before;
-/// `accuracy::tables`), so that a rough coat never transmits more than its lobe leaves. The
-/// smoother terms share a coarser grid.
+/// until the lookup never overshoots the quadrature between them (unlowered, it overshoots by up
+/// to 7·10⁻³; `glazec_lab::bake`), so that a rough coat never transmits more than its lobe leaves.
+/// The smoother terms share a coarser grid.
 const DEFICIT_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 32), (Axis::Roughness, 32), (Axis::Ior, 8)];
 
 const EXTRA_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 16), (Axis::Ior, 8)];
@@ -217,7 +217,7 @@ macro_rules! glossy_doc {
 macro_rules! dfg_doc {
     ($($line:literal),* $(,)?) => {
         &[
-            "Tabulated by `glazec tables` by deterministic quadrature of the seed's lobe (the shared terms,",
+            "Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,",
             "Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.",
             $($line),*
         ]
@@ -244,8 +244,8 @@ const fn rounded_down(spec: TableSpec) -> TableSpec {
     TableSpec { rounding: Rounding::Down, ..spec }
 }
 
-/// Every table's layout. Changing one invalidates `data/tables.bin` (regenerate it with
-/// `glazec tables`).
+/// Every table's layout. Changing one invalidates `crates/glazec/data/tables.bin` (regenerate it
+/// with `glazec tables`).
 pub const SPECS: [TableSpec; 24] = [
     rounded_down(table(
         "coat_deficit_table",
@@ -352,7 +352,7 @@ pub const SPECS: [TableSpec; 24] = [
         "seed_ggx_dfg_scale",
         DFG_PARAMS,
         dfg_doc![
-            "A(μ; r) of the seed's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional",
+            "A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional",
             "albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).",
         ],
     ),
@@ -361,7 +361,7 @@ pub const SPECS: [TableSpec; 24] = [
         &DFG_GRID,
         "seed_ggx_dfg_bias",
         DFG_PARAMS,
-        dfg_doc!["B(μ; r) of the seed's GGX coat lobe (see `seed_ggx_dfg_scale`).",],
+        dfg_doc!["B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).",],
     ),
     table(
         "clearcoat_dfg_scale_table",
@@ -497,7 +497,7 @@ impl TableId {
     ];
 
     /// Whether the table belongs to the glossy level (a conductor under a coat;
-    /// `accuracy::glossy`).
+    /// `glazec_lab::bake::glossy`).
     pub fn is_glossy(self) -> bool {
         self.spec().name.starts_with("glossy_")
     }

@@ -5,10 +5,10 @@
 //! reflection sets how much diffuse light comes back down (R(τ)) or escapes (E_esc(τ)) through
 //! an absorbing slab. None of these has a closed form, so `glazec tables` samples them (the
 //! stochastic reference's microsurface walks plus deterministic quadrature, in f64) on the grids
-//! below and stores them in `data/tables.bin`, which is compiled into the crate. A GGX
-//! conductor's single-scattering albedo is tabulated the same way, and so is the split-sum DFG of
-//! the seed's two coat lobes, which image-based lighting needs for the seed's methods
-//! (`layering::environment`; by quadrature of the seed's lobe itself).
+//! below and stores them in `crates/glazec/data/tables.bin`, which is compiled into the crate. A
+//! GGX conductor's single-scattering albedo is tabulated the same way, and so is the split-sum
+//! DFG of the seed's two coat lobes, which image-based lighting needs for the seed's methods
+//! (`layering::environment`; by quadrature of that lobe itself).
 //!
 //! **Axes.** Every axis maps its argument to a coordinate u ∈ [0, 1] sampled at n uniform nodes:
 //! [`Axis::Cosine`] u = (μ^¼ − μ₀^¼)/(1 − μ₀^¼) from μ₀ = 10⁻⁴ (dense near grazing, where a rough
@@ -30,7 +30,7 @@
 //! the buffer, two entries per 32-bit word. The CPU decodes the same 16-bit values with the same
 //! f32 arithmetic as a shader, so a shader and the CPU still evaluate the same numbers (a GPU may
 //! fuse the multiply-add: half an ulp). The single-scattering deficit rounds down
-//! ([`Rounding::Down`]) so that its lookup stays at or below the truth (`accuracy::tables`);
+//! ([`Rounding::Down`]) so that its lookup stays at or below the truth (`glazec_lab::bake`);
 //! everything else to nearest. Sixteen bits halve what the tables spend of the 64 KiB a uniform
 //! binding guarantees. (Half floats would need `unpack2x16float`, which naga validates only with
 //! the `SHADER_FLOAT16_IN_FLOAT32` capability, and which llvmpipe supports only with native f16.)
@@ -143,12 +143,12 @@ mod tests {
 
     #[test]
     fn stored_tables_decode_and_fit_the_budget() {
-        let tables = decode(TABLE_FILE).expect("data/tables.bin decodes");
+        let tables = decode(TABLE_FILE).expect("crates/glazec/data/tables.bin decodes");
         assert_eq!(tables.len(), SPECS.len());
         assert!(total_bytes() <= 64 * 1024, "{} bytes", total_bytes());
         for (spec, values) in SPECS.iter().zip(&tables) {
             // The deficit (and so its average) may be slightly negative: the table is lowered
-            // until its lookup never overshoots (`accuracy::tables`). The normalised slab tables
+            // until its lookup never overshoots (`glazec_lab::bake`). The normalised slab tables
             // exceed 1.
             let range = if spec.name.starts_with("coat_deficit") { -1.0..=1.0 } else { 0.0..=100.0 };
             assert!(values.iter().all(|v| v.is_finite() && range.contains(v)), "{}", spec.name);

@@ -1,5 +1,6 @@
 //! How the tables are stored: 16-bit fixed point over each table's range ([`Quantization`]), the
-//! table file compiled into the crate (`data/tables.bin`), and the buffer a shader reads.
+//! table file compiled into the crate (`crates/glazec/data/tables.bin`), and the buffer a shader
+//! reads.
 
 use std::sync::{Arc, OnceLock};
 
@@ -43,7 +44,7 @@ impl Quantization {
 }
 
 impl TableId {
-    /// The table's values (compiled into the crate from `data/tables.bin`), decoded.
+    /// The table's values (compiled into the crate from `crates/glazec/data/tables.bin`), decoded.
     pub fn values(self) -> &'static Arc<[f32]> {
         &stored()[self as usize].values
     }
@@ -105,7 +106,7 @@ static OVERRIDE: std::sync::atomic::AtomicPtr<Vec<Stored>> = std::sync::atomic::
 /// Makes every CPU evaluation in this process read `tables` (values per table, in [`SPECS`]
 /// order, stored as [`encode`] would store them) instead of the compiled-in file. For
 /// `glazec tables`, whose later tables are defined through the compiled math evaluated with the
-/// tables it has just computed (`accuracy::tables`); shaders are not affected. Each call leaks
+/// tables it has just computed (`glazec_lab::bake`); shaders are not affected. Each call leaks
 /// its tables (a few tens of kilobytes, a handful of times per generation).
 pub fn evaluate_on_cpu_with(tables: &[Vec<f32>]) {
     let stored: Vec<Stored> = SPECS
@@ -138,7 +139,7 @@ fn stored() -> &'static [Stored] {
             .collect(),
         // The file ships with the crate and a test decodes it; a mismatch is a build of
         // inconsistent sources, not bad user input.
-        Err(e) => panic!("data/tables.bin does not match the table layout ({e}); run `glazec tables`"),
+        Err(e) => panic!("crates/glazec/data/tables.bin does not match the table layout ({e}); run `glazec tables`"),
     })
 }
 

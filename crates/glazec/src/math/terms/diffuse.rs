@@ -15,7 +15,7 @@ shading_fn! {
 
 shading_fn! {
     /// Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
-    /// (seed 000 eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
+    /// (Bowsher 2022, eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
     /// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
     /// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
     /// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.

@@ -8,7 +8,7 @@ use crate::math::Vector;
 use crate::math::shading_fn;
 
 shading_fn! {
-    /// Weidlich & Wilkie 2007 (seed 000 eq. 14–15): the absorption a = e^{−α l} along the path
+    /// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
     /// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
     pub fn absorption_ww(sigma_a: V, thickness: S, n_dot_l1: S, n_dot_v1: S) -> V {
         let path = thickness * (n_dot_l1.recip() + n_dot_v1.recip());
@@ -17,7 +17,7 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Weidlich & Wilkie 2007 via seed 000 §3.0.3: the internal-reflection term
+    /// Weidlich & Wilkie 2007 via Bowsher 2022, §3.0.3: the internal-reflection term
     /// t = (1 − G) + T21·G, with T21 = T12.
     pub fn ww_inner_reflection(g: S, t21: V) -> V {
         t21 * g + g.one_minus().splat()
@@ -25,7 +25,7 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Weidlich & Wilkie 2007 (seed 000 eq. 13): one step of the recurrence,
+    /// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 13): one step of the recurrence,
     /// f = f_r1(L, V) + T12 · f_r2(L′, V′) · a · t.
     pub fn ww_layer(f_top: V, t12: V, absorption: V, inner: V, f_below: V) -> V {
         f_top + f_below * t12 * absorption * inner
@@ -33,10 +33,11 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// glazec's interfaced layering (research/accuracy.md §1.4 and §3.3 "M4"): the light under a
-    /// coat of relative IOR η enters with transmittance Tᵢ, is attenuated on its way down and up
-    /// (aᵢ, aₒ), is reflected by what lies below (`f_under`, at refracted directions), leaves
-    /// with Tₒ and is compressed by 1/η² (étendue). Symmetric in i and o, so reciprocal.
+    /// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
+    /// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
+    /// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
+    /// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
+    /// (étendue). Symmetric in i and o, so reciprocal.
     pub fn interfaced_layer(f_top: V, t_i: S, t_o: S, a_i: V, a_o: V, f_under: V, eta: S) -> V {
         f_top + f_under * a_i * a_o * (t_i * t_o / (eta * eta))
     }
@@ -47,7 +48,8 @@ shading_fn! {
     /// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
     /// back down (R, the slab's diffuse return reflectance) and that then bounces between body
     /// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-    /// sum is ρ/(π(1 − ρR)), the exact series (research/accuracy.md §1.4).
+    /// sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
+    /// Lambert").
     pub fn interfaced_diffuse_under(f_below: V, e_i: V, e_o: V, rho_below: V, r_return: V) -> V {
         f_below + e_i * e_o * r_return / ((rho_below * r_return).one_minus() * PI)
     }

@@ -22,12 +22,12 @@ const F0_MAX: f32 = 0.9999;
 const TINY: f32 = 1e-12;
 
 /// The roughness α_g of the Disney clear-coat's Smith term: fixed at 0.25 (Burley 2012;
-/// seed 000 §3.0.2).
+/// Bowsher 2022, §3.0.2).
 pub const GTR1_SMITH_ROUGHNESS: f32 = 0.25;
 
 shading_fn! {
     /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-    /// (seed 000 eq. 6): the GGX / Trowbridge–Reitz normal distribution
+    /// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
     /// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
     /// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
     /// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
@@ -43,9 +43,10 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (seed 000
-    /// eq. 10): the clear-coat distribution D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with
-    /// 1 + (α² − 1) cos²θh written as α² cos²θh + sin²θh (as in `d_ggx`).
+    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1
+    /// (Bowsher 2022, eq. 10): the clear-coat distribution
+    /// D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with 1 + (α² − 1) cos²θh written as
+    /// α² cos²θh + sin²θh (as in `d_ggx`).
     /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly; the
     /// bracket ≥ TINY for a zero half vector, as in `d_ggx`.
     pub fn d_gtr1(cos_h: S, sin2_h: S, alpha: S) -> S {
@@ -57,16 +58,16 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4" (seed 000 eq. 7):
-    /// the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
+    /// Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4"
+    /// (Bowsher 2022, eq. 7): the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
     pub fn g1_schlick_ggx(n_dot_x: S, k: S) -> S {
         n_dot_x / (n_dot_x * k.one_minus() + k)
     }
 }
 
 shading_fn! {
-    /// Karis 2013 with Burley's remapping (seed 000 eq. 8–9): Smith's separable product of two
-    /// Schlick-GGX terms with k = (roughness + 1)² / 8.
+    /// Karis 2013 with Burley's remapping (Bowsher 2022, eq. 8–9): Smith's separable product of
+    /// two Schlick-GGX terms with k = (roughness + 1)² / 8.
     pub fn g_smith_schlick_ggx(n_dot_v: S, n_dot_l: S, roughness: S) -> S {
         let k = (roughness + 1.0).sq() / 8.0;
         g1_schlick_ggx(n_dot_v, k) * g1_schlick_ggx(n_dot_l, k)
@@ -94,16 +95,16 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Cook & Torrance 1982 (seed 000 eq. 4): the microfacet reflection f = D G F / (4 (n·l)(n·v)).
-    /// The caller passes cosines clamped to ≥ COS_EPSILON.
+    /// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
+    /// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
     pub fn f_cook_torrance(d: S, g: S, fresnel: V, n_dot_v: S, n_dot_l: S) -> V {
         fresnel * (d * g / (n_dot_v * n_dot_l * 4.0))
     }
 }
 
 shading_fn! {
-    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (seed 000 eq. 5):
-    /// F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
+    /// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
+    /// (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
     pub fn f_schlick(f0: V, cos_theta: S) -> V {
         let m = cos_theta.clamp(0.0, 1.0).one_minus();
         let m_sq = m * m;

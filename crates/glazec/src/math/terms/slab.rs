@@ -48,7 +48,7 @@ shading_fn! {
     /// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
     /// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
     /// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-    /// jumped from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+    /// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
     /// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
     pub fn glossy_trapped_share(mu: S, mu_c: S, alpha: S) -> S {
         let beyond_cone = trapped_share(mu, mu_c, alpha);
@@ -140,8 +140,9 @@ shading_fn! {
 shading_fn! {
     /// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
     /// diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
-    /// absorption twice and Fresnel (with TIR) at the top (research/accuracy.md §1.4). Computed
-    /// by 24-point Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+    /// absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
+    /// Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
+    /// τ are literals.
     pub fn slab_return(eta: S, tau: V) -> V {
         slab_integral(eta, tau, SlabIntegral::Return)
     }
@@ -149,8 +150,9 @@ shading_fn! {
 
 shading_fn! {
     /// The slab's escape albedo E_esc(τ) = ∫₀¹ 2μ e^{−τ/μ} (1 − F_int(μ)) dμ: the share of
-    /// diffuse light leaving the base that escapes through the coat (research/accuracy.md §1.4).
-    /// Gauss–Legendre quadrature; folded to a constant when η and τ are literals.
+    /// diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
+    /// coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
+    /// literals.
     pub fn slab_escape(eta: S, tau: V) -> V {
         slab_integral(eta, tau, SlabIntegral::Escape)
     }
@@ -170,10 +172,10 @@ pub enum SlabIntegral {
     Escape,
 }
 
-/// The hemispherical integrals of a coat's slab seen from inside (research/accuracy.md §1.4),
-/// by Gauss–Legendre quadrature in two pieces (one node per call of [`slab_tir_node`],
-/// [`slab_return_node`] or [`slab_escape_node`]), each with a substitution that makes its
-/// integrand smooth:
+/// The hemispherical integrals of a coat's slab seen from inside (docs/derivations.md, "Smooth
+/// coat over Lambert"), by Gauss–Legendre quadrature in two pieces (one node per call of
+/// [`slab_tir_node`], [`slab_return_node`] or [`slab_escape_node`]), each with a substitution that
+/// makes its integrand smooth:
 ///
 /// * the TIR cone μ ∈ [0, μc] (μc = √(1 − 1/η²), where F_int = 1), with μ = μc t²: it clusters
 ///   nodes near μ = 0, where e^{−2τ/μ} rises steeply for small τ;
@@ -274,7 +276,7 @@ mod tests {
         let e = slab_integral(1.5_f32, Vec3::ZERO, SlabIntegral::Escape).x;
         let r = slab_integral(1.5_f32, Vec3::ZERO, SlabIntegral::Return).x;
         assert!((e + r - 1.0).abs() < 1e-6, "E_esc + K = {}", e + r);
-        // K(1.5) = 0.59635 (research/accuracy.md §6.2).
+        // K(1.5) = 0.59635 (docs/derivations.md, "Invariants").
         assert!((r - 0.596_35).abs() < 1e-4, "K = {r}");
     }
 }
