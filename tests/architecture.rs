@@ -29,24 +29,18 @@ type Module = Vec<String>;
 /// Every `.rs` file under `root` by module path (`lib.rs`, `main.rs` and `mod.rs` name their
 /// folder's module).
 fn modules(root: &Path) -> BTreeMap<Module, PathBuf> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![root.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).expect("readable source folder").flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let relative = path.strip_prefix(root).expect("under the root").with_extension("");
-                let mut parts: Module = relative.iter().map(|p| p.to_string_lossy().into_owned()).collect();
-                if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
-                    parts.pop();
-                }
-                out.insert(parts, path);
+    common::files_under(root)
+        .into_iter()
+        .filter(|path| path.extension().is_some_and(|e| e == "rs"))
+        .map(|path| {
+            let relative = path.strip_prefix(root).expect("under the root").with_extension("");
+            let mut parts: Module = relative.iter().map(|p| p.to_string_lossy().into_owned()).collect();
+            if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+                parts.pop();
             }
-        }
-    }
-    out
+            (parts, path)
+        })
+        .collect()
 }
 
 /// The text with comments, string and char literals, unit tests, visibility paths and

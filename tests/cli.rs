@@ -14,20 +14,13 @@ fn code(out: &Output) -> i32 {
 
 /// Every file under `dir`, by path relative to it.
 fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).expect("readable dir").flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let rel = path.strip_prefix(dir).expect("inside").display().to_string();
-                files.insert(rel, std::fs::read(&path).expect("readable file"));
-            }
-        }
-    }
-    files
+    common::files_under(dir)
+        .into_iter()
+        .map(|path| {
+            let rel = path.strip_prefix(dir).expect("inside").display().to_string();
+            (rel, std::fs::read(&path).expect("readable file"))
+        })
+        .collect()
 }
 
 #[test]

@@ -104,17 +104,13 @@ fn check_default(map: &Map, sweep: &Sweep) -> Vec<String> {
     problems
 }
 
-fn report(label: &str, maps: &[Map], sweeps: &[Sweep]) {
-    eprintln!("{label}:\n{}", stability::summary(maps, sweeps));
-}
-
-#[test]
-fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
-    let sweeps = stability::sweeps(true);
+/// Every method over every sweep on the CPU, as `glazec stability` runs them, and what is wrong
+/// with the default method's maps.
+fn on_the_cpu(sweeps: &[Sweep]) -> (Vec<Map>, Vec<String>) {
     let mut maps = Vec::new();
     let mut problems = Vec::new();
     for method in glazec_lab::METHODS {
-        for sweep in &sweeps {
+        for sweep in sweeps {
             let map = stability::run(sweep, method, &mut stability::cpu_evaluator, true);
             if method == Method::INTERFACED {
                 problems.extend(check_default(&map, sweep));
@@ -122,6 +118,17 @@ fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
             maps.push(map);
         }
     }
+    (maps, problems)
+}
+
+fn report(label: &str, maps: &[Map], sweeps: &[Sweep]) {
+    eprintln!("{label}:\n{}", stability::summary(maps, sweeps));
+}
+
+#[test]
+fn default_method_is_stable_on_the_cpu_and_the_others_are_reported() {
+    let sweeps = stability::sweeps(true);
+    let (maps, problems) = on_the_cpu(&sweeps);
     report("CPU, reduced sweep", &maps, &sweeps);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     // The seed's method and Disney clear-coat gain energy in every sweep (reported above).
@@ -162,17 +169,7 @@ fn the_full_sweep_is_the_published_summary() {
         return;
     }
     let sweeps = stability::sweeps(false);
-    let mut maps = Vec::new();
-    let mut problems = Vec::new();
-    for method in glazec_lab::METHODS {
-        for sweep in &sweeps {
-            let map = stability::run(sweep, method, &mut stability::cpu_evaluator, true);
-            if method == Method::INTERFACED {
-                problems.extend(check_default(&map, sweep));
-            }
-            maps.push(map);
-        }
-    }
+    let (maps, problems) = on_the_cpu(&sweeps);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     let page = stability::summary_page(&maps, &sweeps, false);
     let published = std::fs::read_to_string(common::root().join("docs/results/stability/summary.md"))
