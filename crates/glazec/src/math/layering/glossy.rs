@@ -372,9 +372,8 @@ fn conductor_lobe<F: Real>(
     }
 }
 
-/// The interfaced method at coat `k` when a conductor lies directly under it (see the module
-/// essay). `blur` is the widening of rough coats above coat `k`.
-#[allow(clippy::too_many_arguments)]
+/// The interfaced method at depth `at` when a conductor lies directly under its coat (see the
+/// module essay); `at.blur` is the widening of the rough coats above.
 pub(super) fn glossy_level<F: Real>(
     stack: &Stack<'_, F>,
     (roughness, fresnel): (Scalar, &ConductorFresnel),
