@@ -265,7 +265,7 @@ fn preview_stats(gpu: &Gpu, name: &str) -> (f32, f32, f32) {
 }
 
 #[test]
-fn previews_show_the_differences_seed_000_describes() {
+fn previews_show_the_differences_bowsher_2022_describes() {
     let Some(gpu) = gpu() else { return };
     let (clay_mean, clay_peak, clay_bright) = preview_stats(gpu, "clay");
     let (wet_mean, wet_peak, _) = preview_stats(gpu, "wet_clay");
