@@ -70,7 +70,7 @@ mod tests {
     #[test]
     fn base_two_is_the_bit_reversal() {
         // Hammersley's form, i.reverse_bits() / 2³², is the same number for every i < 2²⁴.
-        for i in [0, 1, 2, 3, 7, 100, 255, 65_535, (1 << 24) - 1] {
+        for i in [0_u32, 1, 2, 3, 7, 100, 255, 65_535, (1 << 24) - 1] {
             let reversed = i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0);
             assert_eq!(radical_inverse(2, i), reversed, "{i}");
         }
