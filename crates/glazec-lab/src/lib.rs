@@ -3,7 +3,7 @@
 //! Everything here measures or produces what the compiler uses; none of it is in the compiler
 //! that `build.rs` users get:
 //!
-//! * [`reference`]: the ground truth, an independent f64 Monte Carlo random walk through the
+//! * [`reference`](mod@reference): the ground truth, an independent f64 Monte Carlo random walk through the
 //!   layer stack (position-free, in the style of pbrt-v4's `LayeredBxDF`), with the exact
 //!   closed forms that exist.
 //! * [`accuracy`]: every layering method against the reference on an evaluation set, and the
@@ -11,7 +11,7 @@
 //! * [`bake`] (and [`bake::glossy`]): baking the tabulated terms of the default method from the
 //!   reference's microsurfaces into `crates/glazec/data/tables.bin` — `glazec tables`.
 //! * [`stability`]: sweeps to the limits where layering breaks — `glazec stability`.
-//! * [`bench`] and [`chart`] (feature `gpu`): speed against accuracy — `glazec bench`.
+//! * [`bench`](mod@bench) and [`chart`] (feature `gpu`): speed against accuracy — `glazec bench`.
 //! * [`fuzzing`]: the harnesses of the fuzz targets and of the tests that replay their corpus.
 
 pub mod accuracy;

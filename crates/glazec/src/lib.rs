@@ -16,13 +16,15 @@
 //! and reports every error with a span and a code ([`diag`]), [`model`] is plain data,
 //! [`lower`] builds IR by running [`math`] on a naga builder, [`validate`] is naga's validator,
 //! [`emit`] wraps naga's backends, [`eval`] runs [`math`] on `f32`, and [`output`] writes files
-//! atomically. [`compile`] chains the stages; the CLI (`src/main.rs`) is a thin layer over it.
+//! atomically. [`compile`] chains the stages; the `glazec` command line (package `glazec-cli`
+//! at the workspace root) is a thin layer over it and [`project`].
 //! Around them: [`project`] compiles a set of files, [`build`] is the `build.rs` API,
 //! [`snapshot`] the golden-shader helper for users' tests, and [`simplify`] (between check and
 //! lower) drops what a [`scene`] cannot see, within its tolerance.
 //!
 //! `build.rs` users depend on `glazec`: the whole compiler (naga, codespan-reporting), without
-//! the CLI or a GPU.
+//! the CLI or a GPU. The GPU runner (`glazec-gpu`) and the measurement lab (`glazec-lab`) are
+//! crates beside it in the workspace, and depend on it, not the other way round.
 
 pub mod build;
 pub mod check;

@@ -22,7 +22,7 @@ impl Origin {
 }
 
 /// The hash that generated files record of their source: 64-bit FNV-1a (Fowler, Noll & Vo).
-/// Chosen because the Rust module written by [`build`] recomputes it in a `const fn` at compile
+/// Chosen because the Rust module written by [`build`](crate::build) recomputes it in a `const fn` at compile
 /// time, which rules out cryptographic hashes from crates; it detects changes, not attacks.
 pub const fn source_hash(bytes: &[u8]) -> u64 {
     crate::build::prelude::glazec_source_hash(bytes)

@@ -11,7 +11,7 @@
 //! So the generated shader and the CPU evaluation of a material are the same formula by
 //! construction; GPU-vs-CPU agreement tests measure float differences only.
 //!
-//! Terms are declared with [`shading_fn!`]. On the CPU a term is a plain call; in naga it becomes
+//! Terms are declared with `shading_fn!`. On the CPU a term is a plain call; in naga it becomes
 //! one shader function with the same name (`d_ggx`, `fr_dielectric`, …), its doc comment is
 //! carried into the emitted code, and each `let` inside it becomes a named `let` in the output.
 //! A term whose arguments are all literals is folded at compile time instead of being called.
@@ -126,7 +126,7 @@ pub trait Real:
     /// number in range (callers clamp).
     fn fetch(table: Codes, index: Self) -> Self;
 
-    /// Calls (or, on the CPU, simply evaluates) a term. Use [`shading_fn!`] rather than this.
+    /// Calls (or, on the CPU, simply evaluates) a term. Use `shading_fn!` rather than this.
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self>;
 
     /// The sums over i = 0, 1, …, `sum.count` − 1 of the vectors `body(i)` returns (i as a

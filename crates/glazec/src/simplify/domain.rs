@@ -16,7 +16,7 @@ pub struct ParameterDomain {
 impl ParameterDomain {
     /// The scene's statements about `material`'s parameters; a parameter the scene does not
     /// name is free over its slot's natural range ([`natural_range`]). Names the material does
-    /// not have are ignored here (a scene serves many materials; [`check_scene_params`] reports
+    /// not have are ignored here (a scene serves many materials; [`check_scene_params`](crate::check::check_scene_params) reports
     /// a name that no material of a set has).
     ///
     /// # Errors

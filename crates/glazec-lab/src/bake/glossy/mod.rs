@@ -40,7 +40,7 @@
 //!   white conductor under a clear coat) at every cell's centre, face and edge, at grazing
 //!   incidence and at IORs just above 1; K is raised on its η = 1 face for the gains near
 //!   η = 1, then changed by the least amount that keeps every probe under the law and, near
-//!   grazing, lets none lose more than 3·10⁻³ where it can ([`fit_lobe_albedo`]);
+//!   grazing, lets none lose more than 3·10⁻³ where it can (`fit_lobe_albedo`);
 //! * q(μ; τ, r, η) (`GLOSSY_PATH_GRID`): the path factor of light that leaves after one reflection
 //!   off a mirror under the coat: the one-event lobe attenuated by e^(−τq/μ_eff) on each side
 //!   keeps what the walks' one-event light keeps of itself, E[e^(−τL)] over its path lengths L
@@ -49,7 +49,7 @@
 //!   correction to a path that already follows the coat's roughness and IOR, and interpolates
 //!   between the coarse (r, η) nodes, which a q over Snell's cosine does not (it leaves copper
 //!   under an η 1.33, r ½, τ ½ coat too bright at 85°). Kept at four depths, so that Jensen's
-//!   gap between E[e^(−τL)] and e^(−τE[L]) (15% at τ = ½ under a coat of roughness ½) is
+//!   gap between E\[e^(−τL)\] and e^(−τE\[L\]) (15% at τ = ½ under a coat of roughness ½) is
 //!   interpolated, not ignored.
 //!
 //! Walks are the reference's own (Heitz et al. 2016 microsurfaces for rough interfaces and the

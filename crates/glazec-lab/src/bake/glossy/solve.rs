@@ -15,7 +15,7 @@ pub(super) fn geometric(retention: f64, c: f64) -> f64 {
 }
 
 /// The fixed retentions of the trapped light's basis: leaving at the next event (0), at rate ½
-/// and at rate 0.8; a fourth, slow rate is fitted per node ([`fit_trapped`]).
+/// and at rate 0.8; a fourth, slow rate is fitted per node (`fit_trapped`).
 pub const TRAPPED_RETENTIONS: [f64; 3] = [0.0, 0.5, 0.8];
 
 /// Per-event survivals over which the retention rates are fitted (the conductor's Fresnel factor

@@ -16,7 +16,7 @@ pub struct EventCounts {
     /// Walks that entered the coat.
     pub entered: u64,
     /// `events[k]`: walks that entered and left after k + 1 conductor events (the last bin
-    /// holds the walks cut at [`EVENT_CAP`]).
+    /// holds the walks cut at `EVENT_CAP`).
     pub events: Vec<u64>,
     /// Σ and count of the incidence cosines of conductor events after the first.
     pub pool_cosine_sum: f64,

@@ -3,7 +3,7 @@
 //! [`ModuleBuilder`] owns a `naga::Module` under construction and a stack of functions being
 //! built (a term's function is built to completion the first time the term is called, while the
 //! caller waits on the stack). [`Expr`], [`ExprVec`] and [`ExprBool`] implement
-//! [`Real`]/[`Vector`]/[`Logic`]: each operation appends an expression to the current function.
+//! [`Real`](crate::math::Real)/[`Vector`](crate::math::Vector)/[`Logic`](crate::math::Logic): each operation appends an expression to the current function.
 //!
 //! Three duties that naga leaves to whoever builds IR by hand:
 //!
