@@ -276,7 +276,7 @@ fn previews_show_the_differences_bowsher_2022_describes() {
     // Wet clay is darker and glossier (Bowsher 2022, §2.4, Figure 3).
     assert!(wet_mean < clay_mean, "wet clay is not darker");
     assert!(wet_peak > clay_peak, "wet clay is not glossier");
-    // The clear coat's highlight is brighter and sharper, and nothing darkens its body (§4).
+    // The clear coat's highlight is brighter and sharper, and nothing darkens its body (Bowsher 2022, §4).
     assert!(coat_peak > clay_peak, "the clear-coat highlight is not brighter");
     assert!(coat_bright < clay_bright, "the clear-coat highlight is not sharper");
     assert!(coat_mean > clay_mean, "the clear coat darkens the body although it only adds a lobe");
