@@ -13,8 +13,9 @@ use glazec_lab::reference::InterfaceMode;
 use crate::choice;
 use crate::report::Failure;
 
-/// Measure every layering method against the stochastic reference on the standard set (120
-/// single-coat materials) and check the BRDF laws; prints a Markdown table and writes it
+/// Measure every layering method against the stochastic reference, and the BRDF laws.
+///
+/// On the standard set (120 single-coat materials); prints a Markdown table and writes it
 /// (`accuracy.md`, `accuracy.csv`) into `--out`.
 #[derive(clap::Args)]
 pub struct Args {

@@ -9,8 +9,9 @@ use glazec::output::{self, OutputFile};
 
 use crate::report::{Failure, gpu_failure};
 
-/// Measure speed against accuracy on the GPU: kernel throughput and static cost of every method
-/// with its error on the accuracy set, the generated kernel against a hand-written one, compile
+/// Measure speed against accuracy on the GPU.
+///
+/// Kernel throughput and static cost of every method with its error on the accuracy set, the generated kernel against a hand-written one, compile
 /// times per material and target, and growth with the number of coats. Writes `bench.md` (and
 /// with --chart `speed-accuracy.svg` and `.png`) into --out.
 #[derive(clap::Args)]

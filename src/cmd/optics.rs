@@ -9,8 +9,9 @@ use glazec::optics::{Batch, Inputs};
 
 use crate::report::{Failure, print_lines};
 
-/// Solve a turbid layer's absorption σa and reduced scattering σs′ from measured reflectance:
-/// per channel (comma-separated values, any number of channels or spectral samples), or a CSV
+/// Solve a turbid layer's absorption σa and reduced scattering σs′ from measured reflectance.
+///
+/// Per channel (comma-separated values, any number of channels or spectral samples), or a CSV
 /// batch. Prints CSV: channel, sigma_a, sigma_s, albedo, warnings.
 #[derive(clap::Args)]
 pub struct Args {

@@ -15,8 +15,9 @@ use glazec_gpu::textures::TextureImage;
 use crate::choice;
 use crate::report::{Failure, MessageFormat, gpu_failure, print_diagnostics, project_failure};
 
-/// Render a sphere with the material on the GPU and write a PNG. Several inputs (or a directory)
-/// give a labelled contact sheet.
+/// Render a sphere with the material on the GPU and write a PNG.
+///
+/// Several inputs (or a directory) give a labelled contact sheet.
 #[derive(clap::Args)]
 pub struct Args {
     #[arg(required = true)]

@@ -11,8 +11,9 @@ use glazec_lab::stability;
 
 use crate::report::Failure;
 
-/// Sweep every method to the limits where layering breaks (grazing angles, roughness → 0, IOR → 1
-/// and below, opaque coats, 16 layers, denormals); count non-finite and negative values, energy
+/// Sweep every method to the limits where layering breaks.
+///
+/// Grazing angles, roughness → 0, IOR → 1 and below, opaque coats, 16 layers, denormals); count non-finite and negative values, energy
 /// gains and discontinuities; write a summary (and with the `gpu` feature a heat map per method).
 #[derive(clap::Args)]
 pub struct Args {

@@ -10,8 +10,9 @@ use glazec::output::{self, OutputFile};
 
 use crate::report::Failure;
 
-/// Generate the tabulated terms of the default method (rough-coat transmission and internal
-/// reflection, GGX albedo, the glossy level) from the reference's microsurface.
+/// Generate the tabulated terms of the default method from the reference's microsurfaces.
+///
+/// Rough-coat transmission and internal reflection, GGX albedo, the glossy level.
 #[derive(clap::Args)]
 pub struct Args {
     /// Microsurface random walks per rough-interface entry.
