@@ -43,16 +43,16 @@ pub(super) enum Rule {
 /// A coat's relative IOR: physical interfaces lie well inside (diamond in air 2.42, air under
 /// water 0.75); far outside, η² and 1/η² leave f32's range in the shader's constants (fuzzing
 /// found η = 10⁻⁴⁵ folding to NaN).
-pub(super) const IOR_MIN: f64 = 0.1;
+const IOR_MIN: f64 = 0.1;
 
-pub(super) const IOR_MAX: f64 = 10.0;
+const IOR_MAX: f64 = 10.0;
 
 /// A conductor's η can be small (silver ≈ 0.05 in the visible).
-pub(super) const CONDUCTOR_ETA_MIN: f64 = 0.01;
+const CONDUCTOR_ETA_MIN: f64 = 0.01;
 
 /// Absorption, thickness and extinction: beyond 10⁶ a layer is opaque anyway, and products of
 /// such values overflow f32.
-pub(super) const MEDIUM_MAX: f64 = 1e6;
+const MEDIUM_MAX: f64 = 1e6;
 
 impl Rule {
     pub(super) fn accepts(self, x: f64) -> bool {

@@ -110,7 +110,7 @@ pub(super) fn eval_pairs_entry(
     });
 }
 
-pub(super) fn push_entry(b: &ModuleBuilder, name: &str, stage: ShaderStage, function: Function) {
+fn push_entry(b: &ModuleBuilder, name: &str, stage: ShaderStage, function: Function) {
     b.with_module(|m| {
         m.entry_points.push(EntryPoint {
             name: name.to_string(),
@@ -126,12 +126,12 @@ pub(super) fn push_entry(b: &ModuleBuilder, name: &str, stage: ShaderStage, func
     });
 }
 
-pub(super) fn location(location: u32) -> Binding {
+fn location(location: u32) -> Binding {
     Binding::Location { location, interpolation: None, sampling: None, blend_src: None, per_primitive: false }
 }
 
 /// A perspective-interpolated varying at `location`.
-pub(super) fn varying(location: u32) -> Binding {
+fn varying(location: u32) -> Binding {
     Binding::Location {
         location,
         interpolation: Some(naga::Interpolation::Perspective),
@@ -225,14 +225,14 @@ pub(super) fn preview_ibl_entry(
 }
 
 /// Starts a preview fragment entry point: clip-space position `p` in, colour out.
-pub(super) fn begin_sphere_fragment(b: &ModuleBuilder, name: &str) {
+fn begin_sphere_fragment(b: &ModuleBuilder, name: &str) {
     let p_arg = argument("p", b.types.vec2, Some(varying(0)));
     let output = FunctionResult { ty: b.types.vec4, binding: Some(location(0)) };
     b.begin_function(name, vec![p_arg], Some(output));
 }
 
 /// The preview sphere's point under the fragment (unit sphere seen along −z, orthographic).
-pub(super) struct SpherePoint<'a> {
+struct SpherePoint<'a> {
     /// |p|²: the point is on the sphere where it is below 1.
     r2: Expr<'a>,
     n: ExprVec<'a>,
@@ -245,7 +245,7 @@ pub(super) struct SpherePoint<'a> {
 /// At clip-space position p, on the disk |p| ≤ 1, the normal is (p, √(1 − |p|²)); the material's
 /// arguments are loaded (params) and sampled (textures at the sphere's uv, normal maps in its
 /// tangent frame).
-pub(super) fn sphere_point<'a>(
+fn sphere_point<'a>(
     b: &'a ModuleBuilder,
     params_var: Option<Handle<GlobalVariable>>,
     sample: Option<Sampling>,
@@ -282,7 +282,7 @@ pub(super) fn sphere_point<'a>(
 
 /// Returns (radiance, coverage) on the sphere and transparent black outside it, so that passes
 /// add up and the host can put a background behind the sphere.
-pub(super) fn return_sphere_color<'a>(b: &'a ModuleBuilder, point: &SpherePoint<'a>, radiance: ExprVec<'a>) {
+fn return_sphere_color<'a>(b: &'a ModuleBuilder, point: &SpherePoint<'a>, radiance: ExprVec<'a>) {
     let c = |x: f32| b.constant(x);
     let inside = point.r2.lt(c(1.0));
     let color = <ExprVec as Vector>::select(inside, radiance, c(0.0).splat());
@@ -294,7 +294,7 @@ pub(super) fn return_sphere_color<'a>(b: &'a ModuleBuilder, point: &SpherePoint<
 
 /// The sphere's texture coordinates at normal (x, y, z) (y up, z towards the viewer): longitude
 /// u = ½ + atan2(x, z)/2π (½ facing the viewer) and latitude v = ½ − asin(y)/π (0 at the top).
-pub(super) fn sphere_uv<'a>(b: &'a ModuleBuilder, x: Expr<'a>, y: Expr<'a>, z: Expr<'a>) -> Handle<Expression> {
+fn sphere_uv<'a>(b: &'a ModuleBuilder, x: Expr<'a>, y: Expr<'a>, z: Expr<'a>) -> Handle<Expression> {
     use std::f32::consts::PI;
     // Guard: asin of |y| ≤ 1 only; on the disk's rim rounding can put y a hair outside.
     let y = y.clamp(-1.0, 1.0);
@@ -308,7 +308,7 @@ pub(super) fn sphere_uv<'a>(b: &'a ModuleBuilder, x: Expr<'a>, y: Expr<'a>, z: E
 /// The sphere's tangent frame at normal `n` along its uv: t = ∂P/∂u ∝ (n.z, 0, −n.x) (east), and
 /// b = n × t (north, texture +y up, the OpenGL normal-map convention). Guard: |(n.z, 0, −n.x)|
 /// ≥ 10⁻⁶ at the poles, where longitude has no direction.
-pub(super) fn sphere_frame<'a>(b: &'a ModuleBuilder, n: ExprVec<'a>) -> (ExprVec<'a>, ExprVec<'a>) {
+fn sphere_frame<'a>(b: &'a ModuleBuilder, n: ExprVec<'a>) -> (ExprVec<'a>, ExprVec<'a>) {
     let east = Expr::vec3(n.z(), b.constant(0.0), -n.x());
     let t = (east / east.dot(east).sqrt().at_least(1e-6)).named("tangent");
     let bitangent = n.cross(t).named("bitangent");

@@ -57,7 +57,7 @@ pub(super) fn global(
 
 /// The `n`, `v`, `l` (and `params`, `textures`) arguments shared by `<material>_brdf` and
 /// `<material>_eval`.
-pub(super) fn direction_arguments(b: &ModuleBuilder, inputs: InputTypes) -> Vec<FunctionArgument> {
+fn direction_arguments(b: &ModuleBuilder, inputs: InputTypes) -> Vec<FunctionArgument> {
     let mut arguments =
         vec![argument("n", b.types.vec3, None), argument("v", b.types.vec3, None), argument("l", b.types.vec3, None)];
     if let Some(ty) = inputs.params {
@@ -90,12 +90,7 @@ pub(super) fn brdf_function(b: &ModuleBuilder, material: &Material, inputs: Inpu
 /// The material's inputs inside a generated function whose optional `params` and `textures`
 /// arguments start at argument `first`: the parameters (uniform members, texture reads) and the
 /// normal-mapped layers' shading normals.
-pub(super) fn function_inputs<'a>(
-    b: &'a ModuleBuilder,
-    material: &Material,
-    inputs: InputTypes,
-    first: u32,
-) -> Inputs<Expr<'a>> {
+fn function_inputs<'a>(b: &'a ModuleBuilder, material: &Material, inputs: InputTypes, first: u32) -> Inputs<Expr<'a>> {
     let params_arg = inputs.params.map(|_| b.argument(first));
     let textures_arg = inputs.textures.map(|_| b.argument(first + u32::from(inputs.params.is_some())));
     // Members of each struct in declaration order: the uniform ones, the texture reads.

@@ -137,7 +137,7 @@ impl ParameterDomain {
     }
 }
 
-pub(super) const PRIMES: [u32; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+const PRIMES: [u32; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
 
 /// The range a free parameter is taken over, from the slot it feeds: roughness, albedo,
 /// reflectance and σ [0, 1]; IOR [1, 3] (the tables' range); absorption and thickness from 0 to

@@ -98,7 +98,7 @@ pub(super) fn coat_summary(material: &Material, i: usize) -> String {
     format!("{lobe}, IOR {}", scalar_text(material, coat.ior))
 }
 
-pub(super) fn scalar_text(material: &Material, s: Scalar) -> String {
+fn scalar_text(material: &Material, s: Scalar) -> String {
     match s {
         Scalar::Lit(x) => format!("{x}"),
         Scalar::Param(id) => format!("`{}`", material.params[id.0 as usize].name),
@@ -115,7 +115,7 @@ pub(super) fn base_name(base: &Base) -> &'static str {
     }
 }
 
-pub(super) fn percent(before: usize, after: usize) -> String {
+fn percent(before: usize, after: usize) -> String {
     if before == 0 {
         return "—".into();
     }
@@ -139,7 +139,7 @@ pub(super) fn scene_summary(scene: &Scene) -> String {
     )
 }
 
-pub(super) fn rgb_text(c: [f32; 3]) -> String {
+fn rgb_text(c: [f32; 3]) -> String {
     let short = |x: f32| format!("{}", (x * 1000.0).round() / 1000.0);
     format!("({}, {}, {})", short(c[0]), short(c[1]), short(c[2]))
 }

@@ -127,7 +127,7 @@ impl SampleSet {
 
 /// Gauss–Legendre (16 nodes) in cos θ over [cos θmax, 1] × uniform φ over [0, 2π): weights sum to the
 /// cone's solid angle.
-pub(super) fn env_quadrature(max_angle: f32) -> Vec<(Vec3, f32)> {
+fn env_quadrature(max_angle: f32) -> Vec<(Vec3, f32)> {
     let c_min = max_angle.min(MAX_ANGLE_DEG).to_radians().cos();
     let mut out = Vec::new();
     for (x, w) in crate::math::quadrature::gauss_legendre_16() {

@@ -29,7 +29,7 @@ pub(super) fn base_brdf<F: Real>(
     }
 }
 
-pub(super) fn unguarded_base_brdf<F: Real>(
+fn unguarded_base_brdf<F: Real>(
     body: &Body<'_>,
     inputs: &Inputs<F>,
     g: &Geometry<F>,
@@ -124,7 +124,7 @@ pub(super) fn conductor_fresnel<F: Real>(
 }
 
 /// The hemispherical-average albedo of the base (for the interfaced method's inter-reflections).
-pub(super) fn base_mean_albedo<F: Real>(
+fn base_mean_albedo<F: Real>(
     body: &Body<'_>,
     inputs: &Inputs<F>,
     level: usize,

@@ -11,7 +11,7 @@ use crate::math::{Named, Real, Vector};
 pub const COS_EPSILON: f32 = 1e-4;
 
 /// Cosine below which a mapped normal is bent towards the viewer (see [`facing`]).
-pub(super) const FACING_EPSILON: f32 = 0.05;
+const FACING_EPSILON: f32 = 0.05;
 
 /// A normal-mapped shading normal that faces away from the (refracted) view direction `v` shows
 /// a facet the viewer cannot see, which renders as black specks on steep bumps; it is bent
@@ -23,7 +23,7 @@ pub(super) fn facing<F: Real>(n: F::Vec, v: F::Vec, level: usize) -> F::Vec {
 }
 
 /// Every level's normal and whether it comes from a normal map (see [`brdf`]).
-pub(super) type Levels<F> = std::rc::Rc<[(<F as Real>::Vec, bool)]>;
+type Levels<F> = std::rc::Rc<[(<F as Real>::Vec, bool)]>;
 
 /// The directions at one level of the stack and the cosines derived from them.
 pub(super) struct Geometry<F: Real> {

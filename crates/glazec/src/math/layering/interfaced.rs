@@ -123,7 +123,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
 /// light and view direction: `escape_*` scales the share of it that leaves through the coat at
 /// once, `return_*` the share the coat sends back down (both 1 for a diffusing body, whose light
 /// leaves the way [`interfaced_diffuse_under`]'s series assumes).
-pub(super) struct FirstPass<F: Real> {
+struct FirstPass<F: Real> {
     pub(super) escape_l: F::Vec,
     pub(super) escape_v: F::Vec,
     pub(super) return_l: F::Vec,
@@ -149,7 +149,7 @@ pub(super) struct FirstPass<F: Real> {
 /// reflects 0.47–0.76).
 /// Guards: the return factor is clamped to [0, 1] (never more than a diffusing body returns),
 /// ξ to [0, 1], E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, E_esc(0) ≥ 10⁻⁴.
-pub(super) fn first_pass<F: Real>(
+fn first_pass<F: Real>(
     stack: &Stack<'_, F>,
     k: usize,
     interface: &CoatInterface<'_, F>,
@@ -213,7 +213,7 @@ pub(super) fn first_pass<F: Real>(
 /// [0, 1] (R(0) = 1 − E_esc(0): a white body still returns everything, E = 1). The return factor
 /// at the cone's mean cosine normalises the viewer's side as in [`first_pass`]. Guards:
 /// E ≥ 10⁻⁶, R(0) ≥ 10⁻⁴, the return at the mean ≥ 10⁻³.
-pub(super) fn eon_first_pass<F: Real>(
+fn eon_first_pass<F: Real>(
     interface: &CoatInterface<'_, F>,
     (albedo_color, roughness): (Color, Scalar),
     above: &Geometry<F>,
@@ -251,7 +251,7 @@ pub(super) fn eon_first_pass<F: Real>(
 /// The return factor of a first pass (see [`FirstPass`]): the share 1 − ξ of the first
 /// reflection that does not escape, against the clear slab's R(0), clamped to [0, 1] (never more
 /// than a diffusing body returns). Guard: R(0) ≥ 10⁻⁴.
-pub(super) fn first_return<F: Real>(escaped: F::Vec, r_clear: F, inputs: &Inputs<F>) -> F::Vec {
+fn first_return<F: Real>(escaped: F::Vec, r_clear: F, inputs: &Inputs<F>) -> F::Vec {
     let one = inputs.lit(1.0).splat();
     ((one - escaped) / r_clear.at_least(1e-4)).max(inputs.zero()).min(one)
 }

@@ -22,7 +22,7 @@ pub(super) fn additive<F: Real>(coats: &[Coat], body: &Body<'_>, inputs: &Inputs
 }
 
 /// A coat's specular lobe as the seed computes it (Schlick F, Schlick-GGX G).
-pub(super) struct SeedSpecular<F: Real> {
+struct SeedSpecular<F: Real> {
     pub(super) specular: F::Vec,
     pub(super) fresnel: F::Vec,
     pub(super) distribution: F,
@@ -30,7 +30,7 @@ pub(super) struct SeedSpecular<F: Real> {
 }
 
 /// The seed's Cook–Torrance coat lobe (Bowsher 2022, §3.0.1–3.0.2), `None` for a smooth coat.
-pub(super) fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedSpecular<F>> {
+fn seed_lobe<F: Real>(lobe: &Lobe, eta: F, inputs: &Inputs<F>, g: &Geometry<F>) -> Option<SeedSpecular<F>> {
     let name = |base| level_name(base, g.level);
     let (roughness, distribution) = match lobe {
         Lobe::Smooth => return None,
