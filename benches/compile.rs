@@ -25,8 +25,11 @@ fn compile_clay() -> usize {
 fn naga_from_wgsl(wgsl: &str) -> usize {
     let module = naga::front::wgsl::parse_str(black_box(wgsl)).expect("parses");
     let info = glazec::validate::validate("clay", &module).expect("validates");
-    let artifacts =
-        glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), &module, &info, &Target::TEXT).expect("emits");
+    // The parsed module stands for both the library and the whole module.
+    let layout = glazec::lower::bindings::Layout::default();
+    let modules =
+        glazec::emit::Modules { library: &module, library_info: &info, module: &module, info: &info, layout: &layout };
+    let artifacts = glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), modules, &Target::TEXT).expect("emits");
     artifacts.iter().map(|a| a.contents.len()).sum()
 }
 
@@ -35,7 +38,9 @@ fn stages(c: &mut Criterion) {
     group.bench_function(MATERIAL, |b| b.iter(compile_clay));
     let wgsl = {
         let compiled = glazec::compile(CLAY).expect("clay compiles");
-        String::from_utf8(compiled.emit(&[Target::Wgsl]).expect("emits").remove(0).contents).expect("utf-8")
+        // The library and the harness, concatenated: the whole module.
+        let files = compiled.emit(&[Target::Wgsl]).expect("emits");
+        files.iter().map(|f| String::from_utf8(f.contents.clone()).expect("utf-8")).collect::<Vec<_>>().join("\n")
     };
     group.bench_function(BASELINE, |b| b.iter(|| naga_from_wgsl(&wgsl)));
     group.finish();
@@ -44,15 +49,23 @@ fn stages(c: &mut Criterion) {
     group.bench_function("parse_and_check", |b| b.iter(|| glazec::load(black_box(CLAY)).expect("valid")));
     let (material, _) = glazec::load(CLAY).expect("valid");
     group.bench_function("lower", |b| b.iter(|| glazec::lower::lower(black_box(&material))));
-    let module = glazec::lower::lower(&material);
+    let lowered = glazec::lower::lower(&material);
     group.bench_function("validate", |b| {
-        b.iter(|| glazec::validate::validate("clay", black_box(&module)).expect("valid"))
+        b.iter(|| glazec::validate::validate("clay", black_box(&lowered.module)).expect("valid"))
     });
-    let info = glazec::validate::validate("clay", &module).expect("valid");
+    let info = glazec::validate::validate("clay", &lowered.module).expect("valid");
+    let library_info = glazec::validate::validate("clay", &lowered.library).expect("valid");
+    let modules = glazec::emit::Modules {
+        library: &lowered.library,
+        library_info: &library_info,
+        module: &lowered.module,
+        info: &info,
+        layout: &lowered.layout,
+    };
     let origin = glazec::Origin::new(Some("clay.ron"), CLAY);
     for target in Target::TEXT {
         group.bench_function(format!("emit_{}", target.name()), |b| {
-            b.iter(|| glazec::emit::emit("clay", &origin, black_box(&module), &info, &[target]).expect("emits"))
+            b.iter(|| glazec::emit::emit("clay", &origin, black_box(modules), &[target]).expect("emits"))
         });
     }
     group.finish();

@@ -37,8 +37,22 @@ fn compile_writes_every_target_for_every_material_identically_twice() {
     golden.retain(|path, _| !path.starts_with("scenes/"));
     assert!(first == golden, "the CLI's output differs from generated/");
     let materials = common::material_files().len();
-    for ext in [".wgsl", ".hlsl", ".comp.glsl", ".vert.glsl", ".preview_fs.frag.glsl", ".preview_ibl_fs.frag.glsl"] {
+    for ext in [
+        ".harness.wgsl",
+        ".naga_oil.wgsl",
+        ".hlsl",
+        ".hlsli",
+        ".comp.glsl",
+        ".vert.glsl",
+        ".preview_fs.frag.glsl",
+        ".preview_ibl_fs.frag.glsl",
+    ] {
         assert_eq!(first.keys().filter(|k| k.ends_with(ext)).count(), materials, "{ext}");
+    }
+    // The libraries: `<m>.wgsl` and `<m>.glsl`.
+    for ext in ["wgsl", "glsl"] {
+        let libraries = first.keys().filter(|k| k.split('/').next_back().is_some_and(|f| f.matches('.').count() == 1 && f.ends_with(ext)));
+        assert_eq!(libraries.count(), materials, "{ext} libraries");
     }
 }
 
@@ -49,8 +63,11 @@ fn spirv_on_request() {
         glazec(&["compile", "materials/clay.ron", "--target", "spv,wgsl", "-o", dir.path().to_str().expect("utf-8")]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let files = tree(dir.path());
-    // (clay's image-based lighting looks up the seed lobe's DFG table: the table file comes too.)
-    assert_eq!(files.keys().cloned().collect::<Vec<_>>(), ["clay/clay.spv", "clay/clay.wgsl", "glazec_tables.bin"]);
+    // (clay's image-based lighting looks up the seed lobe's DFG table: its table file comes too.)
+    assert_eq!(
+        files.keys().cloned().collect::<Vec<_>>(),
+        ["clay/clay.harness.wgsl", "clay/clay.spv", "clay/clay.tables.bin", "clay/clay.wgsl"]
+    );
     let spv = &files["clay/clay.spv"];
     assert_eq!(&spv[..4], &0x0723_0203_u32.to_le_bytes(), "SPIR-V magic number");
 }
@@ -74,7 +91,7 @@ fn check_mode_prints_a_unified_diff_of_what_changed() {
     assert_eq!(code(&glazec(&["compile", "materials/clay.ron", "--target", "wgsl", "-o", target])), 0);
     let wgsl = dir.path().join("clay/clay.wgsl");
     let original = std::fs::read_to_string(&wgsl).expect("written");
-    let line = original.lines().find(|l| l.starts_with("fn d_ggx")).expect("d_ggx is emitted").to_string();
+    let line = original.lines().find(|l| l.starts_with("fn clay_d_ggx")).expect("d_ggx is emitted").to_string();
     std::fs::write(&wgsl, original.replace(&line, "fn d_ggx_edited_by_hand() {")).expect("edits");
     let out = glazec(&["compile", "--check", "materials/clay.ron", "--target", "wgsl", "-o", target]);
     assert_eq!(code(&out), 1);

@@ -47,15 +47,21 @@ fn check_with_glslang(file: &Path, args: &[&str], spv: &Path) -> Result<(), Stri
 fn wgsl_round_trips_through_naga() {
     for path in common::material_files() {
         let compiled = common::compile_file(&path);
-        let wgsl = compiled.emit(&[Target::Wgsl]).expect("emits").remove(0);
-        let text = String::from_utf8(wgsl.contents).expect("utf-8");
-        let module = naga::front::wgsl::parse_str(&text).unwrap_or_else(|e| {
-            panic!("{}: naga cannot re-parse its WGSL:\n{}", path.display(), e.emit_to_string(&text))
-        });
-        Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).unwrap_or_else(|e| {
-            panic!("{}: re-parsed WGSL does not validate:\n{}", path.display(), e.emit_to_string(&text))
-        });
-        // The round trip keeps every entry point and function.
+        let parse = |text: &str| {
+            let module = naga::front::wgsl::parse_str(text).unwrap_or_else(|e| {
+                panic!("{}: naga cannot re-parse its WGSL:\n{}", path.display(), e.emit_to_string(text))
+            });
+            Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).unwrap_or_else(|e| {
+                panic!("{}: re-parsed WGSL does not validate:\n{}", path.display(), e.emit_to_string(text))
+            });
+            module
+        };
+        // The library alone, and with the harness after it: every entry point and function kept.
+        let library = compiled.emit(&[Target::Wgsl]).expect("emits").remove(0);
+        let library = parse(&String::from_utf8(library.contents).expect("utf-8"));
+        assert!(library.entry_points.is_empty(), "{}: the library has entry points", path.display());
+        assert_eq!(library.functions.len(), compiled.library.functions.len());
+        let module = parse(&compiled.whole_wgsl().expect("emits"));
         assert_eq!(module.entry_points.len(), compiled.module.entry_points.len());
         assert_eq!(module.functions.len(), compiled.module.functions.len());
     }
@@ -92,6 +98,14 @@ fn glsl_hlsl_and_spirv_pass_glslang_and_spirv_val() {
                     result = result.and(r);
                 }
                 result
+            } else if artifact.file_name.ends_with(".glsl") {
+                // The library: a fragment shader around it.
+                checked += 1;
+                let wrapped = dir.path().join(format!("{}.library.frag", compiled.material.name));
+                let text = format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
+                std::fs::write(&wrapped, text).expect("writes");
+                let spv = wrapped.with_extension("frag.spv");
+                check_with_glslang(&wrapped, &["-V", "--target-env", "vulkan1.0", "-S", "frag"], &spv)
             } else if artifact.file_name.ends_with(".spv") {
                 checked += 1;
                 run(Command::new("spirv-val").arg("--target-env").arg("vulkan1.0").arg(&file))

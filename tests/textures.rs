@@ -99,13 +99,12 @@ fn bad_texture_reads_are_diagnosed() {
 #[test]
 fn every_backend_declares_the_documented_bindings() {
     let compiled = glazec::compile(&textured_clay()).expect("compiles");
-    let layout = glazec::lower::textures::layout(&compiled.module);
     assert_eq!(
-        layout,
-        ["glazec_sampler", "clay_maps", "clay_albedo", "clay_bumps", "clay_pores"]
+        compiled.layout.textures,
+        ["sampler", "clay_maps", "clay_albedo", "clay_bumps", "clay_pores"]
             .iter()
             .enumerate()
-            .map(|(i, n)| (n.to_string(), i as u32))
+            .map(|(i, n)| (format!("textured_clay_{n}"), glazec::lower::bindings::Slot::new(1, i as u32)))
             .collect::<Vec<_>>()
     );
     let artifacts = compiled.emit(&[Target::Wgsl, Target::Glsl, Target::Hlsl]).expect("emits");
@@ -115,19 +114,19 @@ fn every_backend_declares_the_documented_bindings() {
     };
     let wgsl = text(".wgsl");
     for line in [
-        "@group(1) @binding(0) \nvar glazec_sampler: sampler;",
-        "@group(1) @binding(1) \nvar clay_maps: texture_2d<f32>;",
+        "@group(1) @binding(0) \nvar textured_clay_sampler: sampler;",
+        "@group(1) @binding(1) \nvar textured_clay_clay_maps: texture_2d<f32>;",
     ] {
         assert!(wgsl.contains(line), "WGSL lacks {line:?}");
     }
     let signature = wgsl.lines().find(|l| l.starts_with("fn textured_clay_brdf(")).expect("the BRDF function");
     assert!(signature.ends_with("textures: TexturedClayTextures) -> vec3<f32> {"), "{signature}");
     // One sample per texture: the packed map's G and B share it.
-    assert_eq!(wgsl.matches("textureSampleLevel(clay_maps").count(), 1);
+    assert_eq!(wgsl.matches("textureSampleLevel(textured_clay_clay_maps").count(), 1);
     let glsl = text(".preview_fs.frag.glsl");
     assert!(glsl.contains("layout(binding = 17) uniform sampler2D"), "GLSL: textures at 16 + binding");
-    let hlsl = text(".hlsl");
-    assert!(hlsl.contains("Texture2D<float4> clay_maps : register(t1, space1);"));
+    let hlsl = text(".hlsli");
+    assert!(hlsl.contains("Texture2D<float4> textured_clay_clay_maps : register(t1, space1);"));
 }
 
 /// glslang on every GLSL stage and every HLSL entry point, spirv-val on the SPIR-V.

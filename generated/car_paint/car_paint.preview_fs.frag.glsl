@@ -4,20 +4,20 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const vec3 layer1_tau = vec3(0.048, 0.96000004, 1.32);
-const vec3 f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
-const float layer2_alpha = 0.09;
-const vec3 one = vec3(1.0, 1.0, 1.0);
-const vec3 layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
-const float layer2_alpha_1 = 0.09037713;
-const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_remainder_avg = vec3(0.0026943593, 1.5088702e-8, 1.8821272e-10);
-const float layer1_mu_c = 0.745356;
-const vec3 layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
-const float layer1_trapped_escape = 0.15678635;
-const float base_roughness = 0.37185615;
+const vec3 car_paint_layer1_tau = vec3(0.048, 0.96000004, 1.32);
+const vec3 car_paint_f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
+const float car_paint_layer2_alpha = 0.09;
+const vec3 car_paint_one = vec3(1.0, 1.0, 1.0);
+const vec3 car_paint_layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
+const float car_paint_layer2_alpha_1 = 0.09037713;
+const vec3 car_paint_layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 car_paint_layer1_remainder_avg = vec3(0.0026943593, 1.5088702e-8, 1.8821272e-10);
+const float car_paint_layer1_mu_c = 0.745356;
+const vec3 car_paint_layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
+const float car_paint_layer1_trapped_escape = 0.15678635;
+const float car_paint_base_roughness = 0.37185615;
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2608]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -28,7 +28,7 @@ layout(location = 0) out vec4 _fs2p_location0;
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 car_paint_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
@@ -41,7 +41,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h, float sin2_h, float alpha) {
+float car_paint_d_ggx(float cos_h, float sin2_h, float alpha) {
     float a_2 = max(alpha, 0.001);
     float a_sq = (a_2 * a_2);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
@@ -51,7 +51,7 @@ float d_ggx(float cos_h, float sin2_h, float alpha) {
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float lambda_ggx(float n_dot_x, float alpha_1) {
+float car_paint_lambda_ggx(float n_dot_x, float alpha_1) {
     float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
     float tan_sq = ((1.0 - mu_sq) / mu_sq);
     return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
@@ -59,10 +59,10 @@ float lambda_ggx(float n_dot_x, float alpha_1) {
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
+float car_paint_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_5 = max(alpha_2, 0.001);
-    float _e5 = lambda_ggx(n_dot_v, alpha_5);
-    float _e6 = lambda_ggx(n_dot_l, alpha_5);
+    float _e5 = car_paint_lambda_ggx(n_dot_v, alpha_5);
+    float _e6 = car_paint_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -70,7 +70,7 @@ float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta) {
+float car_paint_fr_dielectric(float cos_i, float eta) {
     float cos_i_1 = min(max(cos_i, 0.0), 1.0);
     float sin2_t = ((1.0 - (cos_i_1 * cos_i_1)) / (eta * eta));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
@@ -82,13 +82,13 @@ float fr_dielectric(float cos_i, float eta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
+vec3 car_paint_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float car_paint_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -98,7 +98,7 @@ float glazec_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1) {
+float car_paint_coat_extra(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -111,21 +111,21 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lll = car_paint_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_ull = car_paint_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lul = car_paint_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_uul = car_paint_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_llu = car_paint_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_ulu = car_paint_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_luu = car_paint_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_uuu = car_paint_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -134,7 +134,7 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
 // lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
 // E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
 // Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
+float car_paint_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
     return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
@@ -143,7 +143,7 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+float car_paint_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -156,21 +156,21 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lll = car_paint_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_ull = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lul = car_paint_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_uul = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_llu = car_paint_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_ulu = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_luu = car_paint_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_uuu = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
@@ -179,19 +179,19 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_3) {
+vec3 car_paint_refract_down(vec3 w, vec3 n, float eta_3) {
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
+vec3 car_paint_slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
 // (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
-vec3 f_schlick(vec3 f0_, float cos_theta_2) {
+vec3 car_paint_f_schlick(vec3 f0_, float cos_theta_2) {
     float m = (1.0 - min(max(cos_theta_2, 0.0), 1.0));
     float m_sq = (m * m);
     return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
@@ -203,7 +203,7 @@ vec3 f_schlick(vec3 f0_, float cos_theta_2) {
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-float glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_2, float eta_4) {
+float car_paint_glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_2, float eta_4) {
     float u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
     float node_cos_theta_2 = (u_cos_theta_2 * 8.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 7.0);
@@ -220,37 +220,37 @@ float glossy_scale(float cos_theta_3, float conductor_roughness, float roughness
     float node_eta_2 = (u_eta_2 * 5.0);
     float cell_eta_2 = min(floor(node_eta_2), 4.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_llll = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_lull = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_llul = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_luul = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 20912u));
+    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
     float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 20912u));
+    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
     float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
     return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lull * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_llul * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_luul * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_lllu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
 }
@@ -258,7 +258,7 @@ float glossy_scale(float cos_theta_3, float conductor_roughness, float roughness
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_3, float eta_5) {
+float car_paint_glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_3, float eta_5) {
     float u_cos_theta_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float node_cos_theta_3 = (u_cos_theta_3 * 4.0);
     float cell_cos_theta_3 = min(floor(node_cos_theta_3), 3.0);
@@ -275,37 +275,37 @@ float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughnes
     float node_eta_3 = (u_eta_3 * 5.0);
     float cell_eta_3 = min(floor(node_eta_3), 4.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_llll = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_llll_1 = (code_llll * 1.5259022e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_ulll_1 = (code_ulll * 1.5259022e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_lull = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_lull_1 = (code_lull * 1.5259022e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_uull_1 = (code_uull * 1.5259022e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_llul = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_llul_1 = (code_llul * 1.5259022e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_ulul_1 = (code_ulul * 1.5259022e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_luul = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_luul_1 = (code_luul * 1.5259022e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 26960u));
+    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
     float at_uuul_1 = (code_uuul * 1.5259022e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_lllu_1 = (code_lllu * 1.5259022e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_ullu_1 = (code_ullu * 1.5259022e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_lulu_1 = (code_lulu * 1.5259022e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_uulu_1 = (code_uulu * 1.5259022e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_lluu_1 = (code_lluu * 1.5259022e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_uluu_1 = (code_uluu * 1.5259022e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_luuu_1 = (code_luuu * 1.5259022e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 26960u));
+    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
     float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
     return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
 }
@@ -316,7 +316,7 @@ float glossy_next(float cos_theta_4, float conductor_roughness_1, float roughnes
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
-float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_4, float eta_6) {
+float car_paint_glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_4, float eta_6) {
     float u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
     float cell_cos_theta_4 = min(floor(node_cos_theta_4), 7.0);
@@ -333,37 +333,37 @@ float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float r
     float node_eta_4 = (u_eta_4 * 5.0);
     float cell_eta_4 = min(floor(node_eta_4), 4.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_llll = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_llll_2 = ((code_llll * 6.229872e-5) + 0.09352391);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_ulll_2 = ((code_ulll * 6.229872e-5) + 0.09352391);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_lull = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_lull_2 = ((code_lull * 6.229872e-5) + 0.09352391);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_uull_2 = ((code_uull * 6.229872e-5) + 0.09352391);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_llul = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_llul_2 = ((code_llul * 6.229872e-5) + 0.09352391);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_ulul_2 = ((code_ulul * 6.229872e-5) + 0.09352391);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_luul = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_luul_2 = ((code_luul * 6.229872e-5) + 0.09352391);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 23936u));
+    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
     float at_uuul_2 = ((code_uuul * 6.229872e-5) + 0.09352391);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_lllu_2 = ((code_lllu * 6.229872e-5) + 0.09352391);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_ullu_2 = ((code_ullu * 6.229872e-5) + 0.09352391);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_lulu_2 = ((code_lulu * 6.229872e-5) + 0.09352391);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_uulu_2 = ((code_uulu * 6.229872e-5) + 0.09352391);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_lluu_2 = ((code_lluu * 6.229872e-5) + 0.09352391);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_uluu_2 = ((code_uluu * 6.229872e-5) + 0.09352391);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_luuu_2 = ((code_luuu * 6.229872e-5) + 0.09352391);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 23936u));
+    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
     float at_uuuu_2 = ((code_uuuu * 6.229872e-5) + 0.09352391);
     return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
 }
@@ -371,7 +371,7 @@ float glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float r
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float ggx_albedo(float cos_theta_6, float roughness_5) {
+float car_paint_ggx_albedo(float cos_theta_6, float roughness_5) {
     float u_cos_theta_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_5 = (u_cos_theta_5 * 15.0);
     float cell_cos_theta_5 = min(floor(node_cos_theta_5), 14.0);
@@ -380,13 +380,13 @@ float ggx_albedo(float cos_theta_6, float roughness_5) {
     float node_roughness_5 = (u_roughness_5 * 15.0);
     float cell_roughness_5 = min(floor(node_roughness_5), 14.0);
     float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    float code_ll = glazec_table_code((uint((cell_cos_theta_5 + (cell_roughness_5 * 16.0))) + 15936u));
+    float code_ll = car_paint_table_code((uint((cell_cos_theta_5 + (cell_roughness_5 * 16.0))) + 17728u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    float code_ul = glazec_table_code((uint(((cell_cos_theta_5 + 1.0) + (cell_roughness_5 * 16.0))) + 15936u));
+    float code_ul = car_paint_table_code((uint(((cell_cos_theta_5 + 1.0) + (cell_roughness_5 * 16.0))) + 17728u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    float code_lu = glazec_table_code((uint((cell_cos_theta_5 + ((cell_roughness_5 + 1.0) * 16.0))) + 15936u));
+    float code_lu = car_paint_table_code((uint((cell_cos_theta_5 + ((cell_roughness_5 + 1.0) * 16.0))) + 17728u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    float code_uu = glazec_table_code((uint(((cell_cos_theta_5 + 1.0) + ((cell_roughness_5 + 1.0) * 16.0))) + 15936u));
+    float code_uu = car_paint_table_code((uint(((cell_cos_theta_5 + 1.0) + ((cell_roughness_5 + 1.0) * 16.0))) + 17728u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
     return ((((at_ll * ((1.0 - weight_cos_theta_5) * (1.0 - weight_roughness_5))) + (at_ul * (weight_cos_theta_5 * (1.0 - weight_roughness_5)))) + (at_lu * ((1.0 - weight_cos_theta_5) * weight_roughness_5))) + (at_uu * (weight_cos_theta_5 * weight_roughness_5)));
 }
@@ -404,7 +404,7 @@ float ggx_albedo(float cos_theta_6, float roughness_5) {
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-float trapped_share(float mu_1, float mu_c, float alpha_3) {
+float car_paint_trapped_share(float mu_1, float mu_c, float alpha_3) {
     float sin_t = sqrt(max((1.0 - (mu_1 * mu_1)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
     float near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1.0));
@@ -421,16 +421,16 @@ float trapped_share(float mu_1, float mu_c, float alpha_3) {
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
 // would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
-float glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4) {
-    float beyond_cone = trapped_share(mu_2, mu_c_1, alpha_4);
-    float below_horizon = trapped_share(mu_2, 0.0, alpha_4);
+float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4) {
+    float beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_4);
+    float below_horizon = car_paint_trapped_share(mu_2, 0.0, alpha_4);
     return max((beyond_cone - below_horizon), 0.0);
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-float glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughness_6, float eta_7) {
+float car_paint_glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughness_6, float eta_7) {
     float u_cos_theta_6 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
     float node_cos_theta_6 = (u_cos_theta_6 * 4.0);
     float cell_cos_theta_6 = min(floor(node_cos_theta_6), 3.0);
@@ -447,37 +447,37 @@ float glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughne
     float node_eta_5 = (u_eta_5 * 5.0);
     float cell_eta_5 = min(floor(node_eta_5), 4.0);
     float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_llll = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_llll_3 = (code_llll * 1.3453328e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_ulll_3 = (code_ulll * 1.3453328e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_lull = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_lull_3 = (code_lull * 1.3453328e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_uull_3 = (code_uull * 1.3453328e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_llul = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_llul_3 = (code_llul * 1.3453328e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_ulul_3 = (code_ulul * 1.3453328e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_luul = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_luul_3 = (code_luul * 1.3453328e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 28400u));
+    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
     float at_uuul_3 = (code_uuul * 1.3453328e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_lllu_3 = (code_lllu * 1.3453328e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_ullu_3 = (code_ullu * 1.3453328e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_lulu_3 = (code_lulu * 1.3453328e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_uulu_3 = (code_uulu * 1.3453328e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_lluu_3 = (code_lluu * 1.3453328e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_uluu_3 = (code_uluu * 1.3453328e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_luuu_3 = (code_luuu * 1.3453328e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 28400u));
+    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
     float at_uuuu_3 = (code_uuuu * 1.3453328e-5);
     return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5)));
 }
@@ -486,7 +486,7 @@ float glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughne
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-float glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughness_7, float eta_8) {
+float car_paint_glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughness_7, float eta_8) {
     float u_cos_theta_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float node_cos_theta_7 = (u_cos_theta_7 * 4.0);
     float cell_cos_theta_7 = min(floor(node_cos_theta_7), 3.0);
@@ -503,37 +503,37 @@ float glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughn
     float node_eta_6 = (u_eta_6 * 5.0);
     float cell_eta_6 = min(floor(node_eta_6), 4.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_llll = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_llll = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_llll_4 = (code_llll * 1.3521936e-5);
-    float code_ulll = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_ulll_4 = (code_ulll * 1.3521936e-5);
-    float code_lull = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_lull = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_lull_4 = (code_lull * 1.3521936e-5);
-    float code_uull = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_uull_4 = (code_uull * 1.3521936e-5);
-    float code_llul = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_llul = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_llul_4 = (code_llul * 1.3521936e-5);
-    float code_ulul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_ulul_4 = (code_ulul * 1.3521936e-5);
-    float code_luul = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_luul = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_luul_4 = (code_luul * 1.3521936e-5);
-    float code_uuul = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 29840u));
+    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
     float at_uuul_4 = (code_uuul * 1.3521936e-5);
-    float code_lllu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_lllu_4 = (code_lllu * 1.3521936e-5);
-    float code_ullu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_ullu_4 = (code_ullu * 1.3521936e-5);
-    float code_lulu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_lulu_4 = (code_lulu * 1.3521936e-5);
-    float code_uulu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_uulu_4 = (code_uulu * 1.3521936e-5);
-    float code_lluu = glazec_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_lluu_4 = (code_lluu * 1.3521936e-5);
-    float code_uluu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_uluu_4 = (code_uluu * 1.3521936e-5);
-    float code_luuu = glazec_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_luuu_4 = (code_luuu * 1.3521936e-5);
-    float code_uuuu = glazec_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 29840u));
+    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
     float at_uuuu_4 = (code_uuuu * 1.3521936e-5);
     return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
 }
@@ -547,9 +547,9 @@ float glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughn
 // `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
 // 1 − w₀: a white conductor under a clear coat returns all of it.
 // Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
-vec3 glossy_later(float next, float quick, float steady, float slow, vec3 c) {
-    vec3 quick_rate = ((c * vec3(0.5)) / (one - (c * vec3(0.5))));
-    vec3 steady_rate = ((c * vec3(0.2)) / (one - (c * vec3(0.8))));
+vec3 car_paint_glossy_later(float next, float quick, float steady, float slow, vec3 c) {
+    vec3 quick_rate = ((c * vec3(0.5)) / (car_paint_one - (c * vec3(0.5))));
+    vec3 steady_rate = ((c * vec3(0.2)) / (car_paint_one - (c * vec3(0.8))));
     vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - (c * slow)), vec3(1e-6)));
     float rest = max((1.0 - ((next + quick) + steady)), 0.0);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
@@ -558,7 +558,7 @@ vec3 glossy_later(float next, float quick, float steady, float slow, vec3 c) {
 // glazec's glossy level, the light that leaves near the conductor's mirror direction, per
 // unit entering: after one event (P₁) or, trapped, after the second (share w₀ of the
 // trapped light, one more event's survival c): P₁ + (1 − P₁) w₀ c.
-vec3 glossy_once(float single, float next_1, vec3 c_1) {
+vec3 car_paint_glossy_once(float single, float next_1, vec3 c_1) {
     return ((c_1 * ((1.0 - single) * next_1)) + vec3(single));
 }
 
@@ -567,7 +567,7 @@ vec3 glossy_once(float single, float next_1, vec3 c_1) {
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_9) {
+vec3 car_paint_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_9) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
 }
 
@@ -575,7 +575,7 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 // events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
 // and reflected by the conductor (F, at the refracted direction), but not let out at once
 // (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
-vec3 glossy_remainder(float t, vec3 a, vec3 fresnel_1, float single_1, vec3 later) {
+vec3 car_paint_glossy_remainder(float t, vec3 a, vec3 fresnel_1, float single_1, vec3 later) {
     return ((((a * a) * fresnel_1) * later) * (t * (1.0 - single_1)));
 }
 
@@ -583,7 +583,7 @@ vec3 glossy_remainder(float t, vec3 a, vec3 fresnel_1, float single_1, vec3 late
 // that leaves after several conductor events has forgotten where it entered, so
 // f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
 // Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
-vec3 glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
+vec3 car_paint_glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
     return ((m_i * m_o) / (max(m_avg, vec3(1e-6)) * vec3(3.1415927)));
 }
 
@@ -591,7 +591,7 @@ vec3 glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
 // leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
 // own paths) and the remainder (`glossy_remainder`).
-vec3 glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
+vec3 car_paint_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
     vec3 near_1 = ((a_lobe * a_lobe) * once);
     vec3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
     return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1.0 - t_1)));
@@ -602,7 +602,7 @@ vec3 glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, 
 // coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
 // rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
 // symmetric in i and o.
-vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec3 k_o) {
+vec3 car_paint_interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec3 k_o) {
     return (f_below / (vec3(1.0) - sqrt((((e_i_1 * k_i) * e_o_1) * k_o))));
 }
 
@@ -615,7 +615,7 @@ vec3 interfaced_glossy_under(vec3 f_below, vec3 e_i_1, vec3 k_i, vec3 e_o_1, vec
 // albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
 // all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-vec3 trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_2, vec3 round_trip, vec3 rho, float q) {
+vec3 car_paint_trapped_lobe(vec3 e_i_2, float p_i, vec3 e_o_2, float p_o, float mu_c_2, vec3 round_trip, vec3 rho, float q) {
     return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho * round_trip) * (1.0 - q))));
 }
 
@@ -625,96 +625,96 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_l_2 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    vec3 h = half_vector(v_1, l_1);
+    vec3 h = car_paint_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
-    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
-    float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
-    float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = coat_extra(n_dot_l_2, 0.04, 1.5);
-    float layer1_restored_v = coat_extra(n_dot_v_2, 0.04, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
+    float d = car_paint_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
+    float g = car_paint_g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
+    float fresnel = car_paint_fr_dielectric(dot(v_1, h), 1.5);
+    vec3 _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    float layer1_restored_l = car_paint_coat_extra(n_dot_l_2, 0.04, 1.5);
+    float layer1_restored_v = car_paint_coat_extra(n_dot_v_2, 0.04, 1.5);
+    float _e29 = car_paint_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
     vec3 specular = (_e21 + vec3(_e29));
-    float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
-    float _e38 = coat_deficit(n_dot_l_2, 0.04, 1.5);
+    float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
+    float _e38 = car_paint_coat_deficit(n_dot_l_2, 0.04, 1.5);
     float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
-    float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
-    float _e51 = coat_deficit(n_dot_v_2, 0.04, 1.5);
+    float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5);
+    float _e51 = car_paint_coat_deficit(n_dot_v_2, 0.04, 1.5);
     float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
-    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
-    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
+    vec3 layer1_v = car_paint_refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = car_paint_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 layer2_v = refract_down(layer1_v, n_1, 1.02);
-    vec3 layer2_l = refract_down(layer1_l, n_1, 1.02);
+    vec3 layer2_v = car_paint_refract_down(layer1_v, n_1, 1.02);
+    vec3 layer2_l = car_paint_refract_down(layer1_l, n_1, 1.02);
     float layer2_n_dot_v = dot(n_1, layer2_v);
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.02);
+    float layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_l, 1.02);
     float layer2_transmit_l = (1.0 - layer2_fresnel_l);
-    vec3 layer2_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
-    vec3 layer2_fresnel_cond_l = f_schlick(f0_under_coat, layer2_cos_l);
-    float layer2_scale_l = glossy_scale(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float layer2_next_l = glossy_next(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float _e98 = glossy_lobe_albedo(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    vec3 layer2_absorb_l = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_l);
+    vec3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_l);
+    float layer2_scale_l = car_paint_glossy_scale(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float layer2_next_l = car_paint_glossy_next(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float _e98 = car_paint_glossy_lobe_albedo(layer1_n_dot_l, 0.3, 0.0, 1.02);
     float _e101 = max(layer2_cos_l, 0.19711706);
-    float _e103 = ggx_albedo(_e101, 0.3);
-    float _e106 = glossy_trapped_share(_e101, 0.19705611, layer2_alpha);
+    float _e103 = car_paint_ggx_albedo(_e101, 0.3);
+    float _e106 = car_paint_glossy_trapped_share(_e101, 0.19705611, car_paint_layer2_alpha);
     float layer2_cone_share_l = (1.0 - _e106);
     float layer2_lobe_normaliser_l = (_e103 * layer2_cone_share_l);
     float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e98) * layer2_lobe_normaliser_l), 0.0), 1.0);
     float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    float _e128 = glossy_quick(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float _e132 = glossy_steady(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    vec3 layer2_later_l = glossy_later(layer2_next_l, _e128, _e132, 0.43932146, layer2_survival);
-    vec3 layer2_once_l = glossy_once(layer2_single_l, layer2_next_l, layer2_survival);
-    vec3 _e140 = glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
+    float _e128 = car_paint_glossy_quick(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    float _e132 = car_paint_glossy_steady(layer1_n_dot_l, 0.3, 0.0, 1.02);
+    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e128, _e132, 0.43932146, car_paint_layer2_survival);
+    vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
+    vec3 _e140 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
     vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e140.x, 1e-6)));
-    float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.02);
+    float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
-    vec3 layer2_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
-    vec3 layer2_fresnel_cond_v = f_schlick(f0_under_coat, layer2_cos_v);
-    float layer2_scale_v = glossy_scale(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float layer2_next_v = glossy_next(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float _e166 = glossy_lobe_albedo(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    vec3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
+    vec3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
+    float layer2_scale_v = car_paint_glossy_scale(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float layer2_next_v = car_paint_glossy_next(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float _e166 = car_paint_glossy_lobe_albedo(layer1_n_dot_v, 0.3, 0.0, 1.02);
     float _e169 = max(layer2_cos_v, 0.19711706);
-    float _e171 = ggx_albedo(_e169, 0.3);
-    float _e174 = glossy_trapped_share(_e169, 0.19705611, layer2_alpha);
+    float _e171 = car_paint_ggx_albedo(_e169, 0.3);
+    float _e174 = car_paint_glossy_trapped_share(_e169, 0.19705611, car_paint_layer2_alpha);
     float layer2_cone_share_v = (1.0 - _e174);
     float layer2_lobe_normaliser_v = (_e171 * layer2_cone_share_v);
     float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e166) * layer2_lobe_normaliser_v), 0.0), 1.0);
     float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
-    float _e196 = glossy_quick(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float _e200 = glossy_steady(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    vec3 layer2_later_v = glossy_later(layer2_next_v, _e196, _e200, 0.43932146, layer2_survival);
-    vec3 layer2_once_v = glossy_once(layer2_single_v, layer2_next_v, layer2_survival);
-    vec3 _e208 = glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
+    float _e196 = car_paint_glossy_quick(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    float _e200 = car_paint_glossy_steady(layer1_n_dot_v, 0.3, 0.0, 1.02);
+    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e196, _e200, 0.43932146, car_paint_layer2_survival);
+    vec3 layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
+    vec3 _e208 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
     vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e208.x, 1e-6)));
-    vec3 layer2_h = half_vector(layer2_v, layer2_l);
+    vec3 layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
-    float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), layer2_alpha_1);
-    float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_alpha_1);
-    vec3 layer2_fresnel = f_schlick(f0_under_coat, dot(layer2_v, layer2_h));
-    vec3 _e227 = f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    float layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
+    float layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
+    vec3 layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
+    vec3 _e227 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
     vec3 layer1_under = ((_e227 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    vec3 _e233 = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
-    vec3 _e234 = glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    vec3 _e235 = glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    vec3 layer1_later = glossy_remainder_lobe(_e234, _e235, layer1_remainder_avg);
+    vec3 _e233 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    vec3 _e234 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    vec3 _e235 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    vec3 layer1_later = car_paint_glossy_remainder_lobe(_e234, _e235, car_paint_layer1_remainder_avg);
     vec3 layer1_f = (_e233 + layer1_later);
-    vec3 layer1_albedo_l = glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
-    vec3 layer1_albedo_v = glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
+    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
+    vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e251 = interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
-    float layer1_trapped_l = trapped_share(layer1_cos_l, layer1_mu_c, layer2_alpha_1);
-    float layer1_trapped_v = trapped_share(layer1_cos_v, layer1_mu_c, layer2_alpha_1);
-    vec3 trapped = trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, layer1_mu_c, vec3(1.0), layer1_rho, layer1_trapped_escape);
+    vec3 _e251 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
     vec3 under = (_e251 + trapped);
-    vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
+    vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -4,7 +4,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -15,7 +15,7 @@ layout(location = 0) out vec4 _fs2p_location0;
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 clay_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
@@ -28,7 +28,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h, float sin2_h, float alpha) {
+float clay_d_ggx(float cos_h, float sin2_h, float alpha) {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
@@ -37,23 +37,23 @@ float d_ggx(float cos_h, float sin2_h, float alpha) {
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4"
 // (Bowsher 2022, eq. 7): the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
-float g1_schlick_ggx(float n_dot_x, float k) {
+float clay_g1_schlick_ggx(float n_dot_x, float k) {
     return (n_dot_x / ((n_dot_x * (1.0 - k)) + k));
 }
 
 // Karis 2013 with Burley's remapping (Bowsher 2022, eq. 8–9): Smith's separable product of
 // two Schlick-GGX terms with k = (roughness + 1)² / 8.
-float g_smith_schlick_ggx(float n_dot_v, float n_dot_l, float roughness) {
+float clay_g_smith_schlick_ggx(float n_dot_v, float n_dot_l, float roughness) {
     float _e4 = (roughness + 1.0);
     float k_1 = ((_e4 * _e4) / 8.0);
-    float _e8 = g1_schlick_ggx(n_dot_v, k_1);
-    float _e9 = g1_schlick_ggx(n_dot_l, k_1);
+    float _e8 = clay_g1_schlick_ggx(n_dot_v, k_1);
+    float _e9 = clay_g1_schlick_ggx(n_dot_l, k_1);
     return (_e8 * _e9);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
 // (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
-vec3 f_schlick(vec3 f0_, float cos_theta) {
+vec3 clay_f_schlick(vec3 f0_, float cos_theta) {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
     float m_sq = (m * m);
     return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
@@ -61,7 +61,7 @@ vec3 f_schlick(vec3 f0_, float cos_theta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
+vec3 clay_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
@@ -69,20 +69,20 @@ vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_do
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta) {
+vec3 clay_refract_down(vec3 w, vec3 n, float eta) {
     return -(refract(-(w), n, (1.0 / eta)));
 }
 
 // Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
 // l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
-vec3 absorption_ww(vec3 sigma_a, float thickness, float n_dot_l1_, float n_dot_v1_) {
+vec3 clay_absorption_ww(vec3 sigma_a, float thickness, float n_dot_l1_, float n_dot_v1_) {
     float path = (thickness * ((1.0 / n_dot_l1_) + (1.0 / n_dot_v1_)));
     return exp(-((sigma_a * path)));
 }
 
 // Weidlich & Wilkie 2007 via Bowsher 2022, §3.0.3: the internal-reflection term
 // t = (1 − G) + T21·G, with T21 = T12.
-vec3 ww_inner_reflection(float g_1, vec3 t21_) {
+vec3 clay_ww_inner_reflection(float g_1, vec3 t21_) {
     return ((t21_ * g_1) + vec3((1.0 - g_1)));
 }
 
@@ -91,7 +91,7 @@ vec3 ww_inner_reflection(float g_1, vec3 t21_) {
 // β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
-vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+vec3 clay_fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
     float sigma_sq = (sigma * sigma);
     float a_1 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
     float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
@@ -102,7 +102,7 @@ vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, f
 
 // Weidlich & Wilkie 2007 (Bowsher 2022, eq. 13): one step of the recurrence,
 // f = f_r1(L, V) + T12 · f_r2(L′, V′) · a · t.
-vec3 ww_layer(vec3 f_top, vec3 t12_, vec3 absorption, vec3 inner, vec3 f_below) {
+vec3 clay_ww_layer(vec3 f_top, vec3 t12_, vec3 absorption, vec3 inner, vec3 f_below) {
     return (f_top + (((f_below * t12_) * absorption) * inner));
 }
 
@@ -112,23 +112,23 @@ vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 h = half_vector(v_1, l_1);
+    vec3 h = clay_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
-    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.122499995);
-    float g = g_smith_schlick_ggx(cos_v, cos_l, 0.35);
-    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
-    vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
+    float d = clay_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.122499995);
+    float g = clay_g_smith_schlick_ggx(cos_v, cos_l, 0.35);
+    vec3 fresnel = clay_f_schlick(vec3(0.040000003), dot(v_1, h));
+    vec3 specular = clay_f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     vec3 transmission = (vec3(1.0) - fresnel);
-    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
-    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
+    vec3 layer1_v = clay_refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = clay_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorption = absorption_ww(vec3(0.8), 0.25, layer1_cos_l, layer1_cos_v);
-    vec3 inner = ww_inner_reflection(g, transmission);
-    vec3 layer1_f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 f = ww_layer(specular, transmission, absorption, inner, layer1_f_base);
+    vec3 absorption = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_l, layer1_cos_v);
+    vec3 inner = clay_ww_inner_reflection(g, transmission);
+    vec3 layer1_f_base = clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
+    vec3 f = clay_ww_layer(specular, transmission, absorption, inner, layer1_f_base);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 

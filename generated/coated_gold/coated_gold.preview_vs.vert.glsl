@@ -4,9 +4,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 one = vec3(1.0, 1.0, 1.0);
-const vec3 layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
-const vec3 remainder_avg = vec3(0.07577434, 0.03172735, 0.0034032734);
+const vec3 coated_gold_one = vec3(1.0, 1.0, 1.0);
+const vec3 coated_gold_layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
+const vec3 coated_gold_remainder_avg = vec3(0.07577434, 0.03172735, 0.0034032734);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -4,10 +4,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 tau = vec3(0.025, 0.025, 0.025);
-const vec3 layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
-const vec3 layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
-const vec3 layer1_r_return = vec3(0.41532898, 0.41532898, 0.41532898);
+const vec3 color_clay_tau = vec3(0.025, 0.025, 0.025);
+const vec3 color_clay_layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
+const vec3 color_clay_layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
+const vec3 color_clay_layer1_r_return = vec3(0.41532898, 0.41532898, 0.41532898);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

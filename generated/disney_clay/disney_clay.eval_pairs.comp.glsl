@@ -23,7 +23,7 @@ layout(std140, binding = 2) uniform EvalDispatch_block_2Compute { EvalDispatch _
 // β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
 // and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
-vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v, float n_dot_l, float v_dot_l) {
+vec3 disney_clay_fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v, float n_dot_l, float v_dot_l) {
     float sigma_sq = (sigma * sigma);
     float a = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
     float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
@@ -36,12 +36,12 @@ vec3 fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v, float n_dot_l, float
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 disney_clay_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
 
-float d_gtr1_(float cos_h, float sin2_h, float alpha) {
+float disney_clay_d_gtr1_(float cos_h, float sin2_h, float alpha) {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
     float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
@@ -50,23 +50,23 @@ float d_gtr1_(float cos_h, float sin2_h, float alpha) {
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4"
 // (Bowsher 2022, eq. 7): the Schlick-GGX masking term G1 = n·x / ((n·x)(1 − k) + k).
-float g1_schlick_ggx(float n_dot_x, float k) {
+float disney_clay_g1_schlick_ggx(float n_dot_x, float k) {
     return (n_dot_x / ((n_dot_x * (1.0 - k)) + k));
 }
 
 // Karis 2013 with Burley's remapping (Bowsher 2022, eq. 8–9): Smith's separable product of
 // two Schlick-GGX terms with k = (roughness + 1)² / 8.
-float g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float roughness) {
+float disney_clay_g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float roughness) {
     float _e4 = (roughness + 1.0);
     float k_1 = ((_e4 * _e4) / 8.0);
-    float _e8 = g1_schlick_ggx(n_dot_v_1, k_1);
-    float _e9 = g1_schlick_ggx(n_dot_l_1, k_1);
+    float _e8 = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
+    float _e9 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
     return (_e8 * _e9);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
 // (Bowsher 2022, eq. 5): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵.
-vec3 f_schlick(vec3 f0_, float cos_theta) {
+vec3 disney_clay_f_schlick(vec3 f0_, float cos_theta) {
     float m = (1.0 - min(max(cos_theta, 0.0), 1.0));
     float m_sq = (m * m);
     return (f0_ + ((vec3(1.0) - f0_) * ((m_sq * m_sq) * m)));
@@ -74,7 +74,7 @@ vec3 f_schlick(vec3 f0_, float cos_theta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_2, float n_dot_l_2) {
+vec3 disney_clay_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_2, float n_dot_l_2) {
     return (fresnel * ((d * g) / ((n_dot_v_2 * n_dot_l_2) * 4.0)));
 }
 
@@ -84,13 +84,13 @@ vec3 disney_clay_brdf(vec3 n, vec3 v_1, vec3 l_1) {
     float n_dot_l_3 = dot(n, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 f_base = fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
-    vec3 h = half_vector(v_1, l_1);
+    vec3 f_base = disney_clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
+    vec3 h = disney_clay_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n, h);
-    float d = d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.0196);
-    float g = g_smith_schlick_ggx(cos_v, cos_l, 0.25);
-    vec3 fresnel = f_schlick(vec3(0.040000003), dot(v_1, h));
-    vec3 specular = f_cook_torrance(d, g, fresnel, cos_v, cos_l);
+    float d = disney_clay_d_gtr1_(dot(n, h), dot(n_cross_h, n_cross_h), 0.0196);
+    float g = disney_clay_g_smith_schlick_ggx(cos_v, cos_l, 0.25);
+    vec3 fresnel = disney_clay_f_schlick(vec3(0.040000003), dot(v_1, h));
+    vec3 specular = disney_clay_f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     vec3 f = (f_base + specular);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }

@@ -4,35 +4,35 @@ layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 
 layout(binding = 34) uniform sampler2D _group_2_binding_2_fs;
 
-layout(std140, binding = 3) uniform type_8_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
+layout(std140, binding = 3) uniform type_8_block_0Fragment { uvec4 _group_0_binding_3_fs[256]; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 glazec_equirect_uv(vec3 d) {
+vec2 disney_clay_equirect_uv(vec3 d) {
     return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
 }
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 glazec_environment(vec3 direction, float roughness) {
-    vec2 uv = glazec_equirect_uv(direction);
+vec3 disney_clay_environment(vec3 direction, float roughness) {
+    vec2 uv = disney_clay_equirect_uv(direction);
     float lod = (roughness * (float(uint(textureQueryLevels(_group_2_binding_1_fs))) - 1.0));
     vec4 _e11 = textureLod(_group_2_binding_1_fs, vec2(uv), lod);
     return _e11.xyz;
 }
 
 // The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 glazec_irradiance_at(vec3 direction_1) {
-    vec2 uv = glazec_equirect_uv(direction_1);
+vec3 disney_clay_irradiance_at(vec3 direction_1) {
+    vec2 uv = disney_clay_equirect_uv(direction_1);
     vec4 _e5 = textureLod(_group_2_binding_2_fs, vec2(uv), 0.0);
     return _e5.xyz;
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float disney_clay_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -42,7 +42,7 @@ float glazec_table_code(uint entry) {
 // Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
-float clearcoat_dfg_scale(float cos_theta, float roughness_1) {
+float disney_clay_clearcoat_dfg_scale(float cos_theta, float roughness_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 31.0);
     float cell_cos_theta = min(floor(node_cos_theta), 30.0);
@@ -51,13 +51,13 @@ float clearcoat_dfg_scale(float cos_theta, float roughness_1) {
     float node_roughness = (u_roughness * 31.0);
     float cell_roughness = min(floor(node_roughness), 30.0);
     float weight_roughness = (node_roughness - cell_roughness);
-    float code_ll = glazec_table_code((uint((cell_cos_theta + (cell_roughness * 32.0))) + 18288u));
+    float code_ll = disney_clay_table_code((uint((cell_cos_theta + (cell_roughness * 32.0))) + 0u));
     float at_ll = ((code_ll * 2.4627496e-5) + 0.23423767);
-    float code_ul = glazec_table_code((uint(((cell_cos_theta + 1.0) + (cell_roughness * 32.0))) + 18288u));
+    float code_ul = disney_clay_table_code((uint(((cell_cos_theta + 1.0) + (cell_roughness * 32.0))) + 0u));
     float at_ul = ((code_ul * 2.4627496e-5) + 0.23423767);
-    float code_lu = glazec_table_code((uint((cell_cos_theta + ((cell_roughness + 1.0) * 32.0))) + 18288u));
+    float code_lu = disney_clay_table_code((uint((cell_cos_theta + ((cell_roughness + 1.0) * 32.0))) + 0u));
     float at_lu = ((code_lu * 2.4627496e-5) + 0.23423767);
-    float code_uu = glazec_table_code((uint(((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0))) + 18288u));
+    float code_uu = disney_clay_table_code((uint(((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0))) + 0u));
     float at_uu = ((code_uu * 2.4627496e-5) + 0.23423767);
     return ((((at_ll * ((1.0 - weight_cos_theta) * (1.0 - weight_roughness))) + (at_ul * (weight_cos_theta * (1.0 - weight_roughness)))) + (at_lu * ((1.0 - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
 }
@@ -65,7 +65,7 @@ float clearcoat_dfg_scale(float cos_theta, float roughness_1) {
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
 // Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
-float clearcoat_dfg_bias(float cos_theta_1, float roughness_2) {
+float disney_clay_clearcoat_dfg_bias(float cos_theta_1, float roughness_2) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -74,13 +74,13 @@ float clearcoat_dfg_bias(float cos_theta_1, float roughness_2) {
     float node_roughness_1 = (u_roughness_1 * 31.0);
     float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
     float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float code_ll = glazec_table_code((uint((cell_cos_theta_1 + (cell_roughness_1 * 32.0))) + 19312u));
+    float code_ll = disney_clay_table_code((uint((cell_cos_theta_1 + (cell_roughness_1 * 32.0))) + 1024u));
     float at_ll_1 = ((code_ll * 1.2625713e-6) + 1.0785011e-5);
-    float code_ul = glazec_table_code((uint(((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0))) + 19312u));
+    float code_ul = disney_clay_table_code((uint(((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0))) + 1024u));
     float at_ul_1 = ((code_ul * 1.2625713e-6) + 1.0785011e-5);
-    float code_lu = glazec_table_code((uint((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0))) + 19312u));
+    float code_lu = disney_clay_table_code((uint((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0))) + 1024u));
     float at_lu_1 = ((code_lu * 1.2625713e-6) + 1.0785011e-5);
-    float code_uu = glazec_table_code((uint(((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0))) + 19312u));
+    float code_uu = disney_clay_table_code((uint(((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0))) + 1024u));
     float at_uu_1 = ((code_uu * 1.2625713e-6) + 1.0785011e-5);
     return ((((at_ll_1 * ((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1))) + (at_ul_1 * (weight_cos_theta_1 * (1.0 - weight_roughness_1)))) + (at_lu_1 * ((1.0 - weight_cos_theta_1) * weight_roughness_1))) + (at_uu_1 * (weight_cos_theta_1 * weight_roughness_1)));
 }
@@ -90,7 +90,7 @@ float clearcoat_dfg_bias(float cos_theta_1, float roughness_2) {
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 specular_dominant_direction(vec3 n, vec3 v, float alpha) {
+vec3 disney_clay_specular_dominant_direction(vec3 n, vec3 v, float alpha) {
     vec3 r = ((n * (max(dot(n, v), 0.0) * 2.0)) - v);
     float smoothness = min(max((1.0 - alpha), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha));
@@ -99,18 +99,18 @@ vec3 specular_dominant_direction(vec3 n, vec3 v, float alpha) {
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
-// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+// directional albedo times the environment prefiltered for it (disney_clay_environment) or the irradiance
+// over π (disney_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 vec3 disney_clay_ibl(vec3 n_1, vec3 v_1) {
     float n_dot_v = dot(n_1, v_1);
     float cos_v = max(n_dot_v, 0.0001);
-    float _e6 = clearcoat_dfg_scale(cos_v, 0.14);
-    float _e8 = clearcoat_dfg_bias(cos_v, 0.14);
+    float _e6 = disney_clay_clearcoat_dfg_scale(cos_v, 0.14);
+    float _e8 = disney_clay_clearcoat_dfg_bias(cos_v, 0.14);
     vec3 coat_albedo = ((vec3(0.040000003) * _e6) + vec3(_e8));
-    vec3 reflected = specular_dominant_direction(n_1, v_1, 0.0196);
+    vec3 reflected = disney_clay_specular_dominant_direction(n_1, v_1, 0.0196);
     bool _e18 = (dot(n_1, v_1) > 0.0);
-    vec3 light_a = glazec_environment(reflected, 0.14);
-    vec3 light_b = glazec_irradiance_at(n_1);
+    vec3 light_a = disney_clay_environment(reflected, 0.14);
+    vec3 light_b = disney_clay_irradiance_at(n_1);
     return (((_e18 ? coat_albedo : vec3(0.0)) * light_a) + ((_e18 ? vec3(0.5876322, 0.34278542, 0.24484675) : vec3(0.0)) * light_b));
 }
 

@@ -11,20 +11,20 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-const vec3 layer1_tau = vec3(0.02, 0.02, 0.02);
-const vec3 layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
-const vec3 layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
-const vec3 layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
-const vec3 layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
-const vec3 layer3_rho = vec3(0.85277396, 0.85277396, 0.7852343);
-const vec3 layer3_r_return = vec3(0.020906627, 0.056411505, 0.14856523);
-const vec3 layer2_rho = vec3(0.26353127, 0.4134952, 0.6440171);
-const vec3 layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
-const vec3 layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
-const vec3 layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
+const vec3 four_layer_layer1_tau = vec3(0.02, 0.02, 0.02);
+const vec3 four_layer_layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
+const vec3 four_layer_layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
+const vec3 four_layer_layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
+const vec3 four_layer_layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
+const vec3 four_layer_layer3_rho = vec3(0.85277396, 0.85277396, 0.7852343);
+const vec3 four_layer_layer3_r_return = vec3(0.020906627, 0.056411505, 0.14856523);
+const vec3 four_layer_layer2_rho = vec3(0.26353127, 0.4134952, 0.6440171);
+const vec3 four_layer_layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
+const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 four_layer_layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
+const vec3 four_layer_layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[4087]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[1424]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
@@ -37,12 +37,12 @@ layout(std140, binding = 2) uniform EvalDispatch_block_3Compute { EvalDispatch _
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 four_layer_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
 
-float d_gtr1_(float cos_h, float sin2_h, float alpha) {
+float four_layer_d_gtr1_(float cos_h, float sin2_h, float alpha) {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
     float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
@@ -52,7 +52,7 @@ float d_gtr1_(float cos_h, float sin2_h, float alpha) {
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float lambda_ggx(float n_dot_x, float alpha_1) {
+float four_layer_lambda_ggx(float n_dot_x, float alpha_1) {
     float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
     float tan_sq = ((1.0 - mu_sq) / mu_sq);
     return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
@@ -60,10 +60,10 @@ float lambda_ggx(float n_dot_x, float alpha_1) {
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
+float four_layer_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_4 = max(alpha_2, 0.001);
-    float _e5 = lambda_ggx(n_dot_v, alpha_4);
-    float _e6 = lambda_ggx(n_dot_l, alpha_4);
+    float _e5 = four_layer_lambda_ggx(n_dot_v, alpha_4);
+    float _e6 = four_layer_lambda_ggx(n_dot_l, alpha_4);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -71,7 +71,7 @@ float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta) {
+float four_layer_fr_dielectric(float cos_i, float eta) {
     float cos_i_1 = min(max(cos_i, 0.0), 1.0);
     float sin2_t = ((1.0 - (cos_i_1 * cos_i_1)) / (eta * eta));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
@@ -83,13 +83,13 @@ float fr_dielectric(float cos_i, float eta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
+vec3 four_layer_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float four_layer_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_3_cs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -99,7 +99,7 @@ float glazec_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1) {
+float four_layer_coat_extra(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -112,21 +112,21 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lll = four_layer_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_ull = four_layer_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lul = four_layer_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_uul = four_layer_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_llu = four_layer_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_ulu = four_layer_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_luu = four_layer_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_uuu = four_layer_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -135,7 +135,7 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
 // lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
 // E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
 // Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
+float four_layer_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
     return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
@@ -144,7 +144,7 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+float four_layer_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -157,21 +157,21 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lll = four_layer_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_ull = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lul = four_layer_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_uul = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_llu = four_layer_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_ulu = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_luu = four_layer_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_uuu = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
@@ -180,13 +180,13 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_3) {
+vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_3) {
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
+vec3 four_layer_slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
@@ -198,7 +198,7 @@ vec3 slab_transmittance(vec3 tau, float mu) {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
+float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
     float a_2 = max(alpha_3, 0.001);
     float a_sq_1 = (a_2 * a_2);
     float denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 1e-12);
@@ -210,7 +210,7 @@ float d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+float four_layer_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
@@ -223,21 +223,21 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lll = four_layer_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_ull = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lul = four_layer_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_uul = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_llu = four_layer_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_luu = four_layer_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
@@ -245,7 +245,7 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu_1, float r) {
+float four_layer_e_fon(float mu_1, float r) {
     float x = (1.0 - min(max(mu_1, 0.0), 1.0));
     float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
@@ -253,7 +253,7 @@ float e_fon(float mu_1, float r) {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-vec3 eon_rho_ms(vec3 albedo, float r_1) {
+vec3 four_layer_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
     return (((albedo * albedo) * e_avg_1) / (vec3(1.0) - (albedo * (1.0 - e_avg_1))));
 }
@@ -261,24 +261,24 @@ vec3 eon_rho_ms(vec3 albedo, float r_1) {
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-vec3 fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+vec3 four_layer_fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = ((s > 0.0) ? (s / max(n_dot_v_2, n_dot_l_2)) : s);
     float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
-    float e_o = e_fon(n_dot_v_2, r_2);
-    float e_i = e_fon(n_dot_l_2, r_2);
+    float e_o = four_layer_e_fon(n_dot_v_2, r_2);
+    float e_i = four_layer_e_fon(n_dot_l_2, r_2);
     float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
-    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    vec3 rho_ms = four_layer_eon_rho_ms(albedo_1, r_2);
     vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-vec3 albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
-    float e_f = e_fon(mu_2, r_3);
-    vec3 rho_ms = eon_rho_ms(albedo_2, r_3);
+vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
+    float e_f = four_layer_e_fon(mu_2, r_3);
+    vec3 rho_ms = four_layer_eon_rho_ms(albedo_2, r_3);
     return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
@@ -288,7 +288,7 @@ vec3 albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-vec3 interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
+vec3 four_layer_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
     return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
@@ -297,7 +297,7 @@ vec3 interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_bel
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
+vec3 four_layer_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
 }
 
@@ -305,7 +305,7 @@ vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
-vec3 interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape, vec3 first_escape, vec3 first_return) {
+vec3 four_layer_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape, vec3 first_escape, vec3 first_return) {
     vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
@@ -316,109 +316,109 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_l_3 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
-    vec3 h = half_vector(v_1, l_1);
+    vec3 h = four_layer_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
-    float d = d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003);
-    float g = g_smith_ggx_correlated(cos_v, cos_l, 0.25);
-    float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = coat_extra(n_dot_l_3, 0.2, 1.5);
-    float layer1_restored_v = coat_extra(n_dot_v_3, 0.2, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
+    float d = four_layer_d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003);
+    float g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25);
+    float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
+    vec3 _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    float layer1_restored_l = four_layer_coat_extra(n_dot_l_3, 0.2, 1.5);
+    float layer1_restored_v = four_layer_coat_extra(n_dot_v_3, 0.2, 1.5);
+    float _e29 = four_layer_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
     vec3 specular = (_e21 + vec3(_e29));
-    float layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.5);
-    float _e38 = coat_deficit(n_dot_l_3, 0.2, 1.5);
+    float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
+    float _e38 = four_layer_coat_deficit(n_dot_l_3, 0.2, 1.5);
     float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
-    float layer1_fresnel_v = fr_dielectric(n_dot_v_3, 1.5);
-    float _e51 = coat_deficit(n_dot_v_3, 0.2, 1.5);
+    float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5);
+    float _e51 = four_layer_coat_deficit(n_dot_v_3, 0.2, 1.5);
     float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
-    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
-    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
+    vec3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float layer2_fresnel_l = fr_dielectric(layer1_n_dot_l, 1.0);
+    float layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_l, 1.0);
     float layer2_transmit_l = (1.0 - layer2_fresnel_l);
-    float layer2_fresnel_v = fr_dielectric(layer1_n_dot_v, 1.0);
+    float layer2_fresnel_v = four_layer_fr_dielectric(layer1_n_dot_v, 1.0);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
-    vec3 layer2_v = refract_down(layer1_v, n_1, 1.0);
-    vec3 layer2_l = refract_down(layer1_l, n_1, 1.0);
+    vec3 layer2_v = four_layer_refract_down(layer1_v, n_1, 1.0);
+    vec3 layer2_l = four_layer_refract_down(layer1_l, n_1, 1.0);
     float layer2_n_dot_v = dot(n_1, layer2_v);
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    vec3 layer1_absorb_l = slab_transmittance(layer1_tau, layer2_cos_l);
-    vec3 layer1_absorb_v = slab_transmittance(layer1_tau, layer2_cos_v);
-    vec3 layer2_h = half_vector(layer2_v, layer2_l);
+    vec3 layer1_absorb_l = four_layer_slab_transmittance(four_layer_layer1_tau, layer2_cos_l);
+    vec3 layer1_absorb_v = four_layer_slab_transmittance(four_layer_layer1_tau, layer2_cos_v);
+    vec3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
-    float layer2_d = d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
-    float layer2_g = g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    float layer2_fresnel = fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    vec3 _e102 = f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    float layer3_restored_l = coat_extra(layer2_n_dot_l, 0.3, 1.1);
-    float layer3_restored_v = coat_extra(layer2_n_dot_v, 0.3, 1.1);
-    float _e110 = multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
+    float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
+    float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
+    vec3 _e102 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    float layer3_restored_l = four_layer_coat_extra(layer2_n_dot_l, 0.3, 1.1);
+    float layer3_restored_v = four_layer_coat_extra(layer2_n_dot_v, 0.3, 1.1);
+    float _e110 = four_layer_multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
     vec3 layer2_specular = (_e102 + vec3(_e110));
-    float layer3_fresnel_l = fr_dielectric(layer2_n_dot_l, 1.1);
-    float _e119 = coat_deficit(layer2_n_dot_l, 0.3, 1.1);
+    float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1);
+    float _e119 = four_layer_coat_deficit(layer2_n_dot_l, 0.3, 1.1);
     float layer3_transmit_l = min(max((((1.0 - layer3_fresnel_l) + _e119) - layer3_restored_l), 0.0), 1.0);
-    float layer3_fresnel_v = fr_dielectric(layer2_n_dot_v, 1.1);
-    float _e132 = coat_deficit(layer2_n_dot_v, 0.3, 1.1);
+    float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
+    float _e132 = four_layer_coat_deficit(layer2_n_dot_v, 0.3, 1.1);
     float layer3_transmit_v = min(max((((1.0 - layer3_fresnel_v) + _e132) - layer3_restored_v), 0.0), 1.0);
-    vec3 layer3_v = refract_down(layer2_v, n_1, 1.1);
-    vec3 layer3_l = refract_down(layer2_l, n_1, 1.1);
+    vec3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
+    vec3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    float _e151 = coat_path(layer2_n_dot_l, 0.3, 1.1);
+    float _e151 = four_layer_coat_path(layer2_n_dot_l, 0.3, 1.1);
     float layer3_path_cos_l = (layer3_cos_l / _e151);
-    float _e155 = coat_path(layer2_n_dot_v, 0.3, 1.1);
+    float _e155 = four_layer_coat_path(layer2_n_dot_v, 0.3, 1.1);
     float layer3_path_cos_v = (layer3_cos_v / _e155);
-    vec3 layer2_absorb_l = slab_transmittance(layer2_tau, layer3_path_cos_l);
-    vec3 layer2_absorb_v = slab_transmittance(layer2_tau, layer3_path_cos_v);
-    vec3 layer3_h = half_vector(layer3_v, layer3_l);
+    vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
+    vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
+    vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
     vec3 layer3_n_cross_h = cross(n_1, layer3_h);
-    float layer3_d = d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
-    float layer3_g = g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
-    float layer3_fresnel = fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    vec3 _e173 = f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    float layer4_restored_l = coat_extra(layer3_n_dot_l, 0.5, 1.2);
-    float layer4_restored_v = coat_extra(layer3_n_dot_v, 0.5, 1.2);
-    float _e181 = multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
+    float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
+    float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
+    float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
+    vec3 _e173 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    float layer4_restored_l = four_layer_coat_extra(layer3_n_dot_l, 0.5, 1.2);
+    float layer4_restored_v = four_layer_coat_extra(layer3_n_dot_v, 0.5, 1.2);
+    float _e181 = four_layer_multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
     vec3 layer3_specular = (_e173 + vec3(_e181));
-    float layer4_fresnel_l = fr_dielectric(layer3_n_dot_l, 1.2);
-    float _e190 = coat_deficit(layer3_n_dot_l, 0.5, 1.2);
+    float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2);
+    float _e190 = four_layer_coat_deficit(layer3_n_dot_l, 0.5, 1.2);
     float layer4_transmit_l = min(max((((1.0 - layer4_fresnel_l) + _e190) - layer4_restored_l), 0.0), 1.0);
-    float layer4_fresnel_v = fr_dielectric(layer3_n_dot_v, 1.2);
-    float _e203 = coat_deficit(layer3_n_dot_v, 0.5, 1.2);
+    float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
+    float _e203 = four_layer_coat_deficit(layer3_n_dot_v, 0.5, 1.2);
     float layer4_transmit_v = min(max((((1.0 - layer4_fresnel_v) + _e203) - layer4_restored_v), 0.0), 1.0);
-    vec3 layer4_v = refract_down(layer3_v, n_1, 1.2);
-    vec3 layer4_l = refract_down(layer3_l, n_1, 1.2);
+    vec3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
+    vec3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
     float layer4_n_dot_l = dot(n_1, layer4_l);
     float layer4_cos_v = max(layer4_n_dot_v, 0.0001);
     float layer4_cos_l = max(layer4_n_dot_l, 0.0001);
-    vec3 layer4_f_base = fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
-    vec3 layer4_albedo_l = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
-    vec3 layer4_albedo_v = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    float _e241 = coat_path(layer3_n_dot_l, 0.5, 1.2);
+    vec3 layer4_f_base = four_layer_fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
+    vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
+    vec3 layer4_albedo_v = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
+    float _e241 = four_layer_coat_path(layer3_n_dot_l, 0.5, 1.2);
     float layer4_path_cos_l = (layer4_cos_l / _e241);
-    float _e245 = coat_path(layer3_n_dot_v, 0.5, 1.2);
+    float _e245 = four_layer_coat_path(layer3_n_dot_v, 0.5, 1.2);
     float layer4_path_cos_v = (layer4_cos_v / _e245);
-    vec3 _e252 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    float _e254 = e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e254)) * vec3(0.18698311)) / max(_e252, vec3(1e-6))));
+    vec3 _e252 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e254 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e254)) * vec3(0.18698311)) / max(_e252, vec3(1e-6))));
     vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 _e289 = albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    float _e291 = e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((layer4_rho_ms * (1.0 - _e291)) * vec3(0.18698311)) / max(_e289, vec3(1e-6))));
+    vec3 _e289 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e291 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e291)) * vec3(0.18698311)) / max(_e289, vec3(1e-6))));
     vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_under = interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), layer4_rho, layer4_r_return);
-    vec3 layer3_f = interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
-    vec3 layer3_albedo_l = interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
-    vec3 layer3_albedo_v = interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, layer4_rho, layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
+    vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
+    vec3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
+    vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
+    vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
     float _e354 = (1.0 - layer4_transmit_l);
     vec3 _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer2_first_escape_l = (_e375 / vec3(0.8096463));
@@ -427,10 +427,10 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer2_first_escape_v = (_e413 / vec3(0.8096463));
     vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e413) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_under = interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), layer3_rho, layer3_r_return);
-    vec3 layer2_f = interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    vec3 layer2_albedo_l = interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
-    vec3 layer2_albedo_v = interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, layer3_rho, layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
+    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
+    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
     float _e458 = (1.0 - layer3_transmit_l);
     vec3 _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_l = (_e476 / vec3(0.9999998));
@@ -439,10 +439,10 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e511 = min(max(((vec3((_e493 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e493)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_v = (_e511 / vec3(0.9999998));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e511) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    vec3 layer1_under = interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), layer2_rho, layer2_r_return);
-    vec3 layer1_f = interfaced_layer(layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    vec3 layer1_albedo_l = interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
-    vec3 layer1_albedo_v = interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, layer2_rho, layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
+    vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
+    vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
+    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
+    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
     float _e551 = (1.0 - layer2_transmit_l);
     vec3 _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_l = (_e572 / vec3(0.40503228));
@@ -451,8 +451,8 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_v = (_e610 / vec3(0.40503228));
     vec3 first_return_v = min(max(((vec3(1.0) - _e610) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059), min(first_return_l, first_return_v))), layer1_rho, layer1_r_return);
-    vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
+    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -4,14 +4,14 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-const vec3 tau_1 = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.19010219, 0.09112962, 0.038870376);
-const vec3 layer1_albedo_l = vec3(0.46, 0.26, 0.12);
-const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
-const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_tau = vec3(0.04, 0.12, 0.35);
+const vec3 lacquered_wood_under = vec3(0.19010219, 0.09112962, 0.038870376);
+const vec3 lacquered_wood_layer1_albedo_l = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_layer1_rho = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
+const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[4087]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[1424]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -22,7 +22,7 @@ layout(location = 0) out vec4 _fs2p_location0;
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 lacquered_wood_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
@@ -35,7 +35,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h, float sin2_h, float alpha) {
+float lacquered_wood_d_ggx(float cos_h, float sin2_h, float alpha) {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
@@ -45,7 +45,7 @@ float d_ggx(float cos_h, float sin2_h, float alpha) {
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float lambda_ggx(float n_dot_x, float alpha_1) {
+float lacquered_wood_lambda_ggx(float n_dot_x, float alpha_1) {
     float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
     float tan_sq = ((1.0 - mu_sq) / mu_sq);
     return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
@@ -53,10 +53,10 @@ float lambda_ggx(float n_dot_x, float alpha_1) {
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
+float lacquered_wood_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_3 = max(alpha_2, 0.001);
-    float _e5 = lambda_ggx(n_dot_v, alpha_3);
-    float _e6 = lambda_ggx(n_dot_l, alpha_3);
+    float _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_3);
+    float _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_3);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -64,7 +64,7 @@ float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta) {
+float lacquered_wood_fr_dielectric(float cos_i, float eta) {
     float cos_i_1 = min(max(cos_i, 0.0), 1.0);
     float sin2_t = ((1.0 - (cos_i_1 * cos_i_1)) / (eta * eta));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
@@ -76,13 +76,13 @@ float fr_dielectric(float cos_i, float eta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
+vec3 lacquered_wood_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float lacquered_wood_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_3_fs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -92,7 +92,7 @@ float glazec_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1) {
+float lacquered_wood_coat_extra(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -105,21 +105,21 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lll = lacquered_wood_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_ull = lacquered_wood_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lul = lacquered_wood_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_uul = lacquered_wood_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_llu = lacquered_wood_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_ulu = lacquered_wood_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_luu = lacquered_wood_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_uuu = lacquered_wood_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -128,7 +128,7 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
 // lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
 // E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
 // Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
+float lacquered_wood_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
     return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
@@ -137,7 +137,7 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+float lacquered_wood_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -150,21 +150,21 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lll = lacquered_wood_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_ull = lacquered_wood_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_lul = lacquered_wood_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 0u));
+    float code_uul = lacquered_wood_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_llu = lacquered_wood_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_ulu = lacquered_wood_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_luu = lacquered_wood_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 0u));
+    float code_uuu = lacquered_wood_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
 }
@@ -173,7 +173,7 @@ float coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_3) {
+vec3 lacquered_wood_refract_down(vec3 w, vec3 n, float eta_3) {
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
@@ -182,7 +182,7 @@ vec3 refract_down(vec3 w, vec3 n, float eta_3) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+float lacquered_wood_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
@@ -195,28 +195,28 @@ float coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lll = lacquered_wood_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_ull = lacquered_wood_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lul = lacquered_wood_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_uul = lacquered_wood_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_llu = lacquered_wood_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = lacquered_wood_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_luu = lacquered_wood_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = lacquered_wood_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
+vec3 lacquered_wood_slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
@@ -225,7 +225,7 @@ vec3 slab_transmittance(vec3 tau, float mu) {
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
+vec3 lacquered_wood_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
 }
 
@@ -235,35 +235,35 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_l_2 = dot(n_1, l_1);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    vec3 h = half_vector(v_1, l_1);
+    vec3 h = lacquered_wood_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
-    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0064);
-    float g = g_smith_ggx_correlated(cos_v, cos_l, 0.0064);
-    float fresnel = fr_dielectric(dot(v_1, h), 1.5);
-    vec3 _e21 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = coat_extra(n_dot_l_2, 0.08, 1.5);
-    float layer1_restored_v = coat_extra(n_dot_v_2, 0.08, 1.5);
-    float _e29 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0001141029);
+    float d = lacquered_wood_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0064);
+    float g = lacquered_wood_g_smith_ggx_correlated(cos_v, cos_l, 0.0064);
+    float fresnel = lacquered_wood_fr_dielectric(dot(v_1, h), 1.5);
+    vec3 _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    float layer1_restored_l = lacquered_wood_coat_extra(n_dot_l_2, 0.08, 1.5);
+    float layer1_restored_v = lacquered_wood_coat_extra(n_dot_v_2, 0.08, 1.5);
+    float _e29 = lacquered_wood_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0001141029);
     vec3 specular = (_e21 + vec3(_e29));
-    float layer1_fresnel_l = fr_dielectric(n_dot_l_2, 1.5);
-    float _e38 = coat_deficit(n_dot_l_2, 0.08, 1.5);
+    float layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_l_2, 1.5);
+    float _e38 = lacquered_wood_coat_deficit(n_dot_l_2, 0.08, 1.5);
     float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
-    float layer1_fresnel_v = fr_dielectric(n_dot_v_2, 1.5);
-    float _e51 = coat_deficit(n_dot_v_2, 0.08, 1.5);
+    float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_2, 1.5);
+    float _e51 = lacquered_wood_coat_deficit(n_dot_v_2, 0.08, 1.5);
     float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
-    vec3 layer1_v = refract_down(v_1, n_1, 1.5);
-    vec3 layer1_l = refract_down(l_1, n_1, 1.5);
+    vec3 layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5);
+    vec3 layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e70 = coat_path(n_dot_l_2, 0.08, 1.5);
+    float _e70 = lacquered_wood_coat_path(n_dot_l_2, 0.08, 1.5);
     float layer1_path_cos_l = (layer1_cos_l / _e70);
-    float _e74 = coat_path(n_dot_v_2, 0.08, 1.5);
+    float _e74 = lacquered_wood_coat_path(n_dot_v_2, 0.08, 1.5);
     float layer1_path_cos_v = (layer1_cos_v / _e74);
-    vec3 absorb_l = slab_transmittance(tau_1, layer1_path_cos_l);
-    vec3 absorb_v = slab_transmittance(tau_1, layer1_path_cos_v);
-    vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.5);
+    vec3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
+    vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
+    vec3 f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

@@ -4,12 +4,12 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 tau = vec3(0.04, 0.12, 0.35);
-const vec3 under = vec3(0.19010219, 0.09112962, 0.038870376);
-const vec3 layer1_albedo_l = vec3(0.46, 0.26, 0.12);
-const vec3 layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
-const vec3 layer1_albedo_v = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_tau = vec3(0.04, 0.12, 0.35);
+const vec3 lacquered_wood_under = vec3(0.19010219, 0.09112962, 0.038870376);
+const vec3 lacquered_wood_layer1_albedo_l = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_layer1_rho = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_layer1_r_return = vec3(0.49949837, 0.35321862, 0.14432436);
+const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

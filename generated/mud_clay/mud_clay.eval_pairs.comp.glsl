@@ -21,7 +21,7 @@ layout(std140, binding = 2) uniform EvalDispatch_block_2Compute { EvalDispatch _
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu, float r) {
+float mud_clay_e_fon(float mu, float r) {
     float x = (1.0 - min(max(mu, 0.0), 1.0));
     float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
@@ -29,7 +29,7 @@ float e_fon(float mu, float r) {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-vec3 eon_rho_ms(vec3 albedo, float r_1) {
+vec3 mud_clay_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
     return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
@@ -37,15 +37,15 @@ vec3 eon_rho_ms(vec3 albedo, float r_1) {
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-vec3 fd_eon(vec3 albedo_1, float r_2, float n_dot_v, float n_dot_l, float v_dot_l) {
+vec3 mud_clay_fd_eon(vec3 albedo_1, float r_2, float n_dot_v, float n_dot_l, float v_dot_l) {
     float s = (v_dot_l - (n_dot_v * n_dot_l));
     float s_over_t = ((s > 0.0) ? (s / max(n_dot_v, n_dot_l)) : s);
     float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
-    float e_o = e_fon(n_dot_v, r_2);
-    float e_i = e_fon(n_dot_l, r_2);
+    float e_o = mud_clay_e_fon(n_dot_v, r_2);
+    float e_i = mud_clay_e_fon(n_dot_l, r_2);
     float e_avg_1 = (a_f * ((r_2 * 0.07248825) + 1.0));
-    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    vec3 rho_ms = mud_clay_eon_rho_ms(albedo_1, r_2);
     vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
@@ -56,7 +56,7 @@ vec3 mud_clay_brdf(vec3 n, vec3 v, vec3 l) {
     float n_dot_l_1 = dot(n, l);
     float cos_v = max(n_dot_v_1, 0.0001);
     float cos_l = max(n_dot_l_1, 0.0001);
-    vec3 f_base = fd_eon(vec3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v, cos_l, dot(v, l));
+    vec3 f_base = mud_clay_fd_eon(vec3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v, cos_l, dot(v, l));
     return (((n_dot_v_1 > 0.0) && (n_dot_l_1 > 0.0)) ? f_base : vec3(0.0));
 }
 

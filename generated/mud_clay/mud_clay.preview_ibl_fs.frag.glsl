@@ -8,7 +8,7 @@ layout(location = 0) out vec4 _fs2p_location0;
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu, float r) {
+float mud_clay_e_fon(float mu, float r) {
     float x = (1.0 - min(max(mu, 0.0), 1.0));
     float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
@@ -16,39 +16,39 @@ float e_fon(float mu, float r) {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-vec3 eon_rho_ms(vec3 albedo, float r_1) {
+vec3 mud_clay_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
     return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 glazec_equirect_uv(vec3 d) {
+vec2 mud_clay_equirect_uv(vec3 d) {
     return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
 }
 
 // The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 glazec_irradiance_at(vec3 direction) {
-    vec2 uv = glazec_equirect_uv(direction);
+vec3 mud_clay_irradiance_at(vec3 direction) {
+    vec2 uv = mud_clay_equirect_uv(direction);
     vec4 _e5 = textureLod(_group_2_binding_2_fs, vec2(uv), 0.0);
     return _e5.xyz;
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-vec3 albedo_eon(vec3 albedo_1, float r_2, float mu_1) {
-    float e_f = e_fon(mu_1, r_2);
-    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+vec3 mud_clay_albedo_eon(vec3 albedo_1, float r_2, float mu_1) {
+    float e_f = mud_clay_e_fon(mu_1, r_2);
+    vec3 rho_ms = mud_clay_eon_rho_ms(albedo_1, r_2);
     return ((albedo_1 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
-// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+// directional albedo times the environment prefiltered for it (mud_clay_environment) or the irradiance
+// over π (mud_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 vec3 mud_clay_ibl(vec3 n, vec3 v) {
     float n_dot_v = dot(n, v);
     float cos_v = max(n_dot_v, 0.0001);
-    vec3 albedo_l = albedo_eon(vec3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v);
-    vec3 light_a = glazec_irradiance_at(n);
+    vec3 albedo_l = mud_clay_albedo_eon(vec3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v);
+    vec3 light_a = mud_clay_irradiance_at(n);
     return (((dot(n, v) > 0.0) ? albedo_l : vec3(0.0)) * light_a);
 }
 

@@ -4,11 +4,11 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 under = vec3(0.29396582, 0.016394082, 0.01303686);
-const vec3 layer1_albedo_l = vec3(0.6, 0.05, 0.04);
-const vec3 layer1_rho = vec3(0.6, 0.05, 0.04);
-const vec3 layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
-const vec3 layer1_albedo_v = vec3(0.6, 0.05, 0.04);
+const vec3 red_plastic_under = vec3(0.29396582, 0.016394082, 0.01303686);
+const vec3 red_plastic_layer1_albedo_l = vec3(0.6, 0.05, 0.04);
+const vec3 red_plastic_layer1_rho = vec3(0.6, 0.05, 0.04);
+const vec3 red_plastic_layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
+const vec3 red_plastic_layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -19,7 +19,7 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
-layout(std140, binding = 4) uniform type_6_block_0Compute { uvec4 _group_0_binding_4_cs[4087]; };
+layout(std140, binding = 4) uniform type_6_block_0Compute { uvec4 _group_0_binding_4_cs[1996]; };
 
 layout(std140, binding = 3) uniform TunableGlazeParams_block_1Compute { TunableGlazeParams _group_0_binding_3_cs; };
 
@@ -34,7 +34,7 @@ layout(std140, binding = 2) uniform EvalDispatch_block_4Compute { EvalDispatch _
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-vec3 half_vector(vec3 v, vec3 l) {
+vec3 tunable_glaze_half_vector(vec3 v, vec3 l) {
     vec3 sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 1e-12))));
 }
@@ -47,7 +47,7 @@ vec3 half_vector(vec3 v, vec3 l) {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float d_ggx(float cos_h, float sin2_h, float alpha) {
+float tunable_glaze_d_ggx(float cos_h, float sin2_h, float alpha) {
     float a = max(alpha, 0.001);
     float a_sq = (a * a);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
@@ -57,7 +57,7 @@ float d_ggx(float cos_h, float sin2_h, float alpha) {
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float lambda_ggx(float n_dot_x, float alpha_1) {
+float tunable_glaze_lambda_ggx(float n_dot_x, float alpha_1) {
     float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
     float tan_sq = ((1.0 - mu_sq) / mu_sq);
     return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
@@ -65,10 +65,10 @@ float lambda_ggx(float n_dot_x, float alpha_1) {
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
+float tunable_glaze_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_3 = max(alpha_2, 0.001);
-    float _e5 = lambda_ggx(n_dot_v, alpha_3);
-    float _e6 = lambda_ggx(n_dot_l, alpha_3);
+    float _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_3);
+    float _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_3);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -76,7 +76,7 @@ float g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta) {
+float tunable_glaze_fr_dielectric(float cos_i, float eta) {
     float cos_i_1 = min(max(cos_i, 0.0), 1.0);
     float sin2_t = ((1.0 - (cos_i_1 * cos_i_1)) / (eta * eta));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
@@ -88,13 +88,13 @@ float fr_dielectric(float cos_i, float eta) {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-vec3 f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
+vec3 tunable_glaze_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, float n_dot_l_1) {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float tunable_glaze_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_4_cs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -104,7 +104,7 @@ float glazec_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1) {
+float tunable_glaze_coat_extra(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -117,21 +117,21 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -139,7 +139,7 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-float coat_extra_avg(float roughness_1, float eta_2) {
+float tunable_glaze_coat_extra_avg(float roughness_1, float eta_2) {
     float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
     float node_roughness_1 = (u_roughness_1 * 15.0);
     float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
@@ -148,13 +148,13 @@ float coat_extra_avg(float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_ll = glazec_table_code((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 11648u));
+    float code_ll = tunable_glaze_table_code((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 2048u));
     float at_ll = (code_ll * 4.36632e-7);
-    float code_ul = glazec_table_code((uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 11648u));
+    float code_ul = tunable_glaze_table_code((uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 2048u));
     float at_ul = (code_ul * 4.36632e-7);
-    float code_lu = glazec_table_code((uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float code_lu = tunable_glaze_table_code((uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
     float at_lu = (code_lu * 4.36632e-7);
-    float code_uu = glazec_table_code((uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float code_uu = tunable_glaze_table_code((uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
     float at_uu = (code_uu * 4.36632e-7);
     return ((((at_ll * ((1.0 - weight_roughness_1) * (1.0 - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1.0 - weight_eta_1)))) + (at_lu * ((1.0 - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
 }
@@ -163,7 +163,7 @@ float coat_extra_avg(float roughness_1, float eta_2) {
 // lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
 // E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
 // Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
+float tunable_glaze_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
     return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
@@ -172,7 +172,7 @@ float multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
+float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -185,21 +185,21 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
@@ -208,7 +208,7 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_4) {
+vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_4) {
     return -(refract(-(w), n, (1.0 / eta_4)));
 }
 
@@ -217,7 +217,7 @@ vec3 refract_down(vec3 w, vec3 n, float eta_4) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float coat_path(float cos_theta_2, float roughness_3, float eta_5) {
+float tunable_glaze_coat_path(float cos_theta_2, float roughness_3, float eta_5) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
@@ -230,35 +230,35 @@ float coat_path(float cos_theta_2, float roughness_3, float eta_5) {
     float node_eta_3 = (u_eta_3 * 7.0);
     float cell_eta_3 = min(floor(node_eta_3), 6.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
+vec3 tunable_glaze_slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu_1, float r) {
+float tunable_glaze_e_fon(float mu_1, float r) {
     float x = (1.0 - min(max(mu_1, 0.0), 1.0));
     float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
@@ -266,7 +266,7 @@ float e_fon(float mu_1, float r) {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-vec3 eon_rho_ms(vec3 albedo, float r_1) {
+vec3 tunable_glaze_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
     return (((albedo * albedo) * e_avg_1) / (vec3(1.0) - (albedo * (1.0 - e_avg_1))));
 }
@@ -274,46 +274,46 @@ vec3 eon_rho_ms(vec3 albedo, float r_1) {
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-vec3 fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
+vec3 tunable_glaze_fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l) {
     float s_2 = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = ((s_2 > 0.0) ? (s_2 / max(n_dot_v_2, n_dot_l_2)) : s_2);
     float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
-    float e_o = e_fon(n_dot_v_2, r_2);
-    float e_i = e_fon(n_dot_l_2, r_2);
+    float e_o = tunable_glaze_e_fon(n_dot_v_2, r_2);
+    float e_i = tunable_glaze_e_fon(n_dot_l_2, r_2);
     float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
-    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
     vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
-vec3 albedo_avg_eon(vec3 albedo_2, float r_3) {
+vec3 tunable_glaze_albedo_avg_eon(vec3 albedo_2, float r_3) {
     float e_avg_3 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
-    vec3 rho_ms = eon_rho_ms(albedo_2, r_3);
+    vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
     return ((albedo_2 * e_avg_3) + (rho_ms * (1.0 - e_avg_3)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-vec3 albedo_eon(vec3 albedo_3, float r_4, float mu_2) {
-    float e_f = e_fon(mu_2, r_4);
-    vec3 rho_ms = eon_rho_ms(albedo_3, r_4);
+vec3 tunable_glaze_albedo_eon(vec3 albedo_3, float r_4, float mu_2) {
+    float e_f = tunable_glaze_e_fon(mu_2, r_4);
+    vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_3, r_4);
     return ((albedo_3 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
-float fresnel_transmit_avg(float eta_6) {
+float tunable_glaze_fresnel_transmit_avg(float eta_6) {
     float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
     float node_eta_4 = (u_eta_4 * 63.0);
     float cell_eta_4 = min(floor(node_eta_4), 62.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_l = glazec_table_code((uint(cell_eta_4) + 11776u));
+    float code_l = tunable_glaze_table_code((uint(cell_eta_4) + 11520u));
     float at_l = ((code_l * 4.2145934e-6) + 0.7237966);
-    float code_u = glazec_table_code((uint((cell_eta_4 + 1.0)) + 11776u));
+    float code_u = tunable_glaze_table_code((uint((cell_eta_4 + 1.0)) + 11520u));
     float at_u = ((code_u * 4.2145934e-6) + 0.7237966);
     return ((at_l * (1.0 - weight_eta_4)) + (at_u * weight_eta_4));
 }
@@ -321,7 +321,7 @@ float fresnel_transmit_avg(float eta_6) {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-float coat_deficit_avg(float roughness_4, float eta_7) {
+float tunable_glaze_coat_deficit_avg(float roughness_4, float eta_7) {
     float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
     float node_roughness_4 = (u_roughness_4 * 31.0);
     float cell_roughness_4 = min(floor(node_roughness_4), 30.0);
@@ -330,13 +330,13 @@ float coat_deficit_avg(float roughness_4, float eta_7) {
     float node_eta_5 = (u_eta_5 * 7.0);
     float cell_eta_5 = min(floor(node_eta_5), 6.0);
     float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_ll = glazec_table_code((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11392u));
+    float code_ll = tunable_glaze_table_code((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11584u));
     float at_ll_1 = ((code_ll * 2.646295e-6) + -0.0021989432);
-    float code_ul = glazec_table_code((uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11392u));
+    float code_ul = tunable_glaze_table_code((uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11584u));
     float at_ul_1 = ((code_ul * 2.646295e-6) + -0.0021989432);
-    float code_lu = glazec_table_code((uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float code_lu = tunable_glaze_table_code((uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
     float at_lu_1 = ((code_lu * 2.646295e-6) + -0.0021989432);
-    float code_uu = glazec_table_code((uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float code_uu = tunable_glaze_table_code((uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
     float at_uu_1 = ((code_uu * 2.646295e-6) + -0.0021989432);
     return ((((at_ll_1 * ((1.0 - weight_roughness_4) * (1.0 - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1.0 - weight_eta_5)))) + (at_lu_1 * ((1.0 - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
 }
@@ -347,7 +347,7 @@ float coat_deficit_avg(float roughness_4, float eta_7) {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-float coat_return(float tau_1, float roughness_5, float eta_8) {
+float tunable_glaze_coat_return(float tau_1, float roughness_5, float eta_8) {
     float _e4 = max(tau_1, 0.0);
     float u_tau = (_e4 / (_e4 + 1.0));
     float node_tau = (u_tau * 15.0);
@@ -361,21 +361,21 @@ float coat_return(float tau_1, float roughness_5, float eta_8) {
     float node_eta_6 = (u_eta_6 * 7.0);
     float cell_eta_6 = min(floor(node_eta_6), 6.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_lll = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_lll_3 = ((code_lll * 0.00017661336) + 1.0);
-    float code_ull = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_ull_3 = ((code_ull * 0.00017661336) + 1.0);
-    float code_lul = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_lul_3 = ((code_lul * 0.00017661336) + 1.0);
-    float code_uul = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_uul_3 = ((code_uul * 0.00017661336) + 1.0);
-    float code_llu = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_llu_3 = ((code_llu * 0.00017661336) + 1.0);
-    float code_ulu = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_ulu_3 = ((code_ulu * 0.00017661336) + 1.0);
-    float code_luu = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_luu_3 = ((code_luu * 0.00017661336) + 1.0);
-    float code_uuu = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_uuu_3 = ((code_uuu * 0.00017661336) + 1.0);
     return ((((((((at_lll_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6)))) + (at_lul_3 * (((1.0 - weight_tau) * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_llu_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1.0 - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
 }
@@ -384,7 +384,7 @@ float coat_return(float tau_1, float roughness_5, float eta_8) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
-float coat_escape(float tau_2, float roughness_6, float eta_9) {
+float tunable_glaze_coat_escape(float tau_2, float roughness_6, float eta_9) {
     float _e4 = max(tau_2, 0.0);
     float u_tau_1 = (_e4 / (_e4 + 1.0));
     float node_tau_1 = (u_tau_1 * 15.0);
@@ -398,21 +398,21 @@ float coat_escape(float tau_2, float roughness_6, float eta_9) {
     float node_eta_7 = (u_eta_7 * 7.0);
     float cell_eta_7 = min(floor(node_eta_7), 6.0);
     float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    float code_lll = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_lll_4 = (code_lll * 1.5259022e-5);
-    float code_ull = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_ull_4 = (code_ull * 1.5259022e-5);
-    float code_lul = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_lul_4 = (code_lul * 1.5259022e-5);
-    float code_uul = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_uul_4 = (code_uul * 1.5259022e-5);
-    float code_llu = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_llu_4 = (code_llu * 1.5259022e-5);
-    float code_ulu = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_ulu_4 = (code_ulu * 1.5259022e-5);
-    float code_luu = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_luu_4 = (code_luu * 1.5259022e-5);
-    float code_uuu = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_uuu_4 = (code_uuu * 1.5259022e-5);
     return ((((((((at_lll_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7)))) + (at_lul_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_llu_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
@@ -420,16 +420,16 @@ float coat_escape(float tau_2, float roughness_6, float eta_9) {
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
 // the substitution μ = μc t² (dμ = 2μc t dt): 2μ e^{−2τ/μ} · 2μc t · w.
 // Guard: μ ≥ 10⁻²⁰ keeps τ/μ defined when μc = 0 (no TIR cone; the weight is then 0).
-vec3 slab_tir_node(float mu_c, vec3 tau_3, float t, float weight) {
+vec3 tunable_glaze_slab_tir_node(float mu_c, vec3 tau_3, float t, float weight) {
     float mu_3 = max(((mu_c * t) * t), 1e-20);
     return (exp(-(((tau_3 * vec3(2.0)) / vec3(mu_3)))) * ((((mu_3 * mu_c) * t) * weight) * 4.0));
 }
 
 // One Gauss–Legendre node of R(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²
 // (dμ = 2(1 − μc) s ds): 2μ e^{−2τ/μ} F_int(μ) · 2(1 − μc) s · w.
-vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float weight_1) {
+vec3 tunable_glaze_slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float weight_1) {
     float mu_4 = (mu_c_1 + (((1.0 - mu_c_1) * s) * s));
-    float fresnel = fr_dielectric(mu_4, inv_eta);
+    float fresnel = tunable_glaze_fr_dielectric(mu_4, inv_eta);
     return (exp(-(((tau_4 * vec3(2.0)) / vec3(mu_4)))) * (((((mu_4 * (1.0 - mu_c_1)) * s) * fresnel) * weight_1) * 4.0));
 }
 
@@ -438,41 +438,41 @@ vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float we
 // absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
 // Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
 // τ are literals.
-vec3 slab_return(float eta_10, vec3 tau_5) {
+vec3 tunable_glaze_slab_return(float eta_10, vec3 tau_5) {
     float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
     float inv_eta_2 = (1.0 / eta_10);
-    vec3 node = slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
-    vec3 node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
-    vec3 node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
-    vec3 node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
-    vec3 node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
-    vec3 node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
-    vec3 node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
-    vec3 node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
-    vec3 node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
-    vec3 node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
-    vec3 node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
-    vec3 node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
-    vec3 node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
-    vec3 node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
+    vec3 node = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
+    vec3 node_1 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
+    vec3 node_2 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
+    vec3 node_3 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
+    vec3 node_4 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
+    vec3 node_5 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
+    vec3 node_6 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
+    vec3 node_7 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
+    vec3 node_8 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
+    vec3 node_9 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
+    vec3 node_10 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
+    vec3 node_11 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
+    vec3 node_12 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
+    vec3 node_13 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
+    vec3 node_14 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
+    vec3 node_15 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
+    vec3 node_16 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
+    vec3 node_17 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
+    vec3 node_18 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
+    vec3 node_19 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
+    vec3 node_20 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
+    vec3 node_21 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
+    vec3 node_22 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
+    vec3 node_23 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
 // One Gauss–Legendre node of E_esc(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²:
 // 2μ e^{−τ/μ} (1 − F_int(μ)) · 2(1 − μc) s · w.
-vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, float weight_2) {
+vec3 tunable_glaze_slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, float weight_2) {
     float mu_5 = (mu_c_2 + (((1.0 - mu_c_2) * s_1) * s_1));
-    float fresnel = fr_dielectric(mu_5, inv_eta_1);
+    float fresnel = tunable_glaze_fr_dielectric(mu_5, inv_eta_1);
     return (exp(-((tau_6 / vec3(mu_5)))) * (((((mu_5 * (1.0 - mu_c_2)) * s_1) * (1.0 - fresnel)) * weight_2) * 4.0));
 }
 
@@ -480,21 +480,21 @@ vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, floa
 // diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
 // coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
 // literals.
-vec3 slab_escape(float eta_11, vec3 tau_7) {
+vec3 tunable_glaze_slab_escape(float eta_11, vec3 tau_7) {
     float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
     float inv_eta_3 = (1.0 / eta_11);
-    vec3 node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
-    vec3 node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
+    vec3 node = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
+    vec3 node_1 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
+    vec3 node_2 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
+    vec3 node_3 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
+    vec3 node_4 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
+    vec3 node_5 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
+    vec3 node_6 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
+    vec3 node_7 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
+    vec3 node_8 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
+    vec3 node_9 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
+    vec3 node_10 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
+    vec3 node_11 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
 }
 
@@ -502,14 +502,14 @@ vec3 slab_escape(float eta_11, vec3 tau_7) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
 // smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
-float eon_escape_shape(float eta_12) {
+float tunable_glaze_eon_escape_shape(float eta_12) {
     float u_eta_8 = min(max((((eta_12 - 1.0) * 2.0) / (eta_12 + 1.0)), 0.0), 1.0);
     float node_eta_8 = (u_eta_8 * 31.0);
     float cell_eta_8 = min(floor(node_eta_8), 30.0);
     float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    float code_l = glazec_table_code((uint(cell_eta_8) + 16208u));
+    float code_l = tunable_glaze_table_code((uint(cell_eta_8) + 15936u));
     float at_l_1 = ((code_l * 4.9967284e-6) + 0.99966115);
-    float code_u = glazec_table_code((uint((cell_eta_8 + 1.0)) + 16208u));
+    float code_u = tunable_glaze_table_code((uint((cell_eta_8 + 1.0)) + 15936u));
     float at_u_1 = ((code_u * 4.9967284e-6) + 0.99966115);
     return ((at_l_1 * (1.0 - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
@@ -520,7 +520,7 @@ float eon_escape_shape(float eta_12) {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-vec3 interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
+vec3 tunable_glaze_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
     return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
@@ -529,7 +529,7 @@ vec3 interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_bel
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_13) {
+vec3 tunable_glaze_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_13) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
 }
 
@@ -540,83 +540,83 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 tau_8 = (params.glaze_absorption * params.glaze_thickness);
-    vec3 h = half_vector(v_1, l_1);
+    vec3 h = tunable_glaze_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
-    float d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
-    float g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
-    float _e28 = fr_dielectric(cos_v, params.glaze_ior);
-    float _e29 = fr_dielectric(cos_l, params.glaze_ior);
-    float _e31 = fr_dielectric(dot(v_1, h), params.glaze_ior);
+    float d = tunable_glaze_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
+    float g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
+    float _e28 = tunable_glaze_fr_dielectric(cos_v, params.glaze_ior);
+    float _e29 = tunable_glaze_fr_dielectric(cos_l, params.glaze_ior);
+    float _e31 = tunable_glaze_fr_dielectric(dot(v_1, h), params.glaze_ior);
     float fresnel_2 = ((params.glaze_ior < 1.0) ? min(_e28, _e29) : _e31);
-    vec3 _e34 = f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
-    float layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float _e37 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
-    float _e38 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
+    vec3 _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
+    float layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float _e37 = tunable_glaze_coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    float _e38 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
     vec3 specular = (_e34 + vec3(_e38));
-    float layer1_fresnel_l = fr_dielectric(n_dot_l_3, params.glaze_ior);
+    float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
     float _e43 = (1.0 - layer1_fresnel_l);
-    float _e44 = coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float _e44 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e43 : min(max(((_e43 + _e44) - layer1_restored_l), 0.0), 1.0));
-    float layer1_fresnel_v = fr_dielectric(n_dot_v_3, params.glaze_ior);
+    float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
     float _e56 = (1.0 - layer1_fresnel_v);
-    float _e57 = coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max(((_e56 + _e57) - layer1_restored_v), 0.0), 1.0));
-    vec3 layer1_v = refract_down(v_1, n_1, params.glaze_ior);
-    vec3 layer1_l = refract_down(l_1, n_1, params.glaze_ior);
+    vec3 layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
+    vec3 layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e75 = coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float _e75 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
-    float _e80 = coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float _e80 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
-    vec3 absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
-    vec3 absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
+    vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
+    vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
-    vec3 layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
-    vec3 layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
-    vec3 layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    float _e101 = fresnel_transmit_avg(params.glaze_ior);
-    float _e102 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    vec3 layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
+    vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
+    vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
+    vec3 layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
+    float _e101 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    float _e102 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_avg = ((_e101 + _e102) - _e37);
-    float _e108 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e110 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e112 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    float _e122 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e124 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e126 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    vec3 _e129 = slab_return(params.glaze_ior, tau_8);
-    vec3 _e130 = slab_escape(params.glaze_ior, tau_8);
+    float _e108 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e110 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e112 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    float _e122 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e124 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e126 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    vec3 _e129 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    vec3 _e130 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
     vec3 layer1_r_return = ((params.glaze_ior < 1.0) ? _e129 : max((vec3(1.0) - (vec3(_e108, _e110, _e112) * (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior)))), vec3(0.0)));
     float layer1_transmit_avg_1 = ((_e101 + _e102) - _e37);
     float _e135 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
     bool _e145 = (params.glaze_ior < 1.0);
-    vec3 _e148 = slab_return(params.glaze_ior, vec3(0.0));
-    vec3 _e151 = slab_escape(params.glaze_ior, vec3(0.0));
+    vec3 _e148 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
+    vec3 _e151 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
     vec3 layer1_r_return_1 = (_e145 ? _e148 : max((vec3(1.0) - vec3(_e135)), vec3(0.0)));
-    float layer1_eon_escape_shape = eon_escape_shape(params.glaze_ior);
-    vec3 layer1_rho_ms = eon_rho_ms(params.body_albedo, params.body_roughness);
+    float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
+    vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
     float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
-    vec3 _e166 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    float _e167 = e_fon(layer1_path_cos_l_1, params.body_roughness);
+    vec3 _e166 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    float _e167 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
     vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e167)) * (layer1_eon_escape_shape - 1.0)) / max(_e166, vec3(1e-6))));
     vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e145 ? _e151 : vec3(_e135)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e195 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    float _e196 = e_fon(layer1_path_cos_v_1, params.body_roughness);
+    vec3 _e195 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    float _e196 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e196)) * (layer1_eon_escape_shape - 1.0)) / max(_e195, vec3(1e-6))));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * (_e145 ? _e151 : vec3(_e135)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
     float _e231 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
     float _e247 = min(max((((1.0 - ((_e231 * _e231) * _e231)) / max((1.0 - (_e231 * _e231)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e248 = albedo_eon(params.body_albedo, params.body_roughness, _e247);
-    float _e249 = e_fon(_e247, params.body_roughness);
+    vec3 _e248 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e247);
+    float _e249 = tunable_glaze_e_fon(_e247, params.body_roughness);
     vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e249)) * (layer1_eon_escape_shape - 1.0)) / max(_e248, vec3(1e-6))));
     vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e145 ? _e151 : vec3(_e135)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
-    vec3 f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
+    vec3 under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
+    vec3 f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 

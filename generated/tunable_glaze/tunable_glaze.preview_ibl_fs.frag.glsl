@@ -8,7 +8,7 @@ struct TunableGlazeParams {
     vec3 body_albedo;
     float body_roughness;
 };
-layout(std140, binding = 4) uniform type_6_block_0Fragment { uvec4 _group_0_binding_4_fs[4087]; };
+layout(std140, binding = 4) uniform type_8_block_0Fragment { uvec4 _group_0_binding_4_fs[1996]; };
 
 layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
 
@@ -23,7 +23,7 @@ layout(location = 0) out vec4 _fs2p_location0;
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-float fr_dielectric(float cos_i, float eta) {
+float tunable_glaze_fr_dielectric(float cos_i, float eta) {
     float cos_i_1 = min(max(cos_i, 0.0), 1.0);
     float sin2_t = ((1.0 - (cos_i_1 * cos_i_1)) / (eta * eta));
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
@@ -35,7 +35,7 @@ float fr_dielectric(float cos_i, float eta) {
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-float glazec_table_code(uint entry) {
+float tunable_glaze_table_code(uint entry) {
     uint word = (entry >> 1u);
     uint codes = _group_0_binding_4_fs[(word >> 2u)][(word & 3u)];
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
@@ -45,7 +45,7 @@ float glazec_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coat_extra(float cos_theta, float roughness, float eta_1) {
+float tunable_glaze_coat_extra(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -58,21 +58,21 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 8192u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 8192u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
     float at_uuu = (code_uuu * 1.4542611e-6);
     return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -80,7 +80,7 @@ float coat_extra(float cos_theta, float roughness, float eta_1) {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-float coat_extra_avg(float roughness_1, float eta_2) {
+float tunable_glaze_coat_extra_avg(float roughness_1, float eta_2) {
     float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
     float node_roughness_1 = (u_roughness_1 * 15.0);
     float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
@@ -89,13 +89,13 @@ float coat_extra_avg(float roughness_1, float eta_2) {
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_ll = glazec_table_code((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 11648u));
+    float code_ll = tunable_glaze_table_code((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 2048u));
     float at_ll = (code_ll * 4.36632e-7);
-    float code_ul = glazec_table_code((uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 11648u));
+    float code_ul = tunable_glaze_table_code((uint(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 2048u));
     float at_ul = (code_ul * 4.36632e-7);
-    float code_lu = glazec_table_code((uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float code_lu = tunable_glaze_table_code((uint((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
     float at_lu = (code_lu * 4.36632e-7);
-    float code_uu = glazec_table_code((uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 11648u));
+    float code_uu = tunable_glaze_table_code((uint(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
     float at_uu = (code_uu * 4.36632e-7);
     return ((((at_ll * ((1.0 - weight_roughness_1) * (1.0 - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1.0 - weight_eta_1)))) + (at_lu * ((1.0 - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
 }
@@ -105,7 +105,7 @@ float coat_extra_avg(float roughness_1, float eta_2) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
+float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
@@ -118,21 +118,21 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 0u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 0u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
     return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
@@ -141,7 +141,7 @@ float coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 refract_down(vec3 w, vec3 n, float eta_4) {
+vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_4) {
     return -(refract(-(w), n, (1.0 / eta_4)));
 }
 
@@ -150,7 +150,7 @@ vec3 refract_down(vec3 w, vec3 n, float eta_4) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float coat_path(float cos_theta_2, float roughness_3, float eta_5) {
+float tunable_glaze_coat_path(float cos_theta_2, float roughness_3, float eta_5) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
@@ -163,35 +163,35 @@ float coat_path(float cos_theta_2, float roughness_3, float eta_5) {
     float node_eta_3 = (u_eta_3 * 7.0);
     float cell_eta_3 = min(floor(node_eta_3), 6.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_lll = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10240u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = glazec_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = glazec_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = glazec_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
     return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-vec3 slab_transmittance(vec3 tau, float mu) {
+vec3 tunable_glaze_slab_transmittance(vec3 tau, float mu) {
     return exp(-((tau / vec3(mu))));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-float e_fon(float mu_1, float r) {
+float tunable_glaze_e_fon(float mu_1, float r) {
     float x = (1.0 - min(max(mu_1, 0.0), 1.0));
     float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
@@ -199,38 +199,38 @@ float e_fon(float mu_1, float r) {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-vec3 eon_rho_ms(vec3 albedo, float r_1) {
+vec3 tunable_glaze_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
     return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
-vec3 albedo_avg_eon(vec3 albedo_1, float r_2) {
+vec3 tunable_glaze_albedo_avg_eon(vec3 albedo_1, float r_2) {
     float e_avg_1 = (((r_2 * 0.07248825) + 1.0) / ((r_2 * 0.2877934) + 1.0));
-    vec3 rho_ms = eon_rho_ms(albedo_1, r_2);
+    vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
     return ((albedo_1 * e_avg_1) + (rho_ms * (1.0 - e_avg_1)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-vec3 albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
-    float e_f = e_fon(mu_2, r_3);
-    vec3 rho_ms = eon_rho_ms(albedo_2, r_3);
+vec3 tunable_glaze_albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
+    float e_f = tunable_glaze_e_fon(mu_2, r_3);
+    vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
     return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
-float fresnel_transmit_avg(float eta_6) {
+float tunable_glaze_fresnel_transmit_avg(float eta_6) {
     float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
     float node_eta_4 = (u_eta_4 * 63.0);
     float cell_eta_4 = min(floor(node_eta_4), 62.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_l = glazec_table_code((uint(cell_eta_4) + 11776u));
+    float code_l = tunable_glaze_table_code((uint(cell_eta_4) + 11520u));
     float at_l = ((code_l * 4.2145934e-6) + 0.7237966);
-    float code_u = glazec_table_code((uint((cell_eta_4 + 1.0)) + 11776u));
+    float code_u = tunable_glaze_table_code((uint((cell_eta_4 + 1.0)) + 11520u));
     float at_u = ((code_u * 4.2145934e-6) + 0.7237966);
     return ((at_l * (1.0 - weight_eta_4)) + (at_u * weight_eta_4));
 }
@@ -238,7 +238,7 @@ float fresnel_transmit_avg(float eta_6) {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-float coat_deficit_avg(float roughness_4, float eta_7) {
+float tunable_glaze_coat_deficit_avg(float roughness_4, float eta_7) {
     float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
     float node_roughness_4 = (u_roughness_4 * 31.0);
     float cell_roughness_4 = min(floor(node_roughness_4), 30.0);
@@ -247,13 +247,13 @@ float coat_deficit_avg(float roughness_4, float eta_7) {
     float node_eta_5 = (u_eta_5 * 7.0);
     float cell_eta_5 = min(floor(node_eta_5), 6.0);
     float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_ll = glazec_table_code((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11392u));
+    float code_ll = tunable_glaze_table_code((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11584u));
     float at_ll_1 = ((code_ll * 2.646295e-6) + -0.0021989432);
-    float code_ul = glazec_table_code((uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11392u));
+    float code_ul = tunable_glaze_table_code((uint(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11584u));
     float at_ul_1 = ((code_ul * 2.646295e-6) + -0.0021989432);
-    float code_lu = glazec_table_code((uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float code_lu = tunable_glaze_table_code((uint((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
     float at_lu_1 = ((code_lu * 2.646295e-6) + -0.0021989432);
-    float code_uu = glazec_table_code((uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11392u));
+    float code_uu = tunable_glaze_table_code((uint(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
     float at_uu_1 = ((code_uu * 2.646295e-6) + -0.0021989432);
     return ((((at_ll_1 * ((1.0 - weight_roughness_4) * (1.0 - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1.0 - weight_eta_5)))) + (at_lu_1 * ((1.0 - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
 }
@@ -264,7 +264,7 @@ float coat_deficit_avg(float roughness_4, float eta_7) {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-float coat_return(float tau_1, float roughness_5, float eta_8) {
+float tunable_glaze_coat_return(float tau_1, float roughness_5, float eta_8) {
     float _e4 = max(tau_1, 0.0);
     float u_tau = (_e4 / (_e4 + 1.0));
     float node_tau = (u_tau * 15.0);
@@ -278,21 +278,21 @@ float coat_return(float tau_1, float roughness_5, float eta_8) {
     float node_eta_6 = (u_eta_6 * 7.0);
     float cell_eta_6 = min(floor(node_eta_6), 6.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_lll = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_lll_3 = ((code_lll * 0.00017661336) + 1.0);
-    float code_ull = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_ull_3 = ((code_ull * 0.00017661336) + 1.0);
-    float code_lul = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_lul_3 = ((code_lul * 0.00017661336) + 1.0);
-    float code_uul = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
     float at_uul_3 = ((code_uul * 0.00017661336) + 1.0);
-    float code_llu = glazec_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_llu_3 = ((code_llu * 0.00017661336) + 1.0);
-    float code_ulu = glazec_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_ulu_3 = ((code_ulu * 0.00017661336) + 1.0);
-    float code_luu = glazec_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_luu_3 = ((code_luu * 0.00017661336) + 1.0);
-    float code_uuu = glazec_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
     float at_uuu_3 = ((code_uuu * 0.00017661336) + 1.0);
     return ((((((((at_lll_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6)))) + (at_lul_3 * (((1.0 - weight_tau) * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_llu_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1.0 - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
 }
@@ -301,7 +301,7 @@ float coat_return(float tau_1, float roughness_5, float eta_8) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
-float coat_escape(float tau_2, float roughness_6, float eta_9) {
+float tunable_glaze_coat_escape(float tau_2, float roughness_6, float eta_9) {
     float _e4 = max(tau_2, 0.0);
     float u_tau_1 = (_e4 / (_e4 + 1.0));
     float node_tau_1 = (u_tau_1 * 15.0);
@@ -315,21 +315,21 @@ float coat_escape(float tau_2, float roughness_6, float eta_9) {
     float node_eta_7 = (u_eta_7 * 7.0);
     float cell_eta_7 = min(floor(node_eta_7), 6.0);
     float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    float code_lll = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_lll = tunable_glaze_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_lll_4 = (code_lll * 1.5259022e-5);
-    float code_ull = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_ull = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_ull_4 = (code_ull * 1.5259022e-5);
-    float code_lul = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_lul = tunable_glaze_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_lul_4 = (code_lul * 1.5259022e-5);
-    float code_uul = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
+    float code_uul = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
     float at_uul_4 = (code_uul * 1.5259022e-5);
-    float code_llu = glazec_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_llu = tunable_glaze_table_code((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_llu_4 = (code_llu * 1.5259022e-5);
-    float code_ulu = glazec_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_ulu = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_ulu_4 = (code_ulu * 1.5259022e-5);
-    float code_luu = glazec_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_luu = tunable_glaze_table_code((uint(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_luu_4 = (code_luu * 1.5259022e-5);
-    float code_uuu = glazec_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
+    float code_uuu = tunable_glaze_table_code((uint((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
     float at_uuu_4 = (code_uuu * 1.5259022e-5);
     return ((((((((at_lll_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7)))) + (at_lul_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_llu_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
 }
@@ -337,16 +337,16 @@ float coat_escape(float tau_2, float roughness_6, float eta_9) {
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
 // the substitution μ = μc t² (dμ = 2μc t dt): 2μ e^{−2τ/μ} · 2μc t · w.
 // Guard: μ ≥ 10⁻²⁰ keeps τ/μ defined when μc = 0 (no TIR cone; the weight is then 0).
-vec3 slab_tir_node(float mu_c, vec3 tau_3, float t, float weight) {
+vec3 tunable_glaze_slab_tir_node(float mu_c, vec3 tau_3, float t, float weight) {
     float mu_3 = max(((mu_c * t) * t), 1e-20);
     return (exp(-(((tau_3 * vec3(2.0)) / vec3(mu_3)))) * ((((mu_3 * mu_c) * t) * weight) * 4.0));
 }
 
 // One Gauss–Legendre node of R(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²
 // (dμ = 2(1 − μc) s ds): 2μ e^{−2τ/μ} F_int(μ) · 2(1 − μc) s · w.
-vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float weight_1) {
+vec3 tunable_glaze_slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float weight_1) {
     float mu_4 = (mu_c_1 + (((1.0 - mu_c_1) * s) * s));
-    float fresnel = fr_dielectric(mu_4, inv_eta);
+    float fresnel = tunable_glaze_fr_dielectric(mu_4, inv_eta);
     return (exp(-(((tau_4 * vec3(2.0)) / vec3(mu_4)))) * (((((mu_4 * (1.0 - mu_c_1)) * s) * fresnel) * weight_1) * 4.0));
 }
 
@@ -355,41 +355,41 @@ vec3 slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, float s, float we
 // absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
 // Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
 // τ are literals.
-vec3 slab_return(float eta_10, vec3 tau_5) {
+vec3 tunable_glaze_slab_return(float eta_10, vec3 tau_5) {
     float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
     float inv_eta_2 = (1.0 / eta_10);
-    vec3 node = slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
-    vec3 node_9 = slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
-    vec3 node_12 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
-    vec3 node_13 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
-    vec3 node_14 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
-    vec3 node_15 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
-    vec3 node_16 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
-    vec3 node_17 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
-    vec3 node_18 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
-    vec3 node_19 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
-    vec3 node_20 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
-    vec3 node_21 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
-    vec3 node_22 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
-    vec3 node_23 = slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
+    vec3 node = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
+    vec3 node_1 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
+    vec3 node_2 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
+    vec3 node_3 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.20634103, 0.10158371);
+    vec3 node_4 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.31608424, 0.11674627);
+    vec3 node_5 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.4373833, 0.12457352);
+    vec3 node_6 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.5626167, 0.12457352);
+    vec3 node_7 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.68391573, 0.11674627);
+    vec3 node_8 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.793659, 0.10158371);
+    vec3 node_9 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.88495135, 0.080039166);
+    vec3 node_10 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.9520586, 0.05346966);
+    vec3 node_11 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.9907803, 0.023587668);
+    vec3 node_12 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.009219683, 0.023587668);
+    vec3 node_13 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.04794137, 0.05346966);
+    vec3 node_14 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.11504866, 0.080039166);
+    vec3 node_15 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.20634103, 0.10158371);
+    vec3 node_16 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.31608424, 0.11674627);
+    vec3 node_17 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.4373833, 0.12457352);
+    vec3 node_18 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.5626167, 0.12457352);
+    vec3 node_19 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.68391573, 0.11674627);
+    vec3 node_20 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.793659, 0.10158371);
+    vec3 node_21 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.88495135, 0.080039166);
+    vec3 node_22 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9520586, 0.05346966);
+    vec3 node_23 = tunable_glaze_slab_return_node(mu_c_3, inv_eta_2, tau_5, 0.9907803, 0.023587668);
     return (((((((((((((((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11) + node_12) + node_13) + node_14) + node_15) + node_16) + node_17) + node_18) + node_19) + node_20) + node_21) + node_22) + node_23);
 }
 
 // One Gauss–Legendre node of E_esc(τ) on μ ∈ [μc, 1] with μ = μc + (1 − μc) s²:
 // 2μ e^{−τ/μ} (1 − F_int(μ)) · 2(1 − μc) s · w.
-vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, float weight_2) {
+vec3 tunable_glaze_slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, float weight_2) {
     float mu_5 = (mu_c_2 + (((1.0 - mu_c_2) * s_1) * s_1));
-    float fresnel = fr_dielectric(mu_5, inv_eta_1);
+    float fresnel = tunable_glaze_fr_dielectric(mu_5, inv_eta_1);
     return (exp(-((tau_6 / vec3(mu_5)))) * (((((mu_5 * (1.0 - mu_c_2)) * s_1) * (1.0 - fresnel)) * weight_2) * 4.0));
 }
 
@@ -397,21 +397,21 @@ vec3 slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, float s_1, floa
 // diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
 // coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
 // literals.
-vec3 slab_escape(float eta_11, vec3 tau_7) {
+vec3 tunable_glaze_slab_escape(float eta_11, vec3 tau_7) {
     float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
     float inv_eta_3 = (1.0 / eta_11);
-    vec3 node = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
-    vec3 node_1 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
-    vec3 node_2 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
-    vec3 node_3 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
-    vec3 node_4 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
-    vec3 node_5 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
-    vec3 node_6 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
-    vec3 node_7 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
-    vec3 node_8 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
-    vec3 node_9 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
-    vec3 node_10 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
-    vec3 node_11 = slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
+    vec3 node = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
+    vec3 node_1 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
+    vec3 node_2 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
+    vec3 node_3 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.20634103, 0.10158371);
+    vec3 node_4 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.31608424, 0.11674627);
+    vec3 node_5 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.4373833, 0.12457352);
+    vec3 node_6 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.5626167, 0.12457352);
+    vec3 node_7 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.68391573, 0.11674627);
+    vec3 node_8 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.793659, 0.10158371);
+    vec3 node_9 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.88495135, 0.080039166);
+    vec3 node_10 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9520586, 0.05346966);
+    vec3 node_11 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.9907803, 0.023587668);
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
 }
 
@@ -419,35 +419,35 @@ vec3 slab_escape(float eta_11, vec3 tau_7) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
 // smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
-float eon_escape_shape(float eta_12) {
+float tunable_glaze_eon_escape_shape(float eta_12) {
     float u_eta_8 = min(max((((eta_12 - 1.0) * 2.0) / (eta_12 + 1.0)), 0.0), 1.0);
     float node_eta_8 = (u_eta_8 * 31.0);
     float cell_eta_8 = min(floor(node_eta_8), 30.0);
     float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    float code_l = glazec_table_code((uint(cell_eta_8) + 16208u));
+    float code_l = tunable_glaze_table_code((uint(cell_eta_8) + 15936u));
     float at_l_1 = ((code_l * 4.9967284e-6) + 0.99966115);
-    float code_u = glazec_table_code((uint((cell_eta_8 + 1.0)) + 16208u));
+    float code_u = tunable_glaze_table_code((uint((cell_eta_8 + 1.0)) + 15936u));
     float at_u_1 = ((code_u * 4.9967284e-6) + 0.99966115);
     return ((at_l_1 * (1.0 - weight_eta_8)) + (at_u_1 * weight_eta_8));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 glazec_equirect_uv(vec3 d) {
+vec2 tunable_glaze_equirect_uv(vec3 d) {
     return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
 }
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 glazec_environment(vec3 direction, float roughness_7) {
-    vec2 uv = glazec_equirect_uv(direction);
+vec3 tunable_glaze_environment(vec3 direction, float roughness_7) {
+    vec2 uv = tunable_glaze_equirect_uv(direction);
     float lod = (roughness_7 * (float(uint(textureQueryLevels(_group_2_binding_1_fs))) - 1.0));
     vec4 _e11 = textureLod(_group_2_binding_1_fs, vec2(uv), lod);
     return _e11.xyz;
 }
 
 // The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 glazec_irradiance_at(vec3 direction_1) {
-    vec2 uv = glazec_equirect_uv(direction_1);
+vec3 tunable_glaze_irradiance_at(vec3 direction_1) {
+    vec2 uv = tunable_glaze_equirect_uv(direction_1);
     vec4 _e5 = textureLod(_group_2_binding_2_fs, vec2(uv), 0.0);
     return _e5.xyz;
 }
@@ -456,7 +456,7 @@ vec3 glazec_irradiance_at(vec3 direction_1) {
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
-vec3 interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 rho_below, vec3 r_return, vec3 e_escape, vec3 first_escape, vec3 first_return) {
+vec3 tunable_glaze_interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 rho_below, vec3 r_return, vec3 e_escape, vec3 first_escape, vec3 first_return) {
     vec3 series = (((first_return * rho_below) * r_return) / (vec3(1.0) - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t_1) + vec3((1.0 - t_1)));
 }
@@ -464,7 +464,7 @@ vec3 interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 rho_below, vec3
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-vec3 interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3 r_return_1, vec3 rho_below_1) {
+vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3 r_return_1, vec3 rho_below_1) {
     float eta_sq = (eta_13 * eta_13);
     float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
     return (((((e_escape_1 * e_escape_1) * rho_below_1) * eta_sq) / (vec3(1.0) - (rho_below_1 * r_return_1))) + vec3(e_fresnel));
@@ -475,7 +475,7 @@ vec3 interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 specular_dominant_direction(vec3 n_1, vec3 v, float alpha) {
+vec3 tunable_glaze_specular_dominant_direction(vec3 n_1, vec3 v, float alpha) {
     vec3 r_4 = ((n_1 * (max(dot(n_1, v), 0.0) * 2.0)) - v);
     float smoothness = min(max((1.0 - alpha), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha));
@@ -484,80 +484,80 @@ vec3 specular_dominant_direction(vec3 n_1, vec3 v, float alpha) {
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
-// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+// directional albedo times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
+// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 vec3 tunable_glaze_ibl(vec3 n_2, vec3 v_1, TunableGlazeParams params) {
     float n_dot_v = dot(n_2, v_1);
     float cos_v = max(n_dot_v, 0.0001);
     vec3 tau_8 = (params.glaze_absorption * params.glaze_thickness);
-    float layer1_fresnel_l = fr_dielectric(n_dot_v, params.glaze_ior);
+    float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v, params.glaze_ior);
     float _e15 = (1.0 - layer1_fresnel_l);
-    float _e16 = coat_deficit(n_dot_v, params.glaze_roughness, params.glaze_ior);
-    float layer1_restored_l = coat_extra(n_dot_v, params.glaze_roughness, params.glaze_ior);
+    float _e16 = tunable_glaze_coat_deficit(n_dot_v, params.glaze_roughness, params.glaze_ior);
+    float layer1_restored_l = tunable_glaze_coat_extra(n_dot_v, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e15 : min(max(((_e15 + _e16) - layer1_restored_l), 0.0), 1.0));
     float _e28 = (1.0 - layer1_fresnel_l);
     float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e28 : min(max(((_e28 + _e16) - layer1_restored_l), 0.0), 1.0));
-    vec3 layer1_v = refract_down(v_1, n_2, params.glaze_ior);
+    vec3 layer1_v = tunable_glaze_refract_down(v_1, n_2, params.glaze_ior);
     float layer1_n_dot_v = dot(n_2, layer1_v);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
-    float _e42 = coat_path(n_dot_v, params.glaze_roughness, params.glaze_ior);
+    float _e42 = tunable_glaze_coat_path(n_dot_v, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e42));
     float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e42));
-    vec3 absorb_l = slab_transmittance(tau_8, layer1_path_cos_l);
-    vec3 absorb_v = slab_transmittance(tau_8, layer1_path_cos_v);
+    vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
+    vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
-    vec3 layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
-    vec3 layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    float _e64 = fresnel_transmit_avg(params.glaze_ior);
-    float _e65 = coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    float _e66 = coat_extra_avg(params.glaze_roughness, params.glaze_ior);
+    vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
+    vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
+    float _e64 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    float _e65 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    float _e66 = tunable_glaze_coat_extra_avg(params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_avg = ((_e64 + _e65) - _e66);
     float _e70 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    float _e72 = coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e74 = coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e76 = coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    float _e86 = coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e88 = coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e90 = coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    float _e72 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e74 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e76 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    float _e86 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e88 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e90 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
     bool _e94 = (params.glaze_ior < 1.0);
-    vec3 _e95 = slab_return(params.glaze_ior, tau_8);
-    vec3 _e96 = slab_escape(params.glaze_ior, tau_8);
+    vec3 _e95 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    vec3 _e96 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
     vec3 layer1_r_return = (_e94 ? _e95 : max((vec3(1.0) - (vec3(_e72, _e74, _e76) * _e70)), vec3(0.0)));
     vec3 _e98 = (_e94 ? _e96 : (vec3(_e86, _e88, _e90) * _e70));
     float layer1_transmit_avg_1 = ((_e64 + _e65) - _e66);
     float _e102 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
     bool _e112 = (params.glaze_ior < 1.0);
-    vec3 _e115 = slab_return(params.glaze_ior, vec3(0.0));
-    vec3 _e118 = slab_escape(params.glaze_ior, vec3(0.0));
+    vec3 _e115 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
+    vec3 _e118 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
     vec3 layer1_r_return_1 = (_e112 ? _e115 : max((vec3(1.0) - vec3(_e102)), vec3(0.0)));
     vec3 _e120 = (_e112 ? _e118 : vec3(_e102));
-    float layer1_eon_escape_shape = eon_escape_shape(params.glaze_ior);
-    vec3 layer1_rho_ms = eon_rho_ms(params.body_albedo, params.body_roughness);
+    float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
+    vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e42));
     float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e42));
-    vec3 _e133 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    float _e134 = e_fon(layer1_path_cos_l_1, params.body_roughness);
+    vec3 _e133 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    float _e134 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
     vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e134)) * (layer1_eon_escape_shape - 1.0)) / max(_e133, vec3(1e-6))));
     vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * _e120.x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e162 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    float _e163 = e_fon(layer1_path_cos_v_1, params.body_roughness);
+    vec3 _e162 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    float _e163 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e163)) * (layer1_eon_escape_shape - 1.0)) / max(_e162, vec3(1e-6))));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * _e120.x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
     float _e198 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
     float _e214 = min(max((((1.0 - ((_e198 * _e198) * _e198)) / max((1.0 - (_e198 * _e198)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e215 = albedo_eon(params.body_albedo, params.body_roughness, _e214);
-    float _e216 = e_fon(_e214, params.body_roughness);
+    vec3 _e215 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e214);
+    float _e216 = tunable_glaze_e_fon(_e214, params.body_roughness);
     vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e216)) * (layer1_eon_escape_shape - 1.0)) / max(_e215, vec3(1e-6))));
     vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * _e120.x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = interfaced_albedo_dir(layer1_transmit_l, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, _e98, layer1_first_escape_l, layer1_first_return_l);
-    vec3 albedo_v = interfaced_albedo_dir(layer1_transmit_v, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return, _e98, layer1_first_escape_v, layer1_first_return_v);
-    vec3 rho = interfaced_albedo(params.glaze_ior, _e120.x, _e98, layer1_r_return, layer1_rho);
+    vec3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return, _e98, layer1_first_escape_l, layer1_first_return_l);
+    vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return, _e98, layer1_first_escape_v, layer1_first_return_v);
+    vec3 rho = tunable_glaze_interfaced_albedo(params.glaze_ior, _e120.x, _e98, layer1_r_return, layer1_rho);
     float coat_albedo = (1.0 - layer1_transmit_v);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
-    vec3 reflected = specular_dominant_direction(n_2, v_1, (params.glaze_roughness * params.glaze_roughness));
+    vec3 reflected = tunable_glaze_specular_dominant_direction(n_2, v_1, (params.glaze_roughness * params.glaze_roughness));
     bool _e260 = (dot(n_2, v_1) > 0.0);
-    vec3 light_a = glazec_environment(reflected, params.glaze_roughness);
-    vec3 light_b = glazec_irradiance_at(n_2);
+    vec3 light_a = tunable_glaze_environment(reflected, params.glaze_roughness);
+    vec3 light_b = tunable_glaze_irradiance_at(n_2);
     return (((_e260 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e260 ? under_albedo : vec3(0.0)) * light_b));
 }
 

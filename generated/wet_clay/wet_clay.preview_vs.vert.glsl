@@ -4,11 +4,11 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
-const vec3 tau = vec3(0.32000002, 0.32000002, 0.32000002);
-const vec3 layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);
-const vec3 layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 wet_clay_tau = vec3(0.32000002, 0.32000002, 0.32000002);
+const vec3 wet_clay_layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 wet_clay_layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);
+const vec3 wet_clay_layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
+const vec3 wet_clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use glazec::project::{Outcome, Project};
+use glazec::lower::bindings::{Choice, Resource, Slot};
 use glazec::{Target, output};
 
 use crate::choice;
@@ -20,8 +21,14 @@ pub struct Args {
     #[arg(short, long, default_value = "generated")]
     out: PathBuf,
     /// Comma-separated targets.
-    #[arg(long, value_parser = choice::parser::<Target>(), value_delimiter = ',', default_value = "wgsl,glsl,hlsl")]
+    #[arg(long, value_parser = choice::parser::<Target>(), value_delimiter = ',', default_value = "wgsl,naga-oil,glsl,hlsl")]
     target: Vec<Target>,
+    /// Where a library resource is bound, instead of glazec's default (repeatable):
+    /// `params`, `tables`, `textures` (the sampler; textures follow) or `environment` (the
+    /// sampler; radiance and irradiance follow) at GROUP:BINDING, e.g. `--bind params=2:0`.
+    /// Defaults: params 0:3, tables right after params, textures 1:0, environment 2:0.
+    #[arg(long, value_name = "RESOURCE=GROUP:BINDING", value_parser = parse_bind)]
+    bind: Vec<(Resource, Slot)>,
     /// Write nothing; exit 1 if any output differs from what is on disk.
     #[arg(long)]
     check: bool,
@@ -41,7 +48,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<(), Failure> {
-    let project = Project { inputs: args.inputs, scene: args.scene, out_dir: args.out.clone(), targets: args.target };
+    let bindings = args.bind.iter().fold(Choice::default(), |choice, &(resource, slot)| choice.with(resource, slot));
+    let project =
+        Project { inputs: args.inputs, scene: args.scene, out_dir: args.out.clone(), targets: args.target, bindings };
     let outcome = project.compile().map_err(|e| project_failure(e, args.message_format))?;
     for file in &outcome.notes {
         print_diagnostics(file, args.message_format);
@@ -106,4 +115,15 @@ fn print_throughputs(outcome: &Outcome) -> Result<(), Failure> {
 #[cfg(not(feature = "gpu"))]
 fn print_throughputs(_: &Outcome) -> Result<(), Failure> {
     Err(Failure::usage("--throughput needs glazec built with the `gpu` feature"))
+}
+
+/// `RESOURCE=GROUP:BINDING`.
+fn parse_bind(text: &str) -> Result<(Resource, Slot), String> {
+    let (name, slot) = text.split_once('=').ok_or_else(|| format!("`{text}` is not RESOURCE=GROUP:BINDING"))?;
+    let names: Vec<&str> = Resource::ALL.iter().map(|r| r.name()).collect();
+    let resource = Resource::ALL
+        .into_iter()
+        .find(|r| r.name() == name.trim())
+        .ok_or_else(|| format!("no resource `{name}`; one of: {}", names.join(", ")))?;
+    Ok((resource, slot.parse()?))
 }

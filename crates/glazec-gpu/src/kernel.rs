@@ -24,14 +24,16 @@ pub struct EvalKernel {
     /// Group 1, for a material that reads textures (constant textures: see `crate::textures`).
     textures: Option<wgpu::BindGroupLayout>,
     bindings: bindings::Layout,
+    /// The material's table uniform (`Compiled::tables_bytes`; empty without tables).
+    tables: Vec<u8>,
     material: Material,
 }
 
-/// The table buffer (`lower::bindings::Layout::tables`), a uniform buffer.
-pub(crate) fn tables_buffer(gpu: &Gpu) -> wgpu::Buffer {
+/// The material's table uniform (`lower::bindings::Layout::tables`): `Compiled::tables_bytes`.
+pub(crate) fn tables_buffer(gpu: &Gpu, bytes: &[u8]) -> wgpu::Buffer {
     gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("glazec_tables"),
-        contents: bytemuck::cast_slice(&glazec::math::tables::buffer()),
+        label: Some("tables"),
+        contents: bytes,
         usage: wgpu::BufferUsages::UNIFORM,
     })
 }
@@ -72,20 +74,21 @@ fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-/// The bind-group layout of `eval_pairs`.
+/// The bind-group layout of `eval_pairs` (group 0 of glazec's default bindings, which is where
+/// glazec's runner compiles its materials: `glazec::compile`).
 pub(crate) fn kernel_layout(gpu: &Gpu, optional: &bindings::Layout) -> wgpu::BindGroupLayout {
     // In binding order: wgpu's Vulkan backend numbers descriptors by position (see
     // `lower::bindings`), which passthrough SPIR-V must match.
     let mut entries = vec![
-        layout_entry(bindings::PAIRS, wgpu::BufferBindingType::Storage { read_only: true }),
-        layout_entry(bindings::VALUES, wgpu::BufferBindingType::Storage { read_only: false }),
-        layout_entry(bindings::DISPATCH, wgpu::BufferBindingType::Uniform),
+        layout_entry(optional.pairs, wgpu::BufferBindingType::Storage { read_only: true }),
+        layout_entry(optional.values, wgpu::BufferBindingType::Storage { read_only: false }),
+        layout_entry(optional.dispatch, wgpu::BufferBindingType::Uniform),
     ];
-    if let Some(binding) = optional.params {
-        entries.push(layout_entry(binding, wgpu::BufferBindingType::Uniform));
+    if let Some(slot) = optional.params {
+        entries.push(layout_entry(slot.binding, wgpu::BufferBindingType::Uniform));
     }
-    if let Some(binding) = optional.tables {
-        entries.push(layout_entry(binding, wgpu::BufferBindingType::Uniform));
+    if let Some(slot) = optional.tables {
+        entries.push(layout_entry(slot.binding, wgpu::BufferBindingType::Uniform));
     }
     gpu.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("eval_pairs"), entries: &entries })
@@ -138,7 +141,7 @@ impl EvalKernel {
     /// A [`RunError`] if the shader cannot be produced, compiled or accepted by the device.
     pub fn new(gpu: &Gpu, compiled: &Compiled, path: ShaderPath) -> Result<EvalKernel, RunError> {
         let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
-        let optional = bindings::layout(&compiled.module);
+        let optional = compiled.layout.clone();
         let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
         let material = &compiled.material;
         let texture_layout = textures::layout(gpu, material, false, wgpu::ShaderStages::COMPUTE);
@@ -146,6 +149,7 @@ impl EvalKernel {
             pipeline(gpu, &what, &loaded.module, &loaded.entry, &optional, texture_layout.as_ref())?;
         let mut kernel = EvalKernel::assemble(path, pipeline_and_layout, optional, material.clone());
         kernel.textures = texture_layout;
+        kernel.tables = compiled.tables_bytes();
         Ok(kernel)
     }
 
@@ -163,7 +167,12 @@ impl EvalKernel {
                 source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(wgsl)),
             })
         })?;
-        let optional = bindings::Layout::default();
+        let optional = bindings::Layout {
+            pairs: bindings::PAIRS,
+            values: bindings::VALUES,
+            dispatch: bindings::DISPATCH,
+            ..Default::default()
+        };
         let pipeline_and_layout = pipeline(gpu, &what, &module, entry_points::EVAL_PAIRS, &optional, None)?;
         // No parameters: an empty stand-in material gives `eval` an empty uniform.
         let material = Material {
@@ -183,7 +192,7 @@ impl EvalKernel {
         bindings: bindings::Layout,
         material: Material,
     ) -> EvalKernel {
-        EvalKernel { path, pipeline, layout, textures: None, bindings, material }
+        EvalKernel { path, pipeline, layout, textures: None, bindings, tables: Vec::new(), material }
     }
 
     fn batch(&self, gpu: &Gpu, pairs: &[Pair], params: &[u8], param_values: &[ParamValue]) -> Batch {
@@ -214,14 +223,14 @@ impl EvalKernel {
         });
         let params_buffer = (!params.is_empty()).then(|| init("params", params, wgpu::BufferUsages::UNIFORM));
         let mut entries = vec![
-            wgpu::BindGroupEntry { binding: bindings::PAIRS, resource: pairs_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::VALUES, resource: values.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::DISPATCH, resource: dispatch_buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: self.bindings.pairs, resource: pairs_buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: self.bindings.values, resource: values.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: self.bindings.dispatch, resource: dispatch_buffer.as_entire_binding() },
         ];
-        if let (Some(b), Some(binding)) = (&params_buffer, self.bindings.params) {
-            entries.push(wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() });
+        if let (Some(b), Some(slot)) = (&params_buffer, self.bindings.params) {
+            entries.push(wgpu::BindGroupEntry { binding: slot.binding, resource: b.as_entire_binding() });
         }
-        let tables = self.bindings.tables.map(|binding| (binding, tables_buffer(gpu)));
+        let tables = self.bindings.tables.map(|slot| (slot.binding, tables_buffer(gpu, &self.tables)));
         if let Some((binding, buffer)) = &tables {
             entries.push(wgpu::BindGroupEntry { binding: *binding, resource: buffer.as_entire_binding() });
         }

@@ -178,15 +178,16 @@ pub fn render(
         ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
         count: None,
     };
-    let optional = bindings::layout(&compiled.module);
+    // Group 0 of glazec's default bindings (where `glazec::compile` puts them).
+    let optional = &compiled.layout;
     // `lower` always adds the preview light; binding 4 is where it lands when absent otherwise.
     let light_binding = optional.light.unwrap_or(bindings::PARAMS + 1);
     let mut entries = Vec::new();
-    if let Some(binding) = optional.params {
-        entries.push(buffer(binding, wgpu::BufferBindingType::Uniform));
+    if let Some(slot) = optional.params {
+        entries.push(buffer(slot.binding, wgpu::BufferBindingType::Uniform));
     }
-    if let Some(binding) = optional.tables {
-        entries.push(buffer(binding, wgpu::BufferBindingType::Uniform));
+    if let Some(slot) = optional.tables {
+        entries.push(buffer(slot.binding, wgpu::BufferBindingType::Uniform));
     }
     entries.push(buffer(light_binding, wgpu::BufferBindingType::Uniform));
     let layout = gpu
@@ -273,8 +274,10 @@ pub fn render(
     };
     let corner_buffer = init("corners", bytemuck::cast_slice(&corners), wgpu::BufferUsages::VERTEX);
     let params = crate::params_bytes(&compiled.material, values)?;
-    let params_buffer = optional.params.map(|binding| (binding, init("params", &params, wgpu::BufferUsages::UNIFORM)));
-    let tables_buffer = optional.tables.map(|binding| (binding, crate::kernel::tables_buffer(gpu)));
+    let params_buffer =
+        optional.params.map(|slot| (slot.binding, init("params", &params, wgpu::BufferUsages::UNIFORM)));
+    let tables_bytes = compiled.tables_bytes();
+    let tables_buffer = optional.tables.map(|slot| (slot.binding, crate::kernel::tables_buffer(gpu, &tables_bytes)));
     let groups: Vec<wgpu::BindGroup> = lights(options)
         .iter()
         .map(|(direction, radiance)| {

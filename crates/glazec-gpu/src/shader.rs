@@ -69,7 +69,7 @@ pub(crate) fn load(
             Ok(Loaded { module, entry: entry.to_string() })
         }
         ShaderPath::Wgsl => {
-            let text = text_of(compiled.emit(&[Target::Wgsl])?.remove(0).contents);
+            let text = compiled.whole_wgsl()?;
             let module = create(wgpu::ShaderSource::Wgsl(Cow::Owned(text)))?;
             Ok(Loaded { module, entry: entry.to_string() })
         }
@@ -81,7 +81,7 @@ pub(crate) fn load(
                 .ok_or_else(|| RunError::Rejected { what: what.clone(), message: format!("no GLSL for `{entry}`") })?;
             let stage_name = glazec::emit::stage_suffix(stage);
             let words = glslang(
-                &artifact.contents,
+                std::slice::from_ref(&artifact),
                 &artifact.file_name,
                 &["-V", "--target-env", "vulkan1.0", "-S", stage_name],
             )?;
@@ -93,9 +93,11 @@ pub(crate) fn load(
             if !gpu.passthrough {
                 return Err(RunError::NoPassthrough { path: "hlsl" });
             }
-            let artifact = compiled.emit(&[Target::Hlsl])?.remove(0);
+            // The harness `#include`s the library: both go to glslang's folder.
+            let files = compiled.emit(&[Target::Hlsl])?;
+            let harness = files.iter().find(|a| a.harness).map(|a| a.file_name.clone()).unwrap_or_default();
             let stage_name = glazec::emit::stage_suffix(stage);
-            let words = glslang(&artifact.contents, &artifact.file_name, &["-D", "-V", "-S", stage_name, "-e", entry])?;
+            let words = glslang(&files, &harness, &["-D", "-V", "-S", stage_name, "-e", entry])?;
             let entry = spirv_entry_point(&words).unwrap_or_else(|| entry.to_string());
             let entry_points = [wgpu::PassthroughShaderEntryPoint {
                 name: Cow::Owned(entry.clone()),
@@ -116,17 +118,15 @@ pub(crate) fn load(
     }
 }
 
-fn text_of(bytes: Vec<u8>) -> String {
-    String::from_utf8_lossy(&bytes).into_owned()
-}
-
-/// Runs `glslangValidator` on `source` (written to a temporary file named `file_name`) and
-/// returns the SPIR-V words.
-fn glslang(source: &[u8], file_name: &str, args: &[&str]) -> Result<Vec<u32>, RunError> {
+/// Runs `glslangValidator` on `file_name`, one of `files` (all written to a temporary folder,
+/// so that includes resolve), and returns the SPIR-V words.
+fn glslang(files: &[glazec::Artifact], file_name: &str, args: &[&str]) -> Result<Vec<u32>, RunError> {
     let dir = tempfile::tempdir()?;
+    for file in files {
+        std::fs::write(dir.path().join(&file.file_name), &file.contents)?;
+    }
     let input = dir.path().join(file_name);
     let output = dir.path().join("out.spv");
-    std::fs::write(&input, source)?;
     let result = Command::new("glslangValidator").args(args).arg(&input).arg("-o").arg(&output).output();
     let result = match result {
         Ok(r) => r,

@@ -56,8 +56,16 @@ pub struct Compiled {
     /// Where the text came from; named in the header of every generated file.
     pub origin: Origin,
     pub source_map: SourceMap,
+    /// The material's library (no entry points): what a host imports.
+    pub library: naga::Module,
+    pub library_info: naga::valid::ModuleInfo,
+    /// The library followed by glazec's harness: what glazec runs.
     pub module: naga::Module,
     pub info: naga::valid::ModuleInfo,
+    /// Where the resources of both modules are bound.
+    pub layout: lower::bindings::Layout,
+    /// The contents of the table uniform (see [`lower::Lowered::tables`]).
+    pub tables: Vec<u16>,
 }
 
 /// An error and its causes, each once, joined by ": " (what `{:#}` prints for an `anyhow` error):
@@ -112,31 +120,108 @@ pub fn compile_source(file: Option<&str>, text: &str) -> Result<Compiled, Compil
     Ok(compiled)
 }
 
-/// Lowers and validates an already-checked material (for programs that build [`Material`]s).
+/// Lowers and validates an already-checked material (for programs that build [`Material`]s),
+/// with glazec's default bindings.
 ///
 /// # Errors
 /// Only for a compiler bug (naga rejecting the generated IR).
 pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Compiled, validate::ValidateError> {
-    let module = lower::lower(&material);
+    let lowered = lower::lower(&material);
+    finish(material, source_map, lowered)
+}
+
+/// Why a material with chosen bindings produced nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum BindError {
+    #[error(transparent)]
+    Clash(#[from] lower::bindings::Clash),
+    #[error(transparent)]
+    Internal(#[from] validate::ValidateError),
+}
+
+/// [`compile_material`] with the library's resources where `choice` puts them.
+///
+/// # Errors
+/// Two resources would share a binding, or a compiler bug.
+pub fn compile_material_with(
+    material: Material,
+    source_map: SourceMap,
+    choice: &lower::bindings::Choice,
+) -> Result<Compiled, BindError> {
+    let lowered = lower::lower_with(&material, choice)?;
+    Ok(finish(material, source_map, lowered)?)
+}
+
+fn finish(material: Material, source_map: SourceMap, lowered: lower::Lowered) -> Result<Compiled, validate::ValidateError> {
+    let lower::Lowered { library, module, layout, tables } = lowered;
+    let library_info = validate::validate(&material.name, &library)?;
     let info = validate::validate(&material.name, &module)?;
     // A material built by a program has no text; its model (whose `Debug` form prints every
     // field, floats exactly) stands in for it.
     let origin = Origin { file: None, hash: source_hash(format!("{material:?}").as_bytes()), scene: None };
-    Ok(Compiled { material, origin, source_map, module, info })
+    Ok(Compiled { material, origin, source_map, library, library_info, module, info, layout, tables })
 }
 
 impl Compiled {
-    /// Whether the shaders read the table buffer `glazec_tables` (then bind the contents of
-    /// [`output::tables_file`]; see `lower::bindings`).
+    /// Whether the library reads its table uniform (then bind [`Compiled::tables_bytes`] at
+    /// `layout.tables`).
     pub fn uses_tables(&self) -> bool {
-        lower::bindings::layout(&self.module).tables.is_some()
+        self.layout.tables.is_some()
     }
 
-    /// Emits shader files for `targets`.
+    /// The bytes of the table uniform: the tables this material reads (empty when none).
+    pub fn tables_bytes(&self) -> Vec<u8> {
+        if self.uses_tables() { lower::builder::table_bytes(&self.tables) } else { Vec::new() }
+    }
+
+    /// The same material with its library's resources where `choice` puts them (the origin is
+    /// kept). With the default choice, a copy.
+    ///
+    /// # Errors
+    /// Two resources would share a binding, or a compiler bug.
+    pub fn with_bindings(&self, choice: &lower::bindings::Choice) -> Result<Compiled, BindError> {
+        let mut rebound = compile_material_with(self.material.clone(), self.source_map.clone(), choice)?;
+        rebound.origin = self.origin.clone();
+        Ok(rebound)
+    }
+
+    /// The library and glazec's harness in WGSL, concatenated: the whole module as one source
+    /// (what glazec's runner compiles on the WGSL path).
+    ///
+    /// # Errors
+    /// Only for a backend bug.
+    pub fn whole_wgsl(&self) -> Result<String, emit::EmitError> {
+        let files = self.emit(&[Target::Wgsl])?;
+        Ok(files
+            .iter()
+            .filter(|a| a.file_name.ends_with(".wgsl"))
+            .map(|a| String::from_utf8_lossy(&a.contents).into_owned())
+            .collect::<Vec<_>>()
+            .join("\n"))
+    }
+
+    /// Emits shader files for `targets`, and the table uniform's contents (`<m>.tables.bin`)
+    /// when the library reads it.
     ///
     /// # Errors
     /// Only for a backend bug; a validated module is expected to emit.
     pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
-        emit::emit(&self.material.name, &self.origin, &self.module, &self.info, targets)
+        let modules = emit::Modules {
+            library: &self.library,
+            library_info: &self.library_info,
+            module: &self.module,
+            info: &self.info,
+            layout: &self.layout,
+        };
+        let mut artifacts = emit::emit(&self.material.name, &self.origin, modules, targets)?;
+        if self.uses_tables() {
+            artifacts.push(Artifact {
+                file_name: format!("{}.tables.bin", self.material.name),
+                contents: self.tables_bytes(),
+                stage: None,
+                harness: false,
+            });
+        }
+        Ok(artifacts)
     }
 }

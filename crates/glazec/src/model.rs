@@ -342,6 +342,19 @@ pub struct SourceMap {
     pub notes: Vec<crate::diag::Diagnostic>,
 }
 
+/// A material name in CamelCase, as its structs in generated code start (`wet_clay` → `WetClay`).
+pub fn camel_case(name: &str) -> String {
+    let mut out = String::new();
+    for part in name.split('_').filter(|p| !p.is_empty()) {
+        let mut chars = part.chars();
+        if let Some(first) = chars.next() {
+            out.extend(first.to_uppercase());
+            out.push_str(chars.as_str());
+        }
+    }
+    out
+}
+
 impl Material {
     /// The runtime parameters' default values, in declaration order.
     pub fn default_values(&self) -> Vec<ParamValue> {
@@ -359,16 +372,7 @@ impl Material {
     }
 
     fn struct_name(&self, suffix: &str) -> String {
-        let mut out = String::new();
-        for part in self.name.split('_').filter(|p| !p.is_empty()) {
-            let mut chars = part.chars();
-            if let Some(first) = chars.next() {
-                out.extend(first.to_uppercase());
-                out.push_str(chars.as_str());
-            }
-        }
-        out.push_str(suffix);
-        out
+        camel_case(&self.name) + suffix
     }
 
     /// The parameters held in the uniform struct, with their indices in [`Self::params`].

@@ -57,18 +57,6 @@ pub fn plan(out_dir: &Path, material: &str, artifacts: Vec<crate::Artifact>) -> 
         .collect()
 }
 
-/// The name of the table file written beside the material folders.
-pub const TABLES_FILE: &str = "glazec_tables.bin";
-
-/// `<out_dir>/glazec_tables.bin`: the contents of the table buffer `glazec_tables`
-/// (every table of `crate::math::tables`, concatenated: 16-bit codes, two to a little-endian
-/// u32 word), which shaders that
-/// look up a table bind (`crate::lower::bindings`). One file serves every material.
-pub fn tables_file(out_dir: &Path) -> OutputFile {
-    let contents = crate::math::tables::buffer().iter().flat_map(|v| v.to_le_bytes()).collect();
-    OutputFile { path: out_dir.join(TABLES_FILE), contents }
-}
-
 /// How a planned output differs from the file on disk.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Drift {

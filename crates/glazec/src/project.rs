@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::diag::{Code, Diagnostic, Source};
+use crate::lower::bindings::Choice;
 use crate::output::{self, OutputFile};
 use crate::{CompileError, Compiled, Target};
 
@@ -120,6 +121,9 @@ pub enum ProjectError {
     /// A bug in glazec or naga: a backend failed on a validated module.
     #[error("glazec internal error: a backend failed")]
     Emit(#[from] crate::emit::EmitError),
+    /// The chosen bindings put two of a material's resources in one place.
+    #[error("material `{material}`")]
+    Bind { material: String, source: crate::lower::bindings::Clash },
 }
 
 /// Compiles every file; fails with every file's diagnostics if any has errors (including a
@@ -166,21 +170,30 @@ pub fn compile(files: &[SourceFile]) -> Result<Vec<Compiled>, ProjectError> {
 }
 
 /// The files `compiled` materials produce under `out_dir`: `<material>/<artifact>` for each
-/// target, plus [`output::TABLES_FILE`] when any shader binds the table buffer.
+/// target (with the material's table file when its library reads tables), their resources
+/// where `bindings` puts them.
 ///
 /// # Errors
-/// A backend error (a bug: validated modules are expected to emit).
+/// Two resources would share a binding, or a backend error (a bug: validated modules are
+/// expected to emit).
 pub fn plan(
     out_dir: &Path,
     compiled: &[&Compiled],
     targets: &[Target],
-) -> Result<Vec<OutputFile>, crate::emit::EmitError> {
+    bindings: &Choice,
+) -> Result<Vec<OutputFile>, ProjectError> {
     let mut files = Vec::new();
     for c in compiled {
-        files.extend(output::plan(out_dir, &c.material.name, c.emit(targets)?));
-    }
-    if compiled.iter().any(|c| c.uses_tables()) {
-        files.push(output::tables_file(out_dir));
+        let artifacts = if *bindings == Choice::default() {
+            c.emit(targets)?
+        } else {
+            let rebound = c.with_bindings(bindings).map_err(|e| match e {
+                crate::BindError::Clash(source) => ProjectError::Bind { material: c.material.name.clone(), source },
+                crate::BindError::Internal(e) => ProjectError::Validate(e),
+            })?;
+            rebound.emit(targets)?
+        };
+        files.extend(output::plan(out_dir, &c.material.name, artifacts));
     }
     Ok(files)
 }
@@ -262,6 +275,8 @@ pub struct Project {
     /// Where [`Outcome::files`] are planned.
     pub out_dir: PathBuf,
     pub targets: Vec<Target>,
+    /// Where the libraries' resources are bound (`compile --bind`).
+    pub bindings: Choice,
 }
 
 /// What a [`Project`] produced, for a front end to render and write.
@@ -273,7 +288,7 @@ pub struct Outcome {
     /// Notes that never fail a compilation (the coefficients a `Measured` layer derived).
     pub notes: Vec<FileDiagnostics>,
     /// The files to write or compare: the shaders (of the simplified materials, with a scene),
-    /// the table file when a shader binds it, and the simplification reports.
+    /// each material's table file when its library reads tables, and the simplification reports.
     pub files: Vec<OutputFile>,
 }
 
@@ -308,7 +323,7 @@ impl Project {
             None => Vec::new(),
         };
         let mut outcome = Outcome { compiled, simplified, notes, files: Vec::new() };
-        let mut files = plan(&self.out_dir, &outcome.generated(), &self.targets)?;
+        let mut files = plan(&self.out_dir, &outcome.generated(), &self.targets, &self.bindings)?;
         files.extend(outcome.simplified.iter().map(|(_, report)| report_file(&self.out_dir, report)));
         outcome.files = files;
         Ok(outcome)

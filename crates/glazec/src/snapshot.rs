@@ -83,6 +83,7 @@ impl Snapshot {
             scene: self.scene.clone(),
             out_dir: self.expected.clone(),
             targets: self.targets.clone(),
+            bindings: Default::default(),
         };
         match project.compile() {
             Ok(outcome) => Ok(outcome.files),
@@ -178,9 +179,9 @@ mod tests {
         std::fs::create_dir_all(&materials).expect("mkdir");
         std::fs::write(materials.join("glaze.ron"), GLAZE).expect("writes");
         let snapshot = Snapshot::new(&materials, dir.path().join("shaders")).targets(&[Target::Wgsl]);
-        // glaze.wgsl and the table file it binds.
-        assert!(matches!(snapshot.check(), Err(SnapshotError::Drift { count: 2, .. })), "missing files");
-        assert_eq!(snapshot.bless().expect("blesses"), 2);
+        // glaze.wgsl, glaze.harness.wgsl and the table file the library binds.
+        assert!(matches!(snapshot.check(), Err(SnapshotError::Drift { count: 3, .. })), "missing files");
+        assert_eq!(snapshot.bless().expect("blesses"), 3);
         snapshot.check().expect("current after blessing");
 
         let wgsl = dir.path().join("shaders/glaze/glaze.wgsl");

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 
 use wgpu::util::DeviceExt;
 
-use crate::materials::{self, PreviewLight, glazec_layout};
+use crate::materials::{PreviewLight, glazec_layout};
 
 /// The render target: blendable floating point.
 const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -153,7 +153,7 @@ impl SpherePipeline {
             })
         };
         let params_buffer = material.params.map(|p| uniform("params", p.default_bytes));
-        let tables_buffer = material.uses_tables.then(|| uniform("glazec_tables", materials::TABLES));
+        let tables_buffer = material.uses_tables.then(|| uniform("tables", material.tables));
         let mut groups = Vec::new();
         for (direction, radiance) in LIGHTS {
             let [x, y, z] = direction;

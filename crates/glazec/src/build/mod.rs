@@ -41,7 +41,8 @@ use std::path::{Path, PathBuf};
 use crate::diag::Source;
 use crate::output::{self, OutputFile};
 use crate::project::{self, FileDiagnostics, ProjectError};
-use crate::{Compiled, Target};
+use crate::lower::bindings::{Choice, Resource, Slot};
+use crate::Target;
 
 /// The generated Rust module's file name in the output directory.
 pub const MODULE_FILE: &str = "glazec_materials.rs";
@@ -55,6 +56,7 @@ pub struct Build {
     out_dir: Option<PathBuf>,
     targets: Vec<Target>,
     bytemuck: bool,
+    bindings: Choice,
 }
 
 /// What [`Build::generate`] wrote.
@@ -64,7 +66,7 @@ pub struct Generated {
     pub module: PathBuf,
     /// The material names, in file order.
     pub materials: Vec<String>,
-    /// Every file written (shaders, the table file, the module).
+    /// Every file written (shaders, table files, the module).
     pub files: Vec<PathBuf>,
 }
 
@@ -77,6 +79,9 @@ pub enum BuildError {
     /// full rendered report.
     #[error("{report}")]
     Diagnostics { summaries: Vec<String>, report: String },
+    /// The chosen bindings put two of a material's resources in one place.
+    #[error("material `{material}`")]
+    Bind { material: String, source: crate::lower::bindings::Clash },
     #[error("OUT_DIR is not set: call Build::out_dir outside a build script")]
     NoOutDir,
     #[error("glazec internal error: {0}")]
@@ -89,7 +94,23 @@ impl Build {
     /// Compiles every `*.ron` in `materials` (relative to the package root in a build script)
     /// to WGSL, GLSL and HLSL, with `bytemuck` impls on the generated structs.
     pub fn new(materials: impl Into<PathBuf>) -> Self {
-        Build { materials: materials.into(), out_dir: None, targets: Target::TEXT.to_vec(), bytemuck: true }
+        Build {
+            materials: materials.into(),
+            out_dir: None,
+            targets: Target::TEXT.to_vec(),
+            bytemuck: true,
+            bindings: Choice::default(),
+        }
+    }
+
+    /// Binds `resource` of every material's library at `slot` (group, binding) instead of
+    /// glazec's default; the module's `LIBRARY_BINDINGS` follow. E.g. a renderer that owns
+    /// groups 0 and 1 puts the parameters (and the tables after them) in group 2:
+    /// `.bind(Resource::Params, Slot::new(2, 0))`.
+    #[must_use]
+    pub fn bind(mut self, resource: Resource, slot: Slot) -> Self {
+        self.bindings = self.bindings.with(resource, slot);
+        self
     }
 
     /// Which shader languages to generate (SPIR-V becomes a `&[u8]` constant).
@@ -160,17 +181,21 @@ impl Build {
         let out_dir = absolute(&out_dir)?;
         let shader_dir = out_dir.join(SHADER_DIR);
         let mut outputs: Vec<OutputFile> = Vec::new();
+        let mut rebound = Vec::new();
+        for c in &compiled {
+            rebound.push(c.with_bindings(&self.bindings).map_err(|e| match e {
+                crate::BindError::Clash(source) => BuildError::Bind { material: c.material.name.clone(), source },
+                e => BuildError::Internal(crate::error_chain(&e)),
+            })?);
+        }
         let mut inputs = Vec::new();
-        for (file, c) in files.iter().zip(&compiled) {
+        for (file, c) in files.iter().zip(&rebound) {
             let artifacts = c.emit(&self.targets).map_err(|e| BuildError::Internal(crate::error_chain(&e)))?;
             let planned = output::plan(&shader_dir, &c.material.name, artifacts.clone());
             let written: Vec<_> = artifacts.into_iter().zip(planned.iter().map(|f| f.path.clone())).collect();
             outputs.extend(planned);
             inputs.push((std::fs::canonicalize(&file.path)?, c, written));
         }
-        let tables = compiled.iter().any(Compiled::uses_tables).then(|| output::tables_file(&shader_dir));
-        let tables_path = tables.as_ref().map(|t| t.path.clone());
-        outputs.extend(tables);
         let materials: Vec<rust_module::MaterialInput<'_>> = inputs
             .iter()
             .map(|(source, compiled, artifacts)| rust_module::MaterialInput {
@@ -180,7 +205,7 @@ impl Build {
             })
             .collect();
         let module_path = out_dir.join(MODULE_FILE);
-        let text = rust_module::module_text(&materials, tables_path.as_deref(), self.bytemuck);
+        let text = rust_module::module_text(&materials, self.bytemuck);
         outputs.push(OutputFile { path: module_path.clone(), contents: text.into_bytes() });
         output::write_all(&outputs)?;
         Ok(Generated {

@@ -15,16 +15,22 @@ pub mod glazec_layout {
         Values,
         /// `dispatch`: the pair count (uniform `EvalDispatch`).
         Dispatch,
-        /// `params`: the material's runtime parameters (uniform, the material's `Params`).
+        /// `<material>_params`: the material's runtime parameters (uniform, the material's `Params`).
         Params,
-        /// `glazec_tables`: the table buffer (uniform, bind `TABLES`).
+        /// `<material>_tables`: the table uniform (bind the material's `TABLES`).
         Tables,
         /// `light`: the preview's directional light (uniform `PreviewLight`).
         Light,
-        /// `glazec_sampler`: the sampler of the material's texture reads (group 1, binding 0).
+        /// `<material>_sampler`: the sampler of the material's texture reads.
         Sampler,
-        /// A texture the material reads (`texture_2d<f32>`, group 1, named after the texture).
+        /// A texture the material reads (`texture_2d<f32>`, `<material>_<texture>`).
         Texture,
+        /// `<material>_environment_sampler`: the environment's sampler (repeat in u, clamp in v, linear).
+        EnvironmentSampler,
+        /// `<material>_radiance`: the prefiltered equirectangular environment (`texture_2d<f32>`, mip k = roughness k/(N − 1)).
+        Radiance,
+        /// `<material>_irradiance`: the environment's irradiance / π (`texture_2d<f32>`).
+        Irradiance,
     }
 
     /// How a binding is accessed.
@@ -94,15 +100,21 @@ pub mod glazec_layout {
         /// The `.ron` file's name.
         pub source: &'static str,
         pub source_hash: u64,
-        /// The WGSL source (empty if WGSL was not generated).
+        /// The WGSL library (empty if WGSL was not generated).
         pub wgsl: &'static str,
+        /// glazec's WGSL harness, to be read after `wgsl` (empty if WGSL was not generated).
+        pub wgsl_harness: &'static str,
         /// `<name>_brdf(n, v, l[, params]) -> vec3<f32>`: f without the cosine.
         pub brdf_function: &'static str,
         /// `<name>_eval(n, v, l[, params]) -> vec3<f32>`: f · max(n·l, 0).
         pub eval_function: &'static str,
         pub params: Option<ParamsInfo>,
-        /// Whether the shaders bind the table buffer (`TABLES`).
+        /// Whether the library binds its table uniform.
         pub uses_tables: bool,
+        /// The table uniform's contents (empty without tables).
+        pub tables: &'static [u8],
+        /// The library's resources, where the build put them.
+        pub library_bindings: &'static [Binding],
         /// The compute pipeline of `eval_pairs`.
         pub eval_pairs_bindings: &'static [Binding],
         /// The render pipeline of `preview_vs` + `preview_fs`.

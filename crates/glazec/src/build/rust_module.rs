@@ -33,7 +33,7 @@ pub(super) struct MaterialInput<'a> {
 }
 
 /// Writes the module text.
-pub(super) fn module_text(materials: &[MaterialInput<'_>], tables: Option<&Path>, bytemuck: bool) -> String {
+pub(super) fn module_text(materials: &[MaterialInput<'_>], bytemuck: bool) -> String {
     let mut out = String::new();
     let count = materials.len();
     let _ = writeln!(
@@ -44,20 +44,6 @@ pub(super) fn module_text(materials: &[MaterialInput<'_>], tables: Option<&Path>
     out.push_str(PRELUDE);
     let _ = writeln!(out, "/// The glazec version that generated this module and its shaders.");
     let _ = writeln!(out, "#[allow(dead_code)]\npub const GLAZEC_VERSION: &str = {:?};\n", crate::VERSION);
-    match tables {
-        Some(path) => {
-            let _ = writeln!(
-                out,
-                "/// The contents of the `glazec_tables` uniform buffer (`array<vec4<u32>, N>`: 16-bit codes, two to a\n\
-                 /// little-endian u32 word), for\n\
-                 /// materials whose `USES_TABLES` is true.\n#[allow(dead_code)]\npub const TABLES: &[u8] = include_bytes!({});\n",
-                literal_path(path)
-            );
-        }
-        None => out.push_str(
-            "/// No material binds the table buffer.\n#[allow(dead_code)]\npub const TABLES: &[u8] = &[];\n\n",
-        ),
-    }
     if let Some(first) = materials.first() {
         let module = &first.compiled.module;
         for name in ["DirectionPair", "EvalDispatch", "PreviewLight"] {
@@ -107,9 +93,11 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
     let _ = writeln!(out, "    pub const EVAL_FUNCTION: &str = \"{name}_eval\";");
     let _ = writeln!(out, "    pub const USES_TABLES: bool = {};", c.uses_tables());
     let mut text_consts = Vec::new();
+    let mut byte_consts = Vec::new();
     for (artifact, path) in &m.artifacts {
         let (constant, doc) = shader_constant(name, artifact);
-        if artifact.file_name.ends_with(".spv") {
+        if artifact.file_name.ends_with(".spv") || artifact.file_name.ends_with(".bin") {
+            byte_consts.push(constant.clone());
             let _ = writeln!(
                 out,
                 "    /// {doc}\n    pub const {constant}: &[u8] = include_bytes!({});",
@@ -121,7 +109,11 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
             text_consts.push(constant);
         }
     }
-    let has_wgsl = text_consts.iter().any(|c| c == "WGSL");
+    if !byte_consts.iter().any(|c| c == "TABLES") {
+        let _ = writeln!(out, "    /// The library reads no table.\n    pub const TABLES: &[u8] = &[];");
+    }
+    let has = |name: &str| text_consts.iter().any(|c| c == name);
+    let (has_wgsl, has_harness) = (has("WGSL"), has("WGSL_HARNESS"));
     out.push('\n');
     let params = params_struct(c);
     if let Some(ty) = params {
@@ -132,26 +124,29 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
         let _ = writeln!(out, "    pub type Params = {};\n", c.material.params_struct_name());
         write_params_info(out, c, ty);
     }
+    write_library_bindings(out, c);
     write_bindings(
         out,
         c,
         "EVAL_PAIRS_BINDINGS",
-        "The bind groups (0, and 1 for a material that reads textures) of the `eval_pairs` compute pipeline.",
+        "The bind groups (0, and 1 for a material that reads textures) of the harness's `eval_pairs` compute pipeline.",
         |ep| ep.stage == ShaderStage::Compute,
     );
     write_bindings(
         out,
         c,
         "PREVIEW_BINDINGS",
-        "The bind groups (0, and 1 for a material that reads textures) of the `preview_vs` + `preview_fs` render pipeline.",
+        "The bind groups (0, and 1 for a material that reads textures) of the harness's `preview_vs` + `preview_fs` render pipeline.",
         |ep| [entry_points::PREVIEW_VS, entry_points::PREVIEW_FS].contains(&ep.name.as_str()),
     );
     let _ = writeln!(out, "    pub const INFO: MaterialInfo = MaterialInfo {{");
     let _ = writeln!(out, "        name: NAME,\n        source: SOURCE,\n        source_hash: SOURCE_HASH,");
     let _ = writeln!(out, "        wgsl: {},", if has_wgsl { "WGSL" } else { "\"\"" });
+    let _ = writeln!(out, "        wgsl_harness: {},", if has_harness { "WGSL_HARNESS" } else { "\"\"" });
     let _ = writeln!(out, "        brdf_function: BRDF_FUNCTION,\n        eval_function: EVAL_FUNCTION,");
     let _ = writeln!(out, "        params: {},", if params.is_some() { "Some(PARAMS_INFO)" } else { "None" });
-    let _ = writeln!(out, "        uses_tables: USES_TABLES,");
+    let _ = writeln!(out, "        uses_tables: USES_TABLES,\n        tables: TABLES,");
+    let _ = writeln!(out, "        library_bindings: LIBRARY_BINDINGS,");
     let _ =
         writeln!(out, "        eval_pairs_bindings: EVAL_PAIRS_BINDINGS,\n        preview_bindings: PREVIEW_BINDINGS,");
     out.push_str("    };\n\n");
@@ -162,15 +157,24 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
 /// The constant name and doc line for one emitted file.
 fn shader_constant(material: &str, artifact: &Artifact) -> (String, String) {
     let file = &artifact.file_name;
+    let named = |constant: &str, doc: &str| (constant.to_string(), format!("{doc} (`{file}`)."));
     match &artifact.stage {
-        Some((_, entry)) => {
-            (format!("GLSL_{}", entry.to_uppercase()), format!("GLSL 450 of entry point `{entry}` (`{file}`)."))
-        }
-        None if file == &format!("{material}.wgsl") => ("WGSL".into(), format!("WGSL, every entry point (`{file}`).")),
-        None if file == &format!("{material}.hlsl") => {
-            ("HLSL".into(), format!("HLSL (SM 6.0), every entry point (`{file}`)."))
-        }
-        None => ("SPIRV".into(), format!("SPIR-V 1.0 words, little-endian (`{file}`).")),
+        Some((_, entry)) => (
+            format!("GLSL_{}", entry.to_uppercase()),
+            format!("glazec's harness: GLSL 450 of entry point `{entry}`, a whole shader (`{file}`)."),
+        ),
+        None => match file.strip_prefix(material).unwrap_or(file) {
+            ".wgsl" => named("WGSL", "The library in WGSL: no entry point; import it or prepend it to your shader"),
+            ".harness.wgsl" => named("WGSL_HARNESS", "glazec's harness in WGSL, to be read after `WGSL`"),
+            ".naga_oil.wgsl" => {
+                named("NAGA_OIL", "The library as a naga_oil module (`#import glazec::<material>`)")
+            }
+            ".glsl" => named("GLSL", "The library in GLSL 450: no `#version`, no `main`"),
+            ".hlsli" => named("HLSLI", "The library in HLSL (SM 6.0), to `#include`"),
+            ".hlsl" => named("HLSL", "glazec's harness in HLSL, which includes `HLSLI`"),
+            ".tables.bin" => named("TABLES", "The contents of the library's table uniform (`array<vec4<u32>, N>`: 16-bit codes, two to a little-endian u32 word)"),
+            _ => named("SPIRV", "SPIR-V 1.0 words, little-endian, with the harness's entry points"),
+        },
     }
 }
 
@@ -390,16 +394,7 @@ fn write_bindings(
             continue;
         }
         let name = var.name.clone().unwrap_or_default();
-        let role = match (&module.types[var.ty].inner, name.as_str()) {
-            (TypeInner::Sampler { .. }, _) => "Sampler",
-            (TypeInner::Image { .. }, _) => "Texture",
-            (_, "pairs") => "Pairs",
-            (_, "values") => "Values",
-            (_, "dispatch") => "Dispatch",
-            (_, "params") => "Params",
-            (_, "light") => "Light",
-            _ => "Tables",
-        };
+        let role = role(c, &name, binding);
         let access = match var.space {
             AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => "StorageReadWrite",
             AddressSpace::Storage { .. } => "StorageReadOnly",
@@ -422,6 +417,62 @@ fn write_bindings(
     }
     rows.sort();
     let _ = writeln!(out, "    /// {doc}\n    pub const {constant}: &[Binding] = &[");
+    for (_, row) in rows {
+        let _ = writeln!(out, "{row}");
+    }
+    out.push_str("    ];\n\n");
+}
+
+/// What the binding called `name` at `binding` holds.
+fn role(c: &Compiled, name: &str, binding: naga::ResourceBinding) -> &'static str {
+    let slot = crate::lower::bindings::Slot::new(binding.group, binding.binding);
+    let layout = &c.layout;
+    let environment = layout.environment.iter().position(|(_, s)| *s == slot);
+    match name {
+        _ if layout.params == Some(slot) => "Params",
+        _ if layout.tables == Some(slot) => "Tables",
+        _ if environment == Some(0) => "EnvironmentSampler",
+        _ if environment == Some(1) => "Radiance",
+        _ if environment.is_some() => "Irradiance",
+        _ if layout.textures.first().is_some_and(|(_, s)| *s == slot) => "Sampler",
+        _ if layout.textures.iter().any(|(_, s)| *s == slot) => "Texture",
+        "pairs" => "Pairs",
+        "values" => "Values",
+        "dispatch" => "Dispatch",
+        _ => "Light",
+    }
+}
+
+/// `LIBRARY_BINDINGS`: every resource of the library, where the build put it, for the host's
+/// own pipeline layout.
+fn write_library_bindings(out: &mut String, c: &Compiled) {
+    let module = &c.library;
+    let mut layouter = naga::proc::Layouter::default();
+    // The module validated, so its types lay out; a failure here would leave sizes at 0.
+    let _ = layouter.update(module.to_ctx());
+    let mut rows = Vec::new();
+    for (_, var) in module.global_variables.iter() {
+        let Some(binding) = var.binding else { continue };
+        let name = var.name.clone().unwrap_or_default();
+        let role = role(c, &name, binding);
+        let access = if var.space == AddressSpace::Handle { "Handle" } else { "Uniform" };
+        let min_size = layouter[var.ty].size;
+        rows.push((
+            (binding.group, binding.binding),
+            format!(
+                "        Binding {{ name: {name:?}, role: Role::{role}, group: {}, binding: {}, access: Access::{access}, \
+                 min_size: {min_size}, stages: Stages {{ vertex: true, fragment: true, compute: true }} }},",
+                binding.group, binding.binding
+            ),
+        ));
+    }
+    rows.sort();
+    let _ = writeln!(
+        out,
+        "    /// The library's resources, where the build put them (`Build::bind`): what a host's pipeline layout\n    \
+         /// declares. The library may be called from any stage; declare the stages you call it from.\n    \
+         pub const LIBRARY_BINDINGS: &[Binding] = &["
+    );
     for (_, row) in rows {
         let _ = writeln!(out, "{row}");
     }

@@ -1,18 +1,28 @@
-//! Stage 5, `emit`: a validated module → shader files (thin adapters over `naga::back`).
+//! Stage 5, `emit`: validated modules → shader files (thin adapters over `naga::back`).
 //!
-//! **Input:** a `naga::Module`, its `ModuleInfo`, and the requested [`Target`]s.
-//! **Output:** [`Artifact`]s (file name + bytes), in a fixed order. Nothing is written here;
-//! writing (atomically, all or nothing) is the caller's job.
+//! **Input:** a material's library and harness modules ([`Modules`]) and the requested
+//! [`Target`]s. **Output:** [`Artifact`]s (file name + bytes), in a fixed order. Nothing is
+//! written here; writing (atomically, all or nothing) is the caller's job.
 //!
-//! | target | files | notes |
-//! |---|---|---|
-//! | WGSL | `<m>.wgsl` | all entry points |
-//! | GLSL 450 | `<m>.<entry>.<stage>.glsl` | one per entry point (naga's GLSL backend writes one); every binding in set 0 |
-//! | HLSL SM 6.0 | `<m>.hlsl` | all entry points; registers `b`/`t`/`u` N = binding N, `space0` |
-//! | SPIR-V 1.0 | `<m>.spv` | on request; all entry points |
+//! Every target writes the material's **library** — what a host imports: its structs,
+//! constants, functions and resources, no entry point, every module-scope name prefixed with
+//! `<m>_` — and glazec's **harness** on it (`eval_pairs`, the previews: glazec's tests, `eval`,
+//! `bench` and `preview` run it):
 //!
-//! **Invariant:** the output is a pure function of the module: the same material gives the same
-//! bytes on every run and machine (tested on every shipped material).
+//! | target | library | harness | notes |
+//! |---|---|---|---|
+//! | WGSL | `<m>.wgsl` | `<m>.harness.wgsl` | the harness holds only its own items: read it after the library (concatenated) |
+//! | naga_oil | `<m>.naga_oil.wgsl` | — | `#define_import_path glazec::<m>`; the material's group is `#{MATERIAL_BIND_GROUP}` |
+//! | GLSL 450 | `<m>.glsl` | `<m>.<entry>.<stage>.glsl` | the library has no `#version` and no `main` (for `#include` or concatenation); each harness file is a whole shader |
+//! | HLSL SM 6.0 | `<m>.hlsli` | `<m>.hlsl` | the harness `#include`s the library; registers `b`/`t`/`u` N = binding N, space = group |
+//! | SPIR-V 1.0 | — | `<m>.spv` | on request; library and harness in one module |
+//!
+//! In the GLSL and HLSL libraries, what naga writes for every module alike (helpers such as
+//! `naga_f2u32`, HLSL's sampler heap) sits inside `#ifndef GLAZEC_<NAME>` guards, so that two
+//! libraries can be included into one shader.
+//!
+//! **Invariant:** the output is a pure function of the modules: the same material gives the
+//! same bytes on every run and machine (tested on every shipped material).
 //!
 //! Text outputs start with a one-line [`header`] (glazec version, source file, source hash) and carry each term's citation as a `//` comment
 //! above its function (naga keeps doc comments in the IR but its backends do not print them).
@@ -20,6 +30,8 @@
 //! names that `lower` gave them are restored here, inside the calling function only, so that
 //! `let d = d_ggx(…)` reads as it does in the Rust source.
 
+mod items;
+mod library;
 mod polish;
 
 use naga::back::{glsl, hlsl, spv, wgsl};
@@ -30,19 +42,21 @@ use naga::{Module, ShaderStage};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Target {
     Wgsl,
+    NagaOil,
     Glsl,
     Hlsl,
     Spv,
 }
 
 impl Target {
-    pub const ALL: [Target; 4] = [Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Spv];
-    pub const TEXT: [Target; 3] = [Target::Wgsl, Target::Glsl, Target::Hlsl];
+    pub const ALL: [Target; 5] = [Target::Wgsl, Target::NagaOil, Target::Glsl, Target::Hlsl, Target::Spv];
+    pub const TEXT: [Target; 4] = [Target::Wgsl, Target::NagaOil, Target::Glsl, Target::Hlsl];
 
     /// The target's name on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Target::Wgsl => "wgsl",
+            Target::NagaOil => "naga-oil",
             Target::Glsl => "glsl",
             Target::Hlsl => "hlsl",
             Target::Spv => "spv",
@@ -52,10 +66,11 @@ impl Target {
     /// What the target writes, in a few words.
     pub fn description(self) -> &'static str {
         match self {
-            Target::Wgsl => "one WGSL module (.wgsl)",
-            Target::Glsl => "GLSL 4.50, one file per entry point (.<entry>.<stage>.glsl)",
-            Target::Hlsl => "one HLSL file, shader model 6.0 (.hlsl)",
-            Target::Spv => "one SPIR-V 1.0 module (.spv)",
+            Target::Wgsl => "WGSL: the library (.wgsl) and glazec's harness (.harness.wgsl)",
+            Target::NagaOil => "the WGSL library as a naga_oil module (.naga_oil.wgsl), for Bevy and wgsl_bindgen",
+            Target::Glsl => "GLSL 4.50: the library (.glsl) and one harness file per entry point (.<entry>.<stage>.glsl)",
+            Target::Hlsl => "HLSL, shader model 6.0: the library (.hlsli) and the harness (.hlsl)",
+            Target::Spv => "one SPIR-V 1.0 module with the harness's entry points (.spv)",
         }
     }
 }
@@ -68,6 +83,19 @@ pub struct Artifact {
     pub contents: Vec<u8>,
     /// For GLSL files: the stage and entry point they contain (what `glslangValidator -S` needs).
     pub stage: Option<(ShaderStage, String)>,
+    /// Whether the file is glazec's harness (else the material's library).
+    pub harness: bool,
+}
+
+/// What [`emit`] writes from: a material's library and the module of library and harness, each
+/// validated, and where their resources are bound.
+#[derive(Clone, Copy)]
+pub struct Modules<'a> {
+    pub library: &'a Module,
+    pub library_info: &'a ModuleInfo,
+    pub module: &'a Module,
+    pub info: &'a ModuleInfo,
+    pub layout: &'a crate::lower::bindings::Layout,
 }
 
 /// A naga backend failed on a validated module (a bug in glazec or naga).
@@ -95,42 +123,67 @@ pub fn stage_suffix(stage: ShaderStage) -> &'static str {
     }
 }
 
-/// Emits `targets` for the module of material `name`, in target order.
+/// Emits `targets` for material `name`, in target order.
 ///
 /// # Errors
 /// A backend error (never expected for a module that passed validation).
 pub fn emit(
     name: &str,
     origin: &crate::origin::Origin,
-    module: &Module,
-    info: &ModuleInfo,
+    modules: Modules<'_>,
     targets: &[Target],
 ) -> Result<Vec<Artifact>, EmitError> {
+    let Modules { library, library_info, module, info, layout } = modules;
     let header = header(name, origin);
+    let harness_header = |library_file: &str, how: &str| {
+        format!("{header}// glazec's harness for `{name}` (its tests, `glazec eval`, `bench` and `preview`), {how} {library_file}.\n")
+    };
     let mut targets = targets.to_vec();
     targets.sort();
     targets.dedup();
     let mut out = Vec::new();
+    let wgsl = || -> Result<String, EmitError> {
+        Ok(polished(library, &wgsl::write_string(library, library_info, wgsl::WriterFlags::empty())?, false))
+    };
     for target in targets {
         match target {
             Target::Wgsl => {
-                let text = wgsl::write_string(module, info, wgsl::WriterFlags::empty())?;
-                out.push(text_artifact(format!("{name}.wgsl"), &header, module, &text, None));
+                let library_text = wgsl()?;
+                let full = polished(module, &wgsl::write_string(module, info, wgsl::WriterFlags::empty())?, false);
+                let harness = library::harness_items(&full, &library_text);
+                out.push(artifact(format!("{name}.wgsl"), &header, &library_text, None, false));
+                let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
+                out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
+            }
+            Target::NagaOil => {
+                let text = library::naga_oil(name, &wgsl()?, layout);
+                out.push(artifact(format!("{name}.naga_oil.wgsl"), &header, &text, None, false));
             }
             Target::Glsl => {
+                let probe = library::glsl_probe(library);
+                let probe_info = crate::validate::validate(name, &probe)?;
+                let probe_text = write_glsl(&probe, &probe_info, ShaderStage::Fragment, "main")?;
+                let text = library::glsl_library(name, library, polished(library, &probe_text, false));
+                out.push(artifact(format!("{name}.glsl"), &header, &text, None, false));
                 for ep in &module.entry_points {
                     // naga's GLSL writer includes every function that uses no excluded global,
                     // so a vertex shader would carry the whole BRDF; give it a module that holds
                     // only this entry point and what it reaches.
                     let (single, single_info) = single_entry_point(name, module, &ep.name)?;
-                    let text = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
+                    let text = polished(&single, &write_glsl(&single, &single_info, ep.stage, &ep.name)?, true);
                     let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
-                    out.push(text_artifact(file, &header, &single, &text, Some((ep.stage, ep.name.clone()))));
+                    out.push(artifact(file, &header, &text, Some((ep.stage, ep.name.clone())), true));
                 }
             }
             Target::Hlsl => {
-                let text = write_hlsl(module, info)?;
-                out.push(text_artifact(format!("{name}.hlsl"), &header, module, &text, None));
+                let library_text = polished(library, &write_hlsl(library, library_info)?, false);
+                let full = polished(module, &write_hlsl(module, info)?, false);
+                let harness = library::harness_items(&full, &library_text);
+                let library_text = library::guarded(&library_text, name);
+                out.push(artifact(format!("{name}.hlsli"), &header, &library_text, None, false));
+                let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");
+                let harness_header = harness_header(&format!("{name}.hlsli"), "which includes");
+                out.push(artifact(format!("{name}.hlsl"), &harness_header, &harness, None, true));
             }
             Target::Spv => {
                 // Fixed flags (naga's default adds DEBUG only in debug builds, which would make
@@ -140,7 +193,7 @@ pub fn emit(
                 let options = spv::Options { lang_version: (1, 0), flags, ..Default::default() };
                 let words = spv::write_vec(module, info, &options, None)?;
                 let contents = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-                out.push(Artifact { file_name: format!("{name}.spv"), contents, stage: None });
+                out.push(Artifact { file_name: format!("{name}.spv"), contents, stage: None, harness: true });
             }
         }
     }
@@ -206,15 +259,24 @@ pub fn header(material: &str, origin: &crate::origin::Origin) -> String {
     )
 }
 
-fn text_artifact(
+/// Backend text with the doc comments and call-result names restored ([`polish`]).
+fn polished(module: &Module, text: &str, glsl_entry: bool) -> String {
+    let mut out = String::new();
+    polish::polish(module, text, glsl_entry, &mut out);
+    out
+}
+
+fn artifact(
     file_name: String,
     header: &str,
-    module: &Module,
     text: &str,
     stage: Option<(ShaderStage, String)>,
+    harness: bool,
 ) -> Artifact {
-    let glsl_entry = stage.is_some();
     let mut out = header.to_string();
-    polish::polish(module, text, glsl_entry, &mut out);
-    Artifact { file_name, contents: out.into_bytes(), stage }
+    out.push_str(text);
+    if !out.ends_with('\n') {
+        out.push('\n');
+    }
+    Artifact { file_name, contents: out.into_bytes(), stage, harness }
 }

@@ -33,8 +33,8 @@ use crate::model::Material;
 
 /// The resource bindings of the environment.
 pub mod bindings {
-    /// The environment has its own bind group, after the textures'.
-    pub const GROUP: u32 = 2;
+    /// The environment has its own bind group by default, after the textures'.
+    pub const GROUP: u32 = crate::lower::layout::bindings::ENVIRONMENT_GROUP;
     /// `var glazec_environment_sampler: sampler`.
     pub const SAMPLER: u32 = 0;
     /// `var glazec_radiance: texture_2d<f32>`: the prefiltered levels.

@@ -143,11 +143,13 @@ pub(super) fn ibl_function(
     let material_inputs = function_inputs(b, material, inputs, 2);
     let value = environment::reflected(b, lookups, material, &material_inputs, n, v).handle();
     b.statement(Statement::Return { value: Some(value) });
+    let m = &material.name;
     let doc = [
-        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's",
-        "directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance",
-        "over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.",
+        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's".to_string(),
+        format!("directional albedo times the environment prefiltered for it ({m}_environment) or the irradiance"),
+        format!("over π ({m}_irradiance_at). n, v: unit vectors, v pointing away from the surface."),
     ];
+    let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
     b.add_function(b.end_function(), &doc)
 }
 

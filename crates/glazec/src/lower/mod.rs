@@ -8,19 +8,26 @@
 //! * `<material>_eval(n, v, l[, params]) -> vec3<f32>`: f · max(n·l, 0), for users' light loops;
 //! * a uniform struct `<Material>Params` with one member per runtime parameter (declaration
 //!   order, `f32` or `vec3<f32>`), when the material has any;
-//! * the entry points `eval_pairs` (compute: f(wi, wo) for a buffer of direction pairs, used by
-//!   the tests, `eval` and benchmarks) and `preview_vs`/`preview_fs` (a full-screen triangle
-//!   that shades a sphere under one directional light, given by the `light` uniform; the
-//!   preview renderer adds several such passes to light the sphere by an environment).
+//! * the resources they read, each at the binding the host chose ([`bindings::Choice`]): the
+//!   parameter uniform `<material>_params`, the table uniform `<material>_tables` (only the
+//!   tables the material reads), the textures and the environment;
 //!
-//! The binding layout is fixed and the same in every backend (group 0): see [`bindings`]. The
-//! kernel reads its element count from a uniform rather than from `arrayLength`, because
-//! glslang's HLSL front end lowers `GetDimensions` on byte-address buffers to a dword count
-//! (docs/derivations.md, "glslang and the HLSL path"), which would cover only a quarter of the
-//! buffer.
+//! all of it the material's **library** ([`Lowered::library`]): no entry point, and every
+//! module-scope name but the structs' (already `<Material>…`) prefixed with `<material>_`, so
+//! that several materials' libraries concatenate into one shader. After the library come the
+//! entry points of glazec's own **harness** ([`Lowered::module`]): `eval_pairs` (compute: f(wi,
+//! wo) for a buffer of direction pairs, used by the tests, `eval` and benchmarks) and
+//! `preview_vs`/`preview_fs`/`preview_ibl_fs` (a full-screen triangle that shades a sphere under
+//! one directional light, given by the `light` uniform, or under the environment).
 //!
-//! **Invariants:** the module validates with all of naga's validation flags (checked by
-//! `validate`); output is a pure function of the material (no hash-map iteration order, no
+//! See [`bindings`] for where each resource goes. The kernel reads its element count from a
+//! uniform rather than from `arrayLength`, because glslang's HLSL front end lowers
+//! `GetDimensions` on byte-address buffers to a dword count (docs/derivations.md, "glslang and
+//! the HLSL path"), which would cover only a quarter of the buffer.
+//!
+//! **Invariants:** both modules validate with all of naga's validation flags (checked by
+//! `validate`); the library's arenas are a prefix of the harness module's; output is a pure
+//! function of the material and the choice of bindings (no hash-map iteration order, no
 //! addresses), so emitted files are byte-identical across runs.
 
 pub mod builder;
@@ -29,19 +36,44 @@ pub mod environment;
 mod harness;
 mod layout;
 mod material;
+mod namespace;
 pub mod textures;
 
 pub use cost::static_cost;
 pub use layout::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, ParamLayout, bindings, entry_points, params_bytes, params_layout};
 
 use crate::model::Material;
+use bindings::{Choice, Clash, Layout};
 use builder::ModuleBuilder;
 use harness::{eval_pairs_entry, preview_entries, preview_ibl_entry};
 use material::{InputTypes, Sampling, brdf_function, eval_function, global, ibl_function, params_type};
 use naga::{AddressSpace, Module};
 
-/// Lowers a material to a naga module (see the module docs for what it contains).
-pub fn lower(material: &Material) -> Module {
+/// A lowered material.
+#[derive(Clone, Debug)]
+pub struct Lowered {
+    /// The material's library: its functions and the resources they read; no entry point.
+    pub library: Module,
+    /// The library followed by glazec's harness (its arenas extend the library's).
+    pub module: Module,
+    /// Where both modules' resources are bound.
+    pub layout: Layout,
+    /// The contents of the table uniform: the 16-bit codes of the tables the library reads,
+    /// concatenated (empty when it reads none). [`builder::table_bytes`] packs them.
+    pub tables: Vec<u16>,
+}
+
+/// Lowers a material with glazec's default bindings (see the module docs for what it contains).
+pub fn lower(material: &Material) -> Lowered {
+    lower_with(material, &Choice::default())
+        .unwrap_or_else(|clash| unreachable!("the default bindings are apart by construction: {clash}"))
+}
+
+/// Lowers a material with its resources where `choice` puts them.
+///
+/// # Errors
+/// Two resources of the library would share a binding.
+pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash> {
     let b = ModuleBuilder::new();
     let params_ty = params_type(&b, material);
     let reads = textures::build(&b, material);
@@ -51,11 +83,20 @@ pub fn lower(material: &Material) -> Module {
     let lookups = environment::build_lookups(&b);
     let ibl = ibl_function(&b, material, inputs, lookups);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
+    let tables = b.finish_tables();
+    let public = [Some(brdf), Some(eval), Some(ibl), reads.as_ref().map(|r| r.sample)];
+    let tables_var = b.tables_global();
+    let mut layout = b.with_module(|m| {
+        namespace::prefix(m, &material.name, &public);
+        namespace::place(m, choice, params_var, tables_var)
+    })?;
+    let library = b.snapshot();
+
     let sample = reads.as_ref().map(|r| Sampling { function: r.sample, frame: !material.normals.is_empty() });
     eval_pairs_entry(&b, brdf, params_var, sample);
     preview_entries(&b, eval, params_var, sample);
     preview_ibl_entry(&b, ibl, params_var, sample);
     let mut module = b.finish();
-    bindings::assign(&mut module);
-    module
+    namespace::place_harness(&mut module, library.global_variables.len(), &mut layout);
+    Ok(Lowered { library, module, layout, tables })
 }

@@ -32,9 +32,8 @@ use crate::model::{Channel, Material, TextureRead};
 
 /// The resource bindings of texture reads.
 pub mod bindings {
-    /// Textures and their sampler live in their own bind group, so that group 0's numbering
-    /// (which depends on the optional uniforms) does not move them.
-    pub const GROUP: u32 = 1;
+    /// Textures and their sampler live in their own bind group by default.
+    pub const GROUP: u32 = crate::lower::layout::bindings::TEXTURES_GROUP;
     /// `var glazec_sampler: sampler` (wrap addressing in glazec's renderers).
     pub const SAMPLER: u32 = 0;
     /// The first texture's binding; the others follow in order of first use.
@@ -219,17 +218,3 @@ fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Hand
     global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
 
-/// The texture bindings of a module built by `lower`: (name, binding) in group
-/// [`bindings::GROUP`], the sampler first.
-pub fn layout(module: &naga::Module) -> Vec<(String, u32)> {
-    let mut out: Vec<(String, u32)> = module
-        .global_variables
-        .iter()
-        .filter_map(|(_, v)| match (&v.binding, &v.name) {
-            (Some(rb), Some(name)) if rb.group == bindings::GROUP => Some((name.clone(), rb.binding)),
-            _ => None,
-        })
-        .collect();
-    out.sort_by_key(|(_, binding)| *binding);
-    out
-}

@@ -149,7 +149,7 @@ pub fn simplify(material: &Material, scene: &Scene) -> Result<(Material, Report)
 
 /// The static cost of a material's shader: naga expressions in its functions.
 pub fn cost(material: &Material) -> usize {
-    crate::lower::static_cost(&crate::lower::lower(material)).0
+    crate::lower::static_cost(&crate::lower::lower(material).module).0
 }
 
 /// The material with every pinned parameter folded to its value.

@@ -6,49 +6,22 @@ struct TunableGlazeParams {
     body_roughness: f32,
 }
 
-struct DirectionPair {
-    wi: vec4<f32>,
-    wo: vec4<f32>,
-}
-
-struct EvalDispatch {
-    pair_count: u32,
-}
-
-struct PreviewLight {
-    direction: vec4<f32>,
-    radiance: vec4<f32>,
-}
-
-struct PreviewVarying {
-    @builtin(position) position: vec4<f32>,
-    @location(0) p: vec2<f32>,
-}
-
 @group(0) @binding(4) 
-var<uniform> glazec_tables: array<vec4<u32>, 4087>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 1984>;
 @group(2) @binding(0) 
-var glazec_environment_sampler: sampler;
+var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
-var glazec_radiance: texture_2d<f32>;
+var tunable_glaze_radiance: texture_2d<f32>;
 @group(2) @binding(2) 
-var glazec_irradiance: texture_2d<f32>;
+var tunable_glaze_irradiance: texture_2d<f32>;
 @group(0) @binding(3) 
-var<uniform> params_3: TunableGlazeParams;
-@group(0) @binding(0) 
-var<storage> pairs: array<DirectionPair>;
-@group(0) @binding(1) 
-var<storage, read_write> values: array<vec4<f32>>;
-@group(0) @binding(2) 
-var<uniform> dispatch: EvalDispatch;
-@group(0) @binding(5) 
-var<uniform> light: PreviewLight;
+var<uniform> tunable_glaze_params: TunableGlazeParams;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
 // transmission anyway).
-fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let sum = (v + l);
     return (sum / vec3(sqrt(max(dot(sum, sum), 0.000000000001f))));
 }
@@ -61,7 +34,7 @@ fn half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
+fn tunable_glaze_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = max(alpha, 0.001f);
     let a_sq = (a_1 * a_1);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
@@ -71,7 +44,7 @@ fn d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
+fn tunable_glaze_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
     let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
     let tan_sq = ((1f - mu_sq) / mu_sq);
     return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
@@ -79,10 +52,10 @@ fn lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
+fn tunable_glaze_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = lambda_ggx(n_dot_l, alpha_4);
+    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
+    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -90,7 +63,7 @@ fn g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
 // `FrDielectric`). `cos_i` ≥ 0 on the incident side; `eta` = n_transmitted / n_incident.
 // Total internal reflection (sin²θt ≥ 1) returns 1; the other branch is then NaN and
 // rejected by the select.
-fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
+fn tunable_glaze_fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_i_1 = min(max(cos_i, 0f), 1f);
     let sin2_t = ((1f - (cos_i_1 * cos_i_1)) / (eta * eta));
     let cos_t = sqrt(max((1f - sin2_t), 0f));
@@ -102,15 +75,15 @@ fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
 // f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
-fn f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1: f32) -> vec3<f32> {
+fn tunable_glaze_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, n_dot_l_1: f32) -> vec3<f32> {
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
 // The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
 // entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-fn glazec_table_code(entry: u32) -> f32 {
+fn tunable_glaze_table_code(entry: u32) -> f32 {
     let word = (entry >> 1u);
-    let codes = glazec_tables[(word >> 2u)][(word & 3u)];
+    let codes = tunable_glaze_tables[(word >> 2u)][(word & 3u)];
     return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
 }
 
@@ -118,7 +91,7 @@ fn glazec_table_code(entry: u32) -> f32 {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
@@ -131,21 +104,21 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let code_lll = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 0u));
     let at_lll = (code_lll * 0.0000014542611f);
-    let code_ull = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 8192u));
+    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 0u));
     let at_ull = (code_ull * 0.0000014542611f);
-    let code_lul = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 0u));
     let at_lul = (code_lul * 0.0000014542611f);
-    let code_uul = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 8192u));
+    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 0u));
     let at_uul = (code_uul * 0.0000014542611f);
-    let code_llu = glazec_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
     let at_llu = (code_llu * 0.0000014542611f);
-    let code_ulu = glazec_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
     let at_ulu = (code_ulu * 0.0000014542611f);
-    let code_luu = glazec_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
     let at_luu = (code_luu * 0.0000014542611f);
-    let code_uuu = glazec_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 8192u));
+    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
     let at_uuu = (code_uuu * 0.0000014542611f);
     return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
 }
@@ -153,7 +126,7 @@ fn coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-fn coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
+fn tunable_glaze_coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
     let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
     let node_roughness_1 = (u_roughness_1 * 15f);
     let cell_roughness_1 = min(floor(node_roughness_1), 14f);
@@ -162,13 +135,13 @@ fn coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let code_ll = glazec_table_code((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 11648u));
+    let code_ll = tunable_glaze_table_code((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 2048u));
     let at_ll = (code_ll * 0.000000436632f);
-    let code_ul = glazec_table_code((u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 11648u));
+    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 2048u));
     let at_ul = (code_ul * 0.000000436632f);
-    let code_lu = glazec_table_code((u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 11648u));
+    let code_lu = tunable_glaze_table_code((u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 2048u));
     let at_lu = (code_lu * 0.000000436632f);
-    let code_uu = glazec_table_code((u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 11648u));
+    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 2048u));
     let at_uu = (code_uu * 0.000000436632f);
     return ((((at_ll * ((1f - weight_roughness_1) * (1f - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1f - weight_eta_1)))) + (at_lu * ((1f - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
 }
@@ -177,7 +150,7 @@ fn coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
 // lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
 // E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
 // Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
+fn tunable_glaze_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
     return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
 }
 
@@ -186,7 +159,7 @@ fn multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-fn coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
+fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
@@ -199,21 +172,21 @@ fn coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let code_lll = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
     let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
     let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
     let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 0u));
+    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
     let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = glazec_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
     let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
     let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = glazec_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
     let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = glazec_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 0u));
+    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
     let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
     return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
 }
@@ -222,7 +195,7 @@ fn coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
+fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
     return -(refract(-(w), n, (1f / eta_4)));
 }
 
@@ -231,7 +204,7 @@ fn refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-fn coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
+fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
@@ -244,35 +217,35 @@ fn coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
     let node_eta_3 = (u_eta_3 * 7f);
     let cell_eta_3 = min(floor(node_eta_3), 6f);
     let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let code_lll = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
     let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
     let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
     let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10240u));
+    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
     let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = glazec_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
     let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
     let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = glazec_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
     let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = glazec_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10240u));
+    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
     let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
     return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1f - weight_eta_3)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
 // with cosine μ: e^{−τ/μ}. Guard: μ ≥ COS_EPSILON (the caller's clamp) keeps τ/μ finite.
-fn slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
+fn tunable_glaze_slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
     return exp(-((tau / vec3(mu))));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
-fn e_fon(mu_1: f32, r: f32) -> f32 {
+fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
     let x = (1f - min(max(mu_1, 0f), 1f));
     let g_over_pi = (x * ((x * ((x * ((x * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
     return (((r * g_over_pi) + 1f) / ((r * 0.2877934f) + 1f));
@@ -280,7 +253,7 @@ fn e_fon(mu_1: f32, r: f32) -> f32 {
 
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
-fn eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
+fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
     let _e15 = (albedo * (1f - e_avg_1));
     return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
@@ -289,39 +262,39 @@ fn eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-fn fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
+fn tunable_glaze_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
     let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     let s_over_t = select(s, (s / max(n_dot_v_2, n_dot_l_2)), (s > 0f));
     let a_f = (1f / ((r_2 * 0.2877934f) + 1f));
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
-    let e_o = e_fon(n_dot_v_2, r_2);
-    let e_i = e_fon(n_dot_l_2, r_2);
+    let e_o = tunable_glaze_e_fon(n_dot_v_2, r_2);
+    let e_i = tunable_glaze_e_fon(n_dot_l_2, r_2);
     let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
-    let rho_ms = eon_rho_ms(albedo_1, r_2);
+    let rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
     let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
-fn albedo_avg_eon(albedo_2: vec3<f32>, r_3: f32) -> vec3<f32> {
+fn tunable_glaze_albedo_avg_eon(albedo_2: vec3<f32>, r_3: f32) -> vec3<f32> {
     let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
-    let rho_ms = eon_rho_ms(albedo_2, r_3);
+    let rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
     return ((albedo_2 * e_avg_3) + (rho_ms * (1f - e_avg_3)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
 // 2025, Listing 1 `E_EON`): ρ E_FON(μ) + ρ_ms (1 − E_FON(μ)).
-fn albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f32> {
-    let e_f = e_fon(mu_2, r_4);
-    let rho_ms = eon_rho_ms(albedo_3, r_4);
+fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f32> {
+    let e_f = tunable_glaze_e_fon(mu_2, r_4);
+    let rho_ms = tunable_glaze_eon_rho_ms(albedo_3, r_4);
     return ((albedo_3 * e_f) + (rho_ms * (1f - e_f)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-fn coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
+fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
     let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
     let node_roughness_4 = (u_roughness_4 * 31f);
     let cell_roughness_4 = min(floor(node_roughness_4), 30f);
@@ -330,13 +303,13 @@ fn coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
     let node_eta_4 = (u_eta_4 * 7f);
     let cell_eta_4 = min(floor(node_eta_4), 6f);
     let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let code_ll = glazec_table_code((u32((cell_roughness_4 + (cell_eta_4 * 32f))) + 11392u));
+    let code_ll = tunable_glaze_table_code((u32((cell_roughness_4 + (cell_eta_4 * 32f))) + 11520u));
     let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
-    let code_ul = glazec_table_code((u32(((cell_roughness_4 + 1f) + (cell_eta_4 * 32f))) + 11392u));
+    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + (cell_eta_4 * 32f))) + 11520u));
     let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
-    let code_lu = glazec_table_code((u32((cell_roughness_4 + ((cell_eta_4 + 1f) * 32f))) + 11392u));
+    let code_lu = tunable_glaze_table_code((u32((cell_roughness_4 + ((cell_eta_4 + 1f) * 32f))) + 11520u));
     let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
-    let code_uu = glazec_table_code((u32(((cell_roughness_4 + 1f) + ((cell_eta_4 + 1f) * 32f))) + 11392u));
+    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + ((cell_eta_4 + 1f) * 32f))) + 11520u));
     let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
     return ((((at_ll_1 * ((1f - weight_roughness_4) * (1f - weight_eta_4))) + (at_ul_1 * (weight_roughness_4 * (1f - weight_eta_4)))) + (at_lu_1 * ((1f - weight_roughness_4) * weight_eta_4))) + (at_uu_1 * (weight_roughness_4 * weight_eta_4)));
 }
@@ -347,7 +320,7 @@ fn coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-fn coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
+fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
     let _e4 = max(tau_1, 0f);
     let u_tau = (_e4 / (_e4 + 1f));
     let node_tau = (u_tau * 15f);
@@ -361,21 +334,21 @@ fn coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
     let node_eta_5 = (u_eta_5 * 7f);
     let cell_eta_5 = min(floor(node_eta_5), 6f);
     let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let code_lll = glazec_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11840u));
+    let code_lll = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11776u));
     let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
-    let code_ull = glazec_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11840u));
+    let code_ull = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11776u));
     let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
-    let code_lul = glazec_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11840u));
+    let code_lul = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11776u));
     let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
-    let code_uul = glazec_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11840u));
+    let code_uul = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11776u));
     let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
-    let code_llu = glazec_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11840u));
+    let code_llu = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
     let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
-    let code_ulu = glazec_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11840u));
+    let code_ulu = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
     let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
-    let code_luu = glazec_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11840u));
+    let code_luu = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
     let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
-    let code_uuu = glazec_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11840u));
+    let code_uuu = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
     let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
     return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * (1f - weight_eta_5))) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1f - weight_eta_5)))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * weight_eta_5))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * weight_eta_5))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_5)));
 }
@@ -384,7 +357,7 @@ fn coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
-fn coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
+fn tunable_glaze_coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
     let _e4 = max(tau_2, 0f);
     let u_tau_1 = (_e4 / (_e4 + 1f));
     let node_tau_1 = (u_tau_1 * 15f);
@@ -398,21 +371,21 @@ fn coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
     let node_eta_6 = (u_eta_6 * 7f);
     let cell_eta_6 = min(floor(node_eta_6), 6f);
     let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let code_lll = glazec_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13888u));
+    let code_lll = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13824u));
     let at_lll_4 = (code_lll * 0.000015259022f);
-    let code_ull = glazec_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13888u));
+    let code_ull = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13824u));
     let at_ull_4 = (code_ull * 0.000015259022f);
-    let code_lul = glazec_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13888u));
+    let code_lul = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13824u));
     let at_lul_4 = (code_lul * 0.000015259022f);
-    let code_uul = glazec_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13888u));
+    let code_uul = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13824u));
     let at_uul_4 = (code_uul * 0.000015259022f);
-    let code_llu = glazec_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13888u));
+    let code_llu = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
     let at_llu_4 = (code_llu * 0.000015259022f);
-    let code_ulu = glazec_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13888u));
+    let code_ulu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
     let at_ulu_4 = (code_ulu * 0.000015259022f);
-    let code_luu = glazec_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13888u));
+    let code_luu = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
     let at_luu_4 = (code_luu * 0.000015259022f);
-    let code_uuu = glazec_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13888u));
+    let code_uuu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
     let at_uuu_4 = (code_uuu * 0.000015259022f);
     return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * (1f - weight_eta_6))) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * (1f - weight_eta_6)))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1f - weight_eta_6)))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * weight_eta_6))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * weight_eta_6))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_6)));
 }
@@ -423,7 +396,7 @@ fn coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
     return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
@@ -433,7 +406,7 @@ fn interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f3
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-fn interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_9: f32) -> vec3<f32> {
+fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_9: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
 }
 
@@ -444,72 +417,72 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let tau_3 = (params.glaze_absorption * vec3(0.5f));
-    let h = half_vector(v_1, l_1);
+    let h = tunable_glaze_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
-    let d = d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
-    let g = g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
-    let fresnel = fr_dielectric(dot(v_1, h), 1.52f);
-    let _e29 = f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = coat_extra(n_dot_l_3, params.glaze_roughness, 1.52f);
-    let layer1_restored_v = coat_extra(n_dot_v_3, params.glaze_roughness, 1.52f);
-    let _e35 = coat_extra_avg(params.glaze_roughness, 1.52f);
-    let _e36 = multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e35);
+    let d = tunable_glaze_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), (params.glaze_roughness * params.glaze_roughness));
+    let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
+    let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
+    let _e29 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, params.glaze_roughness, 1.52f);
+    let layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, params.glaze_roughness, 1.52f);
+    let _e35 = tunable_glaze_coat_extra_avg(params.glaze_roughness, 1.52f);
+    let _e36 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e35);
     let specular = (_e29 + vec3(_e36));
-    let layer1_fresnel_l = fr_dielectric(n_dot_l_3, 1.52f);
-    let _e44 = coat_deficit(n_dot_l_3, params.glaze_roughness, 1.52f);
+    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
+    let _e44 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, 1.52f);
     let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e44) - layer1_restored_l), 0f), 1f);
-    let layer1_fresnel_v = fr_dielectric(n_dot_v_3, 1.52f);
-    let _e56 = coat_deficit(n_dot_v_3, params.glaze_roughness, 1.52f);
+    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
+    let _e56 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, 1.52f);
     let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e56) - layer1_restored_v), 0f), 1f);
-    let layer1_v = refract_down(v_1, n_1, 1.52f);
-    let layer1_l = refract_down(l_1, n_1, 1.52f);
+    let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
+    let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e74 = coat_path(n_dot_l_3, params.glaze_roughness, 1.52f);
+    let _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, 1.52f);
     let layer1_path_cos_l = (layer1_cos_l / _e74);
-    let _e77 = coat_path(n_dot_v_3, params.glaze_roughness, 1.52f);
+    let _e77 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, 1.52f);
     let layer1_path_cos_v = (layer1_cos_v / _e77);
-    let absorb_l = slab_transmittance(tau_3, layer1_path_cos_l);
-    let absorb_v = slab_transmittance(tau_3, layer1_path_cos_v);
+    let absorb_l = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_l);
+    let absorb_v = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_v);
     let blur = ((0.34210527f * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
-    let layer1_f_base = fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let layer1_rho = albedo_avg_eon(params.body_albedo, params.body_roughness);
-    let layer1_albedo_l = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
-    let layer1_albedo_v = albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e92 = coat_deficit_avg(params.glaze_roughness, 1.52f);
+    let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
+    let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
+    let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
+    let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
+    let _e92 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, 1.52f);
     let layer1_transmit_avg = ((0.9052938f + _e92) - _e35);
     let _e97 = (layer1_transmit_avg / 2.3104f);
-    let _e100 = coat_return(tau_3.x, params.glaze_roughness, 1.52f);
-    let _e103 = coat_return(tau_3.y, params.glaze_roughness, 1.52f);
-    let _e106 = coat_return(tau_3.z, params.glaze_roughness, 1.52f);
+    let _e100 = tunable_glaze_coat_return(tau_3.x, params.glaze_roughness, 1.52f);
+    let _e103 = tunable_glaze_coat_return(tau_3.y, params.glaze_roughness, 1.52f);
+    let _e106 = tunable_glaze_coat_return(tau_3.z, params.glaze_roughness, 1.52f);
     let _e108 = (vec3<f32>(_e100, _e103, _e106) * _e97);
     let layer1_r_return = max((vec3(1f) - _e108), vec3(0f));
-    let _e118 = coat_escape(tau_3.x, params.glaze_roughness, 1.52f);
-    let _e121 = coat_escape(tau_3.y, params.glaze_roughness, 1.52f);
-    let _e124 = coat_escape(tau_3.z, params.glaze_roughness, 1.52f);
+    let _e118 = tunable_glaze_coat_escape(tau_3.x, params.glaze_roughness, 1.52f);
+    let _e121 = tunable_glaze_coat_escape(tau_3.y, params.glaze_roughness, 1.52f);
+    let _e124 = tunable_glaze_coat_escape(tau_3.z, params.glaze_roughness, 1.52f);
     let layer1_transmit_avg_1 = ((0.9052938f + _e92) - _e35);
     let _e131 = (layer1_transmit_avg_1 / 2.3104f);
     let _e132 = vec3(_e131);
     let layer1_r_return_1 = max((vec3(1f) - _e132), vec3(0f));
-    let layer1_rho_ms = eon_rho_ms(params.body_albedo, params.body_roughness);
+    let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     let layer1_path_cos_l_1 = (layer1_cos_l / _e74);
     let layer1_path_cos_v_1 = (layer1_cos_v / _e77);
-    let _e146 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e147 = e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let _e146 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e147 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
     let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e147)) * vec3(0.27190268f)) / max(_e146, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e175 = albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e176 = e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let _e175 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e176 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e176)) * vec3(0.27190268f)) / max(_e175, vec3(0.000001f))));
     let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e205 = albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
-    let _e207 = e_fon(0.8823499f, params.body_roughness);
+    let _e205 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
+    let _e207 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
     let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e207)) * vec3(0.27190268f)) / max(_e205, vec3(0.000001f))));
     let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let under = interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
-    let f = interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
+    let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
+    let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 
@@ -520,24 +493,24 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn glazec_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
 }
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn glazec_environment(direction: vec3<f32>, roughness_7: f32) -> vec3<f32> {
-    let uv = glazec_equirect_uv(direction);
-    let _e3 = textureNumLevels(glazec_radiance);
+fn tunable_glaze_environment(direction: vec3<f32>, roughness_7: f32) -> vec3<f32> {
+    let uv = tunable_glaze_equirect_uv(direction);
+    let _e3 = textureNumLevels(tunable_glaze_radiance);
     let lod = (roughness_7 * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(glazec_radiance, glazec_environment_sampler, uv, lod);
+    let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
     return _e11.xyz;
 }
 
 // The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = glazec_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(glazec_irradiance, glazec_environment_sampler, uv, 0f);
+fn tunable_glaze_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = tunable_glaze_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(tunable_glaze_irradiance, tunable_glaze_environment_sampler, uv, 0f);
     return _e5.xyz;
 }
 
@@ -545,7 +518,7 @@ fn glazec_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
-fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
     let _e10 = (rho_below_1 * r_return_1);
     let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
@@ -554,7 +527,7 @@ fn interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: 
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-fn interfaced_albedo(eta_10: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_albedo(eta_10: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_10 * eta_10);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
     let _e12 = (rho_below_2 * r_return_2);
@@ -566,7 +539,7 @@ fn interfaced_albedo(eta_10: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
@@ -575,111 +548,70 @@ fn specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> 
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (glazec_environment) or the irradiance
-// over π (glazec_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+// directional albedo times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
+// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
 fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> vec3<f32> {
     let n_dot_v_4 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let tau_4 = (params_2.glaze_absorption * vec3(0.5f));
-    let layer1_fresnel_l = fr_dielectric(n_dot_v_4, 1.52f);
-    let _e18 = coat_deficit(n_dot_v_4, params_2.glaze_roughness, 1.52f);
-    let layer1_restored_l = coat_extra(n_dot_v_4, params_2.glaze_roughness, 1.52f);
+    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
+    let _e18 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, 1.52f);
+    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_v_4, params_2.glaze_roughness, 1.52f);
     let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e18) - layer1_restored_l), 0f), 1f);
     let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e18) - layer1_restored_l), 0f), 1f);
-    let layer1_v = refract_down(v_4, n_4, 1.52f);
+    let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e41 = coat_path(n_dot_v_4, params_2.glaze_roughness, 1.52f);
+    let _e41 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, 1.52f);
     let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e41);
     let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e41);
-    let absorb_l = slab_transmittance(tau_4, layer1_path_cos_l_2);
-    let absorb_v = slab_transmittance(tau_4, layer1_path_cos_v_2);
+    let absorb_l = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_l_2);
+    let absorb_v = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_v_2);
     let blur_1 = ((0.34210527f * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
-    let layer1_rho = albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
-    let layer1_albedo_l = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e54 = coat_deficit_avg(params_2.glaze_roughness, 1.52f);
-    let _e56 = coat_extra_avg(params_2.glaze_roughness, 1.52f);
+    let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
+    let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
+    let _e54 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, 1.52f);
+    let _e56 = tunable_glaze_coat_extra_avg(params_2.glaze_roughness, 1.52f);
     let layer1_transmit_avg_2 = ((0.9052938f + _e54) - _e56);
     let _e61 = (layer1_transmit_avg_2 / 2.3104f);
-    let _e64 = coat_return(tau_4.x, params_2.glaze_roughness, 1.52f);
-    let _e67 = coat_return(tau_4.y, params_2.glaze_roughness, 1.52f);
-    let _e70 = coat_return(tau_4.z, params_2.glaze_roughness, 1.52f);
+    let _e64 = tunable_glaze_coat_return(tau_4.x, params_2.glaze_roughness, 1.52f);
+    let _e67 = tunable_glaze_coat_return(tau_4.y, params_2.glaze_roughness, 1.52f);
+    let _e70 = tunable_glaze_coat_return(tau_4.z, params_2.glaze_roughness, 1.52f);
     let _e72 = (vec3<f32>(_e64, _e67, _e70) * _e61);
     let layer1_r_return_2 = max((vec3(1f) - _e72), vec3(0f));
-    let _e82 = coat_escape(tau_4.x, params_2.glaze_roughness, 1.52f);
-    let _e85 = coat_escape(tau_4.y, params_2.glaze_roughness, 1.52f);
-    let _e88 = coat_escape(tau_4.z, params_2.glaze_roughness, 1.52f);
+    let _e82 = tunable_glaze_coat_escape(tau_4.x, params_2.glaze_roughness, 1.52f);
+    let _e85 = tunable_glaze_coat_escape(tau_4.y, params_2.glaze_roughness, 1.52f);
+    let _e88 = tunable_glaze_coat_escape(tau_4.z, params_2.glaze_roughness, 1.52f);
     let _e90 = (vec3<f32>(_e82, _e85, _e88) * _e61);
     let layer1_transmit_avg_3 = ((0.9052938f + _e54) - _e56);
     let _e95 = (layer1_transmit_avg_3 / 2.3104f);
     let _e96 = vec3(_e95);
     let layer1_r_return_3 = max((vec3(1f) - _e96), vec3(0f));
     let _e104 = vec3(_e95);
-    let layer1_rho_ms = eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
+    let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
     let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e41);
     let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e41);
-    let _e110 = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e111 = e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    let _e110 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    let _e111 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
     let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e111)) * vec3(0.27190268f)) / max(_e110, vec3(0.000001f))));
     let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e139 = albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e140 = e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let _e139 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e140 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
     let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e140)) * vec3(0.27190268f)) / max(_e139, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e169 = albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
-    let _e171 = e_fon(0.8823499f, params_2.body_roughness);
+    let _e169 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
+    let _e171 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
     let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e171)) * vec3(0.27190268f)) / max(_e169, vec3(0.000001f))));
     let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let albedo_l = interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = interfaced_albedo(1.52f, _e104.x, _e90, layer1_r_return_2, layer1_rho);
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, _e104.x, _e90, layer1_r_return_2, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
-    let reflected = specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
+    let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     let _e219 = (dot(n_4, v_4) > 0f);
-    let light_a = glazec_environment(reflected, params_2.glaze_roughness);
-    let light_b = glazec_irradiance_at(n_4);
+    let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
+    let light_b = tunable_glaze_irradiance_at(n_4);
     return ((select(vec3(0f), vec3(coat_albedo), _e219) * light_a) + (select(vec3(0f), under_albedo, _e219) * light_b));
 }
 
-@compute @workgroup_size(64, 1, 1) 
-fn eval_pairs(@builtin(global_invocation_id) id: vec3<u32>) {
-    let index = id.x;
-    let _e4 = dispatch.pair_count;
-    if (index >= _e4) {
-        return;
-    }
-    let pair = pairs[index];
-    let _e18 = params_3;
-    let f = tunable_glaze_brdf(vec3<f32>(0f, 0f, 1f), pair.wo.xyz, pair.wi.xyz, _e18);
-    values[index] = vec4<f32>(f, 0f);
-    return;
-}
-
-@vertex 
-fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
-    return PreviewVarying(vec4<f32>(corner.x, corner.y, 0f, 1f), corner);
-}
-
-@fragment 
-fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
-    let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_5 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
-    let _e13 = params_3;
-    let _e16 = light.direction;
-    let l_3 = _e16.xyz;
-    let _e19 = light.radiance;
-    let reflected = tunable_glaze_eval(n_5, vec3<f32>(0f, 0f, 1f), l_3, _e13);
-    let _e28 = (r2_ < 1f);
-    return vec4<f32>(select(vec3(0f), (reflected * _e19.xyz), _e28), select(0f, 1f, _e28));
-}
-
-@fragment 
-fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
-    let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
-    let n_6 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
-    let _e13 = params_3;
-    let reflected = tunable_glaze_ibl(n_6, vec3<f32>(0f, 0f, 1f), _e13);
-    let _e20 = (r2_1 < 1f);
-    return vec4<f32>(select(vec3(0f), reflected, _e20), select(0f, 1f, _e20));
-}

@@ -35,7 +35,7 @@ use crate::math::Kind;
 mod tables;
 mod values;
 
-pub use tables::TABLES_BUFFER_NAME;
+pub use tables::{TABLES_BUFFER_NAME, table_bytes};
 pub use values::{Expr, ExprBool, ExprVec};
 
 /// Types the builder uses everywhere.
@@ -81,6 +81,8 @@ struct State {
     constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
     /// The table buffer, once used.
     tables_buffer: Option<Handle<naga::GlobalVariable>>,
+    /// The tables the buffer holds, in order: (offset in the catalogue's buffer, codes).
+    tables_used: Vec<(u32, &'static [u16])>,
 }
 
 /// Index into the builder's table of constant names.
@@ -125,6 +127,7 @@ impl ModuleBuilder {
                 const_names: Vec::new(),
                 constants: HashMap::new(),
                 tables_buffer: None,
+                tables_used: Vec::new(),
             }),
             types,
         }
@@ -137,6 +140,16 @@ impl ModuleBuilder {
 
     pub fn finish(self) -> Module {
         self.state.into_inner().module
+    }
+
+    /// A copy of the module as built so far.
+    pub fn snapshot(&self) -> Module {
+        self.state.borrow().module.clone()
+    }
+
+    /// The table buffer, if a lookup reads it.
+    pub fn tables_global(&self) -> Option<Handle<GlobalVariable>> {
+        self.state.borrow().tables_buffer
     }
 
     pub fn kind_type(&self, kind: Kind) -> Handle<Type> {

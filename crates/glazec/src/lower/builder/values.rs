@@ -426,7 +426,8 @@ impl<'a> Real for Expr<'a> {
         }
         let expr = index.handle();
         let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
-        let offset = b.append(Expression::Literal(Literal::U32(table.buffer_offset)));
+        let offset = b.table_offset(table.codes, table.buffer_offset);
+        let offset = b.append(Expression::Literal(Literal::U32(offset)));
         let entry = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
         let function = b.table_code_function();
         index.dynamic(b.call(function, vec![entry]))

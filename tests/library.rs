@@ -1,0 +1,252 @@
+//! The libraries a host imports: no entry point and no harness global in them, every
+//! module-scope name the material's own, several of them in one shader (WGSL through naga,
+//! GLSL and HLSL through glslang), the naga_oil flavour composed by `naga_oil`, and bindings
+//! where the host chose them.
+
+mod common;
+
+use std::collections::HashMap;
+
+use glazec::Target;
+use glazec::lower::bindings::{Choice, Resource, Slot};
+use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+/// The names glazec's harness declares at module scope.
+const HARNESS_NAMES: [&str; 10] = [
+    "pairs",
+    "values",
+    "dispatch",
+    "light",
+    "DirectionPair",
+    "EvalDispatch",
+    "PreviewLight",
+    "PreviewVarying",
+    "eval_pairs",
+    "preview_fs",
+];
+
+fn text(compiled: &glazec::Compiled, target: Target, file: &str) -> String {
+    let artifacts = compiled.emit(&[target]).expect("emits");
+    let artifact = artifacts.iter().find(|a| a.file_name == file).unwrap_or_else(|| panic!("no {file}"));
+    String::from_utf8(artifact.contents.clone()).expect("utf-8")
+}
+
+fn parse_and_validate(what: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{what} does not parse:\n{}", e.emit_to_string(source)));
+    Validator::new(ValidationFlags::all(), Capabilities::default())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{what} does not validate:\n{}", e.emit_to_string(source)));
+    module
+}
+
+#[test]
+fn libraries_hold_no_entry_point_no_harness_and_only_their_own_names() {
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        let m = &compiled.material.name;
+        let source = text(&compiled, Target::Wgsl, &format!("{m}.wgsl"));
+        let library = parse_and_validate(&format!("{m}.wgsl"), &source);
+        assert!(library.entry_points.is_empty(), "{m}: entry points in the library");
+        let prefix = format!("{m}_");
+        let structs = glazec::model::camel_case(m);
+        let names = library
+            .functions
+            .iter()
+            .filter_map(|(_, f)| f.name.clone())
+            .chain(library.global_variables.iter().filter_map(|(_, g)| g.name.clone()))
+            .chain(library.constants.iter().filter_map(|(_, c)| c.name.clone()));
+        for name in names {
+            assert!(name.starts_with(&prefix), "{m}: `{name}` is not namespaced");
+        }
+        for (_, ty) in library.types.iter() {
+            if let (Some(name), naga::TypeInner::Struct { .. }) = (&ty.name, &ty.inner) {
+                assert!(name.starts_with(&structs), "{m}: struct `{name}` is not the material's");
+            }
+        }
+        for harness in HARNESS_NAMES {
+            let declared = source.lines().any(|l| {
+                l.starts_with(&format!("fn {harness}("))
+                    || l.starts_with(&format!("struct {harness} "))
+                    || l.contains(&format!(" {harness}: "))
+            });
+            assert!(!declared, "{m}: the library declares the harness's `{harness}`");
+        }
+        // The GLSL and HLSL libraries: no `main`, no `#version`, no harness entry point.
+        let glsl = text(&compiled, Target::Glsl, &format!("{m}.glsl"));
+        assert!(!glsl.contains("void main(") && !glsl.contains("#version"), "{m}.glsl");
+        let hlsli = text(&compiled, Target::Hlsl, &format!("{m}.hlsli"));
+        assert!(!hlsli.contains("eval_pairs") && !hlsli.contains("SV_Target"), "{m}.hlsli");
+    }
+}
+
+#[test]
+fn every_library_concatenates_into_one_wgsl_module() {
+    let mut all = String::new();
+    let mut functions = 0;
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        all.push_str(&text(&compiled, Target::Wgsl, &format!("{}.wgsl", compiled.material.name)));
+        all.push('\n');
+        functions += compiled.library.functions.len();
+    }
+    let module = parse_and_validate("every library, concatenated", &all);
+    assert_eq!(module.functions.len(), functions);
+}
+
+#[test]
+fn every_glsl_and_hlsl_library_goes_into_one_shader() {
+    if !common::tool_available("glslangValidator") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (mut glsl, mut hlsl) = (String::from("#version 450 core\n"), String::new());
+    let mut calls = Vec::new();
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        let m = &compiled.material.name;
+        glsl.push_str(&text(&compiled, Target::Glsl, &format!("{m}.glsl")));
+        glsl.push('\n');
+        let hlsli = format!("{m}.hlsli");
+        std::fs::write(dir.path().join(&hlsli), text(&compiled, Target::Hlsl, &hlsli)).expect("writes");
+        hlsl.push_str(&format!("#include \"{hlsli}\"\n"));
+        if compiled.material.params.is_empty() {
+            calls.push(format!("{m}_eval"));
+        }
+    }
+    // Every parameterless material's eval, summed (GLSL: vec3; HLSL: float3).
+    let sum = |vec: &str| calls.iter().map(|f| format!(" + {f}({vec}(0, 0, 1), {vec}(0, 0, 1), {vec}(0, 0, 1))")).collect::<String>();
+    glsl.push_str(&format!("layout(location = 0) out vec4 color;\nvoid main() {{ color = vec4(vec3(0){}, 1); }}\n", sum("vec3")));
+    hlsl.push_str(&format!("float4 main() : SV_Target0 {{ return float4(float3(0, 0, 0){}, 1); }}\n", sum("float3")));
+    for (file, args) in [("all.frag", vec!["-V", "-S", "frag"]), ("all.hlsl", vec!["-D", "-V", "-S", "frag", "-e", "main"])] {
+        let source = if file.ends_with(".frag") { &glsl } else { &hlsl };
+        std::fs::write(dir.path().join(file), source).expect("writes");
+        let out = std::process::Command::new("glslangValidator")
+            .args(&args)
+            .arg(dir.path().join(file))
+            .arg("-o")
+            .arg(dir.path().join("out.spv"))
+            .output()
+            .expect("runs glslang");
+        assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stdout));
+    }
+}
+
+#[test]
+fn the_naga_oil_flavour_composes_with_naga_oil() {
+    use naga_oil::compose::{
+        ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType,
+    };
+    let wet_clay = common::compile_file(&common::root().join("materials/wet_clay.ron"));
+    // A second material with runtime parameters, bound after the first's resources.
+    let glaze = common::compile_file(&common::root().join("materials/tunable_glaze.ron"))
+        .with_bindings(&Choice::default().with(Resource::Params, Slot::new(0, 8)))
+        .expect("binds");
+    let mut composer = Composer::default();
+    for compiled in [&wet_clay, &glaze] {
+        let m = &compiled.material.name;
+        let source = text(compiled, Target::NagaOil, &format!("{m}.naga_oil.wgsl"));
+        assert!(source.starts_with(&format!("// Generated by glazec")), "{m}: header first");
+        assert!(source.contains(&format!("#define_import_path glazec::{m}\n")), "{m}");
+        assert!(source.contains("@group(#{MATERIAL_BIND_GROUP})"), "{m}: the material's group is a placeholder");
+        composer
+            .add_composable_module(ComposableModuleDescriptor {
+                source: &source,
+                file_path: &format!("{m}.naga_oil.wgsl"),
+                language: ShaderLanguage::Wgsl,
+                ..Default::default()
+            })
+            .unwrap_or_else(|e| panic!("{m}: naga_oil rejects the module: {e:?}"));
+    }
+    let shader = r"
+#import glazec::wet_clay::wet_clay_eval
+#import glazec::tunable_glaze::{tunable_glaze_eval, tunable_glaze_params}
+
+@fragment
+fn fragment(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
+    let n = normalize(normal);
+    let v = vec3<f32>(0.0, 0.0, 1.0);
+    let l = normalize(vec3<f32>(0.3, 0.4, 1.0));
+    let shaded = wet_clay_eval(n, v, l) + tunable_glaze_eval(n, v, l, tunable_glaze_params);
+    return vec4<f32>(shaded, 1.0);
+}
+";
+    let defs = HashMap::from([("MATERIAL_BIND_GROUP".to_string(), ShaderDefValue::UInt(2))]);
+    let module = composer
+        .make_naga_module(NagaModuleDescriptor {
+            source: shader,
+            file_path: "host.wgsl",
+            shader_type: ShaderType::Wgsl,
+            shader_defs: defs,
+            ..Default::default()
+        })
+        .unwrap_or_else(|e| panic!("naga_oil cannot compose the two materials: {e:?}"));
+    Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).expect("the composed module validates");
+    // The materials' own resources moved to group 2; the environment kept its group.
+    let groups: Vec<(String, u32, u32)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| g.binding.map(|b| (g.name.clone().unwrap_or_default(), b.group, b.binding)))
+        .collect();
+    let params = groups.iter().find(|(n, ..)| n.contains("tunable_glaze_params")).expect("the glaze's parameters");
+    assert_eq!((params.1, params.2), (2, 8), "{groups:?}");
+    let tables = groups.iter().find(|(n, ..)| n.contains("wet_clay_tables")).expect("wet_clay's tables");
+    assert_eq!(tables.1, 2, "{groups:?}");
+}
+
+#[test]
+fn bindings_go_where_the_host_chooses() {
+    let glaze = common::compile_file(&common::root().join("materials/tunable_glaze.ron"));
+    let choice = Choice::default()
+        .with(Resource::Params, Slot::new(3, 0))
+        .with(Resource::Environment, Slot::new(1, 4));
+    let rebound = glaze.with_bindings(&choice).expect("binds");
+    let wgsl = text(&rebound, Target::Wgsl, "tunable_glaze.wgsl");
+    for declaration in [
+        "@group(3) @binding(0) \nvar<uniform> tunable_glaze_params: TunableGlazeParams;",
+        // The tables follow the parameters.
+        "@group(3) @binding(1) \nvar<uniform> tunable_glaze_tables:",
+        "@group(1) @binding(4) \nvar tunable_glaze_environment_sampler: sampler;",
+        "@group(1) @binding(5) \nvar tunable_glaze_radiance: texture_2d<f32>;",
+        "@group(1) @binding(6) \nvar tunable_glaze_irradiance: texture_2d<f32>;",
+    ] {
+        assert!(wgsl.contains(declaration), "missing:\n{declaration}\nin\n{wgsl}");
+    }
+    assert_eq!(rebound.layout.params, Some(Slot::new(3, 0)));
+    // The harness takes the lowest free bindings of group 0.
+    assert_eq!((rebound.layout.pairs, rebound.layout.values, rebound.layout.dispatch), (0, 1, 2));
+    // Two resources in one place are refused, naming both.
+    let clash = glaze.with_bindings(&Choice::default().with(Resource::Tables, Slot::new(2, 1)));
+    let message = clash.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("tunable_glaze_tables") && message.contains("tunable_glaze_radiance"), "{message}");
+}
+
+#[test]
+fn the_command_line_binds_where_asked_and_refuses_a_clash() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let out_dir = dir.path().to_str().expect("utf-8");
+    let args = ["compile", "materials/tunable_glaze.ron", "--target", "wgsl", "-o", out_dir];
+    let out = common::glazec(&[&args[..], &["--bind", "params=2:0", "--bind", "environment=3:0"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let wgsl = std::fs::read_to_string(dir.path().join("tunable_glaze/tunable_glaze.wgsl")).expect("written");
+    assert!(wgsl.contains("@group(2) @binding(0) \nvar<uniform> tunable_glaze_params"), "{wgsl}");
+    assert!(wgsl.contains("@group(3) @binding(1) \nvar tunable_glaze_radiance"), "{wgsl}");
+
+    let clash_dir = tempfile::tempdir().expect("tmp");
+    let clash_out = clash_dir.path().to_str().expect("utf-8");
+    let out = common::glazec(&[
+        "compile",
+        "materials/tunable_glaze.ron",
+        "-o",
+        clash_out,
+        "--bind",
+        "params=2:1",
+        "--bind",
+        "environment=2:0",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("would both be bound at 2:"), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read_dir(clash_dir.path()).expect("lists").count(), 0, "nothing written");
+    let bad = common::glazec(&["compile", "materials/clay.ron", "-o", clash_out, "--bind", "params=two"]);
+    assert_eq!(bad.status.code(), Some(2));
+}
