@@ -250,3 +250,29 @@ fn the_command_line_binds_where_asked_and_refuses_a_clash() {
     let bad = common::glazec(&["compile", "materials/clay.ron", "-o", clash_out, "--bind", "params=two"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// docs/generated-files.md quotes each shipped material's table-uniform size.
+#[test]
+fn the_documented_table_sizes_are_current() {
+    let chapter = std::fs::read_to_string(common::root().join("docs/generated-files.md")).expect("chapter");
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        let m = &compiled.material.name;
+        let size = compiled.tables_bytes().len();
+        let cell = if size == 0 { "none".to_string() } else { group_thousands(size) };
+        let row = format!("| `{m}` | {cell} |");
+        assert!(chapter.contains(&row), "docs/generated-files.md lacks the row {row}");
+    }
+}
+
+fn group_thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}

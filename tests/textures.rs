@@ -146,8 +146,15 @@ fn textured_shaders_pass_the_external_validators() {
             Some((stage, _)) => {
                 runs.push((file, vec!["-V".into(), "-S".into(), glazec::emit::stage_suffix(*stage).into()]))
             }
-            // HLSL: every entry point of the one file.
-            None => {
+            // The GLSL library: inside a fragment shader.
+            None if artifact.file_name.ends_with(".glsl") => {
+                let wrapped = dir.path().join("library.frag");
+                let text = format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
+                std::fs::write(&wrapped, text).expect("write");
+                runs.push((wrapped.to_string_lossy().to_string(), vec!["-V".into(), "-S".into(), "frag".into()]));
+            }
+            // The HLSL harness (which includes the library): every entry point.
+            None if artifact.file_name.ends_with(".hlsl") => {
                 for (stage, entry) in
                     [("comp", "eval_pairs"), ("vert", "preview_vs"), ("frag", "preview_fs"), ("frag", "preview_ibl_fs")]
                 {
@@ -155,9 +162,11 @@ fn textured_shaders_pass_the_external_validators() {
                     runs.push((file.clone(), args));
                 }
             }
+            // The HLSL library (checked through the harness) and the table file.
+            None => {}
         }
     }
-    assert_eq!(runs.len(), 8, "four GLSL entry points and four HLSL entry points");
+    assert_eq!(runs.len(), 9, "the GLSL library, four GLSL entry points and four HLSL entry points");
     if common::tool_available("spirv-val") {
         let spv = compiled.emit(&[Target::Spv]).expect("emits").remove(0);
         let path = dir.path().join(&spv.file_name);
