@@ -29,7 +29,8 @@ fn naga_from_wgsl(wgsl: &str) -> usize {
     let layout = glazec::lower::bindings::Layout::default();
     let modules =
         glazec::emit::Modules { library: &module, library_info: &info, module: &module, info: &info, layout: &layout };
-    let artifacts = glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), modules, &Target::TEXT).expect("emits");
+    let artifacts =
+        glazec::emit::emit("clay", &glazec::Origin::new(None, wgsl), modules, &Target::TEXT).expect("emits");
     artifacts.iter().map(|a| a.contents.len()).sum()
 }
 

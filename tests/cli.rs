@@ -51,7 +51,9 @@ fn compile_writes_every_target_for_every_material_identically_twice() {
     }
     // The libraries: `<m>.wgsl` and `<m>.glsl`.
     for ext in ["wgsl", "glsl"] {
-        let libraries = first.keys().filter(|k| k.split('/').next_back().is_some_and(|f| f.matches('.').count() == 1 && f.ends_with(ext)));
+        let libraries = first
+            .keys()
+            .filter(|k| k.split('/').next_back().is_some_and(|f| f.matches('.').count() == 1 && f.ends_with(ext)));
         assert_eq!(libraries.count(), materials, "{ext} libraries");
     }
 }

@@ -102,7 +102,8 @@ fn glsl_hlsl_and_spirv_pass_glslang_and_spirv_val() {
                 // The library: a fragment shader around it.
                 checked += 1;
                 let wrapped = dir.path().join(format!("{}.library.frag", compiled.material.name));
-                let text = format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
+                let text =
+                    format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
                 std::fs::write(&wrapped, text).expect("writes");
                 let spv = wrapped.with_extension("frag.spv");
                 check_with_glslang(&wrapped, &["-V", "--target-env", "vulkan1.0", "-S", "frag"], &spv)

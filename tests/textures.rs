@@ -149,7 +149,8 @@ fn textured_shaders_pass_the_external_validators() {
             // The GLSL library: inside a fragment shader.
             None if artifact.file_name.ends_with(".glsl") => {
                 let wrapped = dir.path().join("library.frag");
-                let text = format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
+                let text =
+                    format!("#version 450 core\n{}\nvoid main() {{}}\n", String::from_utf8_lossy(&artifact.contents));
                 std::fs::write(&wrapped, text).expect("write");
                 runs.push((wrapped.to_string_lossy().to_string(), vec!["-V".into(), "-S".into(), "frag".into()]));
             }

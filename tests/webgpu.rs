@@ -10,9 +10,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use glam::Vec3;
 use glazec::Target;
 use glazec::eval::Pair;
-use glam::Vec3;
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, RngSeed, TestRunner};
 
@@ -32,7 +32,11 @@ fn dawn_available() -> bool {
     if node && package {
         return true;
     }
-    let missing = if node { "the npm package `webgpu` (npm ci --prefix tests/webgpu)" } else { "`node` (apt-get install nodejs npm)" };
+    let missing = if node {
+        "the npm package `webgpu` (npm ci --prefix tests/webgpu)"
+    } else {
+        "`node` (apt-get install nodejs npm)"
+    };
     if std::env::var("GLAZEC_REQUIRE_TOOLS").is_ok_and(|v| v == "1") {
         panic!("{missing} is missing and GLAZEC_REQUIRE_TOOLS=1");
     }
@@ -44,12 +48,8 @@ fn dawn_available() -> bool {
 fn dawn(job: serde_json::Value, dir: &Path) -> serde_json::Value {
     let path = dir.join("job.json");
     std::fs::write(&path, job.to_string()).expect("writes the job");
-    let out = Command::new("node")
-        .arg(script())
-        .arg(&path)
-        .env("EGL_PLATFORM", "surfaceless")
-        .output()
-        .expect("runs node");
+    let out =
+        Command::new("node").arg(script()).arg(&path).env("EGL_PLATFORM", "surfaceless").output().expect("runs node");
     assert!(out.status.success(), "check.mjs failed:\n{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let last = stdout.lines().last().unwrap_or_default();
@@ -69,8 +69,16 @@ const HARNESS_ENTRIES: [(&str, &str); 3] =
 fn library_and_whole(name: &str, compiled: &glazec::Compiled) -> [Source; 2] {
     let library = compiled.emit(&[Target::Wgsl]).expect("emits").remove(0);
     [
-        Source { name: format!("{name} (library)"), text: String::from_utf8_lossy(&library.contents).into(), entries: Vec::new() },
-        Source { name: format!("{name} (library + harness)"), text: compiled.whole_wgsl().expect("emits"), entries: HARNESS_ENTRIES.to_vec() },
+        Source {
+            name: format!("{name} (library)"),
+            text: String::from_utf8_lossy(&library.contents).into(),
+            entries: Vec::new(),
+        },
+        Source {
+            name: format!("{name} (library + harness)"),
+            text: compiled.whole_wgsl().expect("emits"),
+            entries: HARNESS_ENTRIES.to_vec(),
+        },
     ]
 }
 
@@ -101,14 +109,18 @@ fn tint_accepts_every_generated_wgsl_with_no_message() {
     sources.push(Source { name: "every library, concatenated".into(), text: libraries, entries: Vec::new() });
     // The scene variants as generated/scenes/ holds them: each library with its harness.
     for harness in common::files_under(&common::root().join("generated/scenes")) {
-        let Some(library) = harness.to_str().and_then(|p| p.strip_suffix(".harness.wgsl")).map(|p| format!("{p}.wgsl")) else {
+        let Some(library) = harness.to_str().and_then(|p| p.strip_suffix(".harness.wgsl")).map(|p| format!("{p}.wgsl"))
+        else {
             continue;
         };
-        let text = [std::fs::read_to_string(&library).expect("library"), std::fs::read_to_string(&harness).expect("harness")].join("\n");
+        let text =
+            [std::fs::read_to_string(&library).expect("library"), std::fs::read_to_string(&harness).expect("harness")]
+                .join("\n");
         let name = harness.strip_prefix(common::root()).unwrap_or(&harness).display().to_string();
         sources.push(Source { name, text, entries: HARNESS_ENTRIES.to_vec() });
     }
-    let textured = std::fs::read_to_string(common::root().join("examples/textures/textured_clay.ron")).expect("example");
+    let textured =
+        std::fs::read_to_string(common::root().join("examples/textures/textured_clay.ron")).expect("example");
     let textured = glazec::compile(&textured).expect("compiles");
     sources.extend(library_and_whole("textured_clay", &textured));
     for (index, text) in random_stacks().iter().enumerate() {
@@ -142,12 +154,7 @@ fn tint_accepts_every_generated_wgsl_with_no_message() {
     assert_eq!(control, 1, "Tint did not warn about the control's unreachable code: {messages:#?}");
     messages.retain(|m| m["name"] != CONTROL);
     let pipelines: usize = sources.iter().map(|s| s.entries.len()).sum();
-    eprintln!(
-        "Tint: {} modules, {} pipelines, {} messages",
-        report["modules"],
-        report["pipelines"],
-        messages.len()
-    );
+    eprintln!("Tint: {} modules, {} pipelines, {} messages", report["modules"], report["pipelines"], messages.len());
     assert!(report["error"].is_null(), "{report}");
     assert_eq!(report["modules"].as_u64(), Some(sources.len() as u64));
     assert_eq!(report["pipelines"].as_u64(), Some(pipelines as u64), "{messages:#?}");
@@ -159,7 +166,9 @@ fn tint_accepts_every_generated_wgsl_with_no_message() {
 fn pairs() -> Vec<Pair> {
     let direction = |theta: f32, phi: f32| glazec::math::sampling::direction_f32(theta.to_radians(), phi.to_radians());
     let mut pairs = Vec::new();
-    for (theta_i, theta_o, phi) in [(0.0, 0.0, 0.0), (30.0, 45.0, 90.0), (60.0, 60.0, 180.0), (75.0, 20.0, 45.0), (85.0, 85.0, 0.0)] {
+    for (theta_i, theta_o, phi) in
+        [(0.0, 0.0, 0.0), (30.0, 45.0, 90.0), (60.0, 60.0, 180.0), (75.0, 20.0, 45.0), (85.0, 85.0, 0.0)]
+    {
         let wi = direction(theta_i, 0.0);
         pairs.push(Pair { wi, wo: direction(theta_o, phi) });
         pairs.push(Pair { wi, wo: Vec3::new(-wi.x, -wi.y, wi.z) });
@@ -197,7 +206,9 @@ fn eval_pairs_through_dawn_agrees_with_the_cpu() {
         let values = compiled.material.default_values();
         let layout = &compiled.layout;
         // 'auto' layouts hold only what the entry point uses (clay's tables serve only its IBL).
-        let used = |slot: Option<glazec::lower::bindings::Slot>| slot.filter(|s| eval_pairs_uses(&compiled, *s)).map(|s| s.binding);
+        let used = |slot: Option<glazec::lower::bindings::Slot>| {
+            slot.filter(|s| eval_pairs_uses(&compiled, *s)).map(|s| s.binding)
+        };
         run.push(serde_json::json!({
             "name": compiled.material.name,
             "file": file,
@@ -222,9 +233,15 @@ fn eval_pairs_through_dawn_agrees_with_the_cpu() {
     let mut failures = Vec::new();
     for compiled in &compiled_all {
         let name = &compiled.material.name;
-        let gpu: Vec<f32> = report["results"][name].as_array().expect("values").iter().map(|v| v.as_f64().unwrap_or(f64::NAN) as f32).collect();
+        let gpu: Vec<f32> = report["results"][name]
+            .as_array()
+            .expect("values")
+            .iter()
+            .map(|v| v.as_f64().unwrap_or(f64::NAN) as f32)
+            .collect();
         let values = compiled.material.default_values();
-        let cpu: Vec<Vec3> = pairs.iter().map(|p| glazec::eval::brdf(&compiled.material, &values, p.wi, p.wo)).collect();
+        let cpu: Vec<Vec3> =
+            pairs.iter().map(|p| glazec::eval::brdf(&compiled.material, &values, p.wi, p.wo)).collect();
         let max = cpu.iter().flat_map(|c| [c.x, c.y, c.z]).fold(0.0_f32, |m, x| m.max(x.abs()));
         for (i, c) in cpu.iter().enumerate() {
             for (k, cpu) in [c.x, c.y, c.z].into_iter().enumerate() {
@@ -238,6 +255,10 @@ fn eval_pairs_through_dawn_agrees_with_the_cpu() {
             }
         }
     }
-    eprintln!("Dawn (OpenGL ES, llvmpipe) vs CPU: {} materials × {} pairs, worst relative error {worst:.2e}", compiled_all.len(), pairs.len());
+    eprintln!(
+        "Dawn (OpenGL ES, llvmpipe) vs CPU: {} materials × {} pairs, worst relative error {worst:.2e}",
+        compiled_all.len(),
+        pairs.len()
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -16,7 +16,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<(), Failure> {
-    let project = Project { inputs: args.files, scene: None, out_dir: PathBuf::new(), targets: Vec::new(), bindings: Default::default() };
+    let project = Project {
+        inputs: args.files,
+        scene: None,
+        out_dir: PathBuf::new(),
+        targets: Vec::new(),
+        bindings: Default::default(),
+    };
     let outcome = project.compile().map_err(|e| project_failure(e, args.message_format))?;
     for file in &outcome.notes {
         print_diagnostics(file, args.message_format);

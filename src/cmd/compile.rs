@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use glazec::project::{Outcome, Project};
 use glazec::lower::bindings::{Choice, Resource, Slot};
+use glazec::project::{Outcome, Project};
 use glazec::{Target, output};
 
 use crate::choice;

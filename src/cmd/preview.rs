@@ -80,7 +80,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
         textures: read_textures(&args.textures)?,
     };
     let single = args.inputs.len() == 1 && !args.inputs[0].is_dir() && args.scene.is_none();
-    let project = Project { inputs: args.inputs, scene: args.scene, out_dir: PathBuf::new(), targets: Vec::new(), bindings: Default::default() };
+    let project = Project {
+        inputs: args.inputs,
+        scene: args.scene,
+        out_dir: PathBuf::new(),
+        targets: Vec::new(),
+        bindings: Default::default(),
+    };
     let outcome = project.compile().map_err(|e| project_failure(e, args.message_format))?;
     for file in &outcome.notes {
         print_diagnostics(file, args.message_format);

@@ -152,7 +152,11 @@ pub fn compile_material_with(
     Ok(finish(material, source_map, lowered)?)
 }
 
-fn finish(material: Material, source_map: SourceMap, lowered: lower::Lowered) -> Result<Compiled, validate::ValidateError> {
+fn finish(
+    material: Material,
+    source_map: SourceMap,
+    lowered: lower::Lowered,
+) -> Result<Compiled, validate::ValidateError> {
     let lower::Lowered { library, module, layout, tables } = lowered;
     let library_info = validate::validate(&material.name, &library)?;
     let info = validate::validate(&material.name, &module)?;

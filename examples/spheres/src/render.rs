@@ -135,7 +135,8 @@ impl SpherePipeline {
         let module = renderer.checked(|| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(material.name),
-                source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(material.wgsl)),
+                // glazec's harness (its preview entry points) read after the library.
+                source: wgpu::ShaderSource::Wgsl(Cow::Owned(format!("{}\n{}", material.wgsl, material.wgsl_harness))),
             })
         })?;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -129,7 +129,22 @@ fn typed_defaults_are_the_bytes_the_shader_expects() {
 #[test]
 fn binding_descriptions_match_the_wgsl() {
     for material in materials::MATERIALS {
-        let module = naga::front::wgsl::parse_str(material.wgsl).expect("parses");
+        // The library and the harness after it.
+        let whole = format!("{}\n{}", material.wgsl, material.wgsl_harness);
+        let module = naga::front::wgsl::parse_str(&whole).expect("parses");
+        let library = naga::front::wgsl::parse_str(material.wgsl).expect("parses");
+        assert!(library.entry_points.is_empty(), "{}: the library has entry points", material.name);
+        for binding in material.library_bindings {
+            assert!(
+                library.global_variables.iter().any(|(_, v)| v.name.as_deref() == Some(binding.name)
+                    && v.binding.is_some_and(|b| b.group == binding.group && b.binding == binding.binding)),
+                "{}: the library declares no `{}` at {}:{}",
+                material.name,
+                binding.name,
+                binding.group,
+                binding.binding
+            );
+        }
         for binding in material.preview_bindings.iter().chain(material.eval_pairs_bindings) {
             let var = module
                 .global_variables

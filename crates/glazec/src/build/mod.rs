@@ -38,11 +38,11 @@ mod rust_module;
 
 use std::path::{Path, PathBuf};
 
+use crate::Target;
 use crate::diag::Source;
+use crate::lower::bindings::{Choice, Resource, Slot};
 use crate::output::{self, OutputFile};
 use crate::project::{self, FileDiagnostics, ProjectError};
-use crate::lower::bindings::{Choice, Resource, Slot};
-use crate::Target;
 
 /// The generated Rust module's file name in the output directory.
 pub const MODULE_FILE: &str = "glazec_materials.rs";

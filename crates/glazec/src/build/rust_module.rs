@@ -166,13 +166,14 @@ fn shader_constant(material: &str, artifact: &Artifact) -> (String, String) {
         None => match file.strip_prefix(material).unwrap_or(file) {
             ".wgsl" => named("WGSL", "The library in WGSL: no entry point; import it or prepend it to your shader"),
             ".harness.wgsl" => named("WGSL_HARNESS", "glazec's harness in WGSL, to be read after `WGSL`"),
-            ".naga_oil.wgsl" => {
-                named("NAGA_OIL", "The library as a naga_oil module (`#import glazec::<material>`)")
-            }
+            ".naga_oil.wgsl" => named("NAGA_OIL", "The library as a naga_oil module (`#import glazec::<material>`)"),
             ".glsl" => named("GLSL", "The library in GLSL 450: no `#version`, no `main`"),
             ".hlsli" => named("HLSLI", "The library in HLSL (SM 6.0), to `#include`"),
             ".hlsl" => named("HLSL", "glazec's harness in HLSL, which includes `HLSLI`"),
-            ".tables.bin" => named("TABLES", "The contents of the library's table uniform (`array<vec4<u32>, N>`: 16-bit codes, two to a little-endian u32 word)"),
+            ".tables.bin" => named(
+                "TABLES",
+                "The contents of the library's table uniform (`array<vec4<u32>, N>`: 16-bit codes, two to a little-endian u32 word)",
+            ),
             _ => named("SPIRV", "SPIR-V 1.0 words, little-endian, with the harness's entry points"),
         },
     }

@@ -24,7 +24,7 @@ pub(super) fn items(text: &str) -> Vec<Item<'_>> {
     let mut current: Vec<&str> = Vec::new();
     let mut declared = false;
     let mut depth: i32 = 0;
-fn flush<'t>(current: &mut Vec<&'t str>, out: &mut Vec<Item<'t>>) {
+    fn flush<'t>(current: &mut Vec<&'t str>, out: &mut Vec<Item<'t>>) {
         if !current.is_empty() {
             let lines = std::mem::take(current);
             let name = lines.iter().find(|l| !is_prefix_line(l)).and_then(|l| declared_name(l));

@@ -57,12 +57,10 @@ pub(super) fn glsl_probe(library: &Module) -> Module {
         }
     }
     for (function, f) in library.functions.iter() {
-        let arguments = f
-            .arguments
-            .iter()
-            .map(|a| main.expressions.append(Expression::ZeroValue(a.ty), Span::UNDEFINED))
-            .collect();
-        let result = f.result.as_ref().map(|_| main.expressions.append(Expression::CallResult(function), Span::UNDEFINED));
+        let arguments =
+            f.arguments.iter().map(|a| main.expressions.append(Expression::ZeroValue(a.ty), Span::UNDEFINED)).collect();
+        let result =
+            f.result.as_ref().map(|_| main.expressions.append(Expression::CallResult(function), Span::UNDEFINED));
         body.push(Statement::Call { function, arguments, result }, Span::UNDEFINED);
     }
     main.body = body;

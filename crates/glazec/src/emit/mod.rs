@@ -68,7 +68,9 @@ impl Target {
         match self {
             Target::Wgsl => "WGSL: the library (.wgsl) and glazec's harness (.harness.wgsl)",
             Target::NagaOil => "the WGSL library as a naga_oil module (.naga_oil.wgsl), for Bevy and wgsl_bindgen",
-            Target::Glsl => "GLSL 4.50: the library (.glsl) and one harness file per entry point (.<entry>.<stage>.glsl)",
+            Target::Glsl => {
+                "GLSL 4.50: the library (.glsl) and one harness file per entry point (.<entry>.<stage>.glsl)"
+            }
             Target::Hlsl => "HLSL, shader model 6.0: the library (.hlsli) and the harness (.hlsl)",
             Target::Spv => "one SPIR-V 1.0 module with the harness's entry points (.spv)",
         }
@@ -136,7 +138,9 @@ pub fn emit(
     let Modules { library, library_info, module, info, layout } = modules;
     let header = header(name, origin);
     let harness_header = |library_file: &str, how: &str| {
-        format!("{header}// glazec's harness for `{name}` (its tests, `glazec eval`, `bench` and `preview`), {how} {library_file}.\n")
+        format!(
+            "{header}// glazec's harness for `{name}` (its tests, `glazec eval`, `bench` and `preview`), {how} {library_file}.\n"
+        )
     };
     let mut targets = targets.to_vec();
     targets.sort();

@@ -150,7 +150,9 @@ pub mod bindings {
 
     /// Two of a library's resources were given one slot.
     #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-    #[error("`{first}` and `{second}` would both be bound at {slot} (group:binding); choose other bindings with --bind")]
+    #[error(
+        "`{first}` and `{second}` would both be bound at {slot} (group:binding); choose other bindings with --bind"
+    )]
     pub struct Clash {
         pub first: String,
         pub second: String,

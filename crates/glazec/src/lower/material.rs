@@ -145,7 +145,8 @@ pub(super) fn ibl_function(
     b.statement(Statement::Return { value: Some(value) });
     let m = &material.name;
     let doc = [
-        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's".to_string(),
+        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's"
+            .to_string(),
         format!("directional albedo times the environment prefiltered for it ({m}_environment) or the irradiance"),
         format!("over π ({m}_irradiance_at). n, v: unit vectors, v pointing away from the surface."),
     ];

@@ -81,8 +81,14 @@ pub(super) fn place(
 /// `values`, `dispatch`, `light`) in group 0, each at the lowest binding still free there.
 pub(super) fn place_harness(module: &mut Module, library: usize, layout: &mut Layout) {
     let group = bindings::GROUP;
-    let mut taken: Vec<u32> =
-        module.global_variables.iter().take(library).filter_map(|(_, g)| g.binding).filter(|b| b.group == group).map(|b| b.binding).collect();
+    let mut taken: Vec<u32> = module
+        .global_variables
+        .iter()
+        .take(library)
+        .filter_map(|(_, g)| g.binding)
+        .filter(|b| b.group == group)
+        .map(|b| b.binding)
+        .collect();
     for (_, global) in module.global_variables.iter_mut().skip(library) {
         let Some(binding) = global.binding.as_mut() else { continue };
         let free = (0..).find(|b| !taken.contains(b)).unwrap_or_default();

@@ -217,4 +217,3 @@ fn struct_type(b: &ModuleBuilder, material: &Material) -> Handle<Type> {
 fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Handle<GlobalVariable> {
     global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
-
