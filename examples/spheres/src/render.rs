@@ -64,8 +64,30 @@ impl Renderer {
         Ok(Renderer { device, queue, adapter_name })
     }
 
+    /// For tests: the device, or `None` with a visible "SKIPPED" line when there is no adapter —
+    /// a panic instead under `GLAZEC_REQUIRE_GPU=1` (set in CI).
+    ///
+    /// # Panics
+    /// With `GLAZEC_REQUIRE_GPU=1` and no adapter, or when the device cannot be opened.
+    pub fn or_skip() -> Option<Self> {
+        match Renderer::new() {
+            Ok(r) => {
+                eprintln!("rendering on {}", r.adapter_name);
+                Some(r)
+            }
+            Err(e @ RenderError::NoAdapter(_)) => {
+                if std::env::var("GLAZEC_REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                    panic!("GLAZEC_REQUIRE_GPU=1 but {e}");
+                }
+                eprintln!("SKIPPED: {e}");
+                None
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
+
     /// Runs `make` inside a validation error scope.
-    fn checked<T>(&self, make: impl FnOnce() -> T) -> Result<T, RenderError> {
+    pub(crate) fn checked<T>(&self, make: impl FnOnce() -> T) -> Result<T, RenderError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = make();
         match pollster::block_on(scope.pop()) {
@@ -252,18 +274,7 @@ impl SpherePipeline {
             extent,
         );
         renderer.queue.submit([encoder.finish()]);
-        let slice = readback.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Validation(e.to_string()))?;
-        match receiver.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(RenderError::Validation(e.to_string())),
-            Err(e) => return Err(RenderError::Validation(e.to_string())),
-        }
-        let bytes = slice.get_mapped_range().map_err(|e| RenderError::Validation(e.to_string()))?;
+        let bytes = read_buffer(device, &readback)?;
         let mut pixels = Vec::with_capacity((size * size) as usize);
         for y in 0..size as usize {
             for px in bytes[y * row as usize..][..size as usize * 8].chunks_exact(8) {
@@ -329,6 +340,23 @@ pub fn encode_srgb(linear: &[[f32; 4]]) -> Vec<u8> {
         .iter()
         .flat_map(|px| if px[3] > 0.0 { [srgb(px[0]), srgb(px[1]), srgb(px[2])] } else { [18, 18, 22] })
         .collect()
+}
+
+/// Maps a `MAP_READ` buffer whose copies were submitted and returns its bytes.
+pub(crate) fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
+    let slice = buffer.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Validation(e.to_string()))?;
+    match receiver.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(RenderError::Validation(e.to_string())),
+        Err(e) => return Err(RenderError::Validation(e.to_string())),
+    }
+    let bytes = slice.get_mapped_range().map_err(|e| RenderError::Validation(e.to_string()))?.to_vec();
+    Ok(bytes)
 }
 
 /// Writes an RGB8 image as PNG.

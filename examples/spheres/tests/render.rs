@@ -2,7 +2,7 @@
 //! `GLAZEC_REQUIRE_GPU=1` turns a missing adapter into a failure; elsewhere it skips visibly).
 
 use glazec_spheres::materials::{self, tunable_glaze};
-use glazec_spheres::render::{RenderError, Renderer, SpherePipeline, encode_srgb, write_png};
+use glazec_spheres::render::{Renderer, SpherePipeline, encode_srgb, write_png};
 
 /// Pixels per side.
 const SIZE: u32 = 96;
@@ -11,30 +11,13 @@ const SIZE: u32 = 96;
 const COVERAGE: f64 = std::f64::consts::FRAC_PI_4;
 const COVERAGE_TOL: f64 = 0.03;
 
-fn renderer() -> Option<Renderer> {
-    match Renderer::new() {
-        Ok(r) => {
-            eprintln!("rendering on {}", r.adapter_name);
-            Some(r)
-        }
-        Err(e @ RenderError::NoAdapter(_)) => {
-            if std::env::var("GLAZEC_REQUIRE_GPU").is_ok_and(|v| v == "1") {
-                panic!("GLAZEC_REQUIRE_GPU=1 but {e}");
-            }
-            eprintln!("SKIPPED: {e}");
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
-}
-
 fn luminance(px: &[f32; 4]) -> f32 {
     0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]
 }
 
 #[test]
 fn every_shipped_material_renders_a_lit_sphere_and_writes_a_png() {
-    let Some(renderer) = renderer() else { return };
+    let Some(renderer) = Renderer::or_skip() else { return };
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("spheres");
     std::fs::create_dir_all(&out).expect("creates the output folder");
     for material in materials::MATERIALS {
@@ -60,7 +43,7 @@ fn every_shipped_material_renders_a_lit_sphere_and_writes_a_png() {
 
 #[test]
 fn writing_the_typed_parameter_struct_changes_the_next_frame() {
-    let Some(renderer) = renderer() else { return };
+    let Some(renderer) = Renderer::or_skip() else { return };
     let pipeline = SpherePipeline::new(&renderer, &tunable_glaze::INFO).expect("pipeline");
     let buffer = pipeline.params_buffer.as_ref().expect("tunable_glaze has parameters");
     let mut peaks = Vec::new();

@@ -57,6 +57,8 @@ pub struct Build {
     targets: Vec<Target>,
     bytemuck: bool,
     bindings: Choice,
+    /// Per material: choices that override `bindings`.
+    material_bindings: Vec<(String, Resource, Slot)>,
 }
 
 /// What [`Build::generate`] wrote.
@@ -82,6 +84,9 @@ pub enum BuildError {
     /// The chosen bindings put two of a material's resources in one place.
     #[error("material `{material}`")]
     Bind { material: String, source: crate::lower::bindings::Clash },
+    /// `Build::bind_material` named a material that no file declares.
+    #[error("Build::bind_material names `{0}`, which no material file declares")]
+    UnknownMaterial(String),
     #[error("OUT_DIR is not set: call Build::out_dir outside a build script")]
     NoOutDir,
     #[error("glazec internal error: {0}")]
@@ -100,7 +105,25 @@ impl Build {
             targets: Target::TEXT.to_vec(),
             bytemuck: true,
             bindings: Choice::default(),
+            material_bindings: Vec::new(),
         }
+    }
+
+    /// Binds `resource` of material `material`'s library at `slot`, over [`Build::bind`]: for a
+    /// program that puts several materials' libraries into one shader, each material's
+    /// parameters and tables at bindings of their own.
+    #[must_use]
+    pub fn bind_material(mut self, material: &str, resource: Resource, slot: Slot) -> Self {
+        self.material_bindings.push((material.to_string(), resource, slot));
+        self
+    }
+
+    /// The bindings of material `name`: [`Build::bind`]'s, then its own.
+    fn choice_for(&self, name: &str) -> Choice {
+        self.material_bindings
+            .iter()
+            .filter(|(m, ..)| m == name)
+            .fold(self.bindings, |choice, &(_, resource, slot)| choice.with(resource, slot))
     }
 
     /// Binds `resource` of every material's library at `slot` (group, binding) instead of
@@ -181,9 +204,14 @@ impl Build {
         let out_dir = absolute(&out_dir)?;
         let shader_dir = out_dir.join(SHADER_DIR);
         let mut outputs: Vec<OutputFile> = Vec::new();
+        if let Some((name, ..)) =
+            self.material_bindings.iter().find(|(m, ..)| !compiled.iter().any(|c| c.material.name == *m))
+        {
+            return Err(BuildError::UnknownMaterial(name.clone()));
+        }
         let mut rebound = Vec::new();
         for c in &compiled {
-            rebound.push(c.with_bindings(&self.bindings).map_err(|e| match e {
+            rebound.push(c.with_bindings(&self.choice_for(&c.material.name)).map_err(|e| match e {
                 crate::BindError::Clash(source) => BuildError::Bind { material: c.material.name.clone(), source },
                 e => BuildError::Internal(crate::error_chain(&e)),
             })?);
