@@ -11,6 +11,12 @@ use glazec::Target;
 use glazec::lower::bindings::{Choice, Resource, Slot};
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
+/// wgpu's downlevel (and WebGL2's) limit on a uniform binding, in bytes.
+const DOWNLEVEL_UNIFORM_LIMIT: usize = 16_384;
+/// Random stacks drawn for the table-size check, and the seed.
+const LITERAL_STACKS: usize = 64;
+const LITERAL_SEED: u64 = 0x7461_626c;
+
 /// The names glazec's harness declares at module scope.
 const HARNESS_NAMES: [&str; 10] = [
     "pairs",
@@ -286,4 +292,36 @@ fn group_thousands(n: usize) -> String {
         out.push(c);
     }
     out
+}
+
+/// A material whose numbers are all literals binds only the table slices its lookups select:
+/// every such shipped material and random stack (up to eight coats) fits the downlevel limit.
+#[test]
+fn literal_materials_fit_the_downlevel_uniform_limit() {
+    use proptest::strategy::{Strategy, ValueTree};
+    use proptest::test_runner::{Config, RngSeed, TestRunner};
+    let mut checked = 0;
+    let mut largest = 0;
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        if compiled.material.params.is_empty() {
+            let size = compiled.tables_bytes().len();
+            assert!(size <= DOWNLEVEL_UNIFORM_LIMIT, "{}: {size} bytes of tables", compiled.material.name);
+            largest = largest.max(size);
+            checked += 1;
+        }
+    }
+    let mut runner = TestRunner::new(Config { rng_seed: RngSeed::Fixed(LITERAL_SEED), ..Config::default() });
+    for _ in 0..LITERAL_STACKS {
+        let stack = common::stacks::stack().new_tree(&mut runner).expect("a stack").current().literal();
+        let text = common::stacks::Writer { next_param: 0 }.material(&stack);
+        let compiled = glazec::compile(&text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
+        assert!(compiled.material.params.is_empty(), "{text}");
+        let size = compiled.tables_bytes().len();
+        assert!(size <= DOWNLEVEL_UNIFORM_LIMIT, "{size} bytes of tables for\n{text}");
+        largest = largest.max(size);
+        checked += 1;
+    }
+    eprintln!("{checked} literal materials, largest table uniform {largest} bytes (limit {DOWNLEVEL_UNIFORM_LIMIT})");
+    assert!(checked > LITERAL_STACKS, "{checked} literal materials");
 }

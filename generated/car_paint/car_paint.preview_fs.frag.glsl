@@ -4,8 +4,13 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float car_paint_weight_eta = 0.79999995;
+const float car_paint_weight_roughness = 0.20000029;
 const vec3 car_paint_layer1_tau = vec3(0.048, 0.96000004, 1.32);
 const vec3 car_paint_f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
+const float car_paint_weight_conductor_roughness = 0.83405805;
+const float car_paint_weight_eta_1 = 0.099009804;
+const float car_paint_weight_roughness_1 = 0.21583843;
 const float car_paint_layer2_alpha = 0.09;
 const vec3 car_paint_one = vec3(1.0, 1.0, 1.0);
 const vec3 car_paint_layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
@@ -17,7 +22,7 @@ const vec3 car_paint_layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
 const float car_paint_layer1_trapped_escape = 0.15678635;
 const float car_paint_base_roughness = 0.37185615;
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2608]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[61]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -98,36 +103,29 @@ float car_paint_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float car_paint_coat_extra(float cos_theta, float roughness, float eta_1) {
+// Here roughness = 0.04, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_coat_extra_slice(float cos_theta) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 15.0);
-    float cell_roughness = min(floor(node_roughness), 14.0);
-    float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
-    float node_eta = (u_eta * 7.0);
-    float cell_eta = min(floor(node_eta), 6.0);
-    float weight_eta = (node_eta - cell_eta);
-    float code_lll = car_paint_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lll = car_paint_table_code(uint(cell_cos_theta));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = car_paint_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_ull = car_paint_table_code(uint((cell_cos_theta + 1.0)));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = car_paint_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lul = car_paint_table_code((uint(cell_cos_theta) + 16u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = car_paint_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_uul = car_paint_table_code((uint((cell_cos_theta + 1.0)) + 16u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = car_paint_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_llu = car_paint_table_code((uint(cell_cos_theta) + 32u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = car_paint_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_ulu = car_paint_table_code((uint((cell_cos_theta + 1.0)) + 32u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = car_paint_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_luu = car_paint_table_code((uint(cell_cos_theta) + 48u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = car_paint_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_uuu = car_paint_table_code((uint((cell_cos_theta + 1.0)) + 48u));
     float at_uuu = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((at_lll * ((1.0 - weight_cos_theta) * 0.20000005)) + (at_ull * (weight_cos_theta * 0.20000005))) + (at_llu * ((1.0 - weight_cos_theta) * car_paint_weight_eta))) + (at_ulu * (weight_cos_theta * car_paint_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -143,44 +141,37 @@ float car_paint_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float car_paint_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+// Here roughness = 0.04, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_coat_deficit_slice(float cos_theta_1) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 31.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
-    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
-    float node_eta_1 = (u_eta_1 * 7.0);
-    float cell_eta_1 = min(floor(node_eta_1), 6.0);
-    float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = car_paint_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lll = car_paint_table_code((uint(cell_cos_theta_1) + 64u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_ull = car_paint_table_code((uint((cell_cos_theta_1 + 1.0)) + 64u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = car_paint_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lul = car_paint_table_code((uint(cell_cos_theta_1) + 96u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_uul = car_paint_table_code((uint((cell_cos_theta_1 + 1.0)) + 96u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = car_paint_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_llu = car_paint_table_code((uint(cell_cos_theta_1) + 128u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_ulu = car_paint_table_code((uint((cell_cos_theta_1 + 1.0)) + 128u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = car_paint_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_luu = car_paint_table_code((uint(cell_cos_theta_1) + 160u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = car_paint_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_uuu = car_paint_table_code((uint((cell_cos_theta_1 + 1.0)) + 160u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * 0.7999997) * 0.20000005)) + (at_ull_1 * ((weight_cos_theta_1 * 0.7999997) * 0.20000005))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * car_paint_weight_roughness) * 0.20000005))) + (at_uul_1 * ((weight_cos_theta_1 * car_paint_weight_roughness) * 0.20000005))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * 0.7999997) * car_paint_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.7999997) * car_paint_weight_eta))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * car_paint_weight_roughness) * car_paint_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * car_paint_weight_roughness) * car_paint_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 car_paint_refract_down(vec3 w, vec3 n, float eta_3) {
-    return -(refract(-(w), n, (1.0 / eta_3)));
+vec3 car_paint_refract_down(vec3 w, vec3 n, float eta_1) {
+    return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -203,111 +194,89 @@ vec3 car_paint_f_schlick(vec3 f0_, float cos_theta_2) {
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-float car_paint_glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_2, float eta_4) {
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_glossy_scale_slice(float cos_theta_3) {
     float u_cos_theta_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
     float node_cos_theta_2 = (u_cos_theta_2 * 8.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 7.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_conductor_roughness = sqrt(min(max(conductor_roughness, 0.0), 1.0));
-    float node_conductor_roughness = (u_conductor_roughness * 7.0);
-    float cell_conductor_roughness = min(floor(node_conductor_roughness), 6.0);
-    float weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 6.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 5.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 5.0);
-    float cell_eta_2 = min(floor(node_eta_2), 4.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_llll = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_llll = car_paint_table_code((uint(cell_cos_theta_2) + 192u));
     float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
-    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_ulll = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 192u));
     float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
-    float code_lull = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_lull = car_paint_table_code((uint(cell_cos_theta_2) + 201u));
     float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
-    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_uull = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 201u));
     float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
-    float code_llul = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_llul = car_paint_table_code((uint(cell_cos_theta_2) + 210u));
     float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
-    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_ulul = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 210u));
     float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
-    float code_luul = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_luul = car_paint_table_code((uint(cell_cos_theta_2) + 219u));
     float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
-    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + (cell_eta_2 * 504.0))) + 10240u));
+    float code_uuul = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 219u));
     float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
-    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_lllu = car_paint_table_code((uint(cell_cos_theta_2) + 228u));
     float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
-    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_ullu = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 228u));
     float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
-    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_lulu = car_paint_table_code((uint(cell_cos_theta_2) + 237u));
     float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
-    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_2 * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_uulu = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 237u));
     float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
-    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_2 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_lluu = car_paint_table_code((uint(cell_cos_theta_2) + 246u));
     float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
-    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_uluu = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 246u));
     float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
-    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_2 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_luuu = car_paint_table_code((uint(cell_cos_theta_2) + 255u));
     float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
-    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_2 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_2 + 1.0) * 72.0)) + ((cell_eta_2 + 1.0) * 504.0))) + 10240u));
+    float code_uuuu = car_paint_table_code((uint((cell_cos_theta_2 + 1.0)) + 255u));
     float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
-    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ulll * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lull * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_uull * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_llul * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_ulul * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_luul * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uuul * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_lllu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ullu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lulu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_uulu * (((weight_cos_theta_2 * weight_conductor_roughness) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_lluu * ((((1.0 - weight_cos_theta_2) * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_uluu * (((weight_cos_theta_2 * (1.0 - weight_conductor_roughness)) * weight_roughness_2) * weight_eta_2))) + (at_luuu * ((((1.0 - weight_cos_theta_2) * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2))) + (at_uuuu * (((weight_cos_theta_2 * weight_conductor_roughness) * weight_roughness_2) * weight_eta_2)));
+    return ((((((((at_llll * (((1.0 - weight_cos_theta_2) * 0.16594195) * 0.9009902)) + (at_ulll * ((weight_cos_theta_2 * 0.16594195) * 0.9009902))) + (at_lull * (((1.0 - weight_cos_theta_2) * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_uull * ((weight_cos_theta_2 * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_lllu * (((1.0 - weight_cos_theta_2) * 0.16594195) * car_paint_weight_eta_1))) + (at_ullu * ((weight_cos_theta_2 * 0.16594195) * car_paint_weight_eta_1))) + (at_lulu * (((1.0 - weight_cos_theta_2) * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1))) + (at_uulu * ((weight_cos_theta_2 * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-float car_paint_glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_3, float eta_5) {
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_glossy_next_slice(float cos_theta_4) {
     float u_cos_theta_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float node_cos_theta_3 = (u_cos_theta_3 * 4.0);
     float cell_cos_theta_3 = min(floor(node_cos_theta_3), 3.0);
     float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
-    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
-    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
-    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
-    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
-    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
-    float node_roughness_3 = (u_roughness_3 * 5.0);
-    float cell_roughness_3 = min(floor(node_roughness_3), 4.0);
-    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    float u_eta_3 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
-    float node_eta_3 = (u_eta_3 * 5.0);
-    float cell_eta_3 = min(floor(node_eta_3), 4.0);
-    float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_llll = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_llll = car_paint_table_code((uint(cell_cos_theta_3) + 264u));
     float at_llll_1 = (code_llll * 1.5259022e-5);
-    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_ulll = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 264u));
     float at_ulll_1 = (code_ulll * 1.5259022e-5);
-    float code_lull = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_lull = car_paint_table_code((uint(cell_cos_theta_3) + 269u));
     float at_lull_1 = (code_lull * 1.5259022e-5);
-    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_uull = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 269u));
     float at_uull_1 = (code_uull * 1.5259022e-5);
-    float code_llul = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_llul = car_paint_table_code((uint(cell_cos_theta_3) + 274u));
     float at_llul_1 = (code_llul * 1.5259022e-5);
-    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_ulul = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 274u));
     float at_ulul_1 = (code_ulul * 1.5259022e-5);
-    float code_luul = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_luul = car_paint_table_code((uint(cell_cos_theta_3) + 279u));
     float at_luul_1 = (code_luul * 1.5259022e-5);
-    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + (cell_eta_3 * 240.0))) + 13264u));
+    float code_uuul = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 279u));
     float at_uuul_1 = (code_uuul * 1.5259022e-5);
-    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_lllu = car_paint_table_code((uint(cell_cos_theta_3) + 284u));
     float at_lllu_1 = (code_lllu * 1.5259022e-5);
-    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_ullu = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 284u));
     float at_ullu_1 = (code_ullu * 1.5259022e-5);
-    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_lulu = car_paint_table_code((uint(cell_cos_theta_3) + 289u));
     float at_lulu_1 = (code_lulu * 1.5259022e-5);
-    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_3 * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_uulu = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 289u));
     float at_uulu_1 = (code_uulu * 1.5259022e-5);
-    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_lluu = car_paint_table_code((uint(cell_cos_theta_3) + 294u));
     float at_lluu_1 = (code_lluu * 1.5259022e-5);
-    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_uluu = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 294u));
     float at_uluu_1 = (code_uluu * 1.5259022e-5);
-    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_luuu = car_paint_table_code((uint(cell_cos_theta_3) + 299u));
     float at_luuu_1 = (code_luuu * 1.5259022e-5);
-    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_3 + 1.0) * 40.0)) + ((cell_eta_3 + 1.0) * 240.0))) + 13264u));
+    float code_uuuu = car_paint_table_code((uint((cell_cos_theta_3 + 1.0)) + 299u));
     float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
-    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_uluu_1 * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_3) * weight_eta_3))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3))) + (at_uuuu_1 * (((weight_cos_theta_3 * weight_conductor_roughness_1) * weight_roughness_3) * weight_eta_3)));
+    return ((((((((at_llll_1 * (((1.0 - weight_cos_theta_3) * 0.16594195) * 0.9009902)) + (at_ulll_1 * ((weight_cos_theta_3 * 0.16594195) * 0.9009902))) + (at_lull_1 * (((1.0 - weight_cos_theta_3) * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_uull_1 * ((weight_cos_theta_3 * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_lllu_1 * (((1.0 - weight_cos_theta_3) * 0.16594195) * car_paint_weight_eta_1))) + (at_ullu_1 * ((weight_cos_theta_3 * 0.16594195) * car_paint_weight_eta_1))) + (at_lulu_1 * (((1.0 - weight_cos_theta_3) * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1))) + (at_uulu_1 * ((weight_cos_theta_3 * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -316,79 +285,65 @@ float car_paint_glossy_next(float cos_theta_4, float conductor_roughness_1, floa
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
-float car_paint_glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_4, float eta_6) {
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_glossy_lobe_albedo_slice(float cos_theta_5) {
     float u_cos_theta_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float node_cos_theta_4 = (u_cos_theta_4 * 8.0);
     float cell_cos_theta_4 = min(floor(node_cos_theta_4), 7.0);
     float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
-    float u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0.0), 1.0));
-    float node_conductor_roughness_2 = (u_conductor_roughness_2 * 7.0);
-    float cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6.0);
-    float weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
-    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
-    float node_roughness_4 = (u_roughness_4 * 6.0);
-    float cell_roughness_4 = min(floor(node_roughness_4), 5.0);
-    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
-    float node_eta_4 = (u_eta_4 * 5.0);
-    float cell_eta_4 = min(floor(node_eta_4), 4.0);
-    float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_llll = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_llll = car_paint_table_code((uint(cell_cos_theta_4) + 304u));
     float at_llll_2 = ((code_llll * 6.229872e-5) + 0.09352391);
-    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_ulll = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 304u));
     float at_ulll_2 = ((code_ulll * 6.229872e-5) + 0.09352391);
-    float code_lull = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_lull = car_paint_table_code((uint(cell_cos_theta_4) + 313u));
     float at_lull_2 = ((code_lull * 6.229872e-5) + 0.09352391);
-    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_uull = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 313u));
     float at_uull_2 = ((code_uull * 6.229872e-5) + 0.09352391);
-    float code_llul = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_llul = car_paint_table_code((uint(cell_cos_theta_4) + 322u));
     float at_llul_2 = ((code_llul * 6.229872e-5) + 0.09352391);
-    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_ulul = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 322u));
     float at_ulul_2 = ((code_ulul * 6.229872e-5) + 0.09352391);
-    float code_luul = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_luul = car_paint_table_code((uint(cell_cos_theta_4) + 331u));
     float at_luul_2 = ((code_luul * 6.229872e-5) + 0.09352391);
-    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + (cell_eta_4 * 504.0))) + 14704u));
+    float code_uuul = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 331u));
     float at_uuul_2 = ((code_uuul * 6.229872e-5) + 0.09352391);
-    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_lllu = car_paint_table_code((uint(cell_cos_theta_4) + 340u));
     float at_lllu_2 = ((code_lllu * 6.229872e-5) + 0.09352391);
-    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_ullu = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 340u));
     float at_ullu_2 = ((code_ullu * 6.229872e-5) + 0.09352391);
-    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_lulu = car_paint_table_code((uint(cell_cos_theta_4) + 349u));
     float at_lulu_2 = ((code_lulu * 6.229872e-5) + 0.09352391);
-    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_4 * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_uulu = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 349u));
     float at_uulu_2 = ((code_uulu * 6.229872e-5) + 0.09352391);
-    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_lluu = car_paint_table_code((uint(cell_cos_theta_4) + 358u));
     float at_lluu_2 = ((code_lluu * 6.229872e-5) + 0.09352391);
-    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_uluu = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 358u));
     float at_uluu_2 = ((code_uluu * 6.229872e-5) + 0.09352391);
-    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_luuu = car_paint_table_code((uint(cell_cos_theta_4) + 367u));
     float at_luuu_2 = ((code_luuu * 6.229872e-5) + 0.09352391);
-    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_4 + 1.0) * 72.0)) + ((cell_eta_4 + 1.0) * 504.0))) + 14704u));
+    float code_uuuu = car_paint_table_code((uint((cell_cos_theta_4 + 1.0)) + 367u));
     float at_uuuu_2 = ((code_uuuu * 6.229872e-5) + 0.09352391);
-    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_2 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_2 * (((weight_cos_theta_4 * weight_conductor_roughness_2) * weight_roughness_4) * weight_eta_4)));
+    return ((((((((at_llll_2 * (((1.0 - weight_cos_theta_4) * 0.16594195) * 0.9009902)) + (at_ulll_2 * ((weight_cos_theta_4 * 0.16594195) * 0.9009902))) + (at_lull_2 * (((1.0 - weight_cos_theta_4) * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_uull_2 * ((weight_cos_theta_4 * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_lllu_2 * (((1.0 - weight_cos_theta_4) * 0.16594195) * car_paint_weight_eta_1))) + (at_ullu_2 * ((weight_cos_theta_4 * 0.16594195) * car_paint_weight_eta_1))) + (at_lulu_2 * (((1.0 - weight_cos_theta_4) * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1))) + (at_uulu_2 * ((weight_cos_theta_4 * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float car_paint_ggx_albedo(float cos_theta_6, float roughness_5) {
+// Here roughness = 0.3 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_ggx_albedo_slice(float cos_theta_6) {
     float u_cos_theta_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_5 = (u_cos_theta_5 * 15.0);
     float cell_cos_theta_5 = min(floor(node_cos_theta_5), 14.0);
     float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
-    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
-    float node_roughness_5 = (u_roughness_5 * 15.0);
-    float cell_roughness_5 = min(floor(node_roughness_5), 14.0);
-    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    float code_ll = car_paint_table_code((uint((cell_cos_theta_5 + (cell_roughness_5 * 16.0))) + 17728u));
+    float code_ll = car_paint_table_code((uint(cell_cos_theta_5) + 376u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    float code_ul = car_paint_table_code((uint(((cell_cos_theta_5 + 1.0) + (cell_roughness_5 * 16.0))) + 17728u));
+    float code_ul = car_paint_table_code((uint((cell_cos_theta_5 + 1.0)) + 376u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    float code_lu = car_paint_table_code((uint((cell_cos_theta_5 + ((cell_roughness_5 + 1.0) * 16.0))) + 17728u));
+    float code_lu = car_paint_table_code((uint(cell_cos_theta_5) + 392u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    float code_uu = car_paint_table_code((uint(((cell_cos_theta_5 + 1.0) + ((cell_roughness_5 + 1.0) * 16.0))) + 17728u));
+    float code_uu = car_paint_table_code((uint((cell_cos_theta_5 + 1.0)) + 392u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
-    return ((((at_ll * ((1.0 - weight_cos_theta_5) * (1.0 - weight_roughness_5))) + (at_ul * (weight_cos_theta_5 * (1.0 - weight_roughness_5)))) + (at_lu * ((1.0 - weight_cos_theta_5) * weight_roughness_5))) + (at_uu * (weight_cos_theta_5 * weight_roughness_5)));
+    return ((((at_ll * ((1.0 - weight_cos_theta_5) * 0.78416157)) + (at_ul * (weight_cos_theta_5 * 0.78416157))) + (at_lu * ((1.0 - weight_cos_theta_5) * car_paint_weight_roughness_1))) + (at_uu * (weight_cos_theta_5 * car_paint_weight_roughness_1)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -430,112 +385,90 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4) {
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-float car_paint_glossy_quick(float cos_theta_7, float conductor_roughness_3, float roughness_6, float eta_7) {
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_glossy_quick_slice(float cos_theta_7) {
     float u_cos_theta_6 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
     float node_cos_theta_6 = (u_cos_theta_6 * 4.0);
     float cell_cos_theta_6 = min(floor(node_cos_theta_6), 3.0);
     float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
-    float u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0.0), 1.0));
-    float node_conductor_roughness_3 = (u_conductor_roughness_3 * 7.0);
-    float cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 6.0);
-    float weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
-    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
-    float node_roughness_6 = (u_roughness_6 * 5.0);
-    float cell_roughness_6 = min(floor(node_roughness_6), 4.0);
-    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    float u_eta_5 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
-    float node_eta_5 = (u_eta_5 * 5.0);
-    float cell_eta_5 = min(floor(node_eta_5), 4.0);
-    float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_llll = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_llll = car_paint_table_code((uint(cell_cos_theta_6) + 408u));
     float at_llll_3 = (code_llll * 1.3453328e-5);
-    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_ulll = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 408u));
     float at_ulll_3 = (code_ulll * 1.3453328e-5);
-    float code_lull = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_lull = car_paint_table_code((uint(cell_cos_theta_6) + 413u));
     float at_lull_3 = (code_lull * 1.3453328e-5);
-    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_uull = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 413u));
     float at_uull_3 = (code_uull * 1.3453328e-5);
-    float code_llul = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_llul = car_paint_table_code((uint(cell_cos_theta_6) + 418u));
     float at_llul_3 = (code_llul * 1.3453328e-5);
-    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_ulul = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 418u));
     float at_ulul_3 = (code_ulul * 1.3453328e-5);
-    float code_luul = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_luul = car_paint_table_code((uint(cell_cos_theta_6) + 423u));
     float at_luul_3 = (code_luul * 1.3453328e-5);
-    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + (cell_eta_5 * 240.0))) + 17984u));
+    float code_uuul = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 423u));
     float at_uuul_3 = (code_uuul * 1.3453328e-5);
-    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_lllu = car_paint_table_code((uint(cell_cos_theta_6) + 428u));
     float at_lllu_3 = (code_lllu * 1.3453328e-5);
-    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_ullu = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 428u));
     float at_ullu_3 = (code_ullu * 1.3453328e-5);
-    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_lulu = car_paint_table_code((uint(cell_cos_theta_6) + 433u));
     float at_lulu_3 = (code_lulu * 1.3453328e-5);
-    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + (cell_roughness_6 * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_uulu = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 433u));
     float at_uulu_3 = (code_uulu * 1.3453328e-5);
-    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_lluu = car_paint_table_code((uint(cell_cos_theta_6) + 438u));
     float at_lluu_3 = (code_lluu * 1.3453328e-5);
-    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_uluu = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 438u));
     float at_uluu_3 = (code_uluu * 1.3453328e-5);
-    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_luuu = car_paint_table_code((uint(cell_cos_theta_6) + 443u));
     float at_luuu_3 = (code_luuu * 1.3453328e-5);
-    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 5.0)) + ((cell_roughness_6 + 1.0) * 40.0)) + ((cell_eta_5 + 1.0) * 240.0))) + 17984u));
+    float code_uuuu = car_paint_table_code((uint((cell_cos_theta_6 + 1.0)) + 443u));
     float at_uuuu_3 = (code_uuuu * 1.3453328e-5);
-    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5))) + (at_ulll_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_5)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_5)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_ullu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_5))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_uluu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_5))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_5)));
+    return ((((((((at_llll_3 * (((1.0 - weight_cos_theta_6) * 0.16594195) * 0.9009902)) + (at_ulll_3 * ((weight_cos_theta_6 * 0.16594195) * 0.9009902))) + (at_lull_3 * (((1.0 - weight_cos_theta_6) * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_uull_3 * ((weight_cos_theta_6 * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_lllu_3 * (((1.0 - weight_cos_theta_6) * 0.16594195) * car_paint_weight_eta_1))) + (at_ullu_3 * ((weight_cos_theta_6 * 0.16594195) * car_paint_weight_eta_1))) + (at_lulu_3 * (((1.0 - weight_cos_theta_6) * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1))) + (at_uulu_3 * ((weight_cos_theta_6 * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-float car_paint_glossy_steady(float cos_theta_8, float conductor_roughness_4, float roughness_7, float eta_8) {
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): this function reads only the slices of the table they select.
+float car_paint_glossy_steady_slice(float cos_theta_8) {
     float u_cos_theta_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float node_cos_theta_7 = (u_cos_theta_7 * 4.0);
     float cell_cos_theta_7 = min(floor(node_cos_theta_7), 3.0);
     float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
-    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
-    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
-    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
-    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
-    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
-    float node_roughness_7 = (u_roughness_7 * 5.0);
-    float cell_roughness_7 = min(floor(node_roughness_7), 4.0);
-    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
-    float u_eta_6 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
-    float node_eta_6 = (u_eta_6 * 5.0);
-    float cell_eta_6 = min(floor(node_eta_6), 4.0);
-    float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_llll = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_llll = car_paint_table_code((uint(cell_cos_theta_7) + 448u));
     float at_llll_4 = (code_llll * 1.3521936e-5);
-    float code_ulll = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_ulll = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 448u));
     float at_ulll_4 = (code_ulll * 1.3521936e-5);
-    float code_lull = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_lull = car_paint_table_code((uint(cell_cos_theta_7) + 453u));
     float at_lull_4 = (code_lull * 1.3521936e-5);
-    float code_uull = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_uull = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 453u));
     float at_uull_4 = (code_uull * 1.3521936e-5);
-    float code_llul = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_llul = car_paint_table_code((uint(cell_cos_theta_7) + 458u));
     float at_llul_4 = (code_llul * 1.3521936e-5);
-    float code_ulul = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_ulul = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 458u));
     float at_ulul_4 = (code_ulul * 1.3521936e-5);
-    float code_luul = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_luul = car_paint_table_code((uint(cell_cos_theta_7) + 463u));
     float at_luul_4 = (code_luul * 1.3521936e-5);
-    float code_uuul = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + (cell_eta_6 * 240.0))) + 19424u));
+    float code_uuul = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 463u));
     float at_uuul_4 = (code_uuul * 1.3521936e-5);
-    float code_lllu = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_lllu = car_paint_table_code((uint(cell_cos_theta_7) + 468u));
     float at_lllu_4 = (code_lllu * 1.3521936e-5);
-    float code_ullu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_ullu = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 468u));
     float at_ullu_4 = (code_ullu * 1.3521936e-5);
-    float code_lulu = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_lulu = car_paint_table_code((uint(cell_cos_theta_7) + 473u));
     float at_lulu_4 = (code_lulu * 1.3521936e-5);
-    float code_uulu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_7 * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_uulu = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 473u));
     float at_uulu_4 = (code_uulu * 1.3521936e-5);
-    float code_lluu = car_paint_table_code((uint((((cell_cos_theta_7 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_lluu = car_paint_table_code((uint(cell_cos_theta_7) + 478u));
     float at_lluu_4 = (code_lluu * 1.3521936e-5);
-    float code_uluu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_uluu = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 478u));
     float at_uluu_4 = (code_uluu * 1.3521936e-5);
-    float code_luuu = car_paint_table_code((uint((((cell_cos_theta_7 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_luuu = car_paint_table_code((uint(cell_cos_theta_7) + 483u));
     float at_luuu_4 = (code_luuu * 1.3521936e-5);
-    float code_uuuu = car_paint_table_code((uint(((((cell_cos_theta_7 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_7 + 1.0) * 40.0)) + ((cell_eta_6 + 1.0) * 240.0))) + 19424u));
+    float code_uuuu = car_paint_table_code((uint((cell_cos_theta_7 + 1.0)) + 483u));
     float at_uuuu_4 = (code_uuuu * 1.3521936e-5);
-    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6))) + (at_ulll_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_uull_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * (1.0 - weight_eta_6)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_ulul_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_uuul_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * (1.0 - weight_eta_6)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_ullu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_uulu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * (1.0 - weight_roughness_7)) * weight_eta_6))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_7) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_uluu_4 * (((weight_cos_theta_7 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_7) * weight_eta_6))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_7) * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6))) + (at_uuuu_4 * (((weight_cos_theta_7 * weight_conductor_roughness_4) * weight_roughness_7) * weight_eta_6)));
+    return ((((((((at_llll_4 * (((1.0 - weight_cos_theta_7) * 0.16594195) * 0.9009902)) + (at_ulll_4 * ((weight_cos_theta_7 * 0.16594195) * 0.9009902))) + (at_lull_4 * (((1.0 - weight_cos_theta_7) * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_uull_4 * ((weight_cos_theta_7 * car_paint_weight_conductor_roughness) * 0.9009902))) + (at_lllu_4 * (((1.0 - weight_cos_theta_7) * 0.16594195) * car_paint_weight_eta_1))) + (at_ullu_4 * ((weight_cos_theta_7 * 0.16594195) * car_paint_weight_eta_1))) + (at_lulu_4 * (((1.0 - weight_cos_theta_7) * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1))) + (at_uulu_4 * ((weight_cos_theta_7 * car_paint_weight_conductor_roughness) * car_paint_weight_eta_1)));
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -567,8 +500,8 @@ vec3 car_paint_glossy_once(float single, float next_1, vec3 c_1) {
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 car_paint_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_9) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
+vec3 car_paint_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_2) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -631,16 +564,16 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float g = car_paint_g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
     float fresnel = car_paint_fr_dielectric(dot(v_1, h), 1.5);
     vec3 _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = car_paint_coat_extra(n_dot_l_2, 0.04, 1.5);
-    float layer1_restored_v = car_paint_coat_extra(n_dot_v_2, 0.04, 1.5);
-    float _e29 = car_paint_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
-    vec3 specular = (_e21 + vec3(_e29));
+    float layer1_restored_l = car_paint_coat_extra_slice(n_dot_l_2);
+    float layer1_restored_v = car_paint_coat_extra_slice(n_dot_v_2);
+    float _e25 = car_paint_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
+    vec3 specular = (_e21 + vec3(_e25));
     float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
-    float _e38 = car_paint_coat_deficit(n_dot_l_2, 0.04, 1.5);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    float _e32 = car_paint_coat_deficit_slice(n_dot_l_2);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
     float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5);
-    float _e51 = car_paint_coat_deficit(n_dot_v_2, 0.04, 1.5);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
+    float _e43 = car_paint_coat_deficit_slice(n_dot_v_2);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
     vec3 layer1_v = car_paint_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = car_paint_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -657,63 +590,63 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_transmit_l = (1.0 - layer2_fresnel_l);
     vec3 layer2_absorb_l = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_l);
     vec3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_l);
-    float layer2_scale_l = car_paint_glossy_scale(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float layer2_next_l = car_paint_glossy_next(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float _e98 = car_paint_glossy_lobe_albedo(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float _e101 = max(layer2_cos_l, 0.19711706);
-    float _e103 = car_paint_ggx_albedo(_e101, 0.3);
-    float _e106 = car_paint_glossy_trapped_share(_e101, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l = (1.0 - _e106);
-    float layer2_lobe_normaliser_l = (_e103 * layer2_cone_share_l);
-    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e98) * layer2_lobe_normaliser_l), 0.0), 1.0);
+    float layer2_scale_l = car_paint_glossy_scale_slice(layer1_n_dot_l);
+    float layer2_next_l = car_paint_glossy_next_slice(layer1_n_dot_l);
+    float _e81 = car_paint_glossy_lobe_albedo_slice(layer1_n_dot_l);
+    float _e84 = max(layer2_cos_l, 0.19711706);
+    float _e85 = car_paint_ggx_albedo_slice(_e84);
+    float _e88 = car_paint_glossy_trapped_share(_e84, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l = (1.0 - _e88);
+    float layer2_lobe_normaliser_l = (_e85 * layer2_cone_share_l);
+    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e81) * layer2_lobe_normaliser_l), 0.0), 1.0);
     float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    float _e128 = car_paint_glossy_quick(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    float _e132 = car_paint_glossy_steady(layer1_n_dot_l, 0.3, 0.0, 1.02);
-    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e128, _e132, 0.43932146, car_paint_layer2_survival);
+    float _e107 = car_paint_glossy_quick_slice(layer1_n_dot_l);
+    float _e108 = car_paint_glossy_steady_slice(layer1_n_dot_l);
+    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e107, _e108, 0.43932146, car_paint_layer2_survival);
     vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    vec3 _e140 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
-    vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e140.x, 1e-6)));
+    vec3 _e116 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
+    vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e116.x, 1e-6)));
     float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     vec3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     vec3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
-    float layer2_scale_v = car_paint_glossy_scale(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float layer2_next_v = car_paint_glossy_next(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float _e166 = car_paint_glossy_lobe_albedo(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float _e169 = max(layer2_cos_v, 0.19711706);
-    float _e171 = car_paint_ggx_albedo(_e169, 0.3);
-    float _e174 = car_paint_glossy_trapped_share(_e169, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_v = (1.0 - _e174);
-    float layer2_lobe_normaliser_v = (_e171 * layer2_cone_share_v);
-    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e166) * layer2_lobe_normaliser_v), 0.0), 1.0);
+    float layer2_scale_v = car_paint_glossy_scale_slice(layer1_n_dot_v);
+    float layer2_next_v = car_paint_glossy_next_slice(layer1_n_dot_v);
+    float _e133 = car_paint_glossy_lobe_albedo_slice(layer1_n_dot_v);
+    float _e136 = max(layer2_cos_v, 0.19711706);
+    float _e137 = car_paint_ggx_albedo_slice(_e136);
+    float _e140 = car_paint_glossy_trapped_share(_e136, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v = (1.0 - _e140);
+    float layer2_lobe_normaliser_v = (_e137 * layer2_cone_share_v);
+    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e133) * layer2_lobe_normaliser_v), 0.0), 1.0);
     float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
-    float _e196 = car_paint_glossy_quick(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    float _e200 = car_paint_glossy_steady(layer1_n_dot_v, 0.3, 0.0, 1.02);
-    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e196, _e200, 0.43932146, car_paint_layer2_survival);
+    float _e159 = car_paint_glossy_quick_slice(layer1_n_dot_v);
+    float _e160 = car_paint_glossy_steady_slice(layer1_n_dot_v);
+    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e159, _e160, 0.43932146, car_paint_layer2_survival);
     vec3 layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    vec3 _e208 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
-    vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e208.x, 1e-6)));
+    vec3 _e168 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
+    vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e168.x, 1e-6)));
     vec3 layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
     float layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     float layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     vec3 layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    vec3 _e227 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    vec3 layer1_under = ((_e227 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    vec3 _e233 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
-    vec3 _e234 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    vec3 _e235 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    vec3 layer1_later = car_paint_glossy_remainder_lobe(_e234, _e235, car_paint_layer1_remainder_avg);
-    vec3 layer1_f = (_e233 + layer1_later);
+    vec3 _e187 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    vec3 layer1_under = ((_e187 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    vec3 _e193 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    vec3 _e194 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    vec3 _e195 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    vec3 layer1_later = car_paint_glossy_remainder_lobe(_e194, _e195, car_paint_layer1_remainder_avg);
+    vec3 layer1_f = (_e193 + layer1_later);
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e251 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    vec3 _e211 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     vec3 trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    vec3 under = (_e251 + trapped);
+    vec3 under = (_e211 + trapped);
     vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }

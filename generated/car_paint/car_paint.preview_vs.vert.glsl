@@ -4,8 +4,13 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float car_paint_weight_eta = 0.79999995;
+const float car_paint_weight_roughness = 0.20000029;
 const vec3 car_paint_layer1_tau = vec3(0.048, 0.96000004, 1.32);
 const vec3 car_paint_f0_under_coat = vec3(0.86560106, 0.88020647, 0.88020647);
+const float car_paint_weight_conductor_roughness = 0.83405805;
+const float car_paint_weight_eta_1 = 0.099009804;
+const float car_paint_weight_roughness_1 = 0.21583843;
 const float car_paint_layer2_alpha = 0.09;
 const vec3 car_paint_one = vec3(1.0, 1.0, 1.0);
 const vec3 car_paint_layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);

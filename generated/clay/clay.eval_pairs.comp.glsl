@@ -11,6 +11,7 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
+const float clay_weight_roughness = 0.33984756;
 const vec3 clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(std430, binding = 0) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_0_cs[]; };

@@ -4,6 +4,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float clay_weight_roughness = 0.33984756;
 const vec3 clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };

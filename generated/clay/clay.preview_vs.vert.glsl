@@ -4,6 +4,7 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float clay_weight_roughness = 0.33984756;
 const vec3 clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 
 layout(location = 0) in vec2 _p2vs_location0;

@@ -4,11 +4,19 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float coated_gold_weight_roughness = 0.80306053;
+const float coated_gold_weight_eta = 0.79999995;
+const float coated_gold_weight_roughness_1 = 0.7434163;
+const float coated_gold_weight_roughness_2 = 0.47850537;
+const float coated_gold_weight_conductor_roughness = 0.5;
+const float coated_gold_weight_roughness_3 = 0.8973665;
+const float coated_gold_weight_roughness_4 = 0.58113885;
+const float coated_gold_weight_eta_1 = 0.20000005;
 const vec3 coated_gold_one = vec3(1.0, 1.0, 1.0);
 const vec3 coated_gold_layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
 const vec3 coated_gold_remainder_avg = vec3(0.07577434, 0.03172735, 0.0034032734);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[2824]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[101]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -50,72 +58,58 @@ float coated_gold_table_code(uint entry) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float coated_gold_coat_deficit(float cos_theta, float roughness, float eta_2) {
+// Here roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_coat_deficit_slice(float cos_theta) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 31.0);
     float cell_cos_theta = min(floor(node_cos_theta), 30.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 31.0);
-    float cell_roughness = min(floor(node_roughness), 30.0);
-    float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
-    float node_eta = (u_eta * 7.0);
-    float cell_eta = min(floor(node_eta), 6.0);
-    float weight_eta = (node_eta - cell_eta);
-    float code_lll = coated_gold_table_code((uint(((cell_cos_theta + (cell_roughness * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float code_lll = coated_gold_table_code(uint(cell_cos_theta));
     float at_lll = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = coated_gold_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float code_ull = coated_gold_table_code(uint((cell_cos_theta + 1.0)));
     float at_ull = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = coated_gold_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float code_lul = coated_gold_table_code((uint(cell_cos_theta) + 32u));
     float at_lul = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = coated_gold_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0)) + (cell_eta * 1024.0))) + 0u));
+    float code_uul = coated_gold_table_code((uint((cell_cos_theta + 1.0)) + 32u));
     float at_uul = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = coated_gold_table_code((uint(((cell_cos_theta + (cell_roughness * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float code_llu = coated_gold_table_code((uint(cell_cos_theta) + 64u));
     float at_llu = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = coated_gold_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float code_ulu = coated_gold_table_code((uint((cell_cos_theta + 1.0)) + 64u));
     float at_ulu = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = coated_gold_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float code_luu = coated_gold_table_code((uint(cell_cos_theta) + 96u));
     float at_luu = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = coated_gold_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 32.0)) + ((cell_eta + 1.0) * 1024.0))) + 0u));
+    float code_uuu = coated_gold_table_code((uint((cell_cos_theta + 1.0)) + 96u));
     float at_uuu = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * 0.19693947) * 0.20000005)) + (at_ull * ((weight_cos_theta * 0.19693947) * 0.20000005))) + (at_lul * (((1.0 - weight_cos_theta) * coated_gold_weight_roughness) * 0.20000005))) + (at_uul * ((weight_cos_theta * coated_gold_weight_roughness) * 0.20000005))) + (at_llu * (((1.0 - weight_cos_theta) * 0.19693947) * coated_gold_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.19693947) * coated_gold_weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * coated_gold_weight_roughness) * coated_gold_weight_eta))) + (at_uuu * ((weight_cos_theta * coated_gold_weight_roughness) * coated_gold_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float coated_gold_coat_extra(float cos_theta_1, float roughness_1, float eta_3) {
+// Here roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_coat_extra_slice(float cos_theta_1) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 15.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 14.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 15.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
-    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_3 - 1.0) * 2.0) / (eta_3 + 1.0)), 0.0), 1.0);
-    float node_eta_1 = (u_eta_1 * 7.0);
-    float cell_eta_1 = min(floor(node_eta_1), 6.0);
-    float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = coated_gold_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float code_lll = coated_gold_table_code((uint(cell_cos_theta_1) + 128u));
     float at_lll_1 = (code_lll * 1.4542611e-6);
-    float code_ull = coated_gold_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float code_ull = coated_gold_table_code((uint((cell_cos_theta_1 + 1.0)) + 128u));
     float at_ull_1 = (code_ull * 1.4542611e-6);
-    float code_lul = coated_gold_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float code_lul = coated_gold_table_code((uint(cell_cos_theta_1) + 144u));
     float at_lul_1 = (code_lul * 1.4542611e-6);
-    float code_uul = coated_gold_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 16.0)) + (cell_eta_1 * 256.0))) + 8192u));
+    float code_uul = coated_gold_table_code((uint((cell_cos_theta_1 + 1.0)) + 144u));
     float at_uul_1 = (code_uul * 1.4542611e-6);
-    float code_llu = coated_gold_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float code_llu = coated_gold_table_code((uint(cell_cos_theta_1) + 160u));
     float at_llu_1 = (code_llu * 1.4542611e-6);
-    float code_ulu = coated_gold_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float code_ulu = coated_gold_table_code((uint((cell_cos_theta_1 + 1.0)) + 160u));
     float at_ulu_1 = (code_ulu * 1.4542611e-6);
-    float code_luu = coated_gold_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float code_luu = coated_gold_table_code((uint(cell_cos_theta_1) + 176u));
     float at_luu_1 = (code_luu * 1.4542611e-6);
-    float code_uuu = coated_gold_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 16.0)) + ((cell_eta_1 + 1.0) * 256.0))) + 8192u));
+    float code_uuu = coated_gold_table_code((uint((cell_cos_theta_1 + 1.0)) + 176u));
     float at_uuu_1 = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * 0.2565837) * 0.20000005)) + (at_ull_1 * ((weight_cos_theta_1 * 0.2565837) * 0.20000005))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * coated_gold_weight_roughness_1) * 0.20000005))) + (at_uul_1 * ((weight_cos_theta_1 * coated_gold_weight_roughness_1) * 0.20000005))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * 0.2565837) * coated_gold_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.2565837) * coated_gold_weight_eta))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * coated_gold_weight_roughness_1) * coated_gold_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * coated_gold_weight_roughness_1) * coated_gold_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -123,46 +117,39 @@ float coated_gold_coat_extra(float cos_theta_1, float roughness_1, float eta_3) 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float coated_gold_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+// Here roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_coat_path_slice(float cos_theta_2) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 11.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 7.0);
-    float cell_eta_2 = min(floor(node_eta_2), 6.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = coated_gold_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lll = coated_gold_table_code((uint(cell_cos_theta_2) + 192u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = coated_gold_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_ull = coated_gold_table_code((uint((cell_cos_theta_2 + 1.0)) + 192u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = coated_gold_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lul = coated_gold_table_code((uint(cell_cos_theta_2) + 204u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = coated_gold_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_uul = coated_gold_table_code((uint((cell_cos_theta_2 + 1.0)) + 204u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = coated_gold_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_llu = coated_gold_table_code((uint(cell_cos_theta_2) + 216u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = coated_gold_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = coated_gold_table_code((uint((cell_cos_theta_2 + 1.0)) + 216u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = coated_gold_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_luu = coated_gold_table_code((uint(cell_cos_theta_2) + 228u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = coated_gold_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = coated_gold_table_code((uint((cell_cos_theta_2 + 1.0)) + 228u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
-    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * 0.5214946) * 0.20000005)) + (at_ull_2 * ((weight_cos_theta_2 * 0.5214946) * 0.20000005))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * coated_gold_weight_roughness_2) * 0.20000005))) + (at_uul_2 * ((weight_cos_theta_2 * coated_gold_weight_roughness_2) * 0.20000005))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * 0.5214946) * coated_gold_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.5214946) * coated_gold_weight_eta))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * coated_gold_weight_roughness_2) * coated_gold_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * coated_gold_weight_roughness_2) * coated_gold_weight_eta)));
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
 // (Born & Wolf 1999; the closed form of pbrt-v3 `FrConductor`). `eta`, `k` are relative to
 // the medium above.
-vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_5, vec3 k) {
+vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
     float _e6 = min(max(cos_i_1, 0.0), 1.0);
     float cos2_ = (_e6 * _e6);
     float sin2_ = (1.0 - cos2_);
-    vec3 eta2_ = (eta_5 * eta_5);
+    vec3 eta2_ = (eta_2 * eta_2);
     vec3 k2_ = (k * k);
     vec3 t0_ = ((eta2_ - k2_) - vec3(sin2_));
     vec3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4.0))));
@@ -182,111 +169,89 @@ vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_5, vec3 k) {
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-float coated_gold_glossy_scale(float cos_theta_3, float conductor_roughness, float roughness_3, float eta_6) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_scale_slice(float cos_theta_3) {
     float u_cos_theta_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
     float node_cos_theta_3 = (u_cos_theta_3 * 8.0);
     float cell_cos_theta_3 = min(floor(node_cos_theta_3), 7.0);
     float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
-    float u_conductor_roughness = sqrt(min(max(conductor_roughness, 0.0), 1.0));
-    float node_conductor_roughness = (u_conductor_roughness * 7.0);
-    float cell_conductor_roughness = min(floor(node_conductor_roughness), 6.0);
-    float weight_conductor_roughness = (node_conductor_roughness - cell_conductor_roughness);
-    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
-    float node_roughness_3 = (u_roughness_3 * 6.0);
-    float cell_roughness_3 = min(floor(node_roughness_3), 5.0);
-    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    float u_eta_3 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
-    float node_eta_3 = (u_eta_3 * 5.0);
-    float cell_eta_3 = min(floor(node_eta_3), 4.0);
-    float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_3) + 240u));
     float at_llll = ((code_llll * 3.4481873e-5) + 0.16788425);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 240u));
     float at_ulll = ((code_ulll * 3.4481873e-5) + 0.16788425);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_3) + 249u));
     float at_lull = ((code_lull * 3.4481873e-5) + 0.16788425);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 249u));
     float at_uull = ((code_uull * 3.4481873e-5) + 0.16788425);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_3) + 258u));
     float at_llul = ((code_llul * 3.4481873e-5) + 0.16788425);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 258u));
     float at_ulul = ((code_ulul * 3.4481873e-5) + 0.16788425);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_3) + 267u));
     float at_luul = ((code_luul * 3.4481873e-5) + 0.16788425);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + (cell_eta_3 * 504.0))) + 11392u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 267u));
     float at_uuul = ((code_uuul * 3.4481873e-5) + 0.16788425);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_3) + 276u));
     float at_lllu = ((code_lllu * 3.4481873e-5) + 0.16788425);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 276u));
     float at_ullu = ((code_ullu * 3.4481873e-5) + 0.16788425);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_3) + 285u));
     float at_lulu = ((code_lulu * 3.4481873e-5) + 0.16788425);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + (cell_roughness_3 * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 285u));
     float at_uulu = ((code_uulu * 3.4481873e-5) + 0.16788425);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_3 + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_3) + 294u));
     float at_lluu = ((code_lluu * 3.4481873e-5) + 0.16788425);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + (cell_conductor_roughness * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 294u));
     float at_uluu = ((code_uluu * 3.4481873e-5) + 0.16788425);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_3 + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_3) + 303u));
     float at_luuu = ((code_luuu * 3.4481873e-5) + 0.16788425);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_3 + 1.0) + ((cell_conductor_roughness + 1.0) * 9.0)) + ((cell_roughness_3 + 1.0) * 72.0)) + ((cell_eta_3 + 1.0) * 504.0))) + 11392u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_3 + 1.0)) + 303u));
     float at_uuuu = ((code_uuuu * 3.4481873e-5) + 0.16788425);
-    return ((((((((((((((((at_llll * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ulll * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lull * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_uull * (((weight_cos_theta_3 * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_llul * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_ulul * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_luul * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uuul * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_lllu * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ullu * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lulu * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_uulu * (((weight_cos_theta_3 * weight_conductor_roughness) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_lluu * ((((1.0 - weight_cos_theta_3) * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_uluu * (((weight_cos_theta_3 * (1.0 - weight_conductor_roughness)) * weight_roughness_3) * weight_eta_3))) + (at_luuu * ((((1.0 - weight_cos_theta_3) * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3))) + (at_uuuu * (((weight_cos_theta_3 * weight_conductor_roughness) * weight_roughness_3) * weight_eta_3)));
+    return ((((((((at_llll * (((1.0 - weight_cos_theta_3) * 0.5) * 0.102633476)) + (at_ulll * ((weight_cos_theta_3 * 0.5) * 0.102633476))) + (at_lull * (((1.0 - weight_cos_theta_3) * coated_gold_weight_conductor_roughness) * 0.102633476))) + (at_uull * ((weight_cos_theta_3 * coated_gold_weight_conductor_roughness) * 0.102633476))) + (at_llul * (((1.0 - weight_cos_theta_3) * 0.5) * coated_gold_weight_roughness_3))) + (at_ulul * ((weight_cos_theta_3 * 0.5) * coated_gold_weight_roughness_3))) + (at_luul * (((1.0 - weight_cos_theta_3) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_3))) + (at_uuul * ((weight_cos_theta_3 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_3)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-float coated_gold_glossy_next(float cos_theta_4, float conductor_roughness_1, float roughness_4, float eta_7) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_next_slice(float cos_theta_4) {
     float u_cos_theta_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float node_cos_theta_4 = (u_cos_theta_4 * 4.0);
     float cell_cos_theta_4 = min(floor(node_cos_theta_4), 3.0);
     float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
-    float u_conductor_roughness_1 = sqrt(min(max(conductor_roughness_1, 0.0), 1.0));
-    float node_conductor_roughness_1 = (u_conductor_roughness_1 * 7.0);
-    float cell_conductor_roughness_1 = min(floor(node_conductor_roughness_1), 6.0);
-    float weight_conductor_roughness_1 = (node_conductor_roughness_1 - cell_conductor_roughness_1);
-    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
-    float node_roughness_4 = (u_roughness_4 * 5.0);
-    float cell_roughness_4 = min(floor(node_roughness_4), 4.0);
-    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    float u_eta_4 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
-    float node_eta_4 = (u_eta_4 * 5.0);
-    float cell_eta_4 = min(floor(node_eta_4), 4.0);
-    float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_4) + 312u));
     float at_llll_1 = (code_llll * 1.5259022e-5);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 312u));
     float at_ulll_1 = (code_ulll * 1.5259022e-5);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_4) + 317u));
     float at_lull_1 = (code_lull * 1.5259022e-5);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 317u));
     float at_uull_1 = (code_uull * 1.5259022e-5);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_4) + 322u));
     float at_llul_1 = (code_llul * 1.5259022e-5);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 322u));
     float at_ulul_1 = (code_ulul * 1.5259022e-5);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_4) + 327u));
     float at_luul_1 = (code_luul * 1.5259022e-5);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + (cell_eta_4 * 240.0))) + 14416u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 327u));
     float at_uuul_1 = (code_uuul * 1.5259022e-5);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_4) + 332u));
     float at_lllu_1 = (code_lllu * 1.5259022e-5);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 332u));
     float at_ullu_1 = (code_ullu * 1.5259022e-5);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_4) + 337u));
     float at_lulu_1 = (code_lulu * 1.5259022e-5);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + (cell_roughness_4 * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 337u));
     float at_uulu_1 = (code_uulu * 1.5259022e-5);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_4 + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_4) + 342u));
     float at_lluu_1 = (code_lluu * 1.5259022e-5);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + (cell_conductor_roughness_1 * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 342u));
     float at_uluu_1 = (code_uluu * 1.5259022e-5);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_4 + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_4) + 347u));
     float at_luuu_1 = (code_luuu * 1.5259022e-5);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_4 + 1.0) + ((cell_conductor_roughness_1 + 1.0) * 5.0)) + ((cell_roughness_4 + 1.0) * 40.0)) + ((cell_eta_4 + 1.0) * 240.0))) + 14416u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_4 + 1.0)) + 347u));
     float at_uuuu_1 = (code_uuuu * 1.5259022e-5);
-    return ((((((((((((((((at_llll_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4))) + (at_ulll_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_lull_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_uull_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * (1.0 - weight_eta_4)))) + (at_llul_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_ulul_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_luul_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_uuul_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * (1.0 - weight_eta_4)))) + (at_lllu_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_ullu_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lulu_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_uulu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * (1.0 - weight_roughness_4)) * weight_eta_4))) + (at_lluu_1 * ((((1.0 - weight_cos_theta_4) * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_uluu_1 * (((weight_cos_theta_4 * (1.0 - weight_conductor_roughness_1)) * weight_roughness_4) * weight_eta_4))) + (at_luuu_1 * ((((1.0 - weight_cos_theta_4) * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4))) + (at_uuuu_1 * (((weight_cos_theta_4 * weight_conductor_roughness_1) * weight_roughness_4) * weight_eta_4)));
+    return ((((((((at_llll_1 * (((1.0 - weight_cos_theta_4) * 0.5) * 0.41886115)) + (at_ulll_1 * ((weight_cos_theta_4 * 0.5) * 0.41886115))) + (at_lull_1 * (((1.0 - weight_cos_theta_4) * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_uull_1 * ((weight_cos_theta_4 * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_llul_1 * (((1.0 - weight_cos_theta_4) * 0.5) * coated_gold_weight_roughness_4))) + (at_ulul_1 * ((weight_cos_theta_4 * 0.5) * coated_gold_weight_roughness_4))) + (at_luul_1 * (((1.0 - weight_cos_theta_4) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4))) + (at_uuul_1 * ((weight_cos_theta_4 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -295,56 +260,45 @@ float coated_gold_glossy_next(float cos_theta_4, float conductor_roughness_1, fl
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
-float coated_gold_glossy_lobe_albedo(float cos_theta_5, float conductor_roughness_2, float roughness_5, float eta_8) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_lobe_albedo_slice(float cos_theta_5) {
     float u_cos_theta_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float node_cos_theta_5 = (u_cos_theta_5 * 8.0);
     float cell_cos_theta_5 = min(floor(node_cos_theta_5), 7.0);
     float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
-    float u_conductor_roughness_2 = sqrt(min(max(conductor_roughness_2, 0.0), 1.0));
-    float node_conductor_roughness_2 = (u_conductor_roughness_2 * 7.0);
-    float cell_conductor_roughness_2 = min(floor(node_conductor_roughness_2), 6.0);
-    float weight_conductor_roughness_2 = (node_conductor_roughness_2 - cell_conductor_roughness_2);
-    float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
-    float node_roughness_5 = (u_roughness_5 * 6.0);
-    float cell_roughness_5 = min(floor(node_roughness_5), 5.0);
-    float weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    float u_eta_5 = min(max((((eta_8 - 1.0) * 2.0) / (eta_8 + 1.0)), 0.0), 1.0);
-    float node_eta_5 = (u_eta_5 * 5.0);
-    float cell_eta_5 = min(floor(node_eta_5), 4.0);
-    float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_5) + 352u));
     float at_llll_2 = ((code_llll * 6.229872e-5) + 0.09352391);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 352u));
     float at_ulll_2 = ((code_ulll * 6.229872e-5) + 0.09352391);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_5) + 361u));
     float at_lull_2 = ((code_lull * 6.229872e-5) + 0.09352391);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 361u));
     float at_uull_2 = ((code_uull * 6.229872e-5) + 0.09352391);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_5) + 370u));
     float at_llul_2 = ((code_llul * 6.229872e-5) + 0.09352391);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 370u));
     float at_ulul_2 = ((code_ulul * 6.229872e-5) + 0.09352391);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_5) + 379u));
     float at_luul_2 = ((code_luul * 6.229872e-5) + 0.09352391);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + (cell_eta_5 * 504.0))) + 15856u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 379u));
     float at_uuul_2 = ((code_uuul * 6.229872e-5) + 0.09352391);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_5) + 388u));
     float at_lllu_2 = ((code_lllu * 6.229872e-5) + 0.09352391);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 388u));
     float at_ullu_2 = ((code_ullu * 6.229872e-5) + 0.09352391);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_5) + 397u));
     float at_lulu_2 = ((code_lulu * 6.229872e-5) + 0.09352391);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + (cell_roughness_5 * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 397u));
     float at_uulu_2 = ((code_uulu * 6.229872e-5) + 0.09352391);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_5 + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_5) + 406u));
     float at_lluu_2 = ((code_lluu * 6.229872e-5) + 0.09352391);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + (cell_conductor_roughness_2 * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 406u));
     float at_uluu_2 = ((code_uluu * 6.229872e-5) + 0.09352391);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_5 + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_5) + 415u));
     float at_luuu_2 = ((code_luuu * 6.229872e-5) + 0.09352391);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_5 + 1.0) + ((cell_conductor_roughness_2 + 1.0) * 9.0)) + ((cell_roughness_5 + 1.0) * 72.0)) + ((cell_eta_5 + 1.0) * 504.0))) + 15856u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_5 + 1.0)) + 415u));
     float at_uuuu_2 = ((code_uuuu * 6.229872e-5) + 0.09352391);
-    return ((((((((((((((((at_llll_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5))) + (at_ulll_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_lull_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_uull_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_5)))) + (at_llul_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_ulul_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_luul_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_uuul_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * (1.0 - weight_eta_5)))) + (at_lllu_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_ullu_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lulu_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_uulu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * (1.0 - weight_roughness_5)) * weight_eta_5))) + (at_lluu_2 * ((((1.0 - weight_cos_theta_5) * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_uluu_2 * (((weight_cos_theta_5 * (1.0 - weight_conductor_roughness_2)) * weight_roughness_5) * weight_eta_5))) + (at_luuu_2 * ((((1.0 - weight_cos_theta_5) * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5))) + (at_uuuu_2 * (((weight_cos_theta_5 * weight_conductor_roughness_2) * weight_roughness_5) * weight_eta_5)));
+    return ((((((((at_llll_2 * (((1.0 - weight_cos_theta_5) * 0.5) * 0.102633476)) + (at_ulll_2 * ((weight_cos_theta_5 * 0.5) * 0.102633476))) + (at_lull_2 * (((1.0 - weight_cos_theta_5) * coated_gold_weight_conductor_roughness) * 0.102633476))) + (at_uull_2 * ((weight_cos_theta_5 * coated_gold_weight_conductor_roughness) * 0.102633476))) + (at_llul_2 * (((1.0 - weight_cos_theta_5) * 0.5) * coated_gold_weight_roughness_3))) + (at_ulul_2 * ((weight_cos_theta_5 * 0.5) * coated_gold_weight_roughness_3))) + (at_luul_2 * (((1.0 - weight_cos_theta_5) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_3))) + (at_uuul_2 * ((weight_cos_theta_5 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_3)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -352,79 +306,68 @@ float coated_gold_glossy_lobe_albedo(float cos_theta_5, float conductor_roughnes
 // σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
 // per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
 // peak seen through the coat's transmission from μ, tapered towards grazing.
-float coated_gold_glossy_blur(float cos_theta_6, float conductor_roughness_3, float roughness_6, float eta_9) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_blur_slice(float cos_theta_6) {
     float u_cos_theta_6 = sqrt(min(max(cos_theta_6, 0.0), 1.0));
     float node_cos_theta_6 = (u_cos_theta_6 * 5.0);
     float cell_cos_theta_6 = min(floor(node_cos_theta_6), 4.0);
     float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
-    float u_conductor_roughness_3 = sqrt(min(max(conductor_roughness_3, 0.0), 1.0));
-    float node_conductor_roughness_3 = (u_conductor_roughness_3 * 3.0);
-    float cell_conductor_roughness_3 = min(floor(node_conductor_roughness_3), 2.0);
-    float weight_conductor_roughness_3 = (node_conductor_roughness_3 - cell_conductor_roughness_3);
-    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
-    float node_roughness_6 = (u_roughness_6 * 5.0);
-    float cell_roughness_6 = min(floor(node_roughness_6), 4.0);
-    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    float u_eta_6 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
-    float node_eta_6 = (u_eta_6 * 3.0);
-    float cell_eta_6 = min(floor(node_eta_6), 2.0);
-    float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_6) + 424u));
     float at_llll_3 = (code_llll * 1.9313664e-5);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 424u));
     float at_ulll_3 = (code_ulll * 1.9313664e-5);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_6) + 430u));
     float at_lull_3 = (code_lull * 1.9313664e-5);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 430u));
     float at_uull_3 = (code_uull * 1.9313664e-5);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_6) + 436u));
     float at_llul_3 = (code_llul * 1.9313664e-5);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 436u));
     float at_ulul_3 = (code_ulul * 1.9313664e-5);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_6) + 442u));
     float at_luul_3 = (code_luul * 1.9313664e-5);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + (cell_eta_6 * 144.0))) + 18880u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 442u));
     float at_uuul_3 = (code_uuul * 1.9313664e-5);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_6) + 448u));
     float at_lllu_3 = (code_lllu * 1.9313664e-5);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 448u));
     float at_ullu_3 = (code_ullu * 1.9313664e-5);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_6) + 454u));
     float at_lulu_3 = (code_lulu * 1.9313664e-5);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + (cell_roughness_6 * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 454u));
     float at_uulu_3 = (code_uulu * 1.9313664e-5);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_6 + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_6) + 460u));
     float at_lluu_3 = (code_lluu * 1.9313664e-5);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + (cell_conductor_roughness_3 * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 460u));
     float at_uluu_3 = (code_uluu * 1.9313664e-5);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_6 + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_6) + 466u));
     float at_luuu_3 = (code_luuu * 1.9313664e-5);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_6 + 1.0) + ((cell_conductor_roughness_3 + 1.0) * 6.0)) + ((cell_roughness_6 + 1.0) * 24.0)) + ((cell_eta_6 + 1.0) * 144.0))) + 18880u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_6 + 1.0)) + 466u));
     float at_uuuu_3 = (code_uuuu * 1.9313664e-5);
-    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6))) + (at_ulll_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_uull_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_6)))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_ulul_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_uuul_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * (1.0 - weight_eta_6)))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_ullu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_uulu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * (1.0 - weight_roughness_6)) * weight_eta_6))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_uluu_3 * (((weight_cos_theta_6 * (1.0 - weight_conductor_roughness_3)) * weight_roughness_6) * weight_eta_6))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6))) + (at_uuuu_3 * (((weight_cos_theta_6 * weight_conductor_roughness_3) * weight_roughness_6) * weight_eta_6)));
+    return ((((((((((((((((at_llll_3 * ((((1.0 - weight_cos_theta_6) * 0.5) * 0.41886115) * 0.79999995)) + (at_ulll_3 * (((weight_cos_theta_6 * 0.5) * 0.41886115) * 0.79999995))) + (at_lull_3 * ((((1.0 - weight_cos_theta_6) * coated_gold_weight_conductor_roughness) * 0.41886115) * 0.79999995))) + (at_uull_3 * (((weight_cos_theta_6 * coated_gold_weight_conductor_roughness) * 0.41886115) * 0.79999995))) + (at_llul_3 * ((((1.0 - weight_cos_theta_6) * 0.5) * coated_gold_weight_roughness_4) * 0.79999995))) + (at_ulul_3 * (((weight_cos_theta_6 * 0.5) * coated_gold_weight_roughness_4) * 0.79999995))) + (at_luul_3 * ((((1.0 - weight_cos_theta_6) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4) * 0.79999995))) + (at_uuul_3 * (((weight_cos_theta_6 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4) * 0.79999995))) + (at_lllu_3 * ((((1.0 - weight_cos_theta_6) * 0.5) * 0.41886115) * coated_gold_weight_eta_1))) + (at_ullu_3 * (((weight_cos_theta_6 * 0.5) * 0.41886115) * coated_gold_weight_eta_1))) + (at_lulu_3 * ((((1.0 - weight_cos_theta_6) * coated_gold_weight_conductor_roughness) * 0.41886115) * coated_gold_weight_eta_1))) + (at_uulu_3 * (((weight_cos_theta_6 * coated_gold_weight_conductor_roughness) * 0.41886115) * coated_gold_weight_eta_1))) + (at_lluu_3 * ((((1.0 - weight_cos_theta_6) * 0.5) * coated_gold_weight_roughness_4) * coated_gold_weight_eta_1))) + (at_uluu_3 * (((weight_cos_theta_6 * 0.5) * coated_gold_weight_roughness_4) * coated_gold_weight_eta_1))) + (at_luuu_3 * ((((1.0 - weight_cos_theta_6) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4) * coated_gold_weight_eta_1))) + (at_uuuu_3 * (((weight_cos_theta_6 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4) * coated_gold_weight_eta_1)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-float coated_gold_ggx_albedo(float cos_theta_7, float roughness_7) {
+float coated_gold_ggx_albedo(float cos_theta_7, float roughness) {
     float u_cos_theta_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_7 = (u_cos_theta_7 * 15.0);
     float cell_cos_theta_7 = min(floor(node_cos_theta_7), 14.0);
     float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
-    float u_roughness_7 = sqrt(min(max(roughness_7, 0.0), 1.0));
-    float node_roughness_7 = (u_roughness_7 * 15.0);
-    float cell_roughness_7 = min(floor(node_roughness_7), 14.0);
-    float weight_roughness_7 = (node_roughness_7 - cell_roughness_7);
-    float code_ll = coated_gold_table_code((uint((cell_cos_theta_7 + (cell_roughness_7 * 16.0))) + 19456u));
+    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
+    float node_roughness = (u_roughness * 15.0);
+    float cell_roughness = min(floor(node_roughness), 14.0);
+    float weight_roughness = (node_roughness - cell_roughness);
+    float code_ll = coated_gold_table_code((uint((cell_cos_theta_7 + (cell_roughness * 16.0))) + 472u));
     float at_ll = ((code_ll * 1.0576748e-5) + 0.30685282);
-    float code_ul = coated_gold_table_code((uint(((cell_cos_theta_7 + 1.0) + (cell_roughness_7 * 16.0))) + 19456u));
+    float code_ul = coated_gold_table_code((uint(((cell_cos_theta_7 + 1.0) + (cell_roughness * 16.0))) + 472u));
     float at_ul = ((code_ul * 1.0576748e-5) + 0.30685282);
-    float code_lu = coated_gold_table_code((uint((cell_cos_theta_7 + ((cell_roughness_7 + 1.0) * 16.0))) + 19456u));
+    float code_lu = coated_gold_table_code((uint((cell_cos_theta_7 + ((cell_roughness + 1.0) * 16.0))) + 472u));
     float at_lu = ((code_lu * 1.0576748e-5) + 0.30685282);
-    float code_uu = coated_gold_table_code((uint(((cell_cos_theta_7 + 1.0) + ((cell_roughness_7 + 1.0) * 16.0))) + 19456u));
+    float code_uu = coated_gold_table_code((uint(((cell_cos_theta_7 + 1.0) + ((cell_roughness + 1.0) * 16.0))) + 472u));
     float at_uu = ((code_uu * 1.0576748e-5) + 0.30685282);
-    return ((((at_ll * ((1.0 - weight_cos_theta_7) * (1.0 - weight_roughness_7))) + (at_ul * (weight_cos_theta_7 * (1.0 - weight_roughness_7)))) + (at_lu * ((1.0 - weight_cos_theta_7) * weight_roughness_7))) + (at_uu * (weight_cos_theta_7 * weight_roughness_7)));
+    return ((((at_ll * ((1.0 - weight_cos_theta_7) * (1.0 - weight_roughness))) + (at_ul * (weight_cos_theta_7 * (1.0 - weight_roughness)))) + (at_lu * ((1.0 - weight_cos_theta_7) * weight_roughness))) + (at_uu * (weight_cos_theta_7 * weight_roughness)));
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -466,112 +409,90 @@ float coated_gold_glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-float coated_gold_glossy_quick(float cos_theta_8, float conductor_roughness_4, float roughness_8, float eta_10) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_quick_slice(float cos_theta_8) {
     float u_cos_theta_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float node_cos_theta_8 = (u_cos_theta_8 * 4.0);
     float cell_cos_theta_8 = min(floor(node_cos_theta_8), 3.0);
     float weight_cos_theta_8 = (node_cos_theta_8 - cell_cos_theta_8);
-    float u_conductor_roughness_4 = sqrt(min(max(conductor_roughness_4, 0.0), 1.0));
-    float node_conductor_roughness_4 = (u_conductor_roughness_4 * 7.0);
-    float cell_conductor_roughness_4 = min(floor(node_conductor_roughness_4), 6.0);
-    float weight_conductor_roughness_4 = (node_conductor_roughness_4 - cell_conductor_roughness_4);
-    float u_roughness_8 = sqrt(min(max(roughness_8, 0.0), 1.0));
-    float node_roughness_8 = (u_roughness_8 * 5.0);
-    float cell_roughness_8 = min(floor(node_roughness_8), 4.0);
-    float weight_roughness_8 = (node_roughness_8 - cell_roughness_8);
-    float u_eta_7 = min(max((((eta_10 - 1.0) * 2.0) / (eta_10 + 1.0)), 0.0), 1.0);
-    float node_eta_7 = (u_eta_7 * 5.0);
-    float cell_eta_7 = min(floor(node_eta_7), 4.0);
-    float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_8) + 728u));
     float at_llll_4 = (code_llll * 1.3453328e-5);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 728u));
     float at_ulll_4 = (code_ulll * 1.3453328e-5);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_8) + 733u));
     float at_lull_4 = (code_lull * 1.3453328e-5);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 733u));
     float at_uull_4 = (code_uull * 1.3453328e-5);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_8) + 738u));
     float at_llul_4 = (code_llul * 1.3453328e-5);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 738u));
     float at_ulul_4 = (code_ulul * 1.3453328e-5);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_8) + 743u));
     float at_luul_4 = (code_luul * 1.3453328e-5);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + (cell_eta_7 * 240.0))) + 19712u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 743u));
     float at_uuul_4 = (code_uuul * 1.3453328e-5);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_8) + 748u));
     float at_lllu_4 = (code_lllu * 1.3453328e-5);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 748u));
     float at_ullu_4 = (code_ullu * 1.3453328e-5);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_8) + 753u));
     float at_lulu_4 = (code_lulu * 1.3453328e-5);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + (cell_roughness_8 * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 753u));
     float at_uulu_4 = (code_uulu * 1.3453328e-5);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_8 + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_8) + 758u));
     float at_lluu_4 = (code_lluu * 1.3453328e-5);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + (cell_conductor_roughness_4 * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 758u));
     float at_uluu_4 = (code_uluu * 1.3453328e-5);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_8 + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_8) + 763u));
     float at_luuu_4 = (code_luuu * 1.3453328e-5);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_8 + 1.0) + ((cell_conductor_roughness_4 + 1.0) * 5.0)) + ((cell_roughness_8 + 1.0) * 40.0)) + ((cell_eta_7 + 1.0) * 240.0))) + 19712u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_8 + 1.0)) + 763u));
     float at_uuuu_4 = (code_uuuu * 1.3453328e-5);
-    return ((((((((((((((((at_llll_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7))) + (at_ulll_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_lull_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_uull_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * (1.0 - weight_eta_7)))) + (at_llul_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_ulul_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_luul_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_uuul_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * (1.0 - weight_eta_7)))) + (at_lllu_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_ullu_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lulu_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_uulu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * (1.0 - weight_roughness_8)) * weight_eta_7))) + (at_lluu_4 * ((((1.0 - weight_cos_theta_8) * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_uluu_4 * (((weight_cos_theta_8 * (1.0 - weight_conductor_roughness_4)) * weight_roughness_8) * weight_eta_7))) + (at_luuu_4 * ((((1.0 - weight_cos_theta_8) * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7))) + (at_uuuu_4 * (((weight_cos_theta_8 * weight_conductor_roughness_4) * weight_roughness_8) * weight_eta_7)));
+    return ((((((((at_llll_4 * (((1.0 - weight_cos_theta_8) * 0.5) * 0.41886115)) + (at_ulll_4 * ((weight_cos_theta_8 * 0.5) * 0.41886115))) + (at_lull_4 * (((1.0 - weight_cos_theta_8) * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_uull_4 * ((weight_cos_theta_8 * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_llul_4 * (((1.0 - weight_cos_theta_8) * 0.5) * coated_gold_weight_roughness_4))) + (at_ulul_4 * ((weight_cos_theta_8 * 0.5) * coated_gold_weight_roughness_4))) + (at_luul_4 * (((1.0 - weight_cos_theta_8) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4))) + (at_uuul_4 * ((weight_cos_theta_8 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4)));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-float coated_gold_glossy_steady(float cos_theta_9, float conductor_roughness_5, float roughness_9, float eta_11) {
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float coated_gold_glossy_steady_slice(float cos_theta_9) {
     float u_cos_theta_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
     float node_cos_theta_9 = (u_cos_theta_9 * 4.0);
     float cell_cos_theta_9 = min(floor(node_cos_theta_9), 3.0);
     float weight_cos_theta_9 = (node_cos_theta_9 - cell_cos_theta_9);
-    float u_conductor_roughness_5 = sqrt(min(max(conductor_roughness_5, 0.0), 1.0));
-    float node_conductor_roughness_5 = (u_conductor_roughness_5 * 7.0);
-    float cell_conductor_roughness_5 = min(floor(node_conductor_roughness_5), 6.0);
-    float weight_conductor_roughness_5 = (node_conductor_roughness_5 - cell_conductor_roughness_5);
-    float u_roughness_9 = sqrt(min(max(roughness_9, 0.0), 1.0));
-    float node_roughness_9 = (u_roughness_9 * 5.0);
-    float cell_roughness_9 = min(floor(node_roughness_9), 4.0);
-    float weight_roughness_9 = (node_roughness_9 - cell_roughness_9);
-    float u_eta_8 = min(max((((eta_11 - 1.0) * 2.0) / (eta_11 + 1.0)), 0.0), 1.0);
-    float node_eta_8 = (u_eta_8 * 5.0);
-    float cell_eta_8 = min(floor(node_eta_8), 4.0);
-    float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    float code_llll = coated_gold_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_llll = coated_gold_table_code((uint(cell_cos_theta_9) + 768u));
     float at_llll_5 = (code_llll * 1.3521936e-5);
-    float code_ulll = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_ulll = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 768u));
     float at_ulll_5 = (code_ulll * 1.3521936e-5);
-    float code_lull = coated_gold_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_lull = coated_gold_table_code((uint(cell_cos_theta_9) + 773u));
     float at_lull_5 = (code_lull * 1.3521936e-5);
-    float code_uull = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_uull = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 773u));
     float at_uull_5 = (code_uull * 1.3521936e-5);
-    float code_llul = coated_gold_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_llul = coated_gold_table_code((uint(cell_cos_theta_9) + 778u));
     float at_llul_5 = (code_llul * 1.3521936e-5);
-    float code_ulul = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_ulul = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 778u));
     float at_ulul_5 = (code_ulul * 1.3521936e-5);
-    float code_luul = coated_gold_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_luul = coated_gold_table_code((uint(cell_cos_theta_9) + 783u));
     float at_luul_5 = (code_luul * 1.3521936e-5);
-    float code_uuul = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + (cell_eta_8 * 240.0))) + 21152u));
+    float code_uuul = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 783u));
     float at_uuul_5 = (code_uuul * 1.3521936e-5);
-    float code_lllu = coated_gold_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_lllu = coated_gold_table_code((uint(cell_cos_theta_9) + 788u));
     float at_lllu_5 = (code_lllu * 1.3521936e-5);
-    float code_ullu = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_ullu = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 788u));
     float at_ullu_5 = (code_ullu * 1.3521936e-5);
-    float code_lulu = coated_gold_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_lulu = coated_gold_table_code((uint(cell_cos_theta_9) + 793u));
     float at_lulu_5 = (code_lulu * 1.3521936e-5);
-    float code_uulu = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + (cell_roughness_9 * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_uulu = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 793u));
     float at_uulu_5 = (code_uulu * 1.3521936e-5);
-    float code_lluu = coated_gold_table_code((uint((((cell_cos_theta_9 + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_lluu = coated_gold_table_code((uint(cell_cos_theta_9) + 798u));
     float at_lluu_5 = (code_lluu * 1.3521936e-5);
-    float code_uluu = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + (cell_conductor_roughness_5 * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_uluu = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 798u));
     float at_uluu_5 = (code_uluu * 1.3521936e-5);
-    float code_luuu = coated_gold_table_code((uint((((cell_cos_theta_9 + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_luuu = coated_gold_table_code((uint(cell_cos_theta_9) + 803u));
     float at_luuu_5 = (code_luuu * 1.3521936e-5);
-    float code_uuuu = coated_gold_table_code((uint(((((cell_cos_theta_9 + 1.0) + ((cell_conductor_roughness_5 + 1.0) * 5.0)) + ((cell_roughness_9 + 1.0) * 40.0)) + ((cell_eta_8 + 1.0) * 240.0))) + 21152u));
+    float code_uuuu = coated_gold_table_code((uint((cell_cos_theta_9 + 1.0)) + 803u));
     float at_uuuu_5 = (code_uuuu * 1.3521936e-5);
-    return ((((((((((((((((at_llll_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8))) + (at_ulll_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_lull_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_uull_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * (1.0 - weight_eta_8)))) + (at_llul_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_ulul_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_luul_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_uuul_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * (1.0 - weight_eta_8)))) + (at_lllu_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_ullu_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_lulu_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_uulu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * (1.0 - weight_roughness_9)) * weight_eta_8))) + (at_lluu_5 * ((((1.0 - weight_cos_theta_9) * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_uluu_5 * (((weight_cos_theta_9 * (1.0 - weight_conductor_roughness_5)) * weight_roughness_9) * weight_eta_8))) + (at_luuu_5 * ((((1.0 - weight_cos_theta_9) * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8))) + (at_uuuu_5 * (((weight_cos_theta_9 * weight_conductor_roughness_5) * weight_roughness_9) * weight_eta_8)));
+    return ((((((((at_llll_5 * (((1.0 - weight_cos_theta_9) * 0.5) * 0.41886115)) + (at_ulll_5 * ((weight_cos_theta_9 * 0.5) * 0.41886115))) + (at_lull_5 * (((1.0 - weight_cos_theta_9) * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_uull_5 * ((weight_cos_theta_9 * coated_gold_weight_conductor_roughness) * 0.41886115))) + (at_llul_5 * (((1.0 - weight_cos_theta_9) * 0.5) * coated_gold_weight_roughness_4))) + (at_ulul_5 * ((weight_cos_theta_9 * 0.5) * coated_gold_weight_roughness_4))) + (at_luul_5 * (((1.0 - weight_cos_theta_9) * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4))) + (at_uuul_5 * ((weight_cos_theta_9 * coated_gold_weight_conductor_roughness) * coated_gold_weight_roughness_4)));
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -659,8 +580,8 @@ float coated_gold_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 coated_gold_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_12) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
+vec3 coated_gold_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_3) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -692,84 +613,84 @@ vec3 coated_gold_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_l_2, 1.5);
-    float _e25 = coated_gold_coat_deficit(n_dot_l_2, 0.1, 1.5);
-    float layer1_restored_l = coated_gold_coat_extra(n_dot_l_2, 0.1, 1.5);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e25) - layer1_restored_l), 0.0), 1.0);
-    float _e37 = coated_gold_coat_path(n_dot_l_2, 0.1, 1.5);
-    float layer1_path_cos_l = (layer1_cos_l / _e37);
+    float _e23 = coated_gold_coat_deficit_slice(n_dot_l_2);
+    float layer1_restored_l = coated_gold_coat_extra_slice(n_dot_l_2);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e23) - layer1_restored_l), 0.0), 1.0);
+    float _e31 = coated_gold_coat_path_slice(n_dot_l_2);
+    float layer1_path_cos_l = (layer1_cos_l / _e31);
     vec3 layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
-    float layer1_scale_l = coated_gold_glossy_scale(n_dot_l_2, 0.25, 0.1, 1.5);
-    float layer1_next_l = coated_gold_glossy_next(n_dot_l_2, 0.25, 0.1, 1.5);
-    float _e60 = coated_gold_glossy_lobe_albedo(n_dot_l_2, 0.25, 0.1, 1.5);
-    float _e65 = max(layer1_cos_l, 0.7453635);
-    float _e69 = coated_gold_glossy_blur(max(n_dot_l_2, 0.005), 0.25, 0.1, 1.5);
-    float layer1_blur_l = (_e69 * 0.010000001);
-    float layer1_blur_v = (_e69 * 0.010000001);
+    float layer1_scale_l = coated_gold_glossy_scale_slice(n_dot_l_2);
+    float layer1_next_l = coated_gold_glossy_next_slice(n_dot_l_2);
+    float _e45 = coated_gold_glossy_lobe_albedo_slice(n_dot_l_2);
+    float _e50 = max(layer1_cos_l, 0.7453635);
+    float _e51 = coated_gold_glossy_blur_slice(max(n_dot_l_2, 0.005));
+    float layer1_blur_l = (_e51 * 0.010000001);
+    float layer1_blur_v = (_e51 * 0.010000001);
     float layer1_alpha = sqrt(((0.00390625 + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
-    float _e81 = coated_gold_ggx_albedo(_e65, sqrt(layer1_alpha));
-    float _e83 = coated_gold_glossy_trapped_share(_e65, 0.745356, layer1_alpha);
-    float layer1_cone_share_l = (1.0 - _e83);
-    float layer1_lobe_normaliser_l = (_e81 * layer1_cone_share_l);
-    float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e60) * layer1_lobe_normaliser_l), 0.0), 1.0);
+    float _e63 = coated_gold_ggx_albedo(_e50, sqrt(layer1_alpha));
+    float _e65 = coated_gold_glossy_trapped_share(_e50, 0.745356, layer1_alpha);
+    float layer1_cone_share_l = (1.0 - _e65);
+    float layer1_lobe_normaliser_l = (_e63 * layer1_cone_share_l);
+    float layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e45) * layer1_lobe_normaliser_l), 0.0), 1.0);
     float layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
-    float _e105 = coated_gold_glossy_quick(n_dot_l_2, 0.25, 0.1, 1.5);
-    float _e109 = coated_gold_glossy_steady(n_dot_l_2, 0.25, 0.1, 1.5);
-    vec3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e105, _e109, 0.9170209, coated_gold_layer1_survival);
+    float _e84 = coated_gold_glossy_quick_slice(n_dot_l_2);
+    float _e85 = coated_gold_glossy_steady_slice(n_dot_l_2);
+    vec3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e84, _e85, 0.9170209, coated_gold_layer1_survival);
     vec3 layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_survival);
-    vec3 _e117 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
-    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e117.x, 1e-6)));
+    vec3 _e93 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1.0));
+    vec3 layer1_once_colour_l = (layer1_once_l / vec3(max(_e93.x, 1e-6)));
     float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5);
-    float _e129 = coated_gold_coat_deficit(n_dot_v_2, 0.1, 1.5);
-    float layer1_restored_v = coated_gold_coat_extra(n_dot_v_2, 0.1, 1.5);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e129) - layer1_restored_v), 0.0), 1.0);
-    float _e141 = coated_gold_coat_path(n_dot_v_2, 0.1, 1.5);
-    float layer1_path_cos_v = (layer1_cos_v / _e141);
+    float _e103 = coated_gold_coat_deficit_slice(n_dot_v_2);
+    float layer1_restored_v = coated_gold_coat_extra_slice(n_dot_v_2);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e103) - layer1_restored_v), 0.0), 1.0);
+    float _e111 = coated_gold_coat_path_slice(n_dot_v_2);
+    float layer1_path_cos_v = (layer1_cos_v / _e111);
     vec3 layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
-    float layer1_scale_v = coated_gold_glossy_scale(n_dot_v_2, 0.25, 0.1, 1.5);
-    float layer1_next_v = coated_gold_glossy_next(n_dot_v_2, 0.25, 0.1, 1.5);
-    float _e164 = coated_gold_glossy_lobe_albedo(n_dot_v_2, 0.25, 0.1, 1.5);
-    float _e169 = max(layer1_cos_v, 0.7453635);
-    float _e173 = coated_gold_glossy_blur(max(n_dot_v_2, 0.005), 0.25, 0.1, 1.5);
-    float layer1_blur_l_1 = (_e173 * 0.010000001);
-    float layer1_blur_v_1 = (_e173 * 0.010000001);
+    float layer1_scale_v = coated_gold_glossy_scale_slice(n_dot_v_2);
+    float layer1_next_v = coated_gold_glossy_next_slice(n_dot_v_2);
+    float _e125 = coated_gold_glossy_lobe_albedo_slice(n_dot_v_2);
+    float _e130 = max(layer1_cos_v, 0.7453635);
+    float _e131 = coated_gold_glossy_blur_slice(max(n_dot_v_2, 0.005));
+    float layer1_blur_l_1 = (_e131 * 0.010000001);
+    float layer1_blur_v_1 = (_e131 * 0.010000001);
     float layer1_alpha_1 = sqrt(((0.00390625 + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
-    float _e185 = coated_gold_ggx_albedo(_e169, sqrt(layer1_alpha_1));
-    float _e187 = coated_gold_glossy_trapped_share(_e169, 0.745356, layer1_alpha_1);
-    float layer1_cone_share_v = (1.0 - _e187);
-    float layer1_lobe_normaliser_v = (_e185 * layer1_cone_share_v);
-    float layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e164) * layer1_lobe_normaliser_v), 0.0), 1.0);
+    float _e143 = coated_gold_ggx_albedo(_e130, sqrt(layer1_alpha_1));
+    float _e145 = coated_gold_glossy_trapped_share(_e130, 0.745356, layer1_alpha_1);
+    float layer1_cone_share_v = (1.0 - _e145);
+    float layer1_lobe_normaliser_v = (_e143 * layer1_cone_share_v);
+    float layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e125) * layer1_lobe_normaliser_v), 0.0), 1.0);
     float layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
-    float _e209 = coated_gold_glossy_quick(n_dot_v_2, 0.25, 0.1, 1.5);
-    float _e213 = coated_gold_glossy_steady(n_dot_v_2, 0.25, 0.1, 1.5);
-    vec3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e209, _e213, 0.9170209, coated_gold_layer1_survival);
+    float _e164 = coated_gold_glossy_quick_slice(n_dot_v_2);
+    float _e165 = coated_gold_glossy_steady_slice(n_dot_v_2);
+    vec3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e164, _e165, 0.9170209, coated_gold_layer1_survival);
     vec3 layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_survival);
-    vec3 _e221 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1.0));
-    vec3 layer1_once_colour_v = (layer1_once_v / vec3(max(_e221.x, 1e-6)));
-    float _e230 = coated_gold_glossy_blur(n_dot_l_2, 0.25, 0.1, 1.5);
-    float layer1_blur_l_2 = (_e230 * 0.010000001);
-    float _e236 = coated_gold_glossy_blur(n_dot_v_2, 0.25, 0.1, 1.5);
-    float layer1_blur_v_2 = (_e236 * 0.010000001);
+    vec3 _e173 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1.0));
+    vec3 layer1_once_colour_v = (layer1_once_v / vec3(max(_e173.x, 1e-6)));
+    float _e179 = coated_gold_glossy_blur_slice(n_dot_l_2);
+    float layer1_blur_l_2 = (_e179 * 0.010000001);
+    float _e182 = coated_gold_glossy_blur_slice(n_dot_v_2);
+    float layer1_blur_v_2 = (_e182 * 0.010000001);
     float layer1_alpha_2 = sqrt(((0.00390625 + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
     vec3 h = coated_gold_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
     float d = coated_gold_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001);
     float g = coated_gold_g_smith_ggx_correlated(cos_v, cos_l, 0.010000001);
     float fresnel = coated_gold_fr_dielectric(dot(v_1, h), 1.5);
-    vec3 _e257 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float _e259 = coated_gold_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174);
-    vec3 specular = (_e257 + vec3(_e259));
+    vec3 _e203 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    float _e205 = coated_gold_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174);
+    vec3 specular = (_e203 + vec3(_e205));
     vec3 layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     vec3 layer1_n_cross_h = cross(n_1, layer1_h);
     float layer1_d = coated_gold_d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     float layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     vec3 layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
-    vec3 _e280 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    vec3 under = ((_e280 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    vec3 _e289 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
-    vec3 _e292 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1.0), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    vec3 _e295 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1.0), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    vec3 later = coated_gold_glossy_remainder_lobe(_e292, _e295, coated_gold_remainder_avg);
-    vec3 f = (_e289 + later);
+    vec3 _e226 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    vec3 under = ((_e226 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    vec3 _e235 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
+    vec3 _e238 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1.0), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    vec3 _e241 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1.0), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    vec3 later = coated_gold_glossy_remainder_lobe(_e238, _e241, coated_gold_remainder_avg);
+    vec3 f = (_e235 + later);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 

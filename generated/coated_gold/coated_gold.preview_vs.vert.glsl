@@ -4,6 +4,14 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float coated_gold_weight_roughness = 0.80306053;
+const float coated_gold_weight_eta = 0.79999995;
+const float coated_gold_weight_roughness_1 = 0.7434163;
+const float coated_gold_weight_roughness_2 = 0.47850537;
+const float coated_gold_weight_conductor_roughness = 0.5;
+const float coated_gold_weight_roughness_3 = 0.8973665;
+const float coated_gold_weight_roughness_4 = 0.58113885;
+const float coated_gold_weight_eta_1 = 0.20000005;
 const vec3 coated_gold_one = vec3(1.0, 1.0, 1.0);
 const vec3 coated_gold_layer1_survival = vec3(0.9322251, 0.7678392, 0.3619415);
 const vec3 coated_gold_remainder_avg = vec3(0.07577434, 0.03172735, 0.0034032734);

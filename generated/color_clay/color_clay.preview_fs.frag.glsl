@@ -4,12 +4,16 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float color_clay_weight_roughness = 0.21583843;
+const float color_clay_weight_eta = 0.9828329;
+const float color_clay_weight_roughness_1 = 0.97940063;
+const float color_clay_weight_roughness_2 = 0.02494812;
 const vec3 color_clay_tau = vec3(0.025, 0.025, 0.025);
 const vec3 color_clay_layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
 const vec3 color_clay_layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
 const vec3 color_clay_layer1_r_return = vec3(0.41532898, 0.41532898, 0.41532898);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[1424]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[30]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -90,36 +94,29 @@ float color_clay_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float color_clay_coat_extra(float cos_theta, float roughness, float eta_1) {
+// Here roughness = 0.3, eta = 1.33 (literals of the material): this function reads only the slices of the table they select.
+float color_clay_coat_extra_slice(float cos_theta) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 15.0);
-    float cell_roughness = min(floor(node_roughness), 14.0);
-    float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
-    float node_eta = (u_eta * 7.0);
-    float cell_eta = min(floor(node_eta), 6.0);
-    float weight_eta = (node_eta - cell_eta);
-    float code_lll = color_clay_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lll = color_clay_table_code(uint(cell_cos_theta));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = color_clay_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_ull = color_clay_table_code(uint((cell_cos_theta + 1.0)));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = color_clay_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lul = color_clay_table_code((uint(cell_cos_theta) + 16u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = color_clay_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_uul = color_clay_table_code((uint((cell_cos_theta + 1.0)) + 16u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = color_clay_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_llu = color_clay_table_code((uint(cell_cos_theta) + 32u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = color_clay_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_ulu = color_clay_table_code((uint((cell_cos_theta + 1.0)) + 32u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = color_clay_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_luu = color_clay_table_code((uint(cell_cos_theta) + 48u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = color_clay_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_uuu = color_clay_table_code((uint((cell_cos_theta + 1.0)) + 48u));
     float at_uuu = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * 0.78416157) * 0.017167091)) + (at_ull * ((weight_cos_theta * 0.78416157) * 0.017167091))) + (at_lul * (((1.0 - weight_cos_theta) * color_clay_weight_roughness) * 0.017167091))) + (at_uul * ((weight_cos_theta * color_clay_weight_roughness) * 0.017167091))) + (at_llu * (((1.0 - weight_cos_theta) * 0.78416157) * color_clay_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.78416157) * color_clay_weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * color_clay_weight_roughness) * color_clay_weight_eta))) + (at_uuu * ((weight_cos_theta * color_clay_weight_roughness) * color_clay_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -135,44 +132,37 @@ float color_clay_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float color_clay_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+// Here roughness = 0.3, eta = 1.33 (literals of the material): this function reads only the slices of the table they select.
+float color_clay_coat_deficit_slice(float cos_theta_1) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 31.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
-    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
-    float node_eta_1 = (u_eta_1 * 7.0);
-    float cell_eta_1 = min(floor(node_eta_1), 6.0);
-    float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = color_clay_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lll = color_clay_table_code((uint(cell_cos_theta_1) + 64u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = color_clay_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_ull = color_clay_table_code((uint((cell_cos_theta_1 + 1.0)) + 64u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = color_clay_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lul = color_clay_table_code((uint(cell_cos_theta_1) + 96u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = color_clay_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_uul = color_clay_table_code((uint((cell_cos_theta_1 + 1.0)) + 96u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = color_clay_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_llu = color_clay_table_code((uint(cell_cos_theta_1) + 128u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = color_clay_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_ulu = color_clay_table_code((uint((cell_cos_theta_1 + 1.0)) + 128u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = color_clay_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_luu = color_clay_table_code((uint(cell_cos_theta_1) + 160u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = color_clay_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_uuu = color_clay_table_code((uint((cell_cos_theta_1 + 1.0)) + 160u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * 0.020599365) * 0.017167091)) + (at_ull_1 * ((weight_cos_theta_1 * 0.020599365) * 0.017167091))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * color_clay_weight_roughness_1) * 0.017167091))) + (at_uul_1 * ((weight_cos_theta_1 * color_clay_weight_roughness_1) * 0.017167091))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * 0.020599365) * color_clay_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.020599365) * color_clay_weight_eta))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * color_clay_weight_roughness_1) * color_clay_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * color_clay_weight_roughness_1) * color_clay_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 color_clay_refract_down(vec3 w, vec3 n, float eta_3) {
-    return -(refract(-(w), n, (1.0 / eta_3)));
+vec3 color_clay_refract_down(vec3 w, vec3 n, float eta_1) {
+    return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -180,36 +170,29 @@ vec3 color_clay_refract_down(vec3 w, vec3 n, float eta_3) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float color_clay_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
+// Here roughness = 0.3, eta = 1.33 (literals of the material): this function reads only the slices of the table they select.
+float color_clay_coat_path_slice(float cos_theta_2) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 11.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 7.0);
-    float cell_eta_2 = min(floor(node_eta_2), 6.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = color_clay_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lll = color_clay_table_code((uint(cell_cos_theta_2) + 192u));
     float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = color_clay_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_ull = color_clay_table_code((uint((cell_cos_theta_2 + 1.0)) + 192u));
     float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = color_clay_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_lul = color_clay_table_code((uint(cell_cos_theta_2) + 204u));
     float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = color_clay_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
+    float code_uul = color_clay_table_code((uint((cell_cos_theta_2 + 1.0)) + 204u));
     float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = color_clay_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_llu = color_clay_table_code((uint(cell_cos_theta_2) + 216u));
     float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = color_clay_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_ulu = color_clay_table_code((uint((cell_cos_theta_2 + 1.0)) + 216u));
     float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = color_clay_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_luu = color_clay_table_code((uint(cell_cos_theta_2) + 228u));
     float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = color_clay_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
+    float code_uuu = color_clay_table_code((uint((cell_cos_theta_2 + 1.0)) + 228u));
     float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
-    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * 0.9750519) * 0.017167091)) + (at_ull_2 * ((weight_cos_theta_2 * 0.9750519) * 0.017167091))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * color_clay_weight_roughness_2) * 0.017167091))) + (at_uul_2 * ((weight_cos_theta_2 * color_clay_weight_roughness_2) * 0.017167091))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * 0.9750519) * color_clay_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.9750519) * color_clay_weight_eta))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * color_clay_weight_roughness_2) * color_clay_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * color_clay_weight_roughness_2) * color_clay_weight_eta)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -273,8 +256,8 @@ vec3 color_clay_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, v
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 color_clay_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+vec3 color_clay_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_2) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // The BRDF f(l, v) of material `color_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -289,40 +272,40 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float g = color_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.09);
     float fresnel = color_clay_fr_dielectric(dot(v_1, h), 1.33);
     vec3 _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = color_clay_coat_extra(n_dot_l_3, 0.3, 1.33);
-    float layer1_restored_v = color_clay_coat_extra(n_dot_v_3, 0.3, 1.33);
-    float _e29 = color_clay_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0017248275);
-    vec3 specular = (_e21 + vec3(_e29));
+    float layer1_restored_l = color_clay_coat_extra_slice(n_dot_l_3);
+    float layer1_restored_v = color_clay_coat_extra_slice(n_dot_v_3);
+    float _e25 = color_clay_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0017248275);
+    vec3 specular = (_e21 + vec3(_e25));
     float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33);
-    float _e38 = color_clay_coat_deficit(n_dot_l_3, 0.3, 1.33);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    float _e32 = color_clay_coat_deficit_slice(n_dot_l_3);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
     float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_3, 1.33);
-    float _e51 = color_clay_coat_deficit(n_dot_v_3, 0.3, 1.33);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
+    float _e43 = color_clay_coat_deficit_slice(n_dot_v_3);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
     vec3 layer1_v = color_clay_refract_down(v_1, n_1, 1.33);
     vec3 layer1_l = color_clay_refract_down(l_1, n_1, 1.33);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e70 = color_clay_coat_path(n_dot_l_3, 0.3, 1.33);
-    float layer1_path_cos_l = (layer1_cos_l / _e70);
-    float _e74 = color_clay_coat_path(n_dot_v_3, 0.3, 1.33);
-    float layer1_path_cos_v = (layer1_cos_v / _e74);
+    float _e60 = color_clay_coat_path_slice(n_dot_l_3);
+    float layer1_path_cos_l = (layer1_cos_l / _e60);
+    float _e62 = color_clay_coat_path_slice(n_dot_v_3);
+    float layer1_path_cos_v = (layer1_cos_v / _e62);
     vec3 absorb_l = color_clay_slab_transmittance(color_clay_tau, layer1_path_cos_l);
     vec3 absorb_v = color_clay_slab_transmittance(color_clay_tau, layer1_path_cos_v);
     vec3 layer1_f_base = color_clay_fd_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 layer1_albedo_l = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_l);
     vec3 layer1_albedo_v = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v);
-    float layer1_path_cos_l_1 = (layer1_cos_l / _e70);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e74);
-    vec3 _e106 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
-    float _e108 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e108)) * vec3(0.23442733)) / max(_e106, vec3(1e-6))));
+    float layer1_path_cos_l_1 = (layer1_cos_l / _e60);
+    float layer1_path_cos_v_1 = (layer1_cos_v / _e62);
+    vec3 _e94 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
+    float _e96 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e96)) * vec3(0.23442733)) / max(_e94, vec3(1e-6))));
     vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5333209))) / vec3(0.4666791)), vec3(0.0)), vec3(1.0));
-    vec3 _e143 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
-    float _e145 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
-    vec3 layer1_first_escape_v = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e145)) * vec3(0.23442733)) / max(_e143, vec3(1e-6))));
+    vec3 _e131 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
+    float _e133 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
+    vec3 layer1_first_escape_v = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e133)) * vec3(0.23442733)) / max(_e131, vec3(1e-6))));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5333209))) / vec3(0.4666791)), vec3(0.0)), vec3(1.0));
     vec3 under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825439, 0.9961419, 0.996795), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     vec3 f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);

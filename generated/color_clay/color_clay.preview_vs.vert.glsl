@@ -4,6 +4,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float color_clay_weight_roughness = 0.21583843;
+const float color_clay_weight_eta = 0.9828329;
+const float color_clay_weight_roughness_1 = 0.97940063;
+const float color_clay_weight_roughness_2 = 0.02494812;
 const vec3 color_clay_tau = vec3(0.025, 0.025, 0.025);
 const vec3 color_clay_layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
 const vec3 color_clay_layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);

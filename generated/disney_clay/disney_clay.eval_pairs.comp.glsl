@@ -11,6 +11,8 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
+const float disney_clay_weight_roughness = 0.59913826;
+
 layout(std430, binding = 0) readonly buffer type_5_block_0Compute { DirectionPair _group_0_binding_0_cs[]; };
 
 layout(std430, binding = 1) buffer type_6_block_1Compute { vec4 _group_0_binding_1_cs[]; };

@@ -4,6 +4,8 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float disney_clay_weight_roughness = 0.59913826;
+
 layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;

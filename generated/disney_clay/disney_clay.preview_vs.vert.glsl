@@ -4,6 +4,8 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float disney_clay_weight_roughness = 0.59913826;
+
 layout(location = 0) in vec2 _p2vs_location0;
 layout(location = 0) smooth out vec2 _vs2fs_location0;
 

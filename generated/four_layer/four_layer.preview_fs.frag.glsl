@@ -4,8 +4,19 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
+const float four_layer_weight_roughness = 0.7082038;
+const float four_layer_weight_eta = 0.79999995;
+const float four_layer_weight_roughness_1 = 0.8636217;
 const vec3 four_layer_layer1_tau = vec3(0.02, 0.02, 0.02);
+const float four_layer_weight_roughness_2 = 0.21583843;
+const float four_layer_weight_eta_1 = 0.66666687;
+const float four_layer_weight_roughness_3 = 0.97940063;
+const float four_layer_weight_roughness_4 = 0.02494812;
 const vec3 four_layer_layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
+const float four_layer_weight_roughness_5 = 0.6066017;
+const float four_layer_weight_eta_2 = 0.2727275;
+const float four_layer_weight_roughness_6 = 0.92030907;
+const float four_layer_weight_roughness_7 = 0.7781744;
 const vec3 four_layer_layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 four_layer_layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
 const vec3 four_layer_layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
@@ -17,7 +28,7 @@ const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 four_layer_layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
 const vec3 four_layer_layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
 
-layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[1424]; };
+layout(std140, binding = 3) uniform type_6_block_0Fragment { uvec4 _group_0_binding_3_fs[83]; };
 
 layout(std140, binding = 4) uniform PreviewLight_block_1Fragment { PreviewLight _group_0_binding_4_fs; };
 
@@ -90,36 +101,29 @@ float four_layer_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float four_layer_coat_extra(float cos_theta, float roughness, float eta_1) {
+// Here roughness = 0.2, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_extra_slice(float cos_theta) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 15.0);
-    float cell_roughness = min(floor(node_roughness), 14.0);
-    float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
-    float node_eta = (u_eta * 7.0);
-    float cell_eta = min(floor(node_eta), 6.0);
-    float weight_eta = (node_eta - cell_eta);
-    float code_lll = four_layer_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lll = four_layer_table_code((uint(cell_cos_theta) + 96u));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = four_layer_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_ull = four_layer_table_code((uint((cell_cos_theta + 1.0)) + 96u));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = four_layer_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lul = four_layer_table_code((uint(cell_cos_theta) + 112u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = four_layer_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_uul = four_layer_table_code((uint((cell_cos_theta + 1.0)) + 112u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = four_layer_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_llu = four_layer_table_code((uint(cell_cos_theta) + 160u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = four_layer_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta + 1.0)) + 160u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = four_layer_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_luu = four_layer_table_code((uint(cell_cos_theta) + 176u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = four_layer_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta + 1.0)) + 176u));
     float at_uuu = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * 0.2917962) * 0.20000005)) + (at_ull * ((weight_cos_theta * 0.2917962) * 0.20000005))) + (at_lul * (((1.0 - weight_cos_theta) * four_layer_weight_roughness) * 0.20000005))) + (at_uul * ((weight_cos_theta * four_layer_weight_roughness) * 0.20000005))) + (at_llu * (((1.0 - weight_cos_theta) * 0.2917962) * four_layer_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.2917962) * four_layer_weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * four_layer_weight_roughness) * four_layer_weight_eta))) + (at_uuu * ((weight_cos_theta * four_layer_weight_roughness) * four_layer_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -135,44 +139,37 @@ float four_layer_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float four_layer_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+// Here roughness = 0.2, eta = 1.5 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_deficit_slice(float cos_theta_1) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 31.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
-    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
-    float node_eta_1 = (u_eta_1 * 7.0);
-    float cell_eta_1 = min(floor(node_eta_1), 6.0);
-    float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = four_layer_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_1) + 384u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_1 + 1.0)) + 384u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = four_layer_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_1) + 416u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_1 + 1.0)) + 416u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = four_layer_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_1) + 512u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_1 + 1.0)) + 512u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = four_layer_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_1) + 544u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = four_layer_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_1 + 1.0)) + 544u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * 0.13637829) * 0.20000005)) + (at_ull_1 * ((weight_cos_theta_1 * 0.13637829) * 0.20000005))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * four_layer_weight_roughness_1) * 0.20000005))) + (at_uul_1 * ((weight_cos_theta_1 * four_layer_weight_roughness_1) * 0.20000005))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * 0.13637829) * four_layer_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.13637829) * four_layer_weight_eta))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * four_layer_weight_roughness_1) * four_layer_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * four_layer_weight_roughness_1) * four_layer_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_3) {
-    return -(refract(-(w), n, (1.0 / eta_3)));
+vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_1) {
+    return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -198,39 +195,150 @@ float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// Here roughness = 0.3, eta = 1.1 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_extra_slice_b(float cos_theta_2) {
+    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_2 = (u_cos_theta_2 * 15.0);
+    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 14.0);
+    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    float code_lll = four_layer_table_code(uint(cell_cos_theta_2));
+    float at_lll_2 = (code_lll * 1.4542611e-6);
+    float code_ull = four_layer_table_code(uint((cell_cos_theta_2 + 1.0)));
+    float at_ull_2 = (code_ull * 1.4542611e-6);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_2) + 16u));
+    float at_lul_2 = (code_lul * 1.4542611e-6);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_2 + 1.0)) + 16u));
+    float at_uul_2 = (code_uul * 1.4542611e-6);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_2) + 32u));
+    float at_llu_2 = (code_llu * 1.4542611e-6);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_2 + 1.0)) + 32u));
+    float at_ulu_2 = (code_ulu * 1.4542611e-6);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_2) + 48u));
+    float at_luu_2 = (code_luu * 1.4542611e-6);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_2 + 1.0)) + 48u));
+    float at_uuu_2 = (code_uuu * 1.4542611e-6);
+    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * 0.78416157) * 0.33333313)) + (at_ull_2 * ((weight_cos_theta_2 * 0.78416157) * 0.33333313))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * four_layer_weight_roughness_2) * 0.33333313))) + (at_uul_2 * ((weight_cos_theta_2 * four_layer_weight_roughness_2) * 0.33333313))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * 0.78416157) * four_layer_weight_eta_1))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.78416157) * four_layer_weight_eta_1))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * four_layer_weight_roughness_2) * four_layer_weight_eta_1))) + (at_uuu_2 * ((weight_cos_theta_2 * four_layer_weight_roughness_2) * four_layer_weight_eta_1)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// Here roughness = 0.3, eta = 1.1 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_deficit_slice_b(float cos_theta_3) {
+    float u_cos_theta_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_3 = (u_cos_theta_3 * 31.0);
+    float cell_cos_theta_3 = min(floor(node_cos_theta_3), 30.0);
+    float weight_cos_theta_3 = (node_cos_theta_3 - cell_cos_theta_3);
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_3) + 192u));
+    float at_lll_3 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_3 + 1.0)) + 192u));
+    float at_ull_3 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_3) + 224u));
+    float at_lul_3 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_3 + 1.0)) + 224u));
+    float at_uul_3 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_3) + 256u));
+    float at_llu_3 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_3 + 1.0)) + 256u));
+    float at_ulu_3 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_3) + 288u));
+    float at_luu_3 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_3 + 1.0)) + 288u));
+    float at_uuu_3 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
+    return ((((((((at_lll_3 * (((1.0 - weight_cos_theta_3) * 0.020599365) * 0.33333313)) + (at_ull_3 * ((weight_cos_theta_3 * 0.020599365) * 0.33333313))) + (at_lul_3 * (((1.0 - weight_cos_theta_3) * four_layer_weight_roughness_3) * 0.33333313))) + (at_uul_3 * ((weight_cos_theta_3 * four_layer_weight_roughness_3) * 0.33333313))) + (at_llu_3 * (((1.0 - weight_cos_theta_3) * 0.020599365) * four_layer_weight_eta_1))) + (at_ulu_3 * ((weight_cos_theta_3 * 0.020599365) * four_layer_weight_eta_1))) + (at_luu_3 * (((1.0 - weight_cos_theta_3) * four_layer_weight_roughness_3) * four_layer_weight_eta_1))) + (at_uuu_3 * ((weight_cos_theta_3 * four_layer_weight_roughness_3) * four_layer_weight_eta_1)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float four_layer_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
-    float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
-    float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
-    float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 11.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 7.0);
-    float cell_eta_2 = min(floor(node_eta_2), 6.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float code_lll = four_layer_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
-    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    float code_ull = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
-    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    float code_lul = four_layer_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
-    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    float code_uul = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + (cell_eta_2 * 144.0))) + 10240u));
-    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    float code_llu = four_layer_table_code((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
-    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    float code_ulu = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + (cell_roughness_2 * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
-    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    float code_luu = four_layer_table_code((uint(((cell_cos_theta_2 + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
-    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    float code_uuu = four_layer_table_code((uint((((cell_cos_theta_2 + 1.0) + ((cell_roughness_2 + 1.0) * 12.0)) + ((cell_eta_2 + 1.0) * 144.0))) + 10240u));
-    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
-    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+// Here roughness = 0.3, eta = 1.1 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_path_slice(float cos_theta_4) {
+    float u_cos_theta_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_4 = (u_cos_theta_4 * 11.0);
+    float cell_cos_theta_4 = min(floor(node_cos_theta_4), 10.0);
+    float weight_cos_theta_4 = (node_cos_theta_4 - cell_cos_theta_4);
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_4) + 576u));
+    float at_lll_4 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_4 + 1.0)) + 576u));
+    float at_ull_4 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_4) + 588u));
+    float at_lul_4 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_4 + 1.0)) + 588u));
+    float at_uul_4 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_4) + 600u));
+    float at_llu_4 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_4 + 1.0)) + 600u));
+    float at_ulu_4 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_4) + 612u));
+    float at_luu_4 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_4 + 1.0)) + 612u));
+    float at_uuu_4 = ((code_uuu * 1.0802426e-5) + 0.8801917);
+    return ((((((((at_lll_4 * (((1.0 - weight_cos_theta_4) * 0.9750519) * 0.33333313)) + (at_ull_4 * ((weight_cos_theta_4 * 0.9750519) * 0.33333313))) + (at_lul_4 * (((1.0 - weight_cos_theta_4) * four_layer_weight_roughness_4) * 0.33333313))) + (at_uul_4 * ((weight_cos_theta_4 * four_layer_weight_roughness_4) * 0.33333313))) + (at_llu_4 * (((1.0 - weight_cos_theta_4) * 0.9750519) * four_layer_weight_eta_1))) + (at_ulu_4 * ((weight_cos_theta_4 * 0.9750519) * four_layer_weight_eta_1))) + (at_luu_4 * (((1.0 - weight_cos_theta_4) * four_layer_weight_roughness_4) * four_layer_weight_eta_1))) + (at_uuu_4 * ((weight_cos_theta_4 * four_layer_weight_roughness_4) * four_layer_weight_eta_1)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
+// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// Here roughness = 0.5, eta = 1.2 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_extra_slice_c(float cos_theta_5) {
+    float u_cos_theta_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_5 = (u_cos_theta_5 * 15.0);
+    float cell_cos_theta_5 = min(floor(node_cos_theta_5), 14.0);
+    float weight_cos_theta_5 = (node_cos_theta_5 - cell_cos_theta_5);
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_5) + 64u));
+    float at_lll_5 = (code_lll * 1.4542611e-6);
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_5 + 1.0)) + 64u));
+    float at_ull_5 = (code_ull * 1.4542611e-6);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_5) + 80u));
+    float at_lul_5 = (code_lul * 1.4542611e-6);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_5 + 1.0)) + 80u));
+    float at_uul_5 = (code_uul * 1.4542611e-6);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_5) + 128u));
+    float at_llu_5 = (code_llu * 1.4542611e-6);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_5 + 1.0)) + 128u));
+    float at_ulu_5 = (code_ulu * 1.4542611e-6);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_5) + 144u));
+    float at_luu_5 = (code_luu * 1.4542611e-6);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_5 + 1.0)) + 144u));
+    float at_uuu_5 = (code_uuu * 1.4542611e-6);
+    return ((((((((at_lll_5 * (((1.0 - weight_cos_theta_5) * 0.39339828) * 0.7272725)) + (at_ull_5 * ((weight_cos_theta_5 * 0.39339828) * 0.7272725))) + (at_lul_5 * (((1.0 - weight_cos_theta_5) * four_layer_weight_roughness_5) * 0.7272725))) + (at_uul_5 * ((weight_cos_theta_5 * four_layer_weight_roughness_5) * 0.7272725))) + (at_llu_5 * (((1.0 - weight_cos_theta_5) * 0.39339828) * four_layer_weight_eta_2))) + (at_ulu_5 * ((weight_cos_theta_5 * 0.39339828) * four_layer_weight_eta_2))) + (at_luu_5 * (((1.0 - weight_cos_theta_5) * four_layer_weight_roughness_5) * four_layer_weight_eta_2))) + (at_uuu_5 * ((weight_cos_theta_5 * four_layer_weight_roughness_5) * four_layer_weight_eta_2)));
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
+// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
+// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// Here roughness = 0.5, eta = 1.2 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_deficit_slice_c(float cos_theta_6) {
+    float u_cos_theta_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_6 = (u_cos_theta_6 * 31.0);
+    float cell_cos_theta_6 = min(floor(node_cos_theta_6), 30.0);
+    float weight_cos_theta_6 = (node_cos_theta_6 - cell_cos_theta_6);
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_6) + 320u));
+    float at_lll_6 = ((code_lll * 1.4786756e-5) + -0.0058085914);
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_6 + 1.0)) + 320u));
+    float at_ull_6 = ((code_ull * 1.4786756e-5) + -0.0058085914);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_6) + 352u));
+    float at_lul_6 = ((code_lul * 1.4786756e-5) + -0.0058085914);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_6 + 1.0)) + 352u));
+    float at_uul_6 = ((code_uul * 1.4786756e-5) + -0.0058085914);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_6) + 448u));
+    float at_llu_6 = ((code_llu * 1.4786756e-5) + -0.0058085914);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_6 + 1.0)) + 448u));
+    float at_ulu_6 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_6) + 480u));
+    float at_luu_6 = ((code_luu * 1.4786756e-5) + -0.0058085914);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_6 + 1.0)) + 480u));
+    float at_uuu_6 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
+    return ((((((((at_lll_6 * (((1.0 - weight_cos_theta_6) * 0.07969093) * 0.7272725)) + (at_ull_6 * ((weight_cos_theta_6 * 0.07969093) * 0.7272725))) + (at_lul_6 * (((1.0 - weight_cos_theta_6) * four_layer_weight_roughness_6) * 0.7272725))) + (at_uul_6 * ((weight_cos_theta_6 * four_layer_weight_roughness_6) * 0.7272725))) + (at_llu_6 * (((1.0 - weight_cos_theta_6) * 0.07969093) * four_layer_weight_eta_2))) + (at_ulu_6 * ((weight_cos_theta_6 * 0.07969093) * four_layer_weight_eta_2))) + (at_luu_6 * (((1.0 - weight_cos_theta_6) * four_layer_weight_roughness_6) * four_layer_weight_eta_2))) + (at_uuu_6 * ((weight_cos_theta_6 * four_layer_weight_roughness_6) * four_layer_weight_eta_2)));
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -273,6 +381,36 @@ vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
     return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.5, eta = 1.2 (literals of the material): this function reads only the slices of the table they select.
+float four_layer_coat_path_slice_b(float cos_theta_7) {
+    float u_cos_theta_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_7 = (u_cos_theta_7 * 11.0);
+    float cell_cos_theta_7 = min(floor(node_cos_theta_7), 10.0);
+    float weight_cos_theta_7 = (node_cos_theta_7 - cell_cos_theta_7);
+    float code_lll = four_layer_table_code((uint(cell_cos_theta_7) + 612u));
+    float at_lll_7 = ((code_lll * 1.0802426e-5) + 0.8801917);
+    float code_ull = four_layer_table_code((uint((cell_cos_theta_7 + 1.0)) + 612u));
+    float at_ull_7 = ((code_ull * 1.0802426e-5) + 0.8801917);
+    float code_lul = four_layer_table_code((uint(cell_cos_theta_7) + 624u));
+    float at_lul_7 = ((code_lul * 1.0802426e-5) + 0.8801917);
+    float code_uul = four_layer_table_code((uint((cell_cos_theta_7 + 1.0)) + 624u));
+    float at_uul_7 = ((code_uul * 1.0802426e-5) + 0.8801917);
+    float code_llu = four_layer_table_code((uint(cell_cos_theta_7) + 636u));
+    float at_llu_7 = ((code_llu * 1.0802426e-5) + 0.8801917);
+    float code_ulu = four_layer_table_code((uint((cell_cos_theta_7 + 1.0)) + 636u));
+    float at_ulu_7 = ((code_ulu * 1.0802426e-5) + 0.8801917);
+    float code_luu = four_layer_table_code((uint(cell_cos_theta_7) + 648u));
+    float at_luu_7 = ((code_luu * 1.0802426e-5) + 0.8801917);
+    float code_uuu = four_layer_table_code((uint((cell_cos_theta_7 + 1.0)) + 648u));
+    float at_uuu_7 = ((code_uuu * 1.0802426e-5) + 0.8801917);
+    return ((((((((at_lll_7 * (((1.0 - weight_cos_theta_7) * 0.2218256) * 0.7272725)) + (at_ull_7 * ((weight_cos_theta_7 * 0.2218256) * 0.7272725))) + (at_lul_7 * (((1.0 - weight_cos_theta_7) * four_layer_weight_roughness_7) * 0.7272725))) + (at_uul_7 * ((weight_cos_theta_7 * four_layer_weight_roughness_7) * 0.7272725))) + (at_llu_7 * (((1.0 - weight_cos_theta_7) * 0.2218256) * four_layer_weight_eta_2))) + (at_ulu_7 * ((weight_cos_theta_7 * 0.2218256) * four_layer_weight_eta_2))) + (at_luu_7 * (((1.0 - weight_cos_theta_7) * four_layer_weight_roughness_7) * four_layer_weight_eta_2))) + (at_uuu_7 * ((weight_cos_theta_7 * four_layer_weight_roughness_7) * four_layer_weight_eta_2)));
+}
+
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
 // `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
 // back down (R, the slab's diffuse return reflectance) and that then bounces between body
@@ -288,8 +426,8 @@ vec3 four_layer_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, v
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 four_layer_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_5) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+vec3 four_layer_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_2) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
@@ -313,16 +451,16 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25);
     float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
     vec3 _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = four_layer_coat_extra(n_dot_l_3, 0.2, 1.5);
-    float layer1_restored_v = four_layer_coat_extra(n_dot_v_3, 0.2, 1.5);
-    float _e29 = four_layer_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
-    vec3 specular = (_e21 + vec3(_e29));
+    float layer1_restored_l = four_layer_coat_extra_slice(n_dot_l_3);
+    float layer1_restored_v = four_layer_coat_extra_slice(n_dot_v_3);
+    float _e25 = four_layer_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
+    vec3 specular = (_e21 + vec3(_e25));
     float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
-    float _e38 = four_layer_coat_deficit(n_dot_l_3, 0.2, 1.5);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    float _e32 = four_layer_coat_deficit_slice(n_dot_l_3);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
     float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5);
-    float _e51 = four_layer_coat_deficit(n_dot_v_3, 0.2, 1.5);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
+    float _e43 = four_layer_coat_deficit_slice(n_dot_v_3);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
     vec3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -346,27 +484,27 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    vec3 _e102 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    float layer3_restored_l = four_layer_coat_extra(layer2_n_dot_l, 0.3, 1.1);
-    float layer3_restored_v = four_layer_coat_extra(layer2_n_dot_v, 0.3, 1.1);
-    float _e110 = four_layer_multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
-    vec3 layer2_specular = (_e102 + vec3(_e110));
+    vec3 _e94 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    float layer3_restored_l = four_layer_coat_extra_slice_b(layer2_n_dot_l);
+    float layer3_restored_v = four_layer_coat_extra_slice_b(layer2_n_dot_v);
+    float _e98 = four_layer_multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
+    vec3 layer2_specular = (_e94 + vec3(_e98));
     float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1);
-    float _e119 = four_layer_coat_deficit(layer2_n_dot_l, 0.3, 1.1);
-    float layer3_transmit_l = min(max((((1.0 - layer3_fresnel_l) + _e119) - layer3_restored_l), 0.0), 1.0);
+    float _e105 = four_layer_coat_deficit_slice_b(layer2_n_dot_l);
+    float layer3_transmit_l = min(max((((1.0 - layer3_fresnel_l) + _e105) - layer3_restored_l), 0.0), 1.0);
     float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
-    float _e132 = four_layer_coat_deficit(layer2_n_dot_v, 0.3, 1.1);
-    float layer3_transmit_v = min(max((((1.0 - layer3_fresnel_v) + _e132) - layer3_restored_v), 0.0), 1.0);
+    float _e116 = four_layer_coat_deficit_slice_b(layer2_n_dot_v);
+    float layer3_transmit_v = min(max((((1.0 - layer3_fresnel_v) + _e116) - layer3_restored_v), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     vec3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    float _e151 = four_layer_coat_path(layer2_n_dot_l, 0.3, 1.1);
-    float layer3_path_cos_l = (layer3_cos_l / _e151);
-    float _e155 = four_layer_coat_path(layer2_n_dot_v, 0.3, 1.1);
-    float layer3_path_cos_v = (layer3_cos_v / _e155);
+    float _e133 = four_layer_coat_path_slice(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / _e133);
+    float _e135 = four_layer_coat_path_slice(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / _e135);
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -374,17 +512,17 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    vec3 _e173 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    float layer4_restored_l = four_layer_coat_extra(layer3_n_dot_l, 0.5, 1.2);
-    float layer4_restored_v = four_layer_coat_extra(layer3_n_dot_v, 0.5, 1.2);
-    float _e181 = four_layer_multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
-    vec3 layer3_specular = (_e173 + vec3(_e181));
+    vec3 _e153 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    float layer4_restored_l = four_layer_coat_extra_slice_c(layer3_n_dot_l);
+    float layer4_restored_v = four_layer_coat_extra_slice_c(layer3_n_dot_v);
+    float _e157 = four_layer_multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
+    vec3 layer3_specular = (_e153 + vec3(_e157));
     float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2);
-    float _e190 = four_layer_coat_deficit(layer3_n_dot_l, 0.5, 1.2);
-    float layer4_transmit_l = min(max((((1.0 - layer4_fresnel_l) + _e190) - layer4_restored_l), 0.0), 1.0);
+    float _e164 = four_layer_coat_deficit_slice_c(layer3_n_dot_l);
+    float layer4_transmit_l = min(max((((1.0 - layer4_fresnel_l) + _e164) - layer4_restored_l), 0.0), 1.0);
     float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
-    float _e203 = four_layer_coat_deficit(layer3_n_dot_v, 0.5, 1.2);
-    float layer4_transmit_v = min(max((((1.0 - layer4_fresnel_v) + _e203) - layer4_restored_v), 0.0), 1.0);
+    float _e175 = four_layer_coat_deficit_slice_c(layer3_n_dot_v);
+    float layer4_transmit_v = min(max((((1.0 - layer4_fresnel_v) + _e175) - layer4_restored_v), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     vec3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -394,54 +532,54 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_f_base = four_layer_fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     vec3 layer4_albedo_v = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    float _e241 = four_layer_coat_path(layer3_n_dot_l, 0.5, 1.2);
-    float layer4_path_cos_l = (layer4_cos_l / _e241);
-    float _e245 = four_layer_coat_path(layer3_n_dot_v, 0.5, 1.2);
-    float layer4_path_cos_v = (layer4_cos_v / _e245);
-    vec3 _e252 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    float _e254 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e254)) * vec3(0.18698311)) / max(_e252, vec3(1e-6))));
+    float _e211 = four_layer_coat_path_slice_b(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e211);
+    float _e213 = four_layer_coat_path_slice_b(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e213);
+    vec3 _e220 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e222 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e222)) * vec3(0.18698311)) / max(_e220, vec3(1e-6))));
     vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 _e289 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    float _e291 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e291)) * vec3(0.18698311)) / max(_e289, vec3(1e-6))));
+    vec3 _e257 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e259 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e259)) * vec3(0.18698311)) / max(_e257, vec3(1e-6))));
     vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
     vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     vec3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
-    float _e354 = (1.0 - layer4_transmit_l);
-    vec3 _e375 = min(max(((vec3((_e354 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e354)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e375 / vec3(0.8096463));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e375) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    float _e392 = (1.0 - layer4_transmit_v);
-    vec3 _e413 = min(max(((vec3((_e392 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e392)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e413 / vec3(0.8096463));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e413) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
+    float _e322 = (1.0 - layer4_transmit_l);
+    vec3 _e343 = min(max(((vec3((_e322 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e322)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e343 / vec3(0.8096463));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e343) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
+    float _e360 = (1.0 - layer4_transmit_v);
+    vec3 _e381 = min(max(((vec3((_e360 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e360)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e381 / vec3(0.8096463));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e381) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
     vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
-    float _e458 = (1.0 - layer3_transmit_l);
-    vec3 _e476 = min(max(((vec3((_e458 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e458)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e476 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e476) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e493 = (1.0 - layer3_transmit_v);
-    vec3 _e511 = min(max(((vec3((_e493 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e493)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e511 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e511) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e426 = (1.0 - layer3_transmit_l);
+    vec3 _e444 = min(max(((vec3((_e426 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e426)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e444 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e444) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e461 = (1.0 - layer3_transmit_v);
+    vec3 _e479 = min(max(((vec3((_e461 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e461)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e479 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e479) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
-    float _e551 = (1.0 - layer2_transmit_l);
-    vec3 _e572 = min(max(((vec3((_e551 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e551)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e572 / vec3(0.40503228));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e572) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    float _e589 = (1.0 - layer2_transmit_v);
-    vec3 _e610 = min(max(((vec3((_e589 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e589)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e610 / vec3(0.40503228));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e610) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
+    float _e519 = (1.0 - layer2_transmit_l);
+    vec3 _e540 = min(max(((vec3((_e519 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e519)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e540 / vec3(0.40503228));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e540) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
+    float _e557 = (1.0 - layer2_transmit_v);
+    vec3 _e578 = min(max(((vec3((_e557 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e557)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e578 / vec3(0.40503228));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e578) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
     vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));

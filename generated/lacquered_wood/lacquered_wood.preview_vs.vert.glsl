@@ -4,6 +4,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float lacquered_wood_weight_roughness = 0.2426405;
+const float lacquered_wood_weight_eta = 0.79999995;
+const float lacquered_wood_weight_roughness_1 = 0.7681236;
+const float lacquered_wood_weight_roughness_2 = 0.11126971;
 const vec3 lacquered_wood_tau = vec3(0.04, 0.12, 0.35);
 const vec3 lacquered_wood_under = vec3(0.19010219, 0.09112962, 0.038870376);
 const vec3 lacquered_wood_layer1_albedo_l = vec3(0.46, 0.26, 0.12);

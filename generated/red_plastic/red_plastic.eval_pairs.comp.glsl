@@ -11,13 +11,16 @@ struct DirectionPair {
 struct EvalDispatch {
     uint pair_count;
 };
+const float red_plastic_weight_roughness = 0.87411976;
+const float red_plastic_weight_eta = 0.75502014;
+const float red_plastic_weight_roughness_1 = 0.33984756;
 const vec3 red_plastic_under = vec3(0.29396582, 0.016394082, 0.01303686);
 const vec3 red_plastic_layer1_albedo_l = vec3(0.6, 0.05, 0.04);
 const vec3 red_plastic_layer1_rho = vec3(0.6, 0.05, 0.04);
 const vec3 red_plastic_layer1_r_return = vec3(0.583854, 0.583854, 0.583854);
 const vec3 red_plastic_layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 
-layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[1280]; };
+layout(std140, binding = 3) uniform type_6_block_0Compute { uvec4 _group_0_binding_3_cs[24]; };
 
 layout(std430, binding = 0) readonly buffer type_7_block_1Compute { DirectionPair _group_0_binding_0_cs[]; };
 
@@ -100,36 +103,29 @@ float red_plastic_table_code(uint entry) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float red_plastic_coat_extra(float cos_theta, float roughness, float eta_1) {
+// Here roughness = 0.35, eta = 1.49 (literals of the material): this function reads only the slices of the table they select.
+float red_plastic_coat_extra_slice(float cos_theta) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
     float weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    float u_roughness = sqrt(min(max(roughness, 0.0), 1.0));
-    float node_roughness = (u_roughness * 15.0);
-    float cell_roughness = min(floor(node_roughness), 14.0);
-    float weight_roughness = (node_roughness - cell_roughness);
-    float u_eta = min(max((((eta_1 - 1.0) * 2.0) / (eta_1 + 1.0)), 0.0), 1.0);
-    float node_eta = (u_eta * 7.0);
-    float cell_eta = min(floor(node_eta), 6.0);
-    float weight_eta = (node_eta - cell_eta);
-    float code_lll = red_plastic_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lll = red_plastic_table_code(uint(cell_cos_theta));
     float at_lll = (code_lll * 1.4542611e-6);
-    float code_ull = red_plastic_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_ull = red_plastic_table_code(uint((cell_cos_theta + 1.0)));
     float at_ull = (code_ull * 1.4542611e-6);
-    float code_lul = red_plastic_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_lul = red_plastic_table_code((uint(cell_cos_theta) + 16u));
     float at_lul = (code_lul * 1.4542611e-6);
-    float code_uul = red_plastic_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))) + 0u));
+    float code_uul = red_plastic_table_code((uint((cell_cos_theta + 1.0)) + 16u));
     float at_uul = (code_uul * 1.4542611e-6);
-    float code_llu = red_plastic_table_code((uint(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_llu = red_plastic_table_code((uint(cell_cos_theta) + 32u));
     float at_llu = (code_llu * 1.4542611e-6);
-    float code_ulu = red_plastic_table_code((uint((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_ulu = red_plastic_table_code((uint((cell_cos_theta + 1.0)) + 32u));
     float at_ulu = (code_ulu * 1.4542611e-6);
-    float code_luu = red_plastic_table_code((uint(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_luu = red_plastic_table_code((uint(cell_cos_theta) + 48u));
     float at_luu = (code_luu * 1.4542611e-6);
-    float code_uuu = red_plastic_table_code((uint((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))) + 0u));
+    float code_uuu = red_plastic_table_code((uint((cell_cos_theta + 1.0)) + 48u));
     float at_uuu = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1.0 - weight_cos_theta) * 0.12588024) * 0.24497986)) + (at_ull * ((weight_cos_theta * 0.12588024) * 0.24497986))) + (at_lul * (((1.0 - weight_cos_theta) * red_plastic_weight_roughness) * 0.24497986))) + (at_uul * ((weight_cos_theta * red_plastic_weight_roughness) * 0.24497986))) + (at_llu * (((1.0 - weight_cos_theta) * 0.12588024) * red_plastic_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.12588024) * red_plastic_weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * red_plastic_weight_roughness) * red_plastic_weight_eta))) + (at_uuu * ((weight_cos_theta * red_plastic_weight_roughness) * red_plastic_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -145,44 +141,37 @@ float red_plastic_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float red_plastic_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+// Here roughness = 0.35, eta = 1.49 (literals of the material): this function reads only the slices of the table they select.
+float red_plastic_coat_deficit_slice(float cos_theta_1) {
     float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
     float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
     float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 31.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
-    float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
-    float node_eta_1 = (u_eta_1 * 7.0);
-    float cell_eta_1 = min(floor(node_eta_1), 6.0);
-    float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float code_lll = red_plastic_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lll = red_plastic_table_code((uint(cell_cos_theta_1) + 64u));
     float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    float code_ull = red_plastic_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_ull = red_plastic_table_code((uint((cell_cos_theta_1 + 1.0)) + 64u));
     float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    float code_lul = red_plastic_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_lul = red_plastic_table_code((uint(cell_cos_theta_1) + 96u));
     float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    float code_uul = red_plastic_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u));
+    float code_uul = red_plastic_table_code((uint((cell_cos_theta_1 + 1.0)) + 96u));
     float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    float code_llu = red_plastic_table_code((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_llu = red_plastic_table_code((uint(cell_cos_theta_1) + 128u));
     float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    float code_ulu = red_plastic_table_code((uint((((cell_cos_theta_1 + 1.0) + (cell_roughness_1 * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_ulu = red_plastic_table_code((uint((cell_cos_theta_1 + 1.0)) + 128u));
     float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    float code_luu = red_plastic_table_code((uint(((cell_cos_theta_1 + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_luu = red_plastic_table_code((uint(cell_cos_theta_1) + 160u));
     float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    float code_uuu = red_plastic_table_code((uint((((cell_cos_theta_1 + 1.0) + ((cell_roughness_1 + 1.0) * 32.0)) + ((cell_eta_1 + 1.0) * 1024.0))) + 2048u));
+    float code_uuu = red_plastic_table_code((uint((cell_cos_theta_1 + 1.0)) + 160u));
     float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * (1.0 - weight_eta_1)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1.0 - weight_eta_1)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * 0.66015244) * 0.24497986)) + (at_ull_1 * ((weight_cos_theta_1 * 0.66015244) * 0.24497986))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * red_plastic_weight_roughness_1) * 0.24497986))) + (at_uul_1 * ((weight_cos_theta_1 * red_plastic_weight_roughness_1) * 0.24497986))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * 0.66015244) * red_plastic_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.66015244) * red_plastic_weight_eta))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * red_plastic_weight_roughness_1) * red_plastic_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * red_plastic_weight_roughness_1) * red_plastic_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 red_plastic_refract_down(vec3 w, vec3 n, float eta_3) {
-    return -(refract(-(w), n, (1.0 / eta_3)));
+vec3 red_plastic_refract_down(vec3 w, vec3 n, float eta_1) {
+    return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -190,8 +179,8 @@ vec3 red_plastic_refract_down(vec3 w, vec3 n, float eta_3) {
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 red_plastic_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_4) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_4 * eta_4))));
+vec3 red_plastic_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_2) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // The BRDF f(l, v) of material `red_plastic` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -206,16 +195,16 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float g = red_plastic_g_smith_ggx_correlated(cos_v, cos_l, 0.122499995);
     float fresnel = red_plastic_fr_dielectric(dot(v_1, h), 1.49);
     vec3 _e21 = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = red_plastic_coat_extra(n_dot_l_2, 0.35, 1.49);
-    float layer1_restored_v = red_plastic_coat_extra(n_dot_v_2, 0.35, 1.49);
-    float _e29 = red_plastic_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0025064705);
-    vec3 specular = (_e21 + vec3(_e29));
+    float layer1_restored_l = red_plastic_coat_extra_slice(n_dot_l_2);
+    float layer1_restored_v = red_plastic_coat_extra_slice(n_dot_v_2);
+    float _e25 = red_plastic_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0025064705);
+    vec3 specular = (_e21 + vec3(_e25));
     float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_l_2, 1.49);
-    float _e38 = red_plastic_coat_deficit(n_dot_l_2, 0.35, 1.49);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e38) - layer1_restored_l), 0.0), 1.0);
+    float _e32 = red_plastic_coat_deficit_slice(n_dot_l_2);
+    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
     float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_2, 1.49);
-    float _e51 = red_plastic_coat_deficit(n_dot_v_2, 0.35, 1.49);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e51) - layer1_restored_v), 0.0), 1.0);
+    float _e43 = red_plastic_coat_deficit_slice(n_dot_v_2);
+    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
     vec3 layer1_v = red_plastic_refract_down(v_1, n_1, 1.49);
     vec3 layer1_l = red_plastic_refract_down(l_1, n_1, 1.49);
     float layer1_n_dot_v = dot(n_1, layer1_v);

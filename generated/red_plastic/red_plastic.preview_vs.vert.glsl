@@ -4,6 +4,9 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float red_plastic_weight_roughness = 0.87411976;
+const float red_plastic_weight_eta = 0.75502014;
+const float red_plastic_weight_roughness_1 = 0.33984756;
 const vec3 red_plastic_under = vec3(0.29396582, 0.016394082, 0.01303686);
 const vec3 red_plastic_layer1_albedo_l = vec3(0.6, 0.05, 0.04);
 const vec3 red_plastic_layer1_rho = vec3(0.6, 0.05, 0.04);

@@ -4,6 +4,10 @@ struct PreviewVarying {
     vec4 position;
     vec2 p;
 };
+const float wet_clay_weight_roughness = 0.19615221;
+const float wet_clay_weight_eta = 0.9828329;
+const float wet_clay_weight_roughness_1 = 0.7387152;
+const float wet_clay_weight_roughness_2 = 0.8105116;
 const vec3 wet_clay_tau = vec3(0.32000002, 0.32000002, 0.32000002);
 const vec3 wet_clay_layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 wet_clay_layer1_r_return = vec3(0.11659962, 0.11659962, 0.11659962);

@@ -55,6 +55,27 @@ pub fn stack_of(coats: std::ops::RangeInclusive<usize>) -> impl Strategy<Value =
         .prop_map(|(method, coats, base, albedo, roughness, ior)| Stack { method, coats, base, albedo, roughness, ior })
 }
 
+impl Stack {
+    /// The same stack with every runtime parameter replaced by its value.
+    pub fn literal(mut self) -> Stack {
+        let lit = |n: &mut Num| {
+            if let Num::Param(x) = *n {
+                *n = Num::Lit(x);
+            }
+        };
+        for coat in &mut self.coats {
+            lit(&mut coat.roughness);
+            lit(&mut coat.ior);
+            lit(&mut coat.absorption.0);
+            lit(&mut coat.thickness);
+        }
+        lit(&mut self.albedo.0);
+        lit(&mut self.roughness);
+        lit(&mut self.ior);
+        self
+    }
+}
+
 /// Writes a stack as material text; runtime parameters get unique names.
 pub struct Writer {
     pub next_param: usize,

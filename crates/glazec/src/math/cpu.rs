@@ -83,7 +83,7 @@ impl Real for f32 {
     fn fetch(table: Codes, index: f32) -> f32 {
         // `as` saturates: a negative index reads entry 0.
         let codes = table.codes;
-        f32::from(codes[(index as usize).min(codes.len() - 1)])
+        f32::from(codes[(table.start as usize + index as usize).min(codes.len() - 1)])
     }
     fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {
         body(args)

@@ -47,12 +47,17 @@ pub struct TermDef {
 }
 
 /// A table's stored codes as [`Real::fetch`] reads them: the codes themselves (for an index
-/// known now) and where they start in the table buffer `glazec_tables`.
+/// known now), where they start in the catalogue's buffer, and the window of entries this fetch
+/// can reach: entry `start + index` with `index` ∈ [0, `len`), which is all a shader needs bound.
 #[derive(Clone, Copy, Debug)]
 pub struct Codes {
     pub codes: &'static [u16],
-    /// In entries (16-bit codes) from the start of the buffer.
+    /// In entries (16-bit codes) from the start of the catalogue's buffer.
     pub buffer_offset: u32,
+    /// The first entry of the table this fetch can read.
+    pub start: u32,
+    /// How many entries from `start` it can read.
+    pub len: u32,
 }
 
 /// A term argument or result of either shape.

@@ -3,11 +3,15 @@ struct TunableGlazeParams {
     body_albedo: vec3<f32>,
 }
 
+const tunable_glaze_weight_roughness: f32 = 0.006248474f;
+const tunable_glaze_weight_eta: f32 = 0.88888884f;
+const tunable_glaze_weight_roughness_1: f32 = 0.80947495f;
+const tunable_glaze_weight_roughness_2: f32 = 0.26028156f;
 const tunable_glaze_tau: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
 const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.319615f, 0.4872604f, 0.545984f);
 
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 1424>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 30>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -92,80 +96,66 @@ fn tunable_glaze_table_code(entry: u32) -> f32 {
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-fn tunable_glaze_coat_deficit(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 31f);
     let cell_cos_theta = min(floor(node_cos_theta), 30f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
-    let node_roughness = (u_roughness * 31f);
-    let cell_roughness = min(floor(node_roughness), 30f);
-    let weight_roughness = (node_roughness - cell_roughness);
-    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
-    let node_eta = (u_eta * 7f);
-    let cell_eta = min(floor(node_eta), 6f);
-    let weight_eta = (node_eta - cell_eta);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 32f)) + (cell_eta * 1024f))) + 0u));
+    let code_lll = tunable_glaze_table_code(u32(cell_cos_theta));
     let at_lll = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 32f)) + (cell_eta * 1024f))) + 0u));
+    let code_ull = tunable_glaze_table_code(u32((cell_cos_theta + 1f)));
     let at_ull = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 32f)) + (cell_eta * 1024f))) + 0u));
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta) + 32u));
     let at_lul = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 32f)) + (cell_eta * 1024f))) + 0u));
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 32u));
     let at_uul = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta) + 64u));
     let at_llu = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 64u));
     let at_ulu = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta) + 96u));
     let at_luu = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 32f)) + ((cell_eta + 1f) * 1024f))) + 0u));
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 96u));
     let at_uuu = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1f - weight_cos_theta) * 0.9937515f) * 0.111111164f)) + (at_ull * ((weight_cos_theta * 0.9937515f) * 0.111111164f))) + (at_lul * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_uul * ((weight_cos_theta * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_llu * (((1f - weight_cos_theta) * 0.9937515f) * tunable_glaze_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.9937515f) * tunable_glaze_weight_eta))) + (at_luu * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta))) + (at_uuu * ((weight_cos_theta * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-fn tunable_glaze_coat_extra(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_extra_slice(cos_theta_1: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 15f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 14f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
-    let node_roughness_1 = (u_roughness_1 * 15f);
-    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
-    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
-    let node_eta_1 = (u_eta_1 * 7f);
-    let cell_eta_1 = min(floor(node_eta_1), 6f);
-    let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_1) + 128u));
     let at_lll_1 = (code_lll * 0.0000014542611f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 128u));
     let at_ull_1 = (code_ull * 0.0000014542611f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_1) + 144u));
     let at_lul_1 = (code_lul * 0.0000014542611f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 16f)) + (cell_eta_1 * 256f))) + 8192u));
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 144u));
     let at_uul_1 = (code_uul * 0.0000014542611f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_1 * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 160u));
     let at_llu_1 = (code_llu * 0.0000014542611f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 160u));
     let at_ulu_1 = (code_ulu * 0.0000014542611f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 176u));
     let at_luu_1 = (code_luu * 0.0000014542611f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 16f)) + ((cell_eta_1 + 1f) * 256f))) + 8192u));
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 176u));
     let at_uuu_1 = (code_uuu * 0.0000014542611f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * (1f - weight_eta_1))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * (1f - weight_eta_1)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * (1f - weight_eta_1)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * (1f - weight_eta_1)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * weight_eta_1))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * weight_eta_1))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * weight_eta_1))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * weight_eta_1)));
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * 0.19052505f) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.19052505f) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_3)));
+fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_1)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -173,36 +163,29 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f3
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_path_slice(cos_theta_2: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 11f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
-    let node_eta_2 = (u_eta_2 * 7f);
-    let cell_eta_2 = min(floor(node_eta_2), 6f);
-    let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_2) + 192u));
     let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 192u));
     let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_2) + 204u));
     let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + (cell_eta_2 * 144f))) + 10240u));
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 204u));
     let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 216u));
     let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 216u));
     let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 228u));
     let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f)) + ((cell_eta_2 + 1f) * 144f))) + 10240u));
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 228u));
     let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * weight_eta_2))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * weight_eta_2)));
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * 0.73971844f) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.73971844f) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -276,8 +259,8 @@ fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_5: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_5 * eta_5))));
+fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_2: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -293,23 +276,23 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
     let specular = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e30 = tunable_glaze_coat_deficit(n_dot_l_3, 0.15f, 1.52f);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, 0.15f, 1.52f);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e30) - layer1_restored_l), 0f), 1f);
+    let _e28 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e28) - layer1_restored_l), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
-    let _e46 = tunable_glaze_coat_deficit(n_dot_v_3, 0.15f, 1.52f);
-    let layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, 0.15f, 1.52f);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e46) - layer1_restored_v), 0f), 1f);
+    let _e40 = tunable_glaze_coat_deficit_slice(n_dot_v_3);
+    let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e40) - layer1_restored_v), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e68 = tunable_glaze_coat_path(n_dot_l_3, 0.15f, 1.52f);
-    let layer1_path_cos_l = (layer1_cos_l / _e68);
-    let _e72 = tunable_glaze_coat_path(n_dot_v_3, 0.15f, 1.52f);
-    let layer1_path_cos_v = (layer1_cos_v / _e72);
+    let _e58 = tunable_glaze_coat_path_slice(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e58);
+    let _e60 = tunable_glaze_coat_path_slice(n_dot_v_3);
+    let layer1_path_cos_v = (layer1_cos_v / _e60);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v);
     let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
@@ -317,18 +300,18 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_v);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, 0.5f);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e68);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e72);
-    let _e92 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
-    let _e94 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e94)) * vec3(0.27190268f)) / max(_e92, vec3(0.000001f))));
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e58);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e60);
+    let _e80 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
+    let _e82 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e82)) * vec3(0.27190268f)) / max(_e80, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e124 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
-    let _e126 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e126)) * vec3(0.27190268f)) / max(_e124, vec3(0.000001f))));
+    let _e112 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
+    let _e114 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e114)) * vec3(0.27190268f)) / max(_e112, vec3(0.000001f))));
     let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e157 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e157, vec3(0.000001f))));
+    let _e145 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e145, vec3(0.000001f))));
     let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, tunable_glaze_layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
@@ -348,10 +331,10 @@ fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn tunable_glaze_environment(direction: vec3<f32>, roughness_3: f32) -> vec3<f32> {
+fn tunable_glaze_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
     let uv = tunable_glaze_equirect_uv(direction);
     let _e3 = textureNumLevels(tunable_glaze_radiance);
-    let lod = (roughness_3 * (f32(_e3) - 1f));
+    let lod = (roughness * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -376,8 +359,8 @@ fn tunable_glaze_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>,
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-fn tunable_glaze_interfaced_albedo(eta_6: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
-    let eta_sq = (eta_6 * eta_6);
+fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
+    let eta_sq = (eta_3 * eta_3);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
     let _e12 = (rho_below_2 * r_return_2);
     return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e12)) + vec3(e_fresnel));
@@ -403,33 +386,33 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let n_dot_v_4 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e13 = tunable_glaze_coat_deficit(n_dot_v_4, 0.15f, 1.52f);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_v_4, 0.15f, 1.52f);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e13) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e13) - layer1_restored_l), 0f), 1f);
+    let _e11 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_v_4);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e38 = tunable_glaze_coat_path(n_dot_v_4, 0.15f, 1.52f);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e38);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e38);
+    let _e32 = tunable_glaze_coat_path_slice(n_dot_v_4);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e32);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e32);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l_2);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v_2);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, 0.5f);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_cos_v_1);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, 0.5f);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e38);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e38);
-    let _e54 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
-    let _e56 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e56)) * vec3(0.27190268f)) / max(_e54, vec3(0.000001f))));
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e32);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e32);
+    let _e48 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
+    let _e50 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e50)) * vec3(0.27190268f)) / max(_e48, vec3(0.000001f))));
     let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e86 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
-    let _e88 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e88)) * vec3(0.27190268f)) / max(_e86, vec3(0.000001f))));
+    let _e80 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
+    let _e82 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e82)) * vec3(0.27190268f)) / max(_e80, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e119 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e119, vec3(0.000001f))));
+    let _e113 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e113, vec3(0.000001f))));
     let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
     let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33075798f, 0.3704671f, 0.38114467f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33075798f, 0.3704671f, 0.38114467f), layer1_first_escape_v_1, layer1_first_return_v_1);
@@ -437,9 +420,9 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, 0.0225f);
-    let _e183 = (dot(n_4, v_4) > 0f);
+    let _e177 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, 0.15f);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e183) * light_a) + (select(vec3(0f), under_albedo, _e183) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e177) * light_a) + (select(vec3(0f), under_albedo, _e177) * light_b));
 }
 

@@ -6,8 +6,10 @@ struct TunableGlazeParams {
     body_roughness: f32,
 }
 
+const tunable_glaze_weight_eta: f32 = 0.88888884f;
+
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 1984>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 496>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -91,7 +93,8 @@ fn tunable_glaze_table_code(entry: u32) -> f32 {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_extra_slice(cos_theta: f32, roughness: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
@@ -100,50 +103,43 @@ fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_roughness = (u_roughness * 15f);
     let cell_roughness = min(floor(node_roughness), 14f);
     let weight_roughness = (node_roughness - cell_roughness);
-    let u_eta = min(max((((eta_1 - 1f) * 2f) / (eta_1 + 1f)), 0f), 1f);
-    let node_eta = (u_eta * 7f);
-    let cell_eta = min(floor(node_eta), 6f);
-    let weight_eta = (node_eta - cell_eta);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))) + 0u));
+    let code_lll = tunable_glaze_table_code(u32((cell_cos_theta + (cell_roughness * 16f))));
     let at_lll = (code_lll * 0.0000014542611f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))) + 0u));
+    let code_ull = tunable_glaze_table_code(u32(((cell_cos_theta + 1f) + (cell_roughness * 16f))));
     let at_ull = (code_ull * 0.0000014542611f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 0u));
+    let code_lul = tunable_glaze_table_code(u32((cell_cos_theta + ((cell_roughness + 1f) * 16f))));
     let at_lul = (code_lul * 0.0000014542611f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))) + 0u));
+    let code_uul = tunable_glaze_table_code(u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f))));
     let at_uul = (code_uul * 0.0000014542611f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
+    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta + (cell_roughness * 16f))) + 256u));
     let at_llu = (code_llu * 0.0000014542611f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta + 1f) + (cell_roughness * 16f))) + 256u));
     let at_ulu = (code_ulu * 0.0000014542611f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
+    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta + ((cell_roughness + 1f) * 16f))) + 256u));
     let at_luu = (code_luu * 0.0000014542611f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))) + 0u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f))) + 256u));
     let at_uuu = (code_uuu * 0.0000014542611f);
-    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * 0.111111164f)) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * 0.111111164f))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * 0.111111164f))) + (at_uul * ((weight_cos_theta * weight_roughness) * 0.111111164f))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * tunable_glaze_weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * tunable_glaze_weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * tunable_glaze_weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-fn tunable_glaze_coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_extra_avg_slice(roughness_1: f32) -> f32 {
     let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
     let node_roughness_1 = (u_roughness_1 * 15f);
     let cell_roughness_1 = min(floor(node_roughness_1), 14f);
     let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
-    let node_eta_1 = (u_eta_1 * 7f);
-    let cell_eta_1 = min(floor(node_eta_1), 6f);
-    let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let code_ll = tunable_glaze_table_code((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 2048u));
+    let code_ll = tunable_glaze_table_code((u32(cell_roughness_1) + 512u));
     let at_ll = (code_ll * 0.000000436632f);
-    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 2048u));
+    let code_ul = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 512u));
     let at_ul = (code_ul * 0.000000436632f);
-    let code_lu = tunable_glaze_table_code((u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 2048u));
+    let code_lu = tunable_glaze_table_code((u32(cell_roughness_1) + 528u));
     let at_lu = (code_lu * 0.000000436632f);
-    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 2048u));
+    let code_uu = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 528u));
     let at_uu = (code_uu * 0.000000436632f);
-    return ((((at_ll * ((1f - weight_roughness_1) * (1f - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1f - weight_eta_1)))) + (at_lu * ((1f - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
+    return ((((at_ll * ((1f - weight_roughness_1) * 0.111111164f)) + (at_ul * (weight_roughness_1 * 0.111111164f))) + (at_lu * ((1f - weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uu * (weight_roughness_1 * tunable_glaze_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -159,7 +155,8 @@ fn tunable_glaze_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_2: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
@@ -168,35 +165,31 @@ fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) ->
     let node_roughness_2 = (u_roughness_2 * 31f);
     let cell_roughness_2 = min(floor(node_roughness_2), 30f);
     let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let u_eta_2 = min(max((((eta_3 - 1f) * 2f) / (eta_3 + 1f)), 0f), 1f);
-    let node_eta_2 = (u_eta_2 * 7f);
-    let cell_eta_2 = min(floor(node_eta_2), 6f);
-    let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
+    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 544u));
     let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 544u));
     let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
+    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 544u));
     let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 544u));
     let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
+    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 1568u));
     let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 1568u));
     let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
+    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
     let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
     let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * tunable_glaze_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_4)));
+fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_1)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -204,7 +197,8 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f3
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_path_slice(cos_theta_2: f32, roughness_3: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
@@ -213,27 +207,23 @@ fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f3
     let node_roughness_3 = (u_roughness_3 * 11f);
     let cell_roughness_3 = min(floor(node_roughness_3), 10f);
     let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
-    let node_eta_3 = (u_eta_3 * 7f);
-    let cell_eta_3 = min(floor(node_eta_3), 6f);
-    let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
+    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2592u));
     let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2592u));
     let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
+    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
     let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
     let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
+    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2736u));
     let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2736u));
     let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
+    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
     let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
     let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1f - weight_eta_3)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * tunable_glaze_weight_eta)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -294,24 +284,21 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_deficit_avg_slice(roughness_4: f32) -> f32 {
     let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
     let node_roughness_4 = (u_roughness_4 * 31f);
     let cell_roughness_4 = min(floor(node_roughness_4), 30f);
     let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let u_eta_4 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
-    let node_eta_4 = (u_eta_4 * 7f);
-    let cell_eta_4 = min(floor(node_eta_4), 6f);
-    let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let code_ll = tunable_glaze_table_code((u32((cell_roughness_4 + (cell_eta_4 * 32f))) + 11520u));
+    let code_ll = tunable_glaze_table_code((u32(cell_roughness_4) + 2880u));
     let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
-    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + (cell_eta_4 * 32f))) + 11520u));
+    let code_ul = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2880u));
     let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
-    let code_lu = tunable_glaze_table_code((u32((cell_roughness_4 + ((cell_eta_4 + 1f) * 32f))) + 11520u));
+    let code_lu = tunable_glaze_table_code((u32(cell_roughness_4) + 2912u));
     let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
-    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + ((cell_eta_4 + 1f) * 32f))) + 11520u));
+    let code_uu = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2912u));
     let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
-    return ((((at_ll_1 * ((1f - weight_roughness_4) * (1f - weight_eta_4))) + (at_ul_1 * (weight_roughness_4 * (1f - weight_eta_4)))) + (at_lu_1 * ((1f - weight_roughness_4) * weight_eta_4))) + (at_uu_1 * (weight_roughness_4 * weight_eta_4)));
+    return ((((at_ll_1 * ((1f - weight_roughness_4) * 0.111111164f)) + (at_ul_1 * (weight_roughness_4 * 0.111111164f))) + (at_lu_1 * ((1f - weight_roughness_4) * tunable_glaze_weight_eta))) + (at_uu_1 * (weight_roughness_4 * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -320,9 +307,10 @@ fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_6: f32) -> f32 {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
-    let _e4 = max(tau_1, 0f);
-    let u_tau = (_e4 / (_e4 + 1f));
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_5: f32) -> f32 {
+    let _e3 = max(tau_1, 0f);
+    let u_tau = (_e3 / (_e3 + 1f));
     let node_tau = (u_tau * 15f);
     let cell_tau = min(floor(node_tau), 14f);
     let weight_tau = (node_tau - cell_tau);
@@ -330,36 +318,33 @@ fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_7: f32) -> f32 {
     let node_roughness_5 = (u_roughness_5 * 15f);
     let cell_roughness_5 = min(floor(node_roughness_5), 14f);
     let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    let u_eta_5 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
-    let node_eta_5 = (u_eta_5 * 7f);
-    let cell_eta_5 = min(floor(node_eta_5), 6f);
-    let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let code_lll = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11776u));
+    let code_lll = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 2944u));
     let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_5 * 256f))) + 11776u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 2944u));
     let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11776u));
+    let code_lul = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
     let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_5 * 256f))) + 11776u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
     let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
+    let code_llu = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 3200u));
     let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 3200u));
     let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
+    let code_luu = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
     let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_5 + 1f) * 256f))) + 11776u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
     let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
-    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * (1f - weight_eta_5))) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * (1f - weight_eta_5)))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * (1f - weight_eta_5)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1f - weight_eta_5)))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * weight_eta_5))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * weight_eta_5))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * weight_eta_5))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_5)));
+    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * 0.111111164f)) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * 0.111111164f))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * 0.111111164f))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * 0.111111164f))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * tunable_glaze_weight_eta))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
-fn tunable_glaze_coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
-    let _e4 = max(tau_2, 0f);
-    let u_tau_1 = (_e4 / (_e4 + 1f));
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_6: f32) -> f32 {
+    let _e3 = max(tau_2, 0f);
+    let u_tau_1 = (_e3 / (_e3 + 1f));
     let node_tau_1 = (u_tau_1 * 15f);
     let cell_tau_1 = min(floor(node_tau_1), 14f);
     let weight_tau_1 = (node_tau_1 - cell_tau_1);
@@ -367,27 +352,23 @@ fn tunable_glaze_coat_escape(tau_2: f32, roughness_6: f32, eta_8: f32) -> f32 {
     let node_roughness_6 = (u_roughness_6 * 15f);
     let cell_roughness_6 = min(floor(node_roughness_6), 14f);
     let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    let u_eta_6 = min(max((((eta_8 - 1f) * 2f) / (eta_8 + 1f)), 0f), 1f);
-    let node_eta_6 = (u_eta_6 * 7f);
-    let cell_eta_6 = min(floor(node_eta_6), 6f);
-    let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let code_lll = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13824u));
+    let code_lll = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3456u));
     let at_lll_4 = (code_lll * 0.000015259022f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_6 * 256f))) + 13824u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3456u));
     let at_ull_4 = (code_ull * 0.000015259022f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13824u));
+    let code_lul = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
     let at_lul_4 = (code_lul * 0.000015259022f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 13824u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
     let at_uul_4 = (code_uul * 0.000015259022f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
+    let code_llu = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3712u));
     let at_llu_4 = (code_llu * 0.000015259022f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3712u));
     let at_ulu_4 = (code_ulu * 0.000015259022f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
+    let code_luu = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
     let at_luu_4 = (code_luu * 0.000015259022f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 13824u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
     let at_uuu_4 = (code_uuu * 0.000015259022f);
-    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * (1f - weight_eta_6))) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * (1f - weight_eta_6)))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * (1f - weight_eta_6)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1f - weight_eta_6)))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * weight_eta_6))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * weight_eta_6))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * weight_eta_6))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_6)));
+    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * 0.111111164f)) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * 0.111111164f))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * 0.111111164f))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * 0.111111164f))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * tunable_glaze_weight_eta))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * tunable_glaze_weight_eta)));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -406,8 +387,8 @@ fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, 
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_9: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_9 * eta_9))));
+fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_2: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -423,27 +404,27 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
     let _e29 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, params.glaze_roughness, 1.52f);
-    let layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, params.glaze_roughness, 1.52f);
-    let _e35 = tunable_glaze_coat_extra_avg(params.glaze_roughness, 1.52f);
-    let _e36 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e35);
-    let specular = (_e29 + vec3(_e36));
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3, params.glaze_roughness);
+    let _e32 = tunable_glaze_coat_extra_avg_slice(params.glaze_roughness);
+    let _e33 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e32);
+    let specular = (_e29 + vec3(_e33));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e44 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, 1.52f);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e44) - layer1_restored_l), 0f), 1f);
+    let _e40 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e40) - layer1_restored_l), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
-    let _e56 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, 1.52f);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e56) - layer1_restored_v), 0f), 1f);
+    let _e51 = tunable_glaze_coat_deficit_slice(n_dot_v_3, params.glaze_roughness);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, 1.52f);
-    let layer1_path_cos_l = (layer1_cos_l / _e74);
-    let _e77 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, 1.52f);
-    let layer1_path_cos_v = (layer1_cos_v / _e77);
+    let _e68 = tunable_glaze_coat_path_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_path_cos_l = (layer1_cos_l / _e68);
+    let _e70 = tunable_glaze_coat_path_slice(n_dot_v_3, params.glaze_roughness);
+    let layer1_path_cos_v = (layer1_cos_v / _e70);
     let absorb_l = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_v);
     let blur = ((0.34210527f * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
@@ -451,36 +432,36 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e92 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, 1.52f);
-    let layer1_transmit_avg = ((0.9052938f + _e92) - _e35);
-    let _e97 = (layer1_transmit_avg / 2.3104f);
-    let _e100 = tunable_glaze_coat_return(tau_3.x, params.glaze_roughness, 1.52f);
-    let _e103 = tunable_glaze_coat_return(tau_3.y, params.glaze_roughness, 1.52f);
-    let _e106 = tunable_glaze_coat_return(tau_3.z, params.glaze_roughness, 1.52f);
-    let _e108 = (vec3<f32>(_e100, _e103, _e106) * _e97);
-    let layer1_r_return = max((vec3(1f) - _e108), vec3(0f));
-    let _e118 = tunable_glaze_coat_escape(tau_3.x, params.glaze_roughness, 1.52f);
-    let _e121 = tunable_glaze_coat_escape(tau_3.y, params.glaze_roughness, 1.52f);
-    let _e124 = tunable_glaze_coat_escape(tau_3.z, params.glaze_roughness, 1.52f);
-    let layer1_transmit_avg_1 = ((0.9052938f + _e92) - _e35);
-    let _e131 = (layer1_transmit_avg_1 / 2.3104f);
-    let _e132 = vec3(_e131);
-    let layer1_r_return_1 = max((vec3(1f) - _e132), vec3(0f));
+    let _e84 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
+    let layer1_transmit_avg = ((0.9052938f + _e84) - _e32);
+    let _e89 = (layer1_transmit_avg / 2.3104f);
+    let _e91 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
+    let _e93 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
+    let _e95 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
+    let _e97 = (vec3<f32>(_e91, _e93, _e95) * _e89);
+    let layer1_r_return = max((vec3(1f) - _e97), vec3(0f));
+    let _e106 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
+    let _e108 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
+    let _e110 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
+    let layer1_transmit_avg_1 = ((0.9052938f + _e84) - _e32);
+    let _e117 = (layer1_transmit_avg_1 / 2.3104f);
+    let _e118 = vec3(_e117);
+    let layer1_r_return_1 = max((vec3(1f) - _e118), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e74);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e77);
-    let _e146 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e147 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e147)) * vec3(0.27190268f)) / max(_e146, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e175 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e176 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e176)) * vec3(0.27190268f)) / max(_e175, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e205 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
-    let _e207 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e207)) * vec3(0.27190268f)) / max(_e205, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e131).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e68);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e70);
+    let _e132 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e133 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e133)) * vec3(0.27190268f)) / max(_e132, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e161 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e162 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e162)) * vec3(0.27190268f)) / max(_e161, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e191 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
+    let _e193 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e193)) * vec3(0.27190268f)) / max(_e191, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
@@ -527,8 +508,8 @@ fn tunable_glaze_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>,
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-fn tunable_glaze_interfaced_albedo(eta_10: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
-    let eta_sq = (eta_10 * eta_10);
+fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
+    let eta_sq = (eta_3 * eta_3);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
     let _e12 = (rho_below_2 * r_return_2);
     return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e12)) + vec3(e_fresnel));
@@ -555,63 +536,63 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let tau_4 = (params_2.glaze_absorption * vec3(0.5f));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e18 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, 1.52f);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_v_4, params_2.glaze_roughness, 1.52f);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e18) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e18) - layer1_restored_l), 0f), 1f);
+    let _e17 = tunable_glaze_coat_deficit_slice(n_dot_v_4, params_2.glaze_roughness);
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_v_4, params_2.glaze_roughness);
+    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e17) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e17) - layer1_restored_l), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e41 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, 1.52f);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e41);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e41);
+    let _e38 = tunable_glaze_coat_path_slice(n_dot_v_4, params_2.glaze_roughness);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e38);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e38);
     let absorb_l = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_l_2);
     let absorb_v = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_v_2);
     let blur_1 = ((0.34210527f * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e54 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, 1.52f);
-    let _e56 = tunable_glaze_coat_extra_avg(params_2.glaze_roughness, 1.52f);
-    let layer1_transmit_avg_2 = ((0.9052938f + _e54) - _e56);
-    let _e61 = (layer1_transmit_avg_2 / 2.3104f);
-    let _e64 = tunable_glaze_coat_return(tau_4.x, params_2.glaze_roughness, 1.52f);
-    let _e67 = tunable_glaze_coat_return(tau_4.y, params_2.glaze_roughness, 1.52f);
-    let _e70 = tunable_glaze_coat_return(tau_4.z, params_2.glaze_roughness, 1.52f);
-    let _e72 = (vec3<f32>(_e64, _e67, _e70) * _e61);
-    let layer1_r_return_2 = max((vec3(1f) - _e72), vec3(0f));
-    let _e82 = tunable_glaze_coat_escape(tau_4.x, params_2.glaze_roughness, 1.52f);
-    let _e85 = tunable_glaze_coat_escape(tau_4.y, params_2.glaze_roughness, 1.52f);
-    let _e88 = tunable_glaze_coat_escape(tau_4.z, params_2.glaze_roughness, 1.52f);
-    let _e90 = (vec3<f32>(_e82, _e85, _e88) * _e61);
-    let layer1_transmit_avg_3 = ((0.9052938f + _e54) - _e56);
-    let _e95 = (layer1_transmit_avg_3 / 2.3104f);
-    let _e96 = vec3(_e95);
-    let layer1_r_return_3 = max((vec3(1f) - _e96), vec3(0f));
-    let _e104 = vec3(_e95);
+    let _e50 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
+    let _e51 = tunable_glaze_coat_extra_avg_slice(params_2.glaze_roughness);
+    let layer1_transmit_avg_2 = ((0.9052938f + _e50) - _e51);
+    let _e56 = (layer1_transmit_avg_2 / 2.3104f);
+    let _e58 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
+    let _e60 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
+    let _e62 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
+    let _e64 = (vec3<f32>(_e58, _e60, _e62) * _e56);
+    let layer1_r_return_2 = max((vec3(1f) - _e64), vec3(0f));
+    let _e73 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
+    let _e75 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
+    let _e77 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
+    let _e79 = (vec3<f32>(_e73, _e75, _e77) * _e56);
+    let layer1_transmit_avg_3 = ((0.9052938f + _e50) - _e51);
+    let _e84 = (layer1_transmit_avg_3 / 2.3104f);
+    let _e85 = vec3(_e84);
+    let layer1_r_return_3 = max((vec3(1f) - _e85), vec3(0f));
+    let _e93 = vec3(_e84);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e41);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e41);
-    let _e110 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e111 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e111)) * vec3(0.27190268f)) / max(_e110, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e139 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e140 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e140)) * vec3(0.27190268f)) / max(_e139, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e169 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
-    let _e171 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e171)) * vec3(0.27190268f)) / max(_e169, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e104.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e90, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(1.52f, _e104.x, _e90, layer1_r_return_2, layer1_rho);
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e38);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e38);
+    let _e99 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    let _e100 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e100)) * vec3(0.27190268f)) / max(_e99, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e128 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e129 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e129)) * vec3(0.27190268f)) / max(_e128, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e158 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
+    let _e160 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e160)) * vec3(0.27190268f)) / max(_e158, vec3(0.000001f))));
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, _e93.x, _e79, layer1_r_return_2, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let _e219 = (dot(n_4, v_4) > 0f);
+    let _e208 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e219) * light_a) + (select(vec3(0f), under_albedo, _e219) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e208) * light_a) + (select(vec3(0f), under_albedo, _e208) * light_b));
 }
 

@@ -75,14 +75,28 @@ struct State {
     module: Module,
     stack: Vec<FnState>,
     terms: HashMap<&'static str, Handle<Function>>,
+    /// Table lookups specialised for literal arguments, by term and the literal (or `None`) in
+    /// each argument position.
+    specialised: HashMap<(&'static str, Vec<Option<u32>>), Handle<Function>>,
     next_id: u32,
     const_names: Vec<String>,
     /// Named module constants already created, by (name, value bits).
     constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
     /// The table buffer, once used.
     tables_buffer: Option<Handle<naga::GlobalVariable>>,
-    /// The tables the buffer holds, in order: (offset in the catalogue's buffer, codes).
-    tables_used: Vec<(u32, &'static [u16])>,
+    /// Every table window a fetch reads, with the function and the expression of its offset
+    /// literal, which [`ModuleBuilder::finish_tables`] sets once the buffer is laid out.
+    table_fetches: Vec<TableFetch>,
+}
+
+/// One fetch from the table buffer (see `tables.rs`).
+struct TableFetch {
+    /// The function's name (unique in a module under construction).
+    function: String,
+    /// The `Add` of the entry and the offset literal.
+    add: Handle<Expression>,
+    offset: Handle<Expression>,
+    codes: crate::math::Codes,
 }
 
 /// Index into the builder's table of constant names.
@@ -123,11 +137,12 @@ impl ModuleBuilder {
                 module,
                 stack: Vec::new(),
                 terms: HashMap::new(),
+                specialised: HashMap::new(),
                 next_id: 0,
                 const_names: Vec::new(),
                 constants: HashMap::new(),
                 tables_buffer: None,
-                tables_used: Vec::new(),
+                table_fetches: Vec::new(),
             }),
             types,
         }

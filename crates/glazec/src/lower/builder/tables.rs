@@ -1,8 +1,10 @@
-//! The table buffer in generated code: a material's own uniform of the tables it reads (named
-//! `<material>_tables` once `lower` namespaces the module) and the function that reads one
-//! 16-bit code out of it. The buffer holds only the tables the material uses, each whole, in
-//! order of first use, so that it stays small (three 2,048-entry tables are 12 KiB, inside the
-//! 16 KiB that wgpu's downlevel limits and WebGL2 guarantee for a uniform binding).
+//! The table buffer in generated code: a material's own uniform of the table entries it can
+//! read (named `<material>_tables` once `lower` namespaces the module) and the function that
+//! reads one 16-bit code out of it. The buffer holds only the windows of the tables that the
+//! material's lookups can reach (a lookup whose roughness and IOR are literals reaches one
+//! slice per interpolation corner: 4 × 16 entries of a 2,048-entry table), in order of first
+//! use, so that it stays small: inside the 16 KiB that wgpu's downlevel limits and WebGL2
+//! guarantee for a uniform binding.
 
 use naga::{
     BinaryOperator, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, Scalar as NagaScalar,
@@ -55,27 +57,81 @@ impl ModuleBuilder {
         self.append(Expression::GlobalVariable(global))
     }
 
-    /// Where the table whose codes are `codes` (at `buffer_offset` in the catalogue's buffer)
-    /// starts in this module's table buffer, in entries: tables are added whole, in order of
-    /// first use.
-    pub(super) fn table_offset(&self, codes: &'static [u16], buffer_offset: u32) -> u32 {
+    /// `position + offset`: the entry of the module's table buffer for `position` within the
+    /// window of `table` a fetch can reach. The offset is a placeholder until
+    /// [`Self::finish_tables`] lays the buffer out.
+    pub(super) fn table_entry(&self, table: crate::math::Codes, position: Handle<Expression>) -> Handle<Expression> {
+        let offset = self.append(Expression::Literal(Literal::U32(0)));
+        let add = self.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
         let mut state = self.state.borrow_mut();
-        let mut offset = 0;
-        for &(known, known_codes) in &state.tables_used {
-            if known == buffer_offset {
-                return offset;
-            }
-            offset += known_codes.len() as u32;
-        }
-        state.tables_used.push((buffer_offset, codes));
-        offset
+        let function = state.stack.last().and_then(|f| f.function.name.clone()).unwrap_or_default();
+        state.table_fetches.push(super::TableFetch { function, add, offset, codes: table });
+        add
     }
 
-    /// Gives the table buffer (if any) its final size and returns its contents: the codes of
-    /// the tables used, concatenated (empty when no lookup reads the buffer).
+    /// Lays the table buffer out and returns its contents: per table, the windows its fetches
+    /// reach, merged where they overlap or touch, one after another in order of first use (so a
+    /// table's share is never more than the whole table). Then gives every fetch its offset
+    /// (a fetch at offset 0 reads the entry itself) and the buffer its final size. Empty when no
+    /// lookup reads the buffer.
     pub fn finish_tables(&self) -> Vec<u16> {
         let mut state = self.state.borrow_mut();
-        let codes: Vec<u16> = state.tables_used.iter().flat_map(|(_, c)| c.iter().copied()).collect();
+        // Per table (by its place in the catalogue's buffer), the windows its fetches reach.
+        let mut tables: Vec<(u32, &'static [u16], Vec<(u32, u32)>)> = Vec::new();
+        for fetch in &state.table_fetches {
+            let c = fetch.codes;
+            let window = (c.start, c.start + c.len);
+            match tables.iter_mut().find(|(offset, ..)| *offset == c.buffer_offset) {
+                Some((_, _, windows)) => windows.push(window),
+                None => tables.push((c.buffer_offset, c.codes, vec![window])),
+            }
+        }
+        let mut codes: Vec<u16> = Vec::new();
+        // (table, merged window, its offset in the buffer).
+        let mut placed: Vec<(u32, (u32, u32), u32)> = Vec::new();
+        for (table, table_codes, mut windows) in tables {
+            windows.sort_unstable();
+            let mut merged: Vec<(u32, u32)> = Vec::new();
+            for (start, end) in windows {
+                match merged.last_mut() {
+                    Some(last) if start <= last.1 => last.1 = last.1.max(end),
+                    _ => merged.push((start, end)),
+                }
+            }
+            for (start, end) in merged {
+                placed.push((table, (start, end), codes.len() as u32));
+                codes.extend_from_slice(&table_codes[start as usize..(end as usize).min(table_codes.len())]);
+            }
+        }
+        let fetches = std::mem::take(&mut state.table_fetches);
+        for fetch in &fetches {
+            let c = fetch.codes;
+            let Some(&(_, (start, _), at)) = placed
+                .iter()
+                .find(|(table, (start, end), _)| *table == c.buffer_offset && *start <= c.start && c.start < *end)
+            else {
+                unreachable!("every fetch's window was placed")
+            };
+            let offset = at + (c.start - start);
+            let Some((_, function)) =
+                state.module.functions.iter_mut().find(|(_, f)| f.name.as_deref() == Some(fetch.function.as_str()))
+            else {
+                unreachable!("a fetch belongs to a finished function")
+            };
+            if offset == 0 {
+                // entry = position: the call reads the position itself. The addition, now
+                // unused, adds the literal to itself instead, so that it does not count as a
+                // second use of the position (which a backend would then spell as a `let`).
+                let Expression::Binary { left, .. } = function.expressions[fetch.add] else {
+                    unreachable!("a fetch's entry is an addition")
+                };
+                replace_argument(&mut function.body, fetch.add, left);
+                function.expressions[fetch.add] =
+                    Expression::Binary { op: BinaryOperator::Add, left: fetch.offset, right: fetch.offset };
+            } else {
+                function.expressions[fetch.offset] = Expression::Literal(Literal::U32(offset));
+            }
+        }
         if let Some(global) = state.tables_buffer {
             // A fixed size, so that a device's bounds checks clamp to a constant instead of
             // reading the buffer's length at every access.
@@ -139,4 +195,29 @@ pub fn table_bytes(codes: &[u16]) -> Vec<u8> {
         codes.chunks(2).map(|pair| u32::from(pair[0]) | u32::from(pair.get(1).copied().unwrap_or(0)) << 16).collect();
     words.resize(words.len().next_multiple_of(4), 0);
     words.iter().flat_map(|w| w.to_le_bytes()).collect()
+}
+
+/// Replaces `from` by `to` among the arguments of every call in `block`, nested blocks included.
+fn replace_argument(block: &mut naga::Block, from: Handle<Expression>, to: Handle<Expression>) {
+    use naga::Statement as S;
+    for statement in block.iter_mut() {
+        match statement {
+            S::Call { arguments, .. } => {
+                for argument in arguments.iter_mut().filter(|a| **a == from) {
+                    *argument = to;
+                }
+            }
+            S::Block(inner) => replace_argument(inner, from, to),
+            S::If { accept, reject, .. } => {
+                replace_argument(accept, from, to);
+                replace_argument(reject, from, to);
+            }
+            S::Loop { body, continuing, .. } => {
+                replace_argument(body, from, to);
+                replace_argument(continuing, from, to);
+            }
+            S::Switch { cases, .. } => cases.iter_mut().for_each(|c| replace_argument(&mut c.body, from, to)),
+            _ => {}
+        }
+    }
 }

@@ -132,6 +132,75 @@ impl ModuleBuilder {
     }
 
     /// The function that implements `def`, building it on first use.
+    /// A table lookup with the arguments that are literals here (`literals[i]`) built into it:
+    /// its parameters are the others, and its cells along the literal axes are constants, so
+    /// that it reads only the slices they select ([`crate::math::Codes`]'s window). The first
+    /// specialisation of a table is named `<lookup>_slice`, later ones `<lookup>_slice_b`, `_c`, …
+    fn specialised_lookup<'a>(
+        &'a self,
+        def: &'static TermDef,
+        literals: &[Option<f32>],
+        body: &dyn Fn(&[Slot<Expr<'a>>]) -> Slot<Expr<'a>>,
+    ) -> Handle<Function> {
+        let key = (def.name, literals.iter().map(|l| l.map(f32::to_bits)).collect::<Vec<_>>());
+        if let Some(&f) = self.state.borrow().specialised.get(&key) {
+            return f;
+        }
+        let earlier = self.state.borrow().specialised.keys().filter(|(name, _)| *name == def.name).count();
+        let name = match earlier {
+            0 => format!("{}_slice", def.name),
+            k => format!("{}_slice_{}", def.name, char::from(b'a' + (k % 26) as u8)),
+        };
+        let dynamic: Vec<(usize, &(&str, Kind))> =
+            def.params.iter().enumerate().filter(|(i, _)| literals[*i].is_none()).collect();
+        let arguments = dynamic
+            .iter()
+            .map(|&(_, &(name, kind))| FunctionArgument {
+                name: Some(name.to_string()),
+                ty: self.kind_type(kind),
+                binding: None,
+            })
+            .collect();
+        let result = FunctionResult { ty: self.kind_type(def.ret), binding: None };
+        self.begin_function(&name, arguments, Some(result));
+        let mut next = 0;
+        let slots: Vec<Slot<Expr<'a>>> = def
+            .params
+            .iter()
+            .zip(literals)
+            .map(|(&(_, kind), literal)| match literal {
+                Some(x) => Slot::S(self.constant(*x)),
+                None => {
+                    let h = self.argument(next);
+                    next += 1;
+                    match kind {
+                        Kind::Scalar => Slot::S(self.scalar(h)),
+                        Kind::Vec3 => Slot::V(self.vector(h)),
+                    }
+                }
+            })
+            .collect();
+        let out = body(&slots);
+        let value = self.slot_handle(out);
+        self.statement(Statement::Return { value: Some(value) });
+        let function = self.end_function();
+        let fixed: Vec<String> = def
+            .params
+            .iter()
+            .zip(literals)
+            .filter_map(|(&(param, _), literal)| literal.map(|x| format!("{param} = {x}")))
+            .collect();
+        let mut doc: Vec<String> = def.doc.iter().map(|l| l.to_string()).collect();
+        doc.push(format!(
+            "Here {} (literals of the material): this function reads only the slices of the table they select.",
+            fixed.join(", ")
+        ));
+        let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
+        let handle = self.add_function(function, &doc);
+        self.state.borrow_mut().specialised.insert(key, handle);
+        handle
+    }
+
     fn term_function<'a>(
         &'a self,
         def: &'static TermDef,
@@ -422,13 +491,11 @@ impl<'a> Real for Expr<'a> {
         let b = index.b;
         if let Val::Const(i) = index.v {
             let codes = table.codes;
-            return b.constant(f32::from(codes[(i as usize).min(codes.len() - 1)]));
+            return b.constant(f32::from(codes[(table.start as usize + i as usize).min(codes.len() - 1)]));
         }
         let expr = index.handle();
         let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
-        let offset = b.table_offset(table.codes, table.buffer_offset);
-        let offset = b.append(Expression::Literal(Literal::U32(offset)));
-        let entry = b.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
+        let entry = b.table_entry(table, position);
         let function = b.table_code_function();
         index.dynamic(b.call(function, vec![entry]))
     }
@@ -450,8 +517,20 @@ impl<'a> Real for Expr<'a> {
         let result = match b.earlier_call(&key) {
             Some(result) => result,
             None => {
-                let function = b.term_function(def, body);
-                let arguments = args.iter().map(|&a| b.slot_handle(a)).collect();
+                let literals: Vec<Option<f32>> = args
+                    .iter()
+                    .map(|a| match a {
+                        Slot::S(x) => x.as_const(),
+                        Slot::V(_) => None,
+                    })
+                    .collect();
+                let (function, arguments) = if is_table_lookup(def) && literals.iter().any(Option::is_some) {
+                    let function = b.specialised_lookup(def, &literals, body);
+                    let dynamic = args.iter().zip(&literals).filter(|(_, l)| l.is_none());
+                    (function, dynamic.map(|(&a, _)| b.slot_handle(a)).collect())
+                } else {
+                    (b.term_function(def, body), args.iter().map(|&a| b.slot_handle(a)).collect())
+                };
                 let result = b.call(function, arguments);
                 b.remember_call(key, result);
                 result
@@ -761,3 +840,9 @@ impl Named for ExprBool<'_> {
 }
 
 impl Logic for ExprBool<'_> {}
+
+/// Whether `def` is a table's lookup (whose literal arguments are worth building in: they fix
+/// which slices of the table a shader needs bound).
+fn is_table_lookup(def: &TermDef) -> bool {
+    crate::math::tables::SPECS.iter().any(|spec| spec.term.name == def.name)
+}

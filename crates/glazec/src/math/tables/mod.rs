@@ -111,16 +111,29 @@ fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&
     let zero = cells[0].0.lit(0.0);
     let mut total = zero;
     for corner in 0..1usize << cells.len() {
-        let (mut index, mut weight, mut stride) = (zero, zero.lit(1.0), 1.0);
+        // The corner's entry is start + index: a known cell (every one on the CPU) adds its
+        // axis' part to `start`; an axis known only at run time adds to `index`, over its cells
+        // i ∈ [0, n − 2] plus one on the upper side, so the corner reaches the window
+        // [start, start + span].
+        let (mut index, mut weight, mut stride) = (zero, zero.lit(1.0), 1u32);
+        let (mut start, mut span) = (0u32, 0u32);
         for (axis, &(i, w)) in cells.iter().enumerate() {
             let upper = corner >> axis & 1 == 1;
-            index = index + (if upper { i + 1.0 } else { i }) * stride;
             weight = weight * if upper { w } else { w.one_minus() };
-            stride *= spec.axes[axis].1 as f32;
+            let n = spec.axes[axis].1 as u32;
+            match i.known() {
+                Some(cell) => start += (cell as u32 + u32::from(upper)) * stride,
+                None => {
+                    index = index + (if upper { i + 1.0 } else { i }) * stride as f32;
+                    span += (n - 1) * stride;
+                }
+            }
+            stride *= n;
         }
         // The entry's value: offset + scale·code, the stored encoding.
         let quantization = id.quantization();
-        let mut code = F::fetch(Codes { codes: id.codes(), buffer_offset: id.buffer_offset() }, index);
+        let codes = Codes { codes: id.codes(), buffer_offset: id.buffer_offset(), start, len: span + 1 };
+        let mut code = F::fetch(codes, index);
         // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
         let corner_name =
             || -> String { (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect() };
