@@ -77,7 +77,7 @@ impl ModuleBuilder {
     pub fn finish_tables(&self) -> Vec<u16> {
         let mut state = self.state.borrow_mut();
         // Per table (by its place in the catalogue's buffer), the windows its fetches reach.
-        let mut tables: Vec<(u32, &'static [u16], Vec<(u32, u32)>)> = Vec::new();
+        let mut tables: Vec<TableWindows> = Vec::new();
         for fetch in &state.table_fetches {
             let c = fetch.codes;
             let window = (c.start, c.start + c.len);
@@ -179,6 +179,10 @@ impl ModuleBuilder {
         handle
     }
 }
+
+/// A table's windows: (its place in the catalogue's buffer, its codes, [start, end) of each
+/// window its fetches reach).
+type TableWindows = (u32, &'static [u16], Vec<(u32, u32)>);
 
 /// `array<vec4<u32>, vec4s>`.
 fn tables_type(module: &mut naga::Module, vec4s: u32) -> Handle<naga::Type> {
