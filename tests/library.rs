@@ -210,6 +210,45 @@ fn fragment(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
 }
 
 #[test]
+fn the_wgsl_libraries_are_wesl_modules() {
+    use std::borrow::Cow;
+    use wesl::VirtualResolver;
+    let wet_clay = common::compile_file(&common::root().join("materials/wet_clay.ron"));
+    let glaze = common::compile_file(&common::root().join("materials/tunable_glaze.ron"))
+        .with_bindings(&Choice::default().with(Resource::Params, Slot::new(0, 8)))
+        .expect("binds");
+    let path = |p: &str| p.parse::<wesl::ModulePath>().unwrap_or_else(|e| panic!("{p}: {e:?}"));
+    let mut resolver = VirtualResolver::new();
+    for compiled in [&wet_clay, &glaze] {
+        let m = &compiled.material.name;
+        let library = text(compiled, Target::Wgsl, &format!("{m}.wgsl"));
+        resolver.add_module(path(&format!("package::{m}")), Cow::Owned(library));
+    }
+    let main = r"
+import package::wet_clay::wet_clay_eval;
+import package::tunable_glaze::{tunable_glaze_eval, tunable_glaze_params};
+
+@fragment
+fn fragment(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
+    let n = normalize(normal);
+    let v = vec3<f32>(0.0, 0.0, 1.0);
+    let l = normalize(vec3<f32>(0.3, 0.4, 1.0));
+    return vec4<f32>(wet_clay_eval(n, v, l) + tunable_glaze_eval(n, v, l, tunable_glaze_params), 1.0);
+}
+";
+    resolver.add_module(path("package::main"), Cow::Borrowed(main));
+    let compiler = wesl::Wesl::new("").set_custom_resolver(resolver);
+    let result = compiler.compile(&path("package::main")).unwrap_or_else(|e| panic!("WESL: {e}"));
+    let module = parse_and_validate("the WESL compiler's output", &result.to_string());
+    assert_eq!(module.entry_points.len(), 1);
+    // Both BRDFs came through the imports (names as the WESL compiler mangles them).
+    let names: Vec<String> = module.functions.iter().filter_map(|(_, f)| f.name.clone()).collect();
+    for brdf in ["wet_clay_brdf", "tunable_glaze_brdf"] {
+        assert!(names.iter().any(|n| n.contains(brdf)), "{brdf} missing from {names:?}");
+    }
+}
+
+#[test]
 fn bindings_go_where_the_host_chooses() {
     let glaze = common::compile_file(&common::root().join("materials/tunable_glaze.ron"));
     let choice = Choice::default().with(Resource::Params, Slot::new(3, 0)).with(Resource::Environment, Slot::new(1, 4));
