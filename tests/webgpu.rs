@@ -227,7 +227,14 @@ fn eval_pairs_through_dawn_agrees_with_the_cpu() {
         compiled_all.push(compiled);
     }
     let report = dawn(serde_json::json!({ "backend": "opengles", "run": run }), dir.path());
-    assert!(report["error"].is_null(), "Dawn's OpenGL ES backend: {report}");
+    if let Some(error) = report["error"].as_str() {
+        // No EGL / Mesa GL driver (libegl-mesa0, libgl1-mesa-dri): a visible skip, or a failure in CI.
+        if std::env::var("GLAZEC_REQUIRE_TOOLS").is_ok_and(|v| v == "1") {
+            panic!("Dawn's OpenGL ES backend: {error} and GLAZEC_REQUIRE_TOOLS=1");
+        }
+        eprintln!("SKIPPED: Dawn's OpenGL ES backend: {error} (apt-get install libegl-mesa0 libgl1-mesa-dri)");
+        return;
+    }
     assert!(report["errors"].as_array().is_none_or(Vec::is_empty), "{report}");
     let mut worst = 0.0_f32;
     let mut failures = Vec::new();
