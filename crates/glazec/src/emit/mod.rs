@@ -153,8 +153,9 @@ pub fn emit(
         match target {
             Target::Wgsl => {
                 let library_text = wgsl()?;
-                let full = polished(module, &wgsl::write_string(module, info, wgsl::WriterFlags::empty())?, false);
-                let harness = library::harness_items(&full, &library_text);
+                // The whole module's text is split first, and only the harness's items polished.
+                let full = wgsl::write_string(module, info, wgsl::WriterFlags::empty())?;
+                let harness = polished(module, &library::harness_items(&full, &library_text), false);
                 out.push(artifact(format!("{name}.wgsl"), &header, &library_text, None, false));
                 let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
                 out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
@@ -181,8 +182,7 @@ pub fn emit(
             }
             Target::Hlsl => {
                 let library_text = polished(library, &write_hlsl(library, library_info)?, false);
-                let full = polished(module, &write_hlsl(module, info)?, false);
-                let harness = library::harness_items(&full, &library_text);
+                let harness = polished(module, &library::harness_items(&write_hlsl(module, info)?, &library_text), false);
                 let library_text = library::guarded(&library_text, name);
                 out.push(artifact(format!("{name}.hlsli"), &header, &library_text, None, false));
                 let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");
