@@ -8,6 +8,8 @@
 //! block, the lines up to its closing brace at depth 0; `@…` attribute lines and `//` comment
 //! lines at column 0 belong to the declaration that follows them, and blank lines end an item.
 
+use super::polish::is_ident_char;
+
 /// One top-level item.
 pub(super) struct Item<'t> {
     /// The name it declares (`None` for a preprocessor line or anything unrecognised).
@@ -64,14 +66,10 @@ fn is_prefix_line(line: &str) -> bool {
     line.starts_with('@') || line.starts_with("//")
 }
 
-fn is_ident(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c == '_'
-}
-
 /// The name a declaration line declares: the word after `struct`, `cbuffer`'s or a GLSL block's
 /// name, or the last word before the first `(`, `:`, `=`, `[` or `;`.
 fn declared_name(line: &str) -> Option<&str> {
-    let word = |s: &str| -> Option<usize> { s.find(|c: char| !is_ident(c)).or(Some(s.len())) };
+    let word = |s: &str| -> Option<usize> { s.find(|c: char| !is_ident_char(c)).or(Some(s.len())) };
     if line.starts_with('#') {
         return None;
     }
@@ -91,7 +89,7 @@ fn declared_name(line: &str) -> Option<&str> {
     }
     let end = line.find(['(', ':', '=', '[', ';'])?;
     let before = line[..end].trim_end();
-    let start = before.rfind(|c: char| !is_ident(c)).map_or(0, |i| i + 1);
+    let start = before.rfind(|c: char| !is_ident_char(c)).map_or(0, |i| i + 1);
     let name = &before[start..];
     (!name.is_empty()).then_some(name)
 }

@@ -3,6 +3,7 @@
 use naga::{Block, EntryPoint, Expression, Function, Module, ShaderStage, Span, Statement};
 
 use super::items;
+use super::polish::is_ident_char;
 use crate::lower::bindings::Layout;
 
 /// The names a library's own items start with: `<material>_` and `<Material>` (its structs).
@@ -118,13 +119,12 @@ fn rename_block(line: &str) -> String {
 
 /// `text` with every whole-word `from` replaced by `to`.
 fn replace_word(text: &str, from: &str, to: &str) -> String {
-    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
     let mut out = String::with_capacity(text.len());
     let mut copied = 0;
     for (at, _) in text.match_indices(from) {
         let before = text[..at].chars().next_back();
         let after = text[at + from.len()..].chars().next();
-        if before.is_some_and(is_ident) || after.is_some_and(is_ident) {
+        if before.is_some_and(is_ident_char) || after.is_some_and(is_ident_char) {
             continue;
         }
         out.push_str(&text[copied..at]);

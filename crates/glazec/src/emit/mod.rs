@@ -146,22 +146,24 @@ pub fn emit(
     targets.sort();
     targets.dedup();
     let mut out = Vec::new();
-    let wgsl = || -> Result<String, EmitError> {
-        Ok(polished(library, &wgsl::write_string(library, library_info, wgsl::WriterFlags::empty())?, false))
+    // The WGSL library, written once for the WGSL and naga_oil targets.
+    let wgsl_library = if targets.iter().any(|t| matches!(t, Target::Wgsl | Target::NagaOil)) {
+        polished(library, &wgsl::write_string(library, library_info, wgsl::WriterFlags::empty())?, false)
+    } else {
+        String::new()
     };
     for target in targets {
         match target {
             Target::Wgsl => {
-                let library_text = wgsl()?;
                 // The whole module's text is split first, and only the harness's items polished.
                 let full = wgsl::write_string(module, info, wgsl::WriterFlags::empty())?;
-                let harness = polished(module, &library::harness_items(&full, &library_text), false);
-                out.push(artifact(format!("{name}.wgsl"), &header, &library_text, None, false));
+                let harness = polished(module, &library::harness_items(&full, &wgsl_library), false);
+                out.push(artifact(format!("{name}.wgsl"), &header, &wgsl_library, None, false));
                 let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
                 out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
             }
             Target::NagaOil => {
-                let text = library::naga_oil(name, &wgsl()?, layout);
+                let text = library::naga_oil(name, &wgsl_library, layout);
                 out.push(artifact(format!("{name}.naga_oil.wgsl"), &header, &text, None, false));
             }
             Target::Glsl => {
@@ -182,7 +184,8 @@ pub fn emit(
             }
             Target::Hlsl => {
                 let library_text = polished(library, &write_hlsl(library, library_info)?, false);
-                let harness = polished(module, &library::harness_items(&write_hlsl(module, info)?, &library_text), false);
+                let harness =
+                    polished(module, &library::harness_items(&write_hlsl(module, info)?, &library_text), false);
                 let library_text = library::guarded(&library_text, name);
                 out.push(artifact(format!("{name}.hlsli"), &header, &library_text, None, false));
                 let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");

@@ -48,7 +48,8 @@ fn edits(module: &Module, glsl_entry: bool) -> HashMap<String, Edits<'_>> {
     map
 }
 
-fn is_ident_char(c: char) -> bool {
+/// Whether `c` can be part of an identifier in WGSL, GLSL and HLSL as naga writes them.
+pub(super) fn is_ident_char(c: char) -> bool {
     c.is_ascii_alphanumeric() || c == '_'
 }
 

@@ -180,17 +180,6 @@ pub mod bindings {
         /// The harness's `light: PreviewLight` (the preview's directional light), in group 0.
         pub light: Option<u32>,
     }
-
-    impl Layout {
-        /// Every library resource: (name in generated code, slot), sorted by slot.
-        pub fn library(&self) -> Vec<(String, Slot)> {
-            let mut all: Vec<(String, Slot)> = self.textures.iter().chain(&self.environment).cloned().collect();
-            all.extend(self.params.map(|s| ("params".to_string(), s)));
-            all.extend(self.tables.map(|s| ("tables".to_string(), s)));
-            all.sort_by_key(|(_, s)| *s);
-            all
-        }
-    }
 }
 
 /// Entry point names.
