@@ -82,7 +82,7 @@ pub fn project_failure(e: ProjectError, format: MessageFormat) -> Failure {
             Failure::Diagnostics
         }
         ProjectError::Read(e) => Failure::Usage(e.into()),
-        e @ ProjectError::Bind { .. } => Failure::Usage(e.into()),
+        e @ (ProjectError::Bind { .. } | ProjectError::Write { .. }) => Failure::Usage(e.into()),
         e @ (ProjectError::Validate(_) | ProjectError::Emit(_)) => Failure::Internal(e.into()),
     }
 }

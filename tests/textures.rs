@@ -43,6 +43,8 @@ fn material(layers: &str) -> String {
     format!("Material(name: \"m\", layers: [{layers}])")
 }
 
+/// The relative step of a half float (10 fraction bits): the previews' precision.
+const HALF_STEP: f32 = 1.0 / 1024.0;
 #[test]
 fn texture_reads_become_parameters_with_their_ranges() {
     let (m, _) = glazec::load(&textured_clay()).expect("checks");
@@ -123,7 +125,7 @@ fn every_backend_declares_the_documented_bindings() {
     assert!(signature.ends_with("textures: TexturedClayTextures) -> vec3<f32> {"), "{signature}");
     // One sample per texture: the packed map's G and B share it.
     assert_eq!(wgsl.matches("textureSampleLevel(textured_clay_clay_maps").count(), 1);
-    let glsl = text(".preview_fs.frag.glsl");
+    let glsl = text("textured_clay.glsl");
     assert!(glsl.contains("layout(binding = 17) uniform sampler2D"), "GLSL: textures at 16 + binding");
     let hlsl = text(".hlsli");
     assert!(hlsl.contains("Texture2D<float4> textured_clay_clay_maps : register(t1, space1);"));
@@ -247,8 +249,17 @@ fn previews_sample_the_images_at_the_sphere_uv() {
     let options = PreviewOptions { size: 64, environment: Environment::None, ..Default::default() };
     let a = preview::render(gpu, &constant, &[], &options).expect("renders");
     let b = preview::render(gpu, &textured, &constant_values(), &options).expect("renders");
-    let worst = a.iter().zip(&b).flat_map(|(x, y)| (0..4).map(move |c| (x[c] - y[c]).abs())).fold(0.0, f32::max);
-    assert!(worst < 1e-4, "uniform textures: preview differs by {worst}");
+    // The previews are half floats (Rgba16Float). The constant clay's table lookups are curves
+    // summed in its code and the textured clay's (runtime roughness) are lookups: the same
+    // numbers up to f32 rounding, which may round to neighbouring half floats: one step apart.
+    let worst = a
+        .iter()
+        .zip(&b)
+        .flat_map(|(x, y)| {
+            (0..4).map(move |c| (x[c] - y[c]).abs() / (HALF_STEP * x[c].abs().max(y[c].abs()).max(1e-3)))
+        })
+        .fold(0.0, f32::max);
+    assert!(worst <= 1.0, "uniform textures: previews differ by {worst} half-float steps");
     // An albedo image whose left half (u < ½, the sphere's left side) is black darkens that side.
     // (64 texels wide, so that bilinear filtering blends only a sliver around u = ½.)
     let texels = (0..64).map(|i| if i < 32 { [0.0, 0.0, 0.0, 1.0] } else { [0.7, 0.5, 0.4, 1.0] }).collect();

@@ -42,6 +42,18 @@ struct FragmentInput_preview_ibl_fs {
     float2 p_4 : LOC0;
 };
 
+float ZeroValuefloat() {
+    return (float)0;
+}
+
+float3 ZeroValuefloat3() {
+    return (float3)0;
+}
+
+float2 ZeroValuefloat2() {
+    return (float2)0;
+}
+
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;
     ret.wi = arg0;

@@ -27,7 +27,7 @@ struct PreviewVarying {
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
-cbuffer light : register(b4) { PreviewLight light; }
+cbuffer light : register(b3) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_2 : LOC0;
@@ -41,6 +41,18 @@ struct FragmentInput_preview_fs {
 struct FragmentInput_preview_ibl_fs {
     float2 p_4 : LOC0;
 };
+
+float3 ZeroValuefloat3() {
+    return (float3)0;
+}
+
+float ZeroValuefloat() {
+    return (float)0;
+}
+
+float2 ZeroValuefloat2() {
+    return (float2)0;
+}
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {
     DirectionPair ret = (DirectionPair)0;

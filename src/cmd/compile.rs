@@ -51,6 +51,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let bindings = args.bind.iter().fold(Choice::default(), |choice, &(resource, slot)| choice.with(resource, slot));
     let project =
         Project { inputs: args.inputs, scene: args.scene, out_dir: args.out.clone(), targets: args.target, bindings };
+    if project.scene.is_none() && !args.check {
+        // Compiled, emitted and staged material by material: memory does not grow with the folder.
+        let written = project.write().map_err(|e| project_failure(e, args.message_format))?;
+        for file in &written.notes {
+            print_diagnostics(file, args.message_format);
+        }
+        eprintln!("wrote {} files for {} material(s) to {}", written.files, written.materials, args.out.display());
+        return Ok(());
+    }
     let outcome = project.compile().map_err(|e| project_failure(e, args.message_format))?;
     for file in &outcome.notes {
         print_diagnostics(file, args.message_format);

@@ -74,17 +74,14 @@ pub(crate) fn load(
             Ok(Loaded { module, entry: entry.to_string() })
         }
         ShaderPath::Glsl => {
-            let artifact = compiled
-                .emit(&[Target::Glsl])?
-                .into_iter()
+            // The entry point's file `#include`s the library: all go to glslang's folder.
+            let files = compiled.emit(&[Target::Glsl])?;
+            let artifact = files
+                .iter()
                 .find(|a| a.stage.as_ref().is_some_and(|(s, e)| *s == stage && e == entry))
                 .ok_or_else(|| RunError::Rejected { what: what.clone(), message: format!("no GLSL for `{entry}`") })?;
             let stage_name = glazec::emit::stage_suffix(stage);
-            let words = glslang(
-                std::slice::from_ref(&artifact),
-                &artifact.file_name,
-                &["-V", "--target-env", "vulkan1.0", "-S", stage_name],
-            )?;
+            let words = glslang(&files, &artifact.file_name, &["-V", "--target-env", "vulkan1.0", "-S", stage_name])?;
             let entry = spirv_entry_point(&words).unwrap_or_else(|| "main".to_string());
             let module = create(wgpu::ShaderSource::SpirV(Cow::Owned(words)))?;
             Ok(Loaded { module, entry })

@@ -93,6 +93,8 @@ pub struct Report {
     pub scale: Vec<ScaleRow>,
     /// Median ms of the whole process `glazec compile materials/` (filled in by the CLI).
     pub process_ms: Option<f64>,
+    /// (material, one evaluation of its `<m>_brdf`, bytes of its WGSL library).
+    pub eval_costs: Vec<(String, glazec::lower::CallCost, usize)>,
 }
 
 /// Runs every measurement. `materials`: (name, text) of the materials to time compiling.
@@ -143,6 +145,14 @@ pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -
     let hand_written = against_hand_written(gpu, &pairs)?;
 
     progress("compile times");
+    let mut eval_costs = Vec::new();
+    for (name, text) in materials {
+        let compiled = compile(text)?;
+        let function = format!("{}_brdf", compiled.material.name);
+        let cost = glazec::lower::call_cost(&compiled.library, &function).ok_or(format!("no {function}"))?;
+        let wgsl = compiled.emit(&[glazec::Target::Wgsl]).map_err(|e| e.to_string())?[0].contents.len();
+        eval_costs.push((name.clone(), cost, wgsl));
+    }
     let mut compile_times = Vec::new();
     for (name, text) in materials {
         for target in glazec::Target::TEXT {
@@ -192,6 +202,7 @@ pub fn run(gpu: &Gpu, materials: &[(String, String)], progress: &dyn Fn(&str)) -
         compile_times,
         scale,
         process_ms: None,
+        eval_costs,
     })
 }
 
@@ -266,13 +277,15 @@ impl Report {
             ROUNDS * REPEATS,
             self.lambert_evals_per_second / 1e6
         );
-        md.push_str("| method (seed's clay stack) | M evaluations/s | time vs Lambert | naga expressions | transcendental calls | lobe relRMSE median / max | albedo error max |\n|---|---|---|---|---|---|---|\n");
+        md.push_str("| method (seed's clay stack) | M evaluations/s | time vs Lambert | time vs WeidlichWilkie | naga expressions | transcendental calls | lobe relRMSE median / max | albedo error max |\n|---|---|---|---|---|---|---|---|\n");
+        let ww = self.methods.iter().find(|m| m.method == Method::WeidlichWilkie).map_or(f64::NAN, |m| m.time_ratio);
         for m in &self.methods {
             md.push_str(&format!(
-                "| {} | {:.1} | {:.2}× | {} | {} | {:.1}% / {:.1}% | {:.4} |\n",
+                "| {} | {:.1} | {:.2}× | {:.2}× | {} | {} | {:.1}% / {:.1}% | {:.4} |\n",
                 crate::accuracy::method_label(m.method),
                 m.evals_per_second / 1e6,
                 m.time_ratio,
+                m.time_ratio / ww,
                 m.expressions,
                 m.transcendental,
                 100.0 * m.lobe_median,
@@ -292,6 +305,10 @@ impl Report {
             let of =
                 |t: &str| self.compile_times.iter().find(|(n, tt, _)| n == name && *tt == t).map_or(f64::NAN, |x| x.2);
             md.push_str(&format!("| {name} | {:.0} | {:.0} | {:.0} |\n", of("wgsl"), of("glsl"), of("hlsl")));
+        }
+        md.push_str("\nOne evaluation of each material's `<m>_brdf`, every call counted as if inlined: naga expressions, loads from a resource (a uniform, storage buffer or texture) and transcendental calls; and the bytes of its WGSL library:\n\n| material | expressions | resource loads | transcendental calls | WGSL library bytes |\n|---|---|---|---|---|\n");
+        for (name, c, bytes) in &self.eval_costs {
+            md.push_str(&format!("| {name} | {} | {} | {} | {bytes} |\n", c.expressions, c.loads, c.transcendental));
         }
         if let Some(ms) = self.process_ms {
             md.push_str(&format!(

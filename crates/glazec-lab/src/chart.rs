@@ -232,6 +232,7 @@ mod tests {
             compile_times: vec![],
             scale: vec![],
             process_ms: None,
+            eval_costs: vec![],
         };
         let dir = tempfile::tempdir().expect("temporary directory");
         let written = write(&report, dir.path()).expect("chart");

@@ -1,14 +1,18 @@
 //! Writing outputs: all or nothing, each file atomically.
 //!
-//! Every file is first written to a temporary file in its destination directory; only when all
-//! of them exist are they renamed into place (a rename within one directory is atomic on POSIX).
-//! If anything fails before the renames, the temporary files are removed and nothing changes.
-//! [`drift`] compares planned outputs with what is on disk (for `compile --check` and the golden
-//! tests) without writing anything.
+//! Every file is first written to a temporary file in its destination directory ([`stage`]);
+//! only when all of them exist are they renamed into place ([`Staged::persist`]; a rename within
+//! one directory is atomic on POSIX). If anything fails before the renames, the temporary files
+//! are removed and nothing changes. Files are not flushed to the disk (`fsync`), as compilers
+//! do not: outputs are regenerated from their sources, and a flush per file was half the time
+//! of `glazec compile materials/`. [`drift`] compares planned outputs with what is on disk (for
+//! `compile --check` and the golden tests) without writing anything.
 
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
 
 /// A file to be written.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -17,27 +21,81 @@ pub struct OutputFile {
     pub contents: Vec<u8>,
 }
 
-/// Writes every file, or none of them.
+/// Writes every file, or none of them (staged on every core, then renamed).
 ///
 /// # Errors
 /// The first I/O error; files already staged are removed.
 pub fn write_all(files: &[OutputFile]) -> io::Result<()> {
-    let mut staged = Vec::with_capacity(files.len());
-    for file in files {
-        match stage(file) {
-            Ok(temp) => staged.push((temp, &file.path)),
-            Err(e) => return Err(e), // dropping `staged` deletes the temporary files
-        }
+    let staged: Vec<io::Result<Staged>> = files.par_iter().map(stage).collect();
+    if let Some(e) = staged.iter().position(Result::is_err) {
+        let mut staged = staged;
+        let error = staged.swap_remove(e).err();
+        abandon(staged.into_iter().flatten().collect());
+        return Err(error.unwrap_or_else(|| io::Error::other("staging failed")));
     }
-    for (temp, path) in staged {
-        temp.persist(path).map_err(|e| e.error)?;
-    }
-    Ok(())
+    staged.into_iter().flatten().try_for_each(Staged::persist)
 }
 
-fn stage(file: &OutputFile) -> io::Result<tempfile::NamedTempFile> {
+/// A file written under a temporary name beside its destination, removed when dropped unless
+/// persisted. Holds no open file, so that a folder of thousands of outputs can be staged.
+#[derive(Debug)]
+pub struct Staged {
+    temp: tempfile::TempPath,
+    path: PathBuf,
+    /// The directories staging created for it, outermost first.
+    created: Vec<PathBuf>,
+}
+
+/// Removes staged files that will not be written, and the directories staging created for them
+/// (those left empty), so that a failed write leaves the disk as it found it.
+pub fn abandon(staged: Vec<Staged>) {
+    let mut created: Vec<PathBuf> = staged.iter().flat_map(|s| s.created.iter().cloned()).collect();
+    drop(staged);
+    // Innermost first: a directory is empty once its staged files and sub-directories are gone.
+    created.sort_by_key(|d| std::cmp::Reverse(d.components().count()));
+    created.dedup();
+    for dir in created {
+        let _ = fs::remove_dir(dir);
+    }
+}
+
+/// Creates `dir` and its missing ancestors: the ones this call created, outermost first (one
+/// that another thread creates meanwhile is not counted).
+fn create_dirs(dir: &Path) -> io::Result<Vec<PathBuf>> {
+    let missing: Vec<&Path> = dir.ancestors().take_while(|d| !d.as_os_str().is_empty() && !d.is_dir()).collect();
+    let mut created = Vec::new();
+    for d in missing.into_iter().rev() {
+        match fs::create_dir(d) {
+            Ok(()) => created.push(d.to_path_buf()),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && d.is_dir() => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(created)
+}
+
+impl Staged {
+    /// Where the file goes.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames the file into place.
+    ///
+    /// # Errors
+    /// The rename failed (the temporary file is then removed).
+    pub fn persist(self) -> io::Result<()> {
+        self.temp.persist(&self.path).map_err(|e| e.error)
+    }
+}
+
+/// Writes `file` under a temporary name in its destination directory (created if missing).
+///
+/// # Errors
+/// The directory or the file cannot be written.
+pub fn stage(file: &OutputFile) -> io::Result<Staged> {
     let dir = file.path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    fs::create_dir_all(dir)?;
+    let created = create_dirs(dir)?;
     let mut builder = tempfile::Builder::new();
     builder.prefix(".glazec-");
     // Temporary files are private (0600) by default; outputs are ordinary files.
@@ -45,8 +103,7 @@ fn stage(file: &OutputFile) -> io::Result<tempfile::NamedTempFile> {
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
     let mut temp = builder.tempfile_in(dir)?;
     temp.write_all(&file.contents)?;
-    temp.as_file().sync_all()?;
-    Ok(temp)
+    Ok(Staged { temp: temp.into_temp_path(), path: file.path.clone(), created })
 }
 
 /// The files for one compiled material: `<out_dir>/<material>/<artifact>`.

@@ -12,6 +12,8 @@
 //! folder and a shader symbol, so two files declaring one name would overwrite each other.
 
 use std::collections::BTreeMap;
+
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 use crate::diag::{Code, Diagnostic, Source};
@@ -124,6 +126,9 @@ pub enum ProjectError {
     /// The chosen bindings put two of a material's resources in one place.
     #[error("material `{material}`")]
     Bind { material: String, source: crate::lower::bindings::Clash },
+    /// The outputs could not be written ([`Project::write`]); nothing was.
+    #[error("cannot write to {}", .path.display())]
+    Write { path: PathBuf, source: std::io::Error },
 }
 
 /// Compiles every file; fails with every file's diagnostics if any has errors (including a
@@ -132,10 +137,12 @@ pub enum ProjectError {
 /// # Errors
 /// See [`ProjectError`].
 pub fn compile(files: &[SourceFile]) -> Result<Vec<Compiled>, ProjectError> {
+    let results: Vec<Result<Compiled, CompileError>> =
+        files.par_iter().map(|file| crate::compile_source(Some(&file.file_name()), &file.text)).collect();
     let mut compiled: Vec<(usize, Compiled)> = Vec::new();
     let mut failed: BTreeMap<usize, Vec<Diagnostic>> = BTreeMap::new();
-    for (index, file) in files.iter().enumerate() {
-        match crate::compile_source(Some(&file.file_name()), &file.text) {
+    for (index, result) in results.into_iter().enumerate() {
+        match result {
             Ok(c) => compiled.push((index, c)),
             Err(CompileError::Diagnostics(diagnostics)) => {
                 failed.insert(index, diagnostics);
@@ -143,30 +150,43 @@ pub fn compile(files: &[SourceFile]) -> Result<Vec<Compiled>, ProjectError> {
             Err(CompileError::Internal(e)) => return Err(ProjectError::Validate(e)),
         }
     }
+    let names: Vec<(usize, &str, crate::diag::Span)> = compiled
+        .iter()
+        .map(|(index, c)| (*index, c.material.name.as_str(), c.source_map.name.unwrap_or_default()))
+        .collect();
+    for (index, d) in duplicate_names(files, &names) {
+        failed.entry(index).or_default().push(d);
+    }
+    if failed.is_empty() { Ok(compiled.into_iter().map(|(_, c)| c).collect()) } else { Err(failures(files, failed)) }
+}
+
+/// `E0105` for every material (file index, name, the name's span) whose name an earlier file
+/// already declared.
+fn duplicate_names(files: &[SourceFile], names: &[(usize, &str, crate::diag::Span)]) -> Vec<(usize, Diagnostic)> {
     let mut first_by_name: BTreeMap<&str, usize> = BTreeMap::new();
-    for (index, c) in &compiled {
-        if let Some(first) = first_by_name.insert(&c.material.name, *index) {
-            let span = c.source_map.name.unwrap_or_default();
+    let mut found = Vec::new();
+    for &(index, name, span) in names {
+        if let Some(first) = first_by_name.insert(name, index) {
             let d = Diagnostic::error(
                 Code::DuplicateMaterial,
-                format!("material `{}` is also defined in {}", c.material.name, files[first].name()),
+                format!("material `{name}` is also defined in {}", files[first].name()),
                 span,
                 "a second material with this name",
             )
             .with_help("material names must be unique: they name the output directory and shader symbols");
-            failed.entry(*index).or_default().push(d);
+            found.push((index, d));
         }
     }
-    if failed.is_empty() {
-        Ok(compiled.into_iter().map(|(_, c)| c).collect())
-    } else {
-        Err(ProjectError::Diagnostics(
-            failed
-                .into_iter()
-                .map(|(index, diagnostics)| FileDiagnostics { file: files[index].clone(), diagnostics })
-                .collect(),
-        ))
-    }
+    found
+}
+
+fn failures(files: &[SourceFile], failed: BTreeMap<usize, Vec<Diagnostic>>) -> ProjectError {
+    ProjectError::Diagnostics(
+        failed
+            .into_iter()
+            .map(|(index, diagnostics)| FileDiagnostics { file: files[index].clone(), diagnostics })
+            .collect(),
+    )
 }
 
 /// The files `compiled` materials produce under `out_dir`: `<material>/<artifact>` for each
@@ -182,20 +202,28 @@ pub fn plan(
     targets: &[Target],
     bindings: &Choice,
 ) -> Result<Vec<OutputFile>, ProjectError> {
-    let mut files = Vec::new();
-    for c in compiled {
-        let artifacts = if *bindings == Choice::default() {
-            c.emit(targets)?
-        } else {
-            let rebound = c.with_bindings(bindings).map_err(|e| match e {
-                crate::BindError::Clash(source) => ProjectError::Bind { material: c.material.name.clone(), source },
-                crate::BindError::Internal(e) => ProjectError::Validate(e),
-            })?;
-            rebound.emit(targets)?
-        };
-        files.extend(output::plan(out_dir, &c.material.name, artifacts));
-    }
-    Ok(files)
+    let planned: Vec<Vec<OutputFile>> =
+        compiled.par_iter().map(|c| plan_one(out_dir, c, targets, bindings)).collect::<Result<_, _>>()?;
+    Ok(planned.into_iter().flatten().collect())
+}
+
+/// [`plan`] for one material.
+fn plan_one(
+    out_dir: &Path,
+    c: &Compiled,
+    targets: &[Target],
+    bindings: &Choice,
+) -> Result<Vec<OutputFile>, ProjectError> {
+    let artifacts = if *bindings == Choice::default() {
+        c.emit(targets)?
+    } else {
+        let rebound = c.with_bindings(bindings).map_err(|e| match e {
+            crate::BindError::Clash(source) => ProjectError::Bind { material: c.material.name.clone(), source },
+            crate::BindError::Internal(e) => ProjectError::Validate(e),
+        })?;
+        rebound.emit(targets)?
+    };
+    Ok(output::plan(out_dir, &c.material.name, artifacts))
 }
 
 /// Every file's diagnostics rendered as plain text (codespan-reporting, no colour).
@@ -327,5 +355,102 @@ impl Project {
         files.extend(outcome.simplified.iter().map(|(_, report)| report_file(&self.out_dir, report)));
         outcome.files = files;
         Ok(outcome)
+    }
+}
+
+/// What [`Project::write`] wrote.
+#[derive(Debug)]
+pub struct Written {
+    pub materials: usize,
+    pub files: usize,
+    /// Notes that never fail a compilation, per file with any.
+    pub notes: Vec<FileDiagnostics>,
+}
+
+/// One file's part of [`Project::write`]: its material's name (and the name's span) and staged
+/// outputs, or its diagnostics.
+enum Streamed {
+    Staged { name: String, span: crate::diag::Span, staged: Vec<output::Staged>, notes: Vec<Diagnostic> },
+    Failed(Vec<Diagnostic>),
+}
+
+impl Project {
+    /// Compiles every material and writes its outputs, all or nothing, without a scene: each
+    /// file is compiled, emitted and its outputs staged on disk ([`output::stage`]) on every
+    /// core, one material per core in memory at a time, and only when every file has compiled
+    /// are the outputs renamed into place. Memory does not grow with the number of files
+    /// (beyond their texts and the staged files' names).
+    ///
+    /// # Errors
+    /// As [`Project::compile`]; [`ProjectError::Write`] if an output cannot be staged or renamed.
+    pub fn write(&self) -> Result<Written, ProjectError> {
+        let files = read(&self.inputs)?;
+        let written = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| ProjectError::Write { path, source }
+        };
+        let streamed: Vec<Result<Streamed, ProjectError>> = files
+            .par_iter()
+            .map(|file| {
+                let c = match crate::compile_source(Some(&file.file_name()), &file.text) {
+                    Ok(c) => c,
+                    Err(CompileError::Diagnostics(d)) => return Ok(Streamed::Failed(d)),
+                    Err(CompileError::Internal(e)) => return Err(ProjectError::Validate(e)),
+                };
+                let planned = plan_one(&self.out_dir, &c, &self.targets, &self.bindings)?;
+                let staged = planned
+                    .iter()
+                    .map(|f| output::stage(f).map_err(written(&f.path)))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let span = c.source_map.name.unwrap_or_default();
+                Ok(Streamed::Staged { name: c.material.name, span, staged, notes: c.source_map.notes })
+            })
+            .collect();
+        let abandon = |streamed: Vec<Result<Streamed, ProjectError>>| {
+            let staged = streamed.into_iter().flatten().flat_map(|s| match s {
+                Streamed::Staged { staged, .. } => staged,
+                Streamed::Failed(_) => Vec::new(),
+            });
+            output::abandon(staged.collect());
+        };
+        if let Some(e) = streamed.iter().position(Result::is_err) {
+            let mut streamed = streamed;
+            let error = streamed.swap_remove(e);
+            abandon(streamed);
+            return Err(error.err().unwrap_or_else(|| unreachable!("an error was found")));
+        }
+        let streamed: Vec<Streamed> = streamed.into_iter().flatten().collect();
+        let mut failed: BTreeMap<usize, Vec<Diagnostic>> = BTreeMap::new();
+        let mut names = Vec::new();
+        for (index, s) in streamed.iter().enumerate() {
+            match s {
+                Streamed::Staged { name, span, .. } => names.push((index, name.as_str(), *span)),
+                Streamed::Failed(d) => {
+                    failed.insert(index, d.clone());
+                }
+            }
+        }
+        for (index, d) in duplicate_names(&files, &names) {
+            failed.entry(index).or_default().push(d);
+        }
+        if !failed.is_empty() {
+            abandon(streamed.into_iter().map(Ok).collect());
+            return Err(failures(&files, failed));
+        }
+        let mut written_files = 0;
+        let mut notes = Vec::new();
+        for (file, s) in files.iter().zip(streamed) {
+            if let Streamed::Staged { staged, notes: n, .. } = s {
+                written_files += staged.len();
+                for f in staged {
+                    let path = f.path().to_path_buf();
+                    f.persist().map_err(written(&path))?;
+                }
+                if !n.is_empty() {
+                    notes.push(FileDiagnostics { file: file.clone(), diagnostics: n });
+                }
+            }
+        }
+        Ok(Written { materials: files.len(), files: written_files, notes })
     }
 }

@@ -188,7 +188,6 @@ impl LightLoop {
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
         let glaze_tables = init("tunable_glaze tables", tunable_glaze::TABLES, wgpu::BufferUsages::UNIFORM);
-        let clay_tables = init("wet_clay tables", wet_clay::TABLES, wgpu::BufferUsages::UNIFORM);
         let program_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("camera and lights"),
             layout: &program_layout,
@@ -197,10 +196,10 @@ impl LightLoop {
                 wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
             ],
         });
+        // Only the glaze binds anything of its own: wet_clay's literals need no resource.
         let buffer_for = |b: &glazec_layout::Binding| match b.role {
             glazec_layout::Role::Params => &glaze_params,
-            _ if b.name.starts_with("tunable_glaze") => &glaze_tables,
-            _ => &clay_tables,
+            _ => &glaze_tables,
         };
         let entries: Vec<_> = material_bindings
             .iter()

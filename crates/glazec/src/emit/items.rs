@@ -53,7 +53,13 @@ pub(super) fn items(text: &str) -> Vec<Item<'_>> {
                 declared = true;
             }
         }
-        depth += line.matches('{').count() as i32 - line.matches('}').count() as i32;
+        for b in line.bytes() {
+            match b {
+                b'{' => depth += 1,
+                b'}' => depth -= 1,
+                _ => {}
+            }
+        }
         current.push(line);
     }
     flush(&mut current, &mut out);

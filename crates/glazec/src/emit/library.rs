@@ -11,10 +11,15 @@ fn own_prefixes(material: &str) -> [String; 2] {
     [format!("{material}_"), crate::model::camel_case(material)]
 }
 
+/// The names `text`'s items declare.
+pub(super) fn declared_names(text: &str) -> Vec<&str> {
+    items::items(text).iter().filter_map(|i| i.name).collect()
+}
+
 /// The items of `full` (the whole module's polished text) that `library` (the library's) does
 /// not declare: the harness, to be read after the library.
 pub(super) fn harness_items(full: &str, library: &str) -> String {
-    let declared: Vec<&str> = items::items(library).iter().filter_map(|i| i.name).collect();
+    let declared = declared_names(library);
     let mut out = String::new();
     for item in items::items(full) {
         if item.name.is_some_and(|n| declared.contains(&n)) {
@@ -23,6 +28,59 @@ pub(super) fn harness_items(full: &str, library: &str) -> String {
         items::push(&mut out, &item);
     }
     trim_end(out)
+}
+
+/// The whole module with every library function's body replaced by a return of a zero value
+/// (the harness's own items, written from it, are the same; the library's are written once, from
+/// the library module). Library functions come first in the whole module's arena.
+pub(super) fn harness_view(library: &Module, module: &Module) -> Module {
+    let mut view = module.clone();
+    for (_, f) in view.functions.iter_mut().take(library.functions.len()) {
+        let result = f.result.as_ref().map(|r| r.ty);
+        f.expressions = Default::default();
+        f.local_variables = Default::default();
+        f.named_expressions = Default::default();
+        f.diagnostic_filter_leaf = None;
+        let mut body = Block::new();
+        let value = result.map(|ty| f.expressions.append(Expression::ZeroValue(ty), Span::UNDEFINED));
+        body.push(Statement::Return { value }, Span::UNDEFINED);
+        f.body = body;
+    }
+    view
+}
+
+/// A GLSL harness file: the entry point's shader as naga wrote it from the harness view, with the
+/// library `#include`d in place of the library's items (glslang's and shaderc's
+/// `GL_GOOGLE_include_directive`, as the HLSL harness includes its `.hlsli`). Its preamble
+/// (`#version`, extensions, the compute shader's workgroup size) comes first, then the include,
+/// then the harness's own items (polished by `polish`).
+pub(super) fn glsl_entry(
+    entry: &str,
+    library_file: &str,
+    declared: &[&str],
+    polish: impl Fn(&str) -> String,
+) -> String {
+    let (mut preamble, mut own) = (String::new(), String::new());
+    for line in entry.lines().take_while(|l| l.starts_with("#version")) {
+        preamble.push_str(line);
+        preamble.push('\n');
+    }
+    preamble.push_str("#extension GL_GOOGLE_include_directive : require\n");
+    for item in items::items(entry) {
+        let version = item.lines.iter().all(|l| l.starts_with("#version"));
+        let is_preamble = item
+            .lines
+            .iter()
+            .all(|l| l.starts_with('#') || l.starts_with("layout(local_size") || l.starts_with("precision "));
+        if version {
+            continue;
+        } else if is_preamble && own.is_empty() {
+            items::push(&mut preamble, &item);
+        } else if !item.name.is_some_and(|n| declared.contains(&n)) {
+            items::push(&mut own, &item);
+        }
+    }
+    format!("{}\n#include \"{library_file}\"\n\n{}", trim_end(preamble), trim_end(polish(&own)))
 }
 
 /// A GLSL or HLSL library's text with naga's helpers guarded (see [`items::push_guarded`]).

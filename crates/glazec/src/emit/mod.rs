@@ -152,47 +152,62 @@ pub fn emit(
     } else {
         String::new()
     };
+    // The harness files are written from the whole module with the library's function bodies
+    // left out (`library::harness_view`): the backends then write the library once, not again
+    // for every harness file.
+    let view = if targets.iter().any(|t| matches!(t, Target::Wgsl | Target::Glsl | Target::Hlsl)) {
+        let view = library::harness_view(library, module);
+        let view_info = crate::validate::validate(name, &view)?;
+        Some((view, view_info))
+    } else {
+        None
+    };
     for target in targets {
-        match target {
-            Target::Wgsl => {
-                // The whole module's text is split first, and only the harness's items polished.
-                let full = wgsl::write_string(module, info, wgsl::WriterFlags::empty())?;
-                let harness = polished(module, &library::harness_items(&full, &wgsl_library), false);
+        match (target, &view) {
+            (Target::Wgsl, Some((view, view_info))) => {
+                let full = wgsl::write_string(view, view_info, wgsl::WriterFlags::empty())?;
+                let harness = polished(view, &library::harness_items(&full, &wgsl_library), false);
                 out.push(artifact(format!("{name}.wgsl"), &header, &wgsl_library, None, false));
                 let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
                 out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
             }
-            Target::NagaOil => {
+            (Target::NagaOil, _) => {
                 let text = library::naga_oil(name, &wgsl_library, layout);
                 out.push(artifact(format!("{name}.naga_oil.wgsl"), &header, &text, None, false));
             }
-            Target::Glsl => {
+            (Target::Glsl, Some((view, _))) => {
                 let probe = library::glsl_probe(library);
                 let probe_info = crate::validate::validate(name, &probe)?;
                 let probe_text = write_glsl(&probe, &probe_info, ShaderStage::Fragment, "main")?;
                 let text = library::glsl_library(name, library, polished(library, &probe_text, false));
-                out.push(artifact(format!("{name}.glsl"), &header, &text, None, false));
+                let declared = library::declared_names(&text);
                 for ep in &module.entry_points {
-                    // naga's GLSL writer includes every function that uses no excluded global,
-                    // so a vertex shader would carry the whole BRDF; give it a module that holds
-                    // only this entry point and what it reaches.
-                    let (single, single_info) = single_entry_point(name, module, &ep.name)?;
-                    let text = polished(&single, &write_glsl(&single, &single_info, ep.stage, &ep.name)?, true);
+                    let (single, single_info) = single_entry_point(name, view, &ep.name)?;
+                    let entry = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
+                    let library_file = format!("{name}.glsl");
+                    let whole = library::glsl_entry(&entry, &library_file, &declared, |harness| {
+                        polished(&single, harness, true)
+                    });
                     let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
-                    out.push(artifact(file, &header, &text, Some((ep.stage, ep.name.clone())), true));
+                    out.push(artifact(file, &header, &whole, Some((ep.stage, ep.name.clone())), true));
                 }
+                out.insert(
+                    out.len() - module.entry_points.len(),
+                    artifact(format!("{name}.glsl"), &header, &text, None, false),
+                );
             }
-            Target::Hlsl => {
+            (Target::Hlsl, Some((view, view_info))) => {
                 let library_text = polished(library, &write_hlsl(library, library_info)?, false);
                 let harness =
-                    polished(module, &library::harness_items(&write_hlsl(module, info)?, &library_text), false);
+                    polished(view, &library::harness_items(&write_hlsl(view, view_info)?, &library_text), false);
                 let library_text = library::guarded(&library_text, name);
                 out.push(artifact(format!("{name}.hlsli"), &header, &library_text, None, false));
                 let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");
                 let harness_header = harness_header(&format!("{name}.hlsli"), "which includes");
                 out.push(artifact(format!("{name}.hlsl"), &harness_header, &harness, None, true));
             }
-            Target::Spv => {
+            (Target::Wgsl | Target::Glsl | Target::Hlsl, None) => unreachable!("the harness view is made for these"),
+            (Target::Spv, _) => {
                 // Fixed flags (naga's default adds DEBUG only in debug builds, which would make
                 // the bytes depend on the build profile): debug names for tools and reflection,
                 // and WGSL's clip-space convention (no Y flip), as in the other outputs.

@@ -39,7 +39,7 @@ mod material;
 mod namespace;
 pub mod textures;
 
-pub use cost::static_cost;
+pub use cost::{CallCost, call_cost, static_cost};
 pub use layout::{EVAL_WORKGROUP_SIZE, PAIR_STRIDE, ParamLayout, bindings, entry_points, params_bytes, params_layout};
 
 use crate::model::Material;

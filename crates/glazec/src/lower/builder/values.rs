@@ -146,10 +146,20 @@ impl ModuleBuilder {
         if let Some(&f) = self.state.borrow().specialised.get(&key) {
             return f;
         }
-        let earlier = self.state.borrow().specialised.keys().filter(|(name, _)| *name == def.name).count();
+        // One argument known only at run time: the lookup along its axis is a closed form.
+        let curve = match literals.iter().filter(|l| l.is_none()).count() {
+            1 => crate::math::tables::TableId::ALL.iter().find(|id| id.spec().term.name == def.name).map(|&id| {
+                let axis = literals.iter().position(Option::is_none).unwrap_or(0);
+                let fixed: Vec<f32> = literals.iter().map(|l| l.unwrap_or(0.0)).collect();
+                (axis, crate::math::tables::Curve::of_table(id, axis, &fixed))
+            }),
+            _ => None,
+        };
+        let kind = if curve.is_some() { "curve" } else { "slice" };
+        let earlier = self.state.borrow().specialised.iter().filter(|((name, _), _)| *name == def.name).count();
         let name = match earlier {
-            0 => format!("{}_slice", def.name),
-            k => format!("{}_slice_{}", def.name, char::from(b'a' + (k % 26) as u8)),
+            0 => format!("{}_{kind}", def.name),
+            k => format!("{}_{kind}_{}", def.name, char::from(b'a' + (k % 26) as u8)),
         };
         let dynamic: Vec<(usize, &(&str, Kind))> =
             def.params.iter().enumerate().filter(|(i, _)| literals[*i].is_none()).collect();
@@ -180,7 +190,13 @@ impl ModuleBuilder {
                 }
             })
             .collect();
-        let out = body(&slots);
+        let out = match &curve {
+            Some((axis, curve)) => match slots[*axis] {
+                Slot::S(x) => Slot::S(curve.evaluate(x)),
+                Slot::V(_) => unreachable!("table arguments are scalars"),
+            },
+            None => body(&slots),
+        };
         let value = self.slot_handle(out);
         self.statement(Statement::Return { value: Some(value) });
         let function = self.end_function();
@@ -191,10 +207,29 @@ impl ModuleBuilder {
             .filter_map(|(&(param, _), literal)| literal.map(|x| format!("{param} = {x}")))
             .collect();
         let mut doc: Vec<String> = def.doc.iter().map(|l| l.to_string()).collect();
-        doc.push(format!(
-            "Here {} (literals of the material): this function reads only the slices of the table they select.",
-            fixed.join(", ")
-        ));
+        doc.push(match &curve {
+            Some((axis, curve)) => format!(
+                "Here {} (literals of the material): the lookup along `{}` is piecewise linear through {} of the table's",
+                fixed.join(", "),
+                def.params[*axis].0,
+                curve.kept(),
+            ),
+            None => format!(
+                "Here {} (literals of the material): this function reads only the slices of the table they select.",
+                fixed.join(", ")
+            ),
+        });
+        if let Some((_, curve)) = &curve {
+            doc.push(format!(
+                "{} nodes along it, {}: no table read.",
+                curve.nodes,
+                match curve.form {
+                    crate::math::tables::Form::Hinges { .. } => "summed as hinges max(u, knot)·(change of slope)",
+                    crate::math::tables::Form::Pieces { .. } =>
+                        "summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it)",
+                }
+            ));
+        }
         let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
         let handle = self.add_function(function, &doc);
         self.state.borrow_mut().specialised.insert(key, handle);

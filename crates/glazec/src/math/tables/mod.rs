@@ -36,12 +36,14 @@
 //! the `SHADER_FLOAT16_IN_FLOAT32` capability, and which llvmpipe supports only with native f16.)
 
 mod catalogue;
+mod curve;
 mod storage;
 
 pub use catalogue::{
     Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID, GLOSSY_SINGLE_GRID,
     GLOSSY_TRAPPED_GRID, Rounding, SPECS, TableId, TableSpec,
 };
+pub use curve::{Curve, Form, KNOT_TOLERANCE};
 pub use storage::{
     Quantization, buffer, buffer_len, buffer_vec4s, decode, decode_by_name, encode, evaluate_on_cpu_with, total_bytes,
 };
@@ -66,6 +68,13 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
     let known: Option<Vec<f32>> =
         args.iter().zip(spec.axes).map(|(&x, &(axis, _))| x.known().and_then(|_| axis.coordinate(x).known())).collect();
     if let Some(known) = known {
+        // On the CPU a lookup along a direction is the same curve a shader sums for a material's
+        // literals (summed in the same order), so that the two agree to rounding even where a
+        // lobe divides by a tiny table value (a sharp coat's multiple-scattering share).
+        if F::IMMEDIATE && spec.axes.len() > 1 && matches!(spec.axes[0].0, Axis::Cosine | Axis::RootCosine) {
+            let fixed: Vec<f32> = args.iter().map(|x| x.known().unwrap_or(0.0)).collect();
+            return curve::on_cpu(id, &fixed, |curve| curve.evaluate(args[0]));
+        }
         return args[0].lit(multilinear::<f32>(id, |a| known[a], &[]));
     }
     let slots: Vec<Slot<F>> = args.iter().map(|&x| Slot::S(x)).collect();

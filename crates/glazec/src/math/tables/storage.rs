@@ -122,6 +122,12 @@ pub fn evaluate_on_cpu_with(tables: &[Vec<f32>]) {
     OVERRIDE.store(Box::into_raw(Box::new(stored)), std::sync::atomic::Ordering::Release);
 }
 
+/// Which tables the CPU reads: changes when [`evaluate_on_cpu_with`] replaces them (for caches of
+/// values derived from them).
+pub(super) fn generation() -> usize {
+    OVERRIDE.load(std::sync::atomic::Ordering::Acquire) as usize
+}
+
 fn stored() -> &'static [Stored] {
     let replaced = OVERRIDE.load(std::sync::atomic::Ordering::Acquire);
     if !replaced.is_null() {
