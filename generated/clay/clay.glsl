@@ -67,9 +67,9 @@ vec3 clay_refract_down(vec3 w, vec3 n, float eta) {
     return -(refract(-(w), n, (1.0 / eta)));
 }
 
-// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
-// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
-vec3 clay_absorption_ww(vec3 sigma_a, float thickness, float n_dot_l1_, float n_dot_v1_) {
+// [`absorption_ww`] for a grey layer (the same σa in every channel): one exponential
+// instead of three.
+float clay_absorption_ww_grey(float sigma_a, float thickness, float n_dot_l1_, float n_dot_v1_) {
     float path = (thickness * ((1.0 / n_dot_l1_) + (1.0 / n_dot_v1_)));
     return exp(-((sigma_a * path)));
 }
@@ -119,10 +119,11 @@ vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    vec3 absorption = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_l, layer1_cos_v);
+    float _e38 = clay_absorption_ww_grey(0.8, 0.25, layer1_cos_l, layer1_cos_v);
+    vec3 absorption_1 = vec3(_e38);
     vec3 inner = clay_ww_inner_reflection(g, transmission);
     vec3 layer1_f_base = clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 f = clay_ww_layer(specular, transmission, absorption, inner, layer1_f_base);
+    vec3 f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
@@ -207,6 +208,13 @@ vec3 clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_1) {
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
     vec3 d_2 = ((n_3 * (1.0 - t)) + (r * t));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+}
+
+// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
+// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
+vec3 clay_absorption_ww(vec3 sigma_a_1, float thickness_1, float n_dot_l1_1, float n_dot_v1_1) {
+    float path_1 = (thickness_1 * ((1.0 / n_dot_l1_1) + (1.0 / n_dot_v1_1)));
+    return exp(-((sigma_a_1 * path_1)));
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's

@@ -10,11 +10,12 @@ use glam::Vec3;
 
 use crate::math::Slot;
 use crate::math::layering::{self, Inputs};
+use crate::math::tables::{curves_for, with_curves};
 use crate::model::{Material, ParamValue};
 
 /// f(wi, wo) of `material` with the given parameter values (one per [`Material::params`]).
 pub fn brdf(material: &Material, values: &[ParamValue], wi: Vec3, wo: Vec3) -> Vec3 {
-    layering::brdf(material, &inputs(values), Vec3::Z, wo, wi)
+    with_curves(curves_for(material), || layering::brdf(material, &inputs(values), Vec3::Z, wo, wi))
 }
 
 /// [`brdf`] with shading normals for the layers that have normal maps: (layer, unit normal in
@@ -26,7 +27,8 @@ pub fn brdf_with_normals(
     wi: Vec3,
     wo: Vec3,
 ) -> Vec3 {
-    layering::brdf(material, &inputs(values).with_normals(normals.to_vec()), Vec3::Z, wo, wi)
+    let inputs = inputs(values).with_normals(normals.to_vec());
+    with_curves(curves_for(material), || layering::brdf(material, &inputs, Vec3::Z, wo, wi))
 }
 
 /// The lobes of `material` under image-based lighting, seen from `v` at normal `n` (see
@@ -37,13 +39,13 @@ pub fn environment_lobes(
     n: Vec3,
     v: Vec3,
 ) -> Vec<layering::environment::EnvironmentLobe<f32>> {
-    layering::environment::environment_lobes(material, &inputs(values), n, v)
+    with_curves(curves_for(material), || layering::environment::environment_lobes(material, &inputs(values), n, v))
 }
 
 /// The reflectance of the material's mirror (delta) lobe towards `wo` (see
 /// [`layering::mirror_reflectance`]).
 pub fn mirror_reflectance(material: &Material, values: &[ParamValue], wo: Vec3) -> Vec3 {
-    layering::mirror_reflectance(material, &inputs(values), Vec3::Z, wo)
+    with_curves(curves_for(material), || layering::mirror_reflectance(material, &inputs(values), Vec3::Z, wo))
 }
 
 /// The CPU inputs of a material for parameter values (one per [`Material::params`]).

@@ -75,6 +75,7 @@ pub fn lower(material: &Material) -> Lowered {
 /// Two resources of the library would share a binding.
 pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash> {
     let b = ModuleBuilder::new();
+    b.curves.set(crate::math::tables::curves_for(material));
     let params_ty = params_type(&b, material);
     let reads = textures::build(&b, material);
     let inputs = InputTypes { params: params_ty, textures: reads.as_ref().map(|r| r.ty) };

@@ -226,6 +226,15 @@ pub trait Vector:
     /// constant in naga).
     fn is_known(self) -> bool;
 
+    /// Whether the value is known when the code is generated, with three equal components (a
+    /// grey colour: one scalar computation can then stand for three).
+    fn is_known_grey(self) -> bool {
+        match (self.x().known(), self.y().known(), self.z().known()) {
+            (Some(x), Some(y), Some(z)) => x == y && y == z,
+            _ => false,
+        }
+    }
+
     /// `1 − self`, component-wise.
     fn one_minus(self) -> Self {
         self.x().lit(1.0).splat() - self

@@ -70,9 +70,9 @@ fn clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta: f32) -> vec3<f32> {
     return -(refract(-(w), n, (1f / eta)));
 }
 
-// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
-// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
-fn clay_absorption_ww(sigma_a: vec3<f32>, thickness: f32, n_dot_l1_: f32, n_dot_v1_: f32) -> vec3<f32> {
+// [`absorption_ww`] for a grey layer (the same σa in every channel): one exponential
+// instead of three.
+fn clay_absorption_ww_grey(sigma_a: f32, thickness: f32, n_dot_l1_: f32, n_dot_v1_: f32) -> f32 {
     let path = (thickness * ((1f / n_dot_l1_) + (1f / n_dot_v1_)));
     return exp(-((sigma_a * path)));
 }
@@ -122,10 +122,11 @@ fn clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let absorption = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_l, layer1_cos_v);
+    let _e38 = clay_absorption_ww_grey(0.8f, 0.25f, layer1_cos_l, layer1_cos_v);
+    let absorption_1 = vec3(_e38);
     let inner = clay_ww_inner_reflection(g, transmission);
     let layer1_f_base = clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let f = clay_ww_layer(specular, transmission, absorption, inner, layer1_f_base);
+    let f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
 
@@ -211,6 +212,13 @@ fn clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_1: f32
     let t = (smoothness * (sqrt(smoothness) + alpha_1));
     let d_2 = ((n_3 * (1f - t)) + (r * t));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
+// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
+fn clay_absorption_ww(sigma_a_1: vec3<f32>, thickness_1: f32, n_dot_l1_1: f32, n_dot_v1_1: f32) -> vec3<f32> {
+    let path_1 = (thickness_1 * ((1f / n_dot_l1_1) + (1f / n_dot_v1_1)));
+    return exp(-((sigma_a_1 * path_1)));
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's

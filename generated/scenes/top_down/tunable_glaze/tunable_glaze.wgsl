@@ -3,9 +3,15 @@ struct TunableGlazeParams {
     body_albedo: vec3<f32>,
 }
 
+const tunable_glaze_weight_roughness: f32 = 0.006248474f;
+const tunable_glaze_weight_eta: f32 = 0.88888884f;
+const tunable_glaze_weight_roughness_1: f32 = 0.80947495f;
+const tunable_glaze_weight_roughness_2: f32 = 0.26028156f;
 const tunable_glaze_tau: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
 const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.319615f, 0.4872604f, 0.545984f);
 
+@group(0) @binding(4) 
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 30>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -77,45 +83,71 @@ fn tunable_glaze_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
+// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
+fn tunable_glaze_table_code(entry: u32) -> f32 {
+    let word = (entry >> 1u);
+    let codes = tunable_glaze_tables[(word >> 2u)][(word & 3u)];
+    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
 // reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
 // the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-// Here roughness = 0.15, eta = 1.52 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn tunable_glaze_coat_deficit_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.0050424933f) + -0.0013807565f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.0039209127f, -0.006487429f, -0.010994077f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.019258112f, -0.03025958f, -0.05595985f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11355865f, -0.17916557f, -0.24313816f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.26972213f, -0.1994903f, -0.022305503f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.126655f, 0.19419536f, 0.21067204f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.16977657f, 0.14597118f, 0.09981914f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.07265944f, 0.046298735f, 0.03610151f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.02167677f, 0.016061405f, 0.0096290475f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0058377585f, 0.003686221f, 0.0016922175f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0004631532f, 0.00035397976f, -0.0008632957f)));
-    return f_10;
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta = (u_cos_theta * 31f);
+    let cell_cos_theta = min(floor(node_cos_theta), 30f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let code_lll = tunable_glaze_table_code(u32(cell_cos_theta));
+    let at_lll = ((code_lll * 0.000014786756f) + -0.0058085914f);
+    let code_ull = tunable_glaze_table_code(u32((cell_cos_theta + 1f)));
+    let at_ull = ((code_ull * 0.000014786756f) + -0.0058085914f);
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta) + 32u));
+    let at_lul = ((code_lul * 0.000014786756f) + -0.0058085914f);
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 32u));
+    let at_uul = ((code_uul * 0.000014786756f) + -0.0058085914f);
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta) + 64u));
+    let at_llu = ((code_llu * 0.000014786756f) + -0.0058085914f);
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 64u));
+    let at_ulu = ((code_ulu * 0.000014786756f) + -0.0058085914f);
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta) + 96u));
+    let at_luu = ((code_luu * 0.000014786756f) + -0.0058085914f);
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 96u));
+    let at_uuu = ((code_uuu * 0.000014786756f) + -0.0058085914f);
+    return ((((((((at_lll * (((1f - weight_cos_theta) * 0.9937515f) * 0.111111164f)) + (at_ull * ((weight_cos_theta * 0.9937515f) * 0.111111164f))) + (at_lul * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_uul * ((weight_cos_theta * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_llu * (((1f - weight_cos_theta) * 0.9937515f) * tunable_glaze_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.9937515f) * tunable_glaze_weight_eta))) + (at_luu * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta))) + (at_uuu * ((weight_cos_theta * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
 // single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-// Here roughness = 0.15, eta = 1.52 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn tunable_glaze_coat_extra_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * 0.051046707f) + 0.00031564385f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.094494045f, 0.12902325f, 0.03137401f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.22056386f, -0.30433643f, -0.08770371f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.101625726f, 0.11462882f, 0.0590155f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.018984364f, 0.0073816353f, 0.00387661f)));
-    let f_16 = (f_15 + (max(u_1, 0.8666667f) * 0.00050421886f));
-    let f_17 = (f_16 + (max(u_1, 0.93333334f) * 0.00034602976f));
-    return f_17;
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_extra_slice(cos_theta_1: f32) -> f32 {
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 15f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 14f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_1) + 128u));
+    let at_lll_1 = (code_lll * 0.0000014542611f);
+    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 128u));
+    let at_ull_1 = (code_ull * 0.0000014542611f);
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_1) + 144u));
+    let at_lul_1 = (code_lul * 0.0000014542611f);
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 144u));
+    let at_uul_1 = (code_uul * 0.0000014542611f);
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 160u));
+    let at_llu_1 = (code_llu * 0.0000014542611f);
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 160u));
+    let at_ulu_1 = (code_ulu * 0.0000014542611f);
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 176u));
+    let at_luu_1 = (code_luu * 0.0000014542611f);
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 176u));
+    let at_uuu_1 = (code_uuu * 0.0000014542611f);
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * 0.19052505f) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.19052505f) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -131,16 +163,29 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f3
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.15, eta = 1.52 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn tunable_glaze_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * 0.024230242f) + 1.0089151f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.3144555f, -0.33524883f, -0.29354548f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.055664778f, 0.38366866f, 0.26599625f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.11635981f, 0.056176137f, 0.020811696f)));
-    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.011729588f));
-    return f_22;
+// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_path_slice(cos_theta_2: f32) -> f32 {
+    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
+    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
+    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
+    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_2) + 192u));
+    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
+    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 192u));
+    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
+    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_2) + 204u));
+    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
+    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 204u));
+    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
+    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 216u));
+    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
+    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 216u));
+    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
+    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 228u));
+    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
+    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 228u));
+    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * 0.73971844f) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.73971844f) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -231,12 +276,12 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
     let specular = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e28 = tunable_glaze_coat_deficit_curve(n_dot_l_3);
-    let layer1_restored_l = tunable_glaze_coat_extra_curve(n_dot_l_3);
+    let _e28 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3);
     let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e28) - layer1_restored_l), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
-    let _e40 = tunable_glaze_coat_deficit_curve(n_dot_v_3);
-    let layer1_restored_v = tunable_glaze_coat_extra_curve(n_dot_v_3);
+    let _e40 = tunable_glaze_coat_deficit_slice(n_dot_v_3);
+    let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3);
     let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e40) - layer1_restored_v), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
@@ -244,9 +289,9 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e58 = tunable_glaze_coat_path_curve(n_dot_l_3);
+    let _e58 = tunable_glaze_coat_path_slice(n_dot_l_3);
     let layer1_path_cos_l = (layer1_cos_l / _e58);
-    let _e60 = tunable_glaze_coat_path_curve(n_dot_v_3);
+    let _e60 = tunable_glaze_coat_path_slice(n_dot_v_3);
     let layer1_path_cos_v = (layer1_cos_v / _e60);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v);
@@ -341,14 +386,14 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let n_dot_v_4 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e11 = tunable_glaze_coat_deficit_curve(n_dot_v_4);
-    let layer1_restored_l = tunable_glaze_coat_extra_curve(n_dot_v_4);
+    let _e11 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
+    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_v_4);
     let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
     let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e32 = tunable_glaze_coat_path_curve(n_dot_v_4);
+    let _e32 = tunable_glaze_coat_path_slice(n_dot_v_4);
     let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e32);
     let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e32);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l_2);

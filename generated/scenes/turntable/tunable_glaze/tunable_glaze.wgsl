@@ -9,7 +9,7 @@ struct TunableGlazeParams {
 const tunable_glaze_weight_eta: f32 = 0.88888884f;
 
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 484>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 496>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -125,16 +125,21 @@ fn tunable_glaze_coat_extra_slice(cos_theta: f32, roughness: f32) -> f32 {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-// Here eta = 1.52 (literals of the material): the lookup along `roughness` is piecewise linear through 15 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn tunable_glaze_coat_extra_avg_curve(roughness_1: f32) -> f32 {
-    let u = sqrt(min(max(roughness_1, 0f), 1f));
-    let f = (0.0015653762f + dot(max(vec3(u), vec3<f32>(0.13333334f, 0.2f, 0.26666668f)), vec3<f32>(0.00016155383f, 0.0006978834f, 0.0020303389f)));
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.33333334f, 0.4f, 0.46666667f)), vec3<f32>(0.0033205866f, 0.0037637663f, 0.00037914293f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.53333336f, 0.6f, 0.6666667f)), vec3<f32>(-0.0005763543f, -0.002763154f, -0.0032958414f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.73333335f, 0.8f, 0.8666667f)), vec3<f32>(0.00064621336f, -0.001902982f, 0.001197823f)));
-    let f_4 = (f_3 + (max(u, 0.93333334f) * -0.0009474939f));
-    return f_4;
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_extra_avg_slice(roughness_1: f32) -> f32 {
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 15f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let code_ll = tunable_glaze_table_code((u32(cell_roughness_1) + 512u));
+    let at_ll = (code_ll * 0.000000436632f);
+    let code_ul = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 512u));
+    let at_ul = (code_ul * 0.000000436632f);
+    let code_lu = tunable_glaze_table_code((u32(cell_roughness_1) + 528u));
+    let at_lu = (code_lu * 0.000000436632f);
+    let code_uu = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 528u));
+    let at_uu = (code_uu * 0.000000436632f);
+    return ((((at_ll * ((1f - weight_roughness_1) * 0.111111164f)) + (at_ul * (weight_roughness_1 * 0.111111164f))) + (at_lu * ((1f - weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uu * (weight_roughness_1 * tunable_glaze_weight_eta)));
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -156,27 +161,27 @@ fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_2: f32) -> f32 {
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let u_roughness_1 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_1 = (u_roughness_1 * 31f);
-    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
-    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 512u));
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 31f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 30f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 544u));
     let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f))) + 512u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 544u));
     let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f))) + 512u));
+    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 544u));
     let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f))) + 512u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 544u));
     let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 1536u));
+    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 1568u));
     let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_1 * 32f))) + 1536u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 1568u));
     let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_1 + 1f) * 32f))) + 1536u));
+    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
     let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_1 + 1f) * 32f))) + 1536u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
     let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_1) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_1)) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_1)) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_1) * tunable_glaze_weight_eta)));
+    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * tunable_glaze_weight_eta)));
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -198,27 +203,27 @@ fn tunable_glaze_coat_path_slice(cos_theta_2: f32, roughness_3: f32) -> f32 {
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_2 = sqrt(min(max(roughness_3, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 11f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_2 * 12f))) + 2560u));
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 11f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 10f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2592u));
     let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f))) + 2560u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2592u));
     let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f))) + 2560u));
+    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
     let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f))) + 2560u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
     let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_2 * 12f))) + 2704u));
+    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2736u));
     let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_2 * 12f))) + 2704u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2736u));
     let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_2 + 1f) * 12f))) + 2704u));
+    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
     let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_2 + 1f) * 12f))) + 2704u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
     let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_2) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_2) * tunable_glaze_weight_eta)));
+    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * tunable_glaze_weight_eta)));
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -279,21 +284,21 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-// Here eta = 1.52 (literals of the material): the lookup along `roughness` is piecewise linear through 28 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn tunable_glaze_coat_deficit_avg_curve(roughness_4: f32) -> f32 {
-    let u_1 = sqrt(min(max(roughness_4, 0f), 1f));
-    let f_5 = (-0.037629507f + dot(max(vec3(u_1), vec3<f32>(0.16129032f, 0.19354838f, 0.22580644f)), vec3<f32>(0.0004101775f, 0.0004101775f, 0.0014675139f)));
-    let f_6 = (f_5 + dot(max(vec3(u_1), vec3<f32>(0.2580645f, 0.29032257f, 0.32258064f)), vec3<f32>(0.002379021f, 0.004165554f, 0.0061982158f)));
-    let f_7 = (f_6 + dot(max(vec3(u_1), vec3<f32>(0.3548387f, 0.38709676f, 0.41935483f)), vec3<f32>(0.008631926f, 0.01106563f, 0.013371709f)));
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.4516129f, 0.48387095f, 0.516129f)), vec3<f32>(0.015030676f, 0.015705219f, 0.015595623f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.5483871f, 0.58064514f, 0.61290324f)), vec3<f32>(0.01463894f, 0.012587601f, 0.010327536f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.6451613f, 0.67741936f, 0.7096774f)), vec3<f32>(0.0073009944f, 0.005186533f, 0.002707022f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.7419355f, 0.7741935f, 0.8064516f)), vec3<f32>(0.0004469645f, -0.0008936562f, -0.0026705298f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.83870965f, 0.87096775f, 0.9032258f)), vec3<f32>(-0.004256887f, -0.005787574f, -0.0071648685f)));
-    let f_13 = (f_12 + (max(u_1, 0.9354839f) * -0.008367282f));
-    let f_14 = (f_13 + (max(u_1, 0.9677419f) * -0.0087324185f));
-    return f_14;
+// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
+fn tunable_glaze_coat_deficit_avg_slice(roughness_4: f32) -> f32 {
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 31f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 30f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let code_ll = tunable_glaze_table_code((u32(cell_roughness_4) + 2880u));
+    let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
+    let code_ul = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2880u));
+    let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
+    let code_lu = tunable_glaze_table_code((u32(cell_roughness_4) + 2912u));
+    let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
+    let code_uu = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2912u));
+    let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
+    return ((((at_ll_1 * ((1f - weight_roughness_4) * 0.111111164f)) + (at_ul_1 * (weight_roughness_4 * 0.111111164f))) + (at_lu_1 * ((1f - weight_roughness_4) * tunable_glaze_weight_eta))) + (at_uu_1 * (weight_roughness_4 * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -309,27 +314,27 @@ fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_5: f32) -> f32 {
     let node_tau = (u_tau * 15f);
     let cell_tau = min(floor(node_tau), 14f);
     let weight_tau = (node_tau - cell_tau);
-    let u_roughness_3 = sqrt(min(max(roughness_5, 0f), 1f));
-    let node_roughness_3 = (u_roughness_3 * 15f);
-    let cell_roughness_3 = min(floor(node_roughness_3), 14f);
-    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let code_lll = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_3 * 16f))) + 2848u));
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 15f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 14f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let code_lll = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 2944u));
     let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_3 * 16f))) + 2848u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 2944u));
     let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
-    let code_lul = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_3 + 1f) * 16f))) + 2848u));
+    let code_lul = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
     let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_3 + 1f) * 16f))) + 2848u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
     let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
-    let code_llu = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_3 * 16f))) + 3104u));
+    let code_llu = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 3200u));
     let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_3 * 16f))) + 3104u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 3200u));
     let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
-    let code_luu = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_3 + 1f) * 16f))) + 3104u));
+    let code_luu = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
     let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_3 + 1f) * 16f))) + 3104u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
     let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
-    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_3)) * 0.111111164f)) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_3)) * 0.111111164f))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_3) * 0.111111164f))) + (at_uul_3 * ((weight_tau * weight_roughness_3) * 0.111111164f))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_3) * tunable_glaze_weight_eta))) + (at_uuu_3 * ((weight_tau * weight_roughness_3) * tunable_glaze_weight_eta)));
+    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * 0.111111164f)) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * 0.111111164f))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * 0.111111164f))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * 0.111111164f))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * tunable_glaze_weight_eta))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * tunable_glaze_weight_eta)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -343,27 +348,27 @@ fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_6: f32) -> f32 {
     let node_tau_1 = (u_tau_1 * 15f);
     let cell_tau_1 = min(floor(node_tau_1), 14f);
     let weight_tau_1 = (node_tau_1 - cell_tau_1);
-    let u_roughness_4 = sqrt(min(max(roughness_6, 0f), 1f));
-    let node_roughness_4 = (u_roughness_4 * 15f);
-    let cell_roughness_4 = min(floor(node_roughness_4), 14f);
-    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let code_lll = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_4 * 16f))) + 3360u));
+    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
+    let node_roughness_6 = (u_roughness_6 * 15f);
+    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
+    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
+    let code_lll = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3456u));
     let at_lll_4 = (code_lll * 0.000015259022f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_4 * 16f))) + 3360u));
+    let code_ull = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3456u));
     let at_ull_4 = (code_ull * 0.000015259022f);
-    let code_lul = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_4 + 1f) * 16f))) + 3360u));
+    let code_lul = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
     let at_lul_4 = (code_lul * 0.000015259022f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_4 + 1f) * 16f))) + 3360u));
+    let code_uul = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
     let at_uul_4 = (code_uul * 0.000015259022f);
-    let code_llu = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_4 * 16f))) + 3616u));
+    let code_llu = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3712u));
     let at_llu_4 = (code_llu * 0.000015259022f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_4 * 16f))) + 3616u));
+    let code_ulu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3712u));
     let at_ulu_4 = (code_ulu * 0.000015259022f);
-    let code_luu = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_4 + 1f) * 16f))) + 3616u));
+    let code_luu = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
     let at_luu_4 = (code_luu * 0.000015259022f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_4 + 1f) * 16f))) + 3616u));
+    let code_uuu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
     let at_uuu_4 = (code_uuu * 0.000015259022f);
-    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_4)) * 0.111111164f)) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_4)) * 0.111111164f))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_4) * 0.111111164f))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_4) * 0.111111164f))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_4)) * tunable_glaze_weight_eta))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_4)) * tunable_glaze_weight_eta))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_4) * tunable_glaze_weight_eta))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_4) * tunable_glaze_weight_eta)));
+    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * 0.111111164f)) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * 0.111111164f))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * 0.111111164f))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * 0.111111164f))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * tunable_glaze_weight_eta))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * tunable_glaze_weight_eta)));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -401,7 +406,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e29 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3, params.glaze_roughness);
     let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3, params.glaze_roughness);
-    let _e32 = tunable_glaze_coat_extra_avg_curve(params.glaze_roughness);
+    let _e32 = tunable_glaze_coat_extra_avg_slice(params.glaze_roughness);
     let _e33 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e32);
     let specular = (_e29 + vec3(_e33));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
@@ -427,36 +432,36 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e84 = tunable_glaze_coat_deficit_avg_curve(params.glaze_roughness);
-    let layer1_transmit_avg = ((0.9052938f + _e84) - _e32);
-    let _e89 = (layer1_transmit_avg / 2.3104f);
-    let _e91 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
-    let _e93 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
-    let _e95 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
-    let _e97 = (vec3<f32>(_e91, _e93, _e95) * _e89);
-    let layer1_r_return = max((vec3(1f) - _e97), vec3(0f));
-    let _e106 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
-    let _e108 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
-    let _e110 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
-    let layer1_transmit_avg_1 = ((0.9052938f + _e84) - _e32);
-    let _e117 = (layer1_transmit_avg_1 / 2.3104f);
-    let _e118 = vec3(_e117);
-    let layer1_r_return_1 = max((vec3(1f) - _e118), vec3(0f));
+    let _e90 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
+    let layer1_transmit_avg = ((0.9052938f + _e90) - _e32);
+    let _e95 = (layer1_transmit_avg / 2.3104f);
+    let _e97 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
+    let _e99 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
+    let _e101 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
+    let _e103 = (vec3<f32>(_e97, _e99, _e101) * _e95);
+    let layer1_r_return = max((vec3(1f) - _e103), vec3(0f));
+    let _e112 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
+    let _e114 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
+    let _e116 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
+    let layer1_transmit_avg_1 = ((0.9052938f + _e90) - _e32);
+    let _e123 = (layer1_transmit_avg_1 / 2.3104f);
+    let _e124 = vec3(_e123);
+    let layer1_r_return_1 = max((vec3(1f) - _e124), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     let layer1_path_cos_l_1 = (layer1_cos_l / _e68);
     let layer1_path_cos_v_1 = (layer1_cos_v / _e70);
-    let _e132 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e133 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e133)) * vec3(0.27190268f)) / max(_e132, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e161 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e162 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e162)) * vec3(0.27190268f)) / max(_e161, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e191 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
-    let _e193 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e193)) * vec3(0.27190268f)) / max(_e191, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e138 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e139 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e139)) * vec3(0.27190268f)) / max(_e138, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e123).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e167 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e168 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e168)) * vec3(0.27190268f)) / max(_e167, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e123).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e197 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
+    let _e199 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e199)) * vec3(0.27190268f)) / max(_e197, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e123).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
@@ -546,48 +551,48 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let blur_1 = ((0.34210527f * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e50 = tunable_glaze_coat_deficit_avg_curve(params_2.glaze_roughness);
-    let _e51 = tunable_glaze_coat_extra_avg_curve(params_2.glaze_roughness);
-    let layer1_transmit_avg_2 = ((0.9052938f + _e50) - _e51);
-    let _e56 = (layer1_transmit_avg_2 / 2.3104f);
-    let _e58 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
-    let _e60 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
-    let _e62 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
-    let _e64 = (vec3<f32>(_e58, _e60, _e62) * _e56);
-    let layer1_r_return_2 = max((vec3(1f) - _e64), vec3(0f));
-    let _e73 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
-    let _e75 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
-    let _e77 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
-    let _e79 = (vec3<f32>(_e73, _e75, _e77) * _e56);
-    let layer1_transmit_avg_3 = ((0.9052938f + _e50) - _e51);
-    let _e84 = (layer1_transmit_avg_3 / 2.3104f);
-    let _e85 = vec3(_e84);
-    let layer1_r_return_3 = max((vec3(1f) - _e85), vec3(0f));
-    let _e93 = vec3(_e84);
+    let _e56 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
+    let _e57 = tunable_glaze_coat_extra_avg_slice(params_2.glaze_roughness);
+    let layer1_transmit_avg_2 = ((0.9052938f + _e56) - _e57);
+    let _e62 = (layer1_transmit_avg_2 / 2.3104f);
+    let _e64 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
+    let _e66 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
+    let _e68 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
+    let _e70 = (vec3<f32>(_e64, _e66, _e68) * _e62);
+    let layer1_r_return_2 = max((vec3(1f) - _e70), vec3(0f));
+    let _e79 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
+    let _e81 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
+    let _e83 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
+    let _e85 = (vec3<f32>(_e79, _e81, _e83) * _e62);
+    let layer1_transmit_avg_3 = ((0.9052938f + _e56) - _e57);
+    let _e90 = (layer1_transmit_avg_3 / 2.3104f);
+    let _e91 = vec3(_e90);
+    let layer1_r_return_3 = max((vec3(1f) - _e91), vec3(0f));
+    let _e99 = vec3(_e90);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
     let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e38);
     let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e38);
-    let _e99 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e100 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e100)) * vec3(0.27190268f)) / max(_e99, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e128 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e129 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e129)) * vec3(0.27190268f)) / max(_e128, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e158 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
-    let _e160 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e160)) * vec3(0.27190268f)) / max(_e158, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(1.52f, _e93.x, _e79, layer1_r_return_2, layer1_rho);
+    let _e105 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    let _e106 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e106)) * vec3(0.27190268f)) / max(_e105, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e99.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e134 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e135 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e135)) * vec3(0.27190268f)) / max(_e134, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e99.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e164 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
+    let _e166 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e166)) * vec3(0.27190268f)) / max(_e164, vec3(0.000001f))));
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e99.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e85, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e85, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, _e99.x, _e85, layer1_r_return_2, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let _e208 = (dot(n_4, v_4) > 0f);
+    let _e214 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e208) * light_a) + (select(vec3(0f), under_albedo, _e208) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e214) * light_a) + (select(vec3(0f), under_albedo, _e214) * light_b));
 }
 

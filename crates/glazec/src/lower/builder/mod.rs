@@ -107,6 +107,10 @@ pub(super) struct ConstName(pub(super) u32);
 pub struct ModuleBuilder {
     state: RefCell<State>,
     pub types: CommonTypes,
+    /// Whether a table lookup with one runtime argument becomes a curve in the code
+    /// (`math::tables::Curve`): for a material without runtime parameters, whose CPU evaluation
+    /// sums the same curves (`math::tables::with_curves`).
+    pub curves: std::cell::Cell<bool>,
 }
 
 fn insert_type(module: &mut Module, name: Option<&str>, inner: TypeInner) -> Handle<Type> {
@@ -145,6 +149,7 @@ impl ModuleBuilder {
                 table_fetches: Vec::new(),
             }),
             types,
+            curves: std::cell::Cell::new(false),
         }
     }
 

@@ -148,11 +148,13 @@ impl ModuleBuilder {
         }
         // One argument known only at run time: the lookup along its axis is a closed form.
         let curve = match literals.iter().filter(|l| l.is_none()).count() {
-            1 => crate::math::tables::TableId::ALL.iter().find(|id| id.spec().term.name == def.name).map(|&id| {
-                let axis = literals.iter().position(Option::is_none).unwrap_or(0);
-                let fixed: Vec<f32> = literals.iter().map(|l| l.unwrap_or(0.0)).collect();
-                (axis, crate::math::tables::Curve::of_table(id, axis, &fixed))
-            }),
+            1 if self.curves.get() => {
+                crate::math::tables::TableId::ALL.iter().find(|id| id.spec().term.name == def.name).map(|&id| {
+                    let axis = literals.iter().position(Option::is_none).unwrap_or(0);
+                    let fixed: Vec<f32> = literals.iter().map(|l| l.unwrap_or(0.0)).collect();
+                    (axis, crate::math::tables::Curve::of_table(id, axis, &fixed))
+                })
+            }
             _ => None,
         };
         let kind = if curve.is_some() { "curve" } else { "slice" };

@@ -158,7 +158,7 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         }
         let name = self.name(&format!("absorb_lobe_{side}"));
         if self.interface.roughness.is_none() {
-            return slab_transmittance(tau, path_cosine).named(&name);
+            return absorbed(tau, path_cosine).named(&name);
         }
         let q = |t: F| tables::lookup(TableId::GlossyPath, &[mu, t, self.roughness, self.eta]);
         let paths = F::vec3(q(tau.x()), q(tau.y()), q(tau.z()));
@@ -173,7 +173,7 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         let (absorb, absorb_lobe) = if self.tau.is_known_zero() {
             (self.inputs.lit(1.0).splat(), self.inputs.lit(1.0).splat())
         } else {
-            let absorb = slab_transmittance(self.tau, path_cosine).named(&name("absorb"));
+            let absorb = absorbed(self.tau, path_cosine).named(&name("absorb"));
             (absorb, self.lobe_absorption(mu, path_cosine, side))
         };
         // The conductor's Fresnel factor at the first event of the light that does not leave at
@@ -244,11 +244,8 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     fn survival(&self) -> F::Vec {
         let mu_star = self.pool_lookup(TableId::GlossyPoolCosine).named(&self.name("pool_cosine"));
         let fresnel = conductor_fresnel(self.fresnel, self.inputs, mu_star, self.n_medium);
-        let round_trip = if self.tau.is_known_zero() {
-            self.inputs.lit(1.0).splat()
-        } else {
-            slab_transmittance(self.tau * 2.0, mu_star)
-        };
+        let round_trip =
+            if self.tau.is_known_zero() { self.inputs.lit(1.0).splat() } else { absorbed(self.tau * 2.0, mu_star) };
         (fresnel * round_trip).named(&self.name("survival"))
     }
 

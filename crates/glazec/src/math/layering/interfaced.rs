@@ -55,10 +55,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     } else {
         let path_l = interface.path_cosine(g.raw_n_dot_l, below.n_dot_l, "l");
         let path_v = interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v");
-        (
-            slab_transmittance(tau, path_l).named(&name("absorb_l")),
-            slab_transmittance(tau, path_v).named(&name("absorb_v")),
-        )
+        (absorbed(tau, path_l).named(&name("absorb_l")), absorbed(tau, path_v).named(&name("absorb_v")))
     };
     let deeper = Depth {
         k: k + 1,

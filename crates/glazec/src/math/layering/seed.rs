@@ -91,7 +91,11 @@ pub(super) fn weidlich_wilkie<F: Real>(
     let absorption = if sigma_a.is_known_zero() || thickness.splat().is_known_zero() {
         inputs.lit(1.0).splat()
     } else {
-        absorption_ww(sigma_a, thickness, below.n_dot_l, below.n_dot_v).named(&name("absorption"))
+        if sigma_a.is_known_grey() {
+            absorption_ww_grey(sigma_a.x(), thickness, below.n_dot_l, below.n_dot_v).splat().named(&name("absorption"))
+        } else {
+            absorption_ww(sigma_a, thickness, below.n_dot_l, below.n_dot_v).named(&name("absorption"))
+        }
     };
     let inner = ww_inner_reflection(shadowing, t12).named(&name("inner"));
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));

@@ -9,7 +9,10 @@
 //!   f(u) = a + s₀·u + Σⱼ cⱼ·max(u, kⱼ),   cⱼ = sⱼ − sⱼ₋₁ (the change of slope at kⱼ),
 //!
 //! (a absorbs −Σ cⱼkⱼ), which costs a max and a multiply-add per knot and no memory at all. The
-//! shader groups the knots by three: `dot(max(vec3(u), knots), slope_changes)`.
+//! shader groups the knots by three: `dot(max(vec3(u), knots), slope_changes)`. Its terms are as
+//! large as the slopes, so where that would lose a curve's small values to rounding (more than
+//! an eighth of the table's 16-bit step) the curve is summed piece by piece instead, each term
+//! at most its piece's change of value ([`Form`]).
 //!
 //! **Why not a constant array.** On lavapipe a dynamically indexed `const` array of the clay's
 //! three curves made the `eval_pairs` pipeline take 0.84 s to build and the kernel run at 8.9 M
@@ -25,7 +28,8 @@
 //! piecewise linear with knots at nodes, so the largest distance is at a node and the check is
 //! exact.
 
-use super::{Axis, TableId, multilinear};
+use super::catalogue::{Axis, TableId};
+use super::multilinear::multilinear;
 use crate::math::{Real, Vector};
 
 /// How far a curve may lie from the multilinear lookup it replaces at a dropped node
@@ -157,6 +161,34 @@ impl Curve {
             }
         }
     }
+}
+
+/// Whether `material`'s lookups along a direction are curves, in its shader and on the CPU: when
+/// it has no runtime parameters. (With runtime parameters most lookups have several runtime
+/// arguments and read the table uniform; the CPU then looks every table up, exactly as the
+/// shader does, rather than summing curves for the few lookups whose other arguments are
+/// literals: a sharp coat's multiple-scattering lobe divides by its tiny hemispherical average
+/// and turns the two forms' different rounding into visible differences.)
+pub fn curves_for(material: &crate::model::Material) -> bool {
+    material.params.is_empty()
+}
+
+thread_local! {
+    static CURVES_ON_CPU: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f` with the CPU's table lookups along a direction summing curves (`on`) or looking the
+/// tables up: what a CPU evaluation of a material does around its math, per [`curves_for`].
+pub fn with_curves<R>(on: bool, f: impl FnOnce() -> R) -> R {
+    let before = CURVES_ON_CPU.replace(on);
+    let result = f();
+    CURVES_ON_CPU.set(before);
+    result
+}
+
+/// Whether the CPU sums curves now (see [`with_curves`]).
+pub(super) fn curves_on_cpu() -> bool {
+    CURVES_ON_CPU.get()
 }
 
 /// Curves the CPU evaluates, most recent first, per thread: evaluating one material at many

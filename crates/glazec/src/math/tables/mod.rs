@@ -18,11 +18,13 @@
 //!
 //! **Lookups** are multilinear ([`lookup`]). They are written once over the shading ops, like
 //! every term: on the CPU they interpolate directly; in a shader a lookup whose arguments are
-//! all compile-time constants folds to a number, and any other becomes a call of the table's
-//! lookup function (`coat_deficit`, `coat_escape`, …), which reads the table from the table
-//! uniform buffer `glazec_tables` (all tables concatenated, [`buffer`]; its binding is in
-//! `crate::lower::bindings`). Tables are not emitted as constant arrays: see
-//! `lower::builder`'s `tables_buffer` for what that cost on lavapipe.
+//! all compile-time constants folds to a number; for a material without runtime parameters, one
+//! whose arguments are constants but for one is that table's [`Curve`] along the free axis, a
+//! closed form in the code (which the CPU then sums too); any other becomes a call of the
+//! table's lookup function (`coat_deficit`, `coat_escape`, …), which reads the material's table
+//! uniform (the entries its lookups can reach; its binding is in `crate::lower::bindings`).
+//! Tables are not emitted as constant arrays: see [`Curve`] and `lower::builder`'s
+//! `tables_buffer` for what that cost on lavapipe.
 //!
 //! **Precision.** Every table is stored as 16-bit fixed point over its own range, value =
 //! offset + scale·u for u ∈ [0, 65535] (a step of range/65535: 1.5·10⁻⁵ for a table within
@@ -37,25 +39,20 @@
 
 mod catalogue;
 mod curve;
+mod multilinear;
 mod storage;
 
 pub use catalogue::{
     Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID, GLOSSY_SINGLE_GRID,
     GLOSSY_TRAPPED_GRID, Rounding, SPECS, TableId, TableSpec,
 };
-pub use curve::{Curve, Form, KNOT_TOLERANCE};
+pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, with_curves};
 pub use storage::{
     Quantization, buffer, buffer_len, buffer_vec4s, decode, decode_by_name, encode, evaluate_on_cpu_with, total_bytes,
 };
 
-use super::{Codes, Real, Slot};
-
-/// The lower node index and the weight of the upper node at fractional node position `s`
-/// = u·(n − 1) on `n` nodes.
-fn cell<F: Real>(s: F, n: usize) -> (F, F) {
-    let i = s.floor().min(s.lit((n - 2) as f32));
-    (i, s - i)
-}
+use super::{Real, Slot};
+use multilinear::multilinear;
 
 /// Multilinear interpolation of table `id` at `args` (one argument per axis, in the table's
 /// order). With every argument known (always on the CPU; literal parameters in a shader) the
@@ -68,10 +65,15 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
     let known: Option<Vec<f32>> =
         args.iter().zip(spec.axes).map(|(&x, &(axis, _))| x.known().and_then(|_| axis.coordinate(x).known())).collect();
     if let Some(known) = known {
-        // On the CPU a lookup along a direction is the same curve a shader sums for a material's
-        // literals (summed in the same order), so that the two agree to rounding even where a
-        // lobe divides by a tiny table value (a sharp coat's multiple-scattering share).
-        if F::IMMEDIATE && spec.axes.len() > 1 && matches!(spec.axes[0].0, Axis::Cosine | Axis::RootCosine) {
+        // On the CPU, for a material whose shader sums curves ([`with_curves`]), a lookup along a
+        // direction is the same curve, summed in the same order, so that the two agree to
+        // rounding even where a lobe divides by a tiny table value (a sharp coat's
+        // multiple-scattering share).
+        if F::IMMEDIATE
+            && curve::curves_on_cpu()
+            && spec.axes.len() > 1
+            && matches!(spec.axes[0].0, Axis::Cosine | Axis::RootCosine)
+        {
             let fixed: Vec<f32> = args.iter().map(|x| x.known().unwrap_or(0.0)).collect();
             return curve::on_cpu(id, &fixed, |curve| curve.evaluate(args[0]));
         }
@@ -93,69 +95,6 @@ fn interpolate_in_buffer<F: Real>(id: TableId, args: &[Slot<F>]) -> F {
         Slot::V(_) => unreachable!("table arguments are scalars"),
     };
     multilinear(id, coordinate, &params)
-}
-
-/// Multilinear interpolation of table `id` at coordinates u ∈ [0, 1] (`coordinate(axis)`, asked
-/// for once per axis, in order), written once over the shading ops: it folds literal lookups at
-/// compile time, evaluates on the CPU, and is the body of the shader's lookup function. `names`
-/// (one per axis, or none at all) name the generated `let`s.
-fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&str]) -> F {
-    let spec = id.spec();
-    let cells: Vec<(F, F)> = spec
-        .axes
-        .iter()
-        .enumerate()
-        .map(|(a, &(_, n))| {
-            let node = coordinate(a) * (n - 1) as f32;
-            match names.get(a) {
-                Some(name) => {
-                    let (i, w) = cell(node.named(&format!("node_{name}")), n);
-                    (i.named(&format!("cell_{name}")), w.named(&format!("weight_{name}")))
-                }
-                // (No names: no strings built on the CPU's hot path.)
-                None => cell(node, n),
-            }
-        })
-        .collect();
-    let zero = cells[0].0.lit(0.0);
-    let mut total = zero;
-    for corner in 0..1usize << cells.len() {
-        // The corner's entry is start + index: a known cell (every one on the CPU) adds its
-        // axis' part to `start`; an axis known only at run time adds to `index`, over its cells
-        // i ∈ [0, n − 2] plus one on the upper side, so the corner reaches the window
-        // [start, start + span].
-        let (mut index, mut weight, mut stride) = (zero, zero.lit(1.0), 1u32);
-        let (mut start, mut span) = (0u32, 0u32);
-        for (axis, &(i, w)) in cells.iter().enumerate() {
-            let upper = corner >> axis & 1 == 1;
-            weight = weight * if upper { w } else { w.one_minus() };
-            let n = spec.axes[axis].1 as u32;
-            match i.known() {
-                Some(cell) => start += (cell as u32 + u32::from(upper)) * stride,
-                None => {
-                    index = index + (if upper { i + 1.0 } else { i }) * stride as f32;
-                    span += (n - 1) * stride;
-                }
-            }
-            stride *= n;
-        }
-        // The entry's value: offset + scale·code, the stored encoding.
-        let quantization = id.quantization();
-        let codes = Codes { codes: id.codes(), buffer_offset: id.buffer_offset(), start, len: span + 1 };
-        let mut code = F::fetch(codes, index);
-        // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
-        let corner_name =
-            || -> String { (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect() };
-        if !names.is_empty() {
-            code = code.named(&format!("code_{}", corner_name()));
-        }
-        let mut value = code * quantization.scale + quantization.offset;
-        if !names.is_empty() {
-            value = value.named(&format!("at_{}", corner_name()));
-        }
-        total = total + value * weight;
-    }
-    total
 }
 
 #[cfg(test)]

@@ -17,6 +17,15 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// [`absorption_ww`] for a grey layer (the same σa in every channel): one exponential
+    /// instead of three.
+    pub fn absorption_ww_grey(sigma_a: S, thickness: S, n_dot_l1: S, n_dot_v1: S) -> S {
+        let path = thickness * (n_dot_l1.recip() + n_dot_v1.recip());
+        (-(sigma_a * path)).exp()
+    }
+}
+
+shading_fn! {
     /// Weidlich & Wilkie 2007 via Bowsher 2022, §3.0.3: the internal-reflection term
     /// t = (1 − G) + T21·G, with T21 = T12.
     pub fn ww_inner_reflection(g: S, t21: V) -> V {

@@ -18,6 +18,21 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)
+    /// along a direction with cosine μ: e^{−τ/μ}, one exponential instead of three. Guard: μ ≥
+    /// COS_EPSILON (the caller's clamp) keeps τ/μ finite.
+    pub fn slab_transmittance_grey(tau: S, mu: S) -> S {
+        (-(tau / mu)).exp()
+    }
+}
+
+/// [`slab_transmittance`], through [`slab_transmittance_grey`] when τ is known to be grey (a
+/// literal absorption with equal channels): the same numbers.
+pub fn absorbed<F: Real>(tau: F::Vec, mu: F) -> F::Vec {
+    if tau.is_known_grey() { slab_transmittance_grey(tau.x(), mu).splat() } else { slab_transmittance(tau, mu) }
+}
+
+shading_fn! {
     /// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
     /// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
     /// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
