@@ -6,7 +6,7 @@ const vec3 car_paint_one = vec3(1.0, 1.0, 1.0);
 const vec3 car_paint_layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044);
 const float car_paint_layer2_alpha_1 = 0.09037713;
 const vec3 car_paint_layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 car_paint_layer1_remainder_avg = vec3(0.0026943593, 1.5088702e-8, 1.8821272e-10);
+const vec3 car_paint_layer1_remainder_avg = vec3(0.0026943586, 1.5088695e-8, 1.8821267e-10);
 const float car_paint_layer1_mu_c = 0.745356;
 const vec3 car_paint_layer1_rho = vec3(0.7406756, 0.06705829, 0.031262092);
 const float car_paint_layer1_trapped_escape = 0.15678635;
@@ -193,18 +193,35 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5) {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.3 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float car_paint_ggx_albedo_curve(float cos_theta_6) {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_23 = ((u_5 * -0.024184583) + 0.9337537);
-    float f_24 = (f_23 + dot(max(vec3(u_5), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.04580855, -0.0787005, -0.1085713)));
-    float f_25 = (f_24 + dot(max(vec3(u_5), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.11675841, -0.05682886, 0.100982495)));
-    float f_26 = (f_25 + dot(max(vec3(u_5), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.2763355, 0.29357493, 0.13879271)));
-    float f_27 = (f_26 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.026589634, -0.09825737, -0.09328813)));
-    float f_28 = (f_27 + (max(u_5, 0.8666667) * -0.064810224));
-    float f_29 = (f_28 + (max(u_5, 0.93333334) * -0.03982008));
+    float f_23 = ((u_5 * -0.02538353) + 0.9516745);
+    float f_24 = (f_23 + dot(max(vec3(u_5), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.04854798, -0.083768085, -0.11518026)));
+    float f_25 = (f_24 + dot(max(vec3(u_5), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.12120999, -0.047754053, 0.1340604)));
+    float f_26 = (f_25 + dot(max(vec3(u_5), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.3204757, 0.30429307, 0.10328204)));
+    float f_27 = (f_26 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.07329763, -0.12263686, -0.09455592)));
+    float f_28 = (f_27 + (max(u_5, 0.8666667) * -0.056797568));
+    float f_29 = (f_28 + (max(u_5, 0.93333334) * -0.032047037));
     return f_29;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+// Here roughness = 0.36 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float car_paint_ggx_albedo_curve_b(float cos_theta_7) {
+    float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_30 = ((u_6 * -0.019831358) + 0.8686472);
+    float f_31 = (f_30 + dot(max(vec3(u_6), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.035854872, -0.060288023, -0.08456107)));
+    float f_32 = (f_31 + dot(max(vec3(u_6), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.10058468, -0.08979679, -0.019196572)));
+    float f_33 = (f_32 + dot(max(vec3(u_6), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.11597439, 0.2546345, 0.2678034)));
+    float f_34 = (f_33 + dot(max(vec3(u_6), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.14310391, -0.009678305, -0.08868546)));
+    float f_35 = (f_34 + (max(u_6, 0.8666667) * -0.09392203));
+    float f_36 = (f_35 + (max(u_6, 0.93333334) * -0.06806106));
+    return f_36;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -248,11 +265,11 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4) {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float car_paint_glossy_quick_curve(float cos_theta_7) {
-    float u_6 = sqrt(min(max(cos_theta_7, 0.0), 1.0));
-    float f_30 = ((u_6 * 0.0144017935) + 0.2634757);
-    float f_31 = (f_30 + dot(max(vec3(u_6), vec3(0.25, 0.5, 0.75)), vec3(-0.029078186, -0.006097257, -0.009634793)));
-    return f_31;
+float car_paint_glossy_quick_curve(float cos_theta_8) {
+    float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
+    float f_37 = ((u_7 * 0.0144017935) + 0.2634757);
+    float f_38 = (f_37 + dot(max(vec3(u_7), vec3(0.25, 0.5, 0.75)), vec3(-0.029078186, -0.006097257, -0.009634793)));
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -261,11 +278,11 @@ float car_paint_glossy_quick_curve(float cos_theta_7) {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float car_paint_glossy_steady_curve(float cos_theta_8) {
-    float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
-    float f_32 = ((u_7 * 0.02468437) + 0.24147323);
-    float f_33 = (f_32 + dot(max(vec3(u_7), vec3(0.25, 0.5, 0.75)), vec3(-0.067401886, 0.055904448, -0.029418409)));
-    return f_33;
+float car_paint_glossy_steady_curve(float cos_theta_9) {
+    float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
+    float f_39 = ((u_8 * 0.02468437) + 0.24147323);
+    float f_40 = (f_39 + dot(max(vec3(u_8), vec3(0.25, 0.5, 0.75)), vec3(-0.067401886, 0.055904448, -0.029418409)));
+    return f_40;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -395,58 +412,60 @@ vec3 car_paint_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float _e81 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
     float _e86 = max(layer2_cos_l, 0.19711706);
     float _e87 = car_paint_ggx_albedo_curve(_e86);
-    float _e90 = car_paint_glossy_trapped_share(_e86, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l = (1.0 - _e90);
-    float layer2_lobe_normaliser_l = (_e87 * layer2_cone_share_l);
+    float _e90 = car_paint_ggx_albedo_curve_b(_e86);
+    float _e96 = car_paint_glossy_trapped_share(_e86, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l = (1.0 - _e96);
+    float layer2_lobe_normaliser_l = (((0.78416157 * _e87) + (0.21583843 * _e90)) * layer2_cone_share_l);
     float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e81) * layer2_lobe_normaliser_l), 0.0), 1.0);
     float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    float _e109 = car_paint_glossy_quick_curve(layer1_n_dot_l);
-    float _e110 = car_paint_glossy_steady_curve(layer1_n_dot_l);
-    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e109, _e110, 0.43932146, car_paint_layer2_survival);
+    float _e115 = car_paint_glossy_quick_curve(layer1_n_dot_l);
+    float _e116 = car_paint_glossy_steady_curve(layer1_n_dot_l);
+    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e115, _e116, 0.43932146, car_paint_layer2_survival);
     vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    vec3 _e118 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
-    vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e118.x, 1e-6)));
+    vec3 _e124 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1.0));
+    vec3 layer2_once_colour_l = (layer2_once_l / vec3(max(_e124.x, 1e-6)));
     float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     vec3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     vec3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
     float layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v);
     float layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v);
-    float _e135 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
-    float _e140 = max(layer2_cos_v, 0.19711706);
-    float _e141 = car_paint_ggx_albedo_curve(_e140);
-    float _e144 = car_paint_glossy_trapped_share(_e140, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_v = (1.0 - _e144);
-    float layer2_lobe_normaliser_v = (_e141 * layer2_cone_share_v);
-    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e135) * layer2_lobe_normaliser_v), 0.0), 1.0);
+    float _e141 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
+    float _e146 = max(layer2_cos_v, 0.19711706);
+    float _e147 = car_paint_ggx_albedo_curve(_e146);
+    float _e150 = car_paint_ggx_albedo_curve_b(_e146);
+    float _e156 = car_paint_glossy_trapped_share(_e146, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v = (1.0 - _e156);
+    float layer2_lobe_normaliser_v = (((0.78416157 * _e147) + (0.21583843 * _e150)) * layer2_cone_share_v);
+    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e141) * layer2_lobe_normaliser_v), 0.0), 1.0);
     float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
-    float _e163 = car_paint_glossy_quick_curve(layer1_n_dot_v);
-    float _e164 = car_paint_glossy_steady_curve(layer1_n_dot_v);
-    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e163, _e164, 0.43932146, car_paint_layer2_survival);
+    float _e175 = car_paint_glossy_quick_curve(layer1_n_dot_v);
+    float _e176 = car_paint_glossy_steady_curve(layer1_n_dot_v);
+    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e175, _e176, 0.43932146, car_paint_layer2_survival);
     vec3 layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    vec3 _e172 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
-    vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e172.x, 1e-6)));
+    vec3 _e184 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1.0));
+    vec3 layer2_once_colour_v = (layer2_once_v / vec3(max(_e184.x, 1e-6)));
     vec3 layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
     float layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     float layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     vec3 layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    vec3 _e191 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    vec3 layer1_under = ((_e191 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    vec3 _e197 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
-    vec3 _e198 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    vec3 _e199 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    vec3 layer1_later = car_paint_glossy_remainder_lobe(_e198, _e199, car_paint_layer1_remainder_avg);
-    vec3 layer1_f = (_e197 + layer1_later);
+    vec3 _e203 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    vec3 layer1_under = ((_e203 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    vec3 _e209 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    vec3 _e210 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    vec3 _e211 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    vec3 layer1_later = car_paint_glossy_remainder_lobe(_e210, _e211, car_paint_layer1_remainder_avg);
+    vec3 layer1_f = (_e209 + layer1_later);
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e215 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    vec3 _e227 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     vec3 trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    vec3 under = (_e215 + trapped);
+    vec3 under = (_e227 + trapped);
     vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
@@ -525,17 +544,18 @@ vec3 car_paint_ibl(vec3 n_4, vec3 v_4) {
     float _e46 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
     float _e51 = max(layer2_cos_v_1, 0.19711706);
     float _e52 = car_paint_ggx_albedo_curve(_e51);
-    float _e55 = car_paint_glossy_trapped_share(_e51, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l_1 = (1.0 - _e55);
-    float layer2_lobe_normaliser_l_1 = (_e52 * layer2_cone_share_l_1);
+    float _e55 = car_paint_ggx_albedo_curve_b(_e51);
+    float _e61 = car_paint_glossy_trapped_share(_e51, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l_1 = (1.0 - _e61);
+    float layer2_lobe_normaliser_l_1 = (((0.78416157 * _e52) + (0.21583843 * _e55)) * layer2_cone_share_l_1);
     float layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e46) * layer2_lobe_normaliser_l_1), 0.0), 1.0);
     float layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    float _e74 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    float _e75 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e74, _e75, 0.43932146, car_paint_layer2_survival);
+    float _e80 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    float _e81 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e80, _e81, 0.43932146, car_paint_layer2_survival);
     vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    vec3 _e83 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
-    vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e83.x, 1e-6)));
+    vec3 _e89 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
+    vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e89.x, 1e-6)));
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
     vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l);
     vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1.0), layer1_albedo_l);
@@ -543,8 +563,8 @@ vec3 car_paint_ibl(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_4, v_4, 0.0016);
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_4, v_4, 0.138277);
-    bool _e110 = (dot(n_4, v_4) > 0.0);
+    bool _e116 = (dot(n_4, v_4) > 0.0);
     vec3 light_a = car_paint_environment(reflected, 0.04);
     vec3 light_b = car_paint_environment(reflected_1, car_paint_base_roughness);
-    return (((_e110 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e110 ? under_albedo : vec3(0.0)) * light_b));
+    return (((_e116 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e116 ? under_albedo : vec3(0.0)) * light_b));
 }

@@ -25,7 +25,7 @@ var<storage> pairs: array<DirectionPair>;
 var<storage, read_write> values: array<vec4<f32>>;
 @group(0) @binding(2) 
 var<uniform> dispatch: EvalDispatch;
-@group(0) @binding(4) 
+@group(0) @binding(3) 
 var<uniform> light: PreviewLight;
 
 @compute @workgroup_size(64, 1, 1) 

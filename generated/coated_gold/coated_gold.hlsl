@@ -27,7 +27,7 @@ struct PreviewVarying {
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
-cbuffer light : register(b4) { PreviewLight light; }
+cbuffer light : register(b3) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
     float2 p_2 : LOC0;

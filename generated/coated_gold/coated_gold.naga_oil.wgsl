@@ -3,10 +3,8 @@
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_survival: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577434f, 0.03172735f, 0.0034032734f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577435f, 0.03172735f, 0.0034032734f);
 
-@group(#{MATERIAL_BIND_GROUP}) @binding(3) 
-var<uniform> coated_gold_tables: array<vec4<u32>, 32>;
 @group(2) @binding(0) 
 var coated_gold_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -173,35 +171,38 @@ fn coated_gold_glossy_blur_curve(cos_theta_6: f32) -> f32 {
     return f_32;
 }
 
-// The 16-bit code of entry `entry` of the table buffer: two codes to a 32-bit word, the even
-// entry in the low half (`glazec tables`; each lookup scales the code to its table's range).
-fn coated_gold_table_code(entry: u32) -> f32 {
-    let word = (entry >> 1u);
-    let codes = coated_gold_tables[(word >> 2u)][(word & 3u)];
-    return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+// Here roughness = 0.21777777 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn coated_gold_ggx_albedo_curve(cos_theta_7: f32) -> f32 {
+    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_33 = ((u_7 * -0.03918707f) + 0.9841455f);
+    let f_34 = (f_33 + dot(max(vec3(u_7), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.07646977f, -0.12850733f, -0.15928559f)));
+    let f_35 = (f_34 + dot(max(vec3(u_7), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.09106646f, 0.16150744f, 0.41677687f)));
+    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.33824426f, 0.029349815f, -0.14548214f)));
+    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1370752f, -0.0824985f, -0.04236013f)));
+    let f_38 = (f_37 + (max(u_7, 0.8666667f) * -0.020624401f));
+    let f_39 = (f_38 + (max(u_7, 0.93333334f) * -0.009836555f));
+    return f_39;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-fn coated_gold_ggx_albedo(cos_theta_7: f32, roughness: f32) -> f32 {
-    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta = (u_cos_theta * 15f);
-    let cell_cos_theta = min(floor(node_cos_theta), 14f);
-    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    let u_roughness = sqrt(min(max(roughness, 0f), 1f));
-    let node_roughness = (u_roughness * 15f);
-    let cell_roughness = min(floor(node_roughness), 14f);
-    let weight_roughness = (node_roughness - cell_roughness);
-    let code_ll = coated_gold_table_code(u32((cell_cos_theta + (cell_roughness * 16f))));
-    let at_ll = ((code_ll * 0.000010576748f) + 0.30685282f);
-    let code_ul = coated_gold_table_code(u32(((cell_cos_theta + 1f) + (cell_roughness * 16f))));
-    let at_ul = ((code_ul * 0.000010576748f) + 0.30685282f);
-    let code_lu = coated_gold_table_code(u32((cell_cos_theta + ((cell_roughness + 1f) * 16f))));
-    let at_lu = ((code_lu * 0.000010576748f) + 0.30685282f);
-    let code_uu = coated_gold_table_code(u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f))));
-    let at_uu = ((code_uu * 0.000010576748f) + 0.30685282f);
-    return ((((at_ll * ((1f - weight_cos_theta) * (1f - weight_roughness))) + (at_ul * (weight_cos_theta * (1f - weight_roughness)))) + (at_lu * ((1f - weight_cos_theta) * weight_roughness))) + (at_uu * (weight_cos_theta * weight_roughness)));
+// Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn coated_gold_ggx_albedo_curve_b(cos_theta_8: f32) -> f32 {
+    let u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_40 = ((u_8 * -0.02538353f) + 0.9516745f);
+    let f_41 = (f_40 + dot(max(vec3(u_8), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_42 = (f_41 + dot(max(vec3(u_8), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_43 = (f_42 + dot(max(vec3(u_8), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_45 = (f_44 + (max(u_8, 0.8666667f) * -0.056797568f));
+    let f_46 = (f_45 + (max(u_8, 0.93333334f) * -0.032047037f));
+    return f_46;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -245,11 +246,11 @@ fn coated_gold_glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
-    let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_33 = ((u_7 * 0.5028753f) + 0.48326114f);
-    let f_34 = (f_33 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
-    return f_34;
+fn coated_gold_glossy_quick_curve(cos_theta_9: f32) -> f32 {
+    let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
+    let f_47 = ((u_9 * 0.5028753f) + 0.48326114f);
+    let f_48 = (f_47 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
+    return f_48;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -258,11 +259,11 @@ fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
-    let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_35 = ((u_8 * -0.01998204f) + 0.39283627f);
-    let f_36 = (f_35 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
-    return f_36;
+fn coated_gold_glossy_steady_curve(cos_theta_10: f32) -> f32 {
+    let u_10 = sqrt(min(max(cos_theta_10, 0f), 1f));
+    let f_49 = ((u_10 * -0.01998204f) + 0.39283627f);
+    let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
+    return f_50;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -398,71 +399,75 @@ fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_blur_l = (_e51 * 0.010000001f);
     let layer1_blur_v = (_e51 * 0.010000001f);
     let layer1_alpha = sqrt(((0.00390625f + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
-    let _e63 = coated_gold_ggx_albedo(_e50, sqrt(layer1_alpha));
-    let _e65 = coated_gold_glossy_trapped_share(_e50, 0.745356f, layer1_alpha);
-    let layer1_cone_share_l = (1f - _e65);
-    let layer1_lobe_normaliser_l = (_e63 * layer1_cone_share_l);
+    let _e69 = (sqrt(min(max(sqrt(layer1_alpha), 0f), 1f)) * 15f);
+    let _e77 = coated_gold_ggx_albedo_curve(_e50);
+    let _e86 = coated_gold_ggx_albedo_curve_b(_e50);
+    let _e90 = coated_gold_glossy_trapped_share(_e50, 0.745356f, layer1_alpha);
+    let layer1_cone_share_l = (1f - _e90);
+    let layer1_lobe_normaliser_l = (((max((1f - abs((_e69 - 7f))), 0f) * _e77) + (max((1f - abs((_e69 - 8f))), 0f) * _e86)) * layer1_cone_share_l);
     let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e45) * layer1_lobe_normaliser_l), 0f), 1f);
     let layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e84 = coated_gold_glossy_quick_curve(n_dot_l_2);
-    let _e85 = coated_gold_glossy_steady_curve(n_dot_l_2);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e84, _e85, 0.9170209f, coated_gold_layer1_survival);
+    let _e109 = coated_gold_glossy_quick_curve(n_dot_l_2);
+    let _e110 = coated_gold_glossy_steady_curve(n_dot_l_2);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e109, _e110, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_survival);
-    let _e93 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e93.x, 0.000001f)));
+    let _e118 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e118.x, 0.000001f)));
     let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e103 = coated_gold_coat_deficit_curve(n_dot_v_2);
+    let _e128 = coated_gold_coat_deficit_curve(n_dot_v_2);
     let layer1_restored_v = coated_gold_coat_extra_curve(n_dot_v_2);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e103) - layer1_restored_v), 0f), 1f);
-    let _e111 = coated_gold_coat_path_curve(n_dot_v_2);
-    let layer1_path_cos_v = (layer1_cos_v / _e111);
+    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e128) - layer1_restored_v), 0f), 1f);
+    let _e136 = coated_gold_coat_path_curve(n_dot_v_2);
+    let layer1_path_cos_v = (layer1_cos_v / _e136);
     let layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_2);
     let layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_2);
-    let _e125 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
-    let _e130 = max(layer1_cos_v, 0.7453635f);
-    let _e131 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005f));
-    let layer1_blur_l_1 = (_e131 * 0.010000001f);
-    let layer1_blur_v_1 = (_e131 * 0.010000001f);
+    let _e150 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
+    let _e155 = max(layer1_cos_v, 0.7453635f);
+    let _e156 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005f));
+    let layer1_blur_l_1 = (_e156 * 0.010000001f);
+    let layer1_blur_v_1 = (_e156 * 0.010000001f);
     let layer1_alpha_1 = sqrt(((0.00390625f + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
-    let _e143 = coated_gold_ggx_albedo(_e130, sqrt(layer1_alpha_1));
-    let _e145 = coated_gold_glossy_trapped_share(_e130, 0.745356f, layer1_alpha_1);
-    let layer1_cone_share_v = (1f - _e145);
-    let layer1_lobe_normaliser_v = (_e143 * layer1_cone_share_v);
-    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e125) * layer1_lobe_normaliser_v), 0f), 1f);
+    let _e174 = (sqrt(min(max(sqrt(layer1_alpha_1), 0f), 1f)) * 15f);
+    let _e182 = coated_gold_ggx_albedo_curve(_e155);
+    let _e191 = coated_gold_ggx_albedo_curve_b(_e155);
+    let _e195 = coated_gold_glossy_trapped_share(_e155, 0.745356f, layer1_alpha_1);
+    let layer1_cone_share_v = (1f - _e195);
+    let layer1_lobe_normaliser_v = (((max((1f - abs((_e174 - 7f))), 0f) * _e182) + (max((1f - abs((_e174 - 8f))), 0f) * _e191)) * layer1_cone_share_v);
+    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e150) * layer1_lobe_normaliser_v), 0f), 1f);
     let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
-    let _e164 = coated_gold_glossy_quick_curve(n_dot_v_2);
-    let _e165 = coated_gold_glossy_steady_curve(n_dot_v_2);
-    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e164, _e165, 0.9170209f, coated_gold_layer1_survival);
+    let _e214 = coated_gold_glossy_quick_curve(n_dot_v_2);
+    let _e215 = coated_gold_glossy_steady_curve(n_dot_v_2);
+    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e214, _e215, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_survival);
-    let _e173 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
-    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e173.x, 0.000001f)));
-    let _e179 = coated_gold_glossy_blur_curve(n_dot_l_2);
-    let layer1_blur_l_2 = (_e179 * 0.010000001f);
-    let _e182 = coated_gold_glossy_blur_curve(n_dot_v_2);
-    let layer1_blur_v_2 = (_e182 * 0.010000001f);
+    let _e223 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
+    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e223.x, 0.000001f)));
+    let _e229 = coated_gold_glossy_blur_curve(n_dot_l_2);
+    let layer1_blur_l_2 = (_e229 * 0.010000001f);
+    let _e232 = coated_gold_glossy_blur_curve(n_dot_v_2);
+    let layer1_blur_v_2 = (_e232 * 0.010000001f);
     let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
     let h = coated_gold_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
     let d = coated_gold_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
     let g = coated_gold_g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
     let fresnel = coated_gold_fr_dielectric(dot(v_1, h), 1.5f);
-    let _e203 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let _e205 = coated_gold_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
-    let specular = (_e203 + vec3(_e205));
+    let _e253 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let _e255 = coated_gold_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
+    let specular = (_e253 + vec3(_e255));
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_1, layer1_h);
     let layer1_d = coated_gold_d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let _e226 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let under = ((_e226 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    let _e235 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    let _e238 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e241 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let later = coated_gold_glossy_remainder_lobe(_e238, _e241, coated_gold_remainder_avg);
-    let f_37 = (_e235 + later);
-    return select(vec3(0f), f_37, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
+    let _e276 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e276 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e285 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let _e288 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e291 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let later = coated_gold_glossy_remainder_lobe(_e288, _e291, coated_gold_remainder_avg);
+    let f_51 = (_e285 + later);
+    return select(vec3(0f), f_51, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
@@ -478,10 +483,10 @@ fn coated_gold_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn coated_gold_environment(direction: vec3<f32>, roughness_1: f32) -> vec3<f32> {
+fn coated_gold_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
     let uv = coated_gold_equirect_uv(direction);
     let _e3 = textureNumLevels(coated_gold_radiance);
-    let lod = (roughness_1 * (f32(_e3) - 1f));
+    let lod = (roughness * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(coated_gold_radiance, coated_gold_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -540,21 +545,23 @@ fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let layer1_blur_l_3 = (_e42 * 0.010000001f);
     let layer1_blur_v_3 = (_e42 * 0.010000001f);
     let layer1_alpha_3 = sqrt(((0.00390625f + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
-    let _e54 = coated_gold_ggx_albedo(_e41, sqrt(layer1_alpha_3));
-    let _e56 = coated_gold_glossy_trapped_share(_e41, 0.745356f, layer1_alpha_3);
-    let layer1_cone_share_l_1 = (1f - _e56);
-    let layer1_lobe_normaliser_l_1 = (_e54 * layer1_cone_share_l_1);
+    let _e60 = (sqrt(min(max(sqrt(layer1_alpha_3), 0f), 1f)) * 15f);
+    let _e68 = coated_gold_ggx_albedo_curve(_e41);
+    let _e77 = coated_gold_ggx_albedo_curve_b(_e41);
+    let _e81 = coated_gold_glossy_trapped_share(_e41, 0.745356f, layer1_alpha_3);
+    let layer1_cone_share_l_1 = (1f - _e81);
+    let layer1_lobe_normaliser_l_1 = (((max((1f - abs((_e60 - 7f))), 0f) * _e68) + (max((1f - abs((_e60 - 8f))), 0f) * _e77)) * layer1_cone_share_l_1);
     let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e36) * layer1_lobe_normaliser_l_1), 0f), 1f);
     let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e75 = coated_gold_glossy_quick_curve(n_dot_v_3);
-    let _e76 = coated_gold_glossy_steady_curve(n_dot_v_3);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e75, _e76, 0.9170209f, coated_gold_layer1_survival);
+    let _e100 = coated_gold_glossy_quick_curve(n_dot_v_3);
+    let _e101 = coated_gold_glossy_steady_curve(n_dot_v_3);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e100, _e101, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_survival);
-    let _e84 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e84.x, 0.000001f)));
-    let _e90 = coated_gold_glossy_blur_curve(n_dot_v_3);
-    let layer1_blur_l_4 = (_e90 * 0.010000001f);
-    let layer1_blur_v_4 = (_e90 * 0.010000001f);
+    let _e109 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e109.x, 0.000001f)));
+    let _e115 = coated_gold_glossy_blur_curve(n_dot_v_3);
+    let layer1_blur_l_4 = (_e115 * 0.010000001f);
+    let layer1_blur_v_4 = (_e115 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
     let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
     let coat_albedo = (1f - layer1_transmit_l_1);
@@ -562,9 +569,9 @@ fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let reflected = coated_gold_specular_dominant_direction(n_4, v_4, 0.010000001f);
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
     let reflected_1 = coated_gold_specular_dominant_direction(n_4, v_4, (base_roughness * base_roughness));
-    let _e125 = (dot(n_4, v_4) > 0f);
+    let _e150 = (dot(n_4, v_4) > 0f);
     let light_a = coated_gold_environment(reflected, 0.1f);
     let light_b = coated_gold_environment(reflected_1, base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e125) * light_a) + (select(vec3(0f), under_albedo, _e125) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e150) * light_a) + (select(vec3(0f), under_albedo, _e150) * light_b));
 }
 

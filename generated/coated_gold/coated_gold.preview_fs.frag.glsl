@@ -8,7 +8,7 @@ struct PreviewLight {
     vec4 direction;
     vec4 radiance;
 };
-layout(std140, binding = 4) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_4_fs; };
+layout(std140, binding = 3) uniform PreviewLight_block_0Fragment { PreviewLight _group_0_binding_3_fs; };
 
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
@@ -17,9 +17,9 @@ void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     vec3 n_1 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    vec4 _e14 = _group_0_binding_4_fs.direction;
+    vec4 _e14 = _group_0_binding_3_fs.direction;
     vec3 l_1 = _e14.xyz;
-    vec4 _e17 = _group_0_binding_4_fs.radiance;
+    vec4 _e17 = _group_0_binding_3_fs.radiance;
     vec3 reflected = coated_gold_eval(n_1, vec3(0.0, 0.0, 1.0), l_1);
     bool _e26 = (r2_ < 1.0);
     _fs2p_location0 = vec4((_e26 ? (reflected * _e17.xyz) : vec3(0.0)), (_e26 ? 1.0 : 0.0));

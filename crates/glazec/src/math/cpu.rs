@@ -80,6 +80,9 @@ impl Real for f32 {
     fn known(self) -> Option<f32> {
         Some(self)
     }
+    fn table_curves((): ()) -> bool {
+        super::tables::curves_on_cpu()
+    }
     fn fetch(table: Codes, index: f32) -> f32 {
         // `as` saturates: a negative index reads entry 0.
         let codes = table.codes;

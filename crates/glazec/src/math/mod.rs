@@ -126,6 +126,9 @@ pub trait Real:
 
     /// The value, if it is known now (always on the CPU; a folded constant in naga).
     fn known(self) -> Option<f32>;
+    /// Whether table lookups along one runtime argument are curves here (`tables::Curve`): in
+    /// the shader of a material without runtime parameters, and in its CPU evaluation.
+    fn table_curves(ctx: Self::Ctx) -> bool;
     /// The 16-bit code of entry `index` of a table, as a number (in a shader: from the table
     /// buffer `glazec_tables`; `tables::lookup` scales it to the value); `index` holds a whole
     /// number in range (callers clamp).

@@ -6,7 +6,7 @@ const car_paint_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026943593f, 0.000000015088702f, 0.00000000018821272f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026943586f, 0.000000015088695f, 0.00000000018821267f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
 const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7406756f, 0.06705829f, 0.031262092f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
@@ -188,18 +188,35 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.3 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_23 = ((u_5 * -0.024184583f) + 0.9337537f);
-    let f_24 = (f_23 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04580855f, -0.0787005f, -0.1085713f)));
-    let f_25 = (f_24 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.11675841f, -0.05682886f, 0.100982495f)));
-    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.2763355f, 0.29357493f, 0.13879271f)));
-    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.026589634f, -0.09825737f, -0.09328813f)));
-    let f_28 = (f_27 + (max(u_5, 0.8666667f) * -0.064810224f));
-    let f_29 = (f_28 + (max(u_5, 0.93333334f) * -0.03982008f));
+    let f_23 = ((u_5 * -0.02538353f) + 0.9516745f);
+    let f_24 = (f_23 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_25 = (f_24 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_28 = (f_27 + (max(u_5, 0.8666667f) * -0.056797568f));
+    let f_29 = (f_28 + (max(u_5, 0.93333334f) * -0.032047037f));
     return f_29;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E(μ; r): the directional albedo of a white single-scattering GGX reflector.
+// Here roughness = 0.36 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_30 = ((u_6 * -0.019831358f) + 0.8686472f);
+    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
+    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
+    let f_33 = (f_32 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
+    let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
+    let f_35 = (f_34 + (max(u_6, 0.8666667f) * -0.09392203f));
+    let f_36 = (f_35 + (max(u_6, 0.93333334f) * -0.06806106f));
+    return f_36;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -243,11 +260,11 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn car_paint_glossy_quick_curve(cos_theta_7: f32) -> f32 {
-    let u_6 = sqrt(min(max(cos_theta_7, 0f), 1f));
-    let f_30 = ((u_6 * 0.0144017935f) + 0.2634757f);
-    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
-    return f_31;
+fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
+    let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
+    let f_37 = ((u_7 * 0.0144017935f) + 0.2634757f);
+    let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -256,11 +273,11 @@ fn car_paint_glossy_quick_curve(cos_theta_7: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn car_paint_glossy_steady_curve(cos_theta_8: f32) -> f32 {
-    let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_32 = ((u_7 * 0.02468437f) + 0.24147323f);
-    let f_33 = (f_32 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
-    return f_33;
+fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
+    let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
+    let f_39 = ((u_8 * 0.02468437f) + 0.24147323f);
+    let f_40 = (f_39 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
+    return f_40;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -388,58 +405,60 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e77 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
     let _e82 = max(layer2_cos_l, 0.19711706f);
     let _e83 = car_paint_ggx_albedo_curve(_e82);
-    let _e86 = car_paint_glossy_trapped_share(_e82, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_l = (1f - _e86);
-    let layer2_lobe_normaliser_l = (_e83 * layer2_cone_share_l);
+    let _e86 = car_paint_ggx_albedo_curve_b(_e82);
+    let _e92 = car_paint_glossy_trapped_share(_e82, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_l = (1f - _e92);
+    let layer2_lobe_normaliser_l = (((0.78416157f * _e83) + (0.21583843f * _e86)) * layer2_cone_share_l);
     let layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e77) * layer2_lobe_normaliser_l), 0f), 1f);
     let layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
-    let _e105 = car_paint_glossy_quick_curve(layer1_n_dot_l);
-    let _e106 = car_paint_glossy_steady_curve(layer1_n_dot_l);
-    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e105, _e106, 0.43932146f, car_paint_layer2_survival);
+    let _e111 = car_paint_glossy_quick_curve(layer1_n_dot_l);
+    let _e112 = car_paint_glossy_steady_curve(layer1_n_dot_l);
+    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e111, _e112, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    let _e114 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1f));
-    let layer2_once_colour_l = (layer2_once_l / vec3(max(_e114.x, 0.000001f)));
+    let _e120 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l = (layer2_once_l / vec3(max(_e120.x, 0.000001f)));
     let layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02f);
     let layer2_transmit_v = (1f - layer2_fresnel_v);
     let layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     let layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
     let layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v);
     let layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v);
-    let _e131 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
-    let _e136 = max(layer2_cos_v, 0.19711706f);
-    let _e137 = car_paint_ggx_albedo_curve(_e136);
-    let _e140 = car_paint_glossy_trapped_share(_e136, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_v = (1f - _e140);
-    let layer2_lobe_normaliser_v = (_e137 * layer2_cone_share_v);
-    let layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e131) * layer2_lobe_normaliser_v), 0f), 1f);
+    let _e137 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
+    let _e142 = max(layer2_cos_v, 0.19711706f);
+    let _e143 = car_paint_ggx_albedo_curve(_e142);
+    let _e146 = car_paint_ggx_albedo_curve_b(_e142);
+    let _e152 = car_paint_glossy_trapped_share(_e142, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_v = (1f - _e152);
+    let layer2_lobe_normaliser_v = (((0.78416157f * _e143) + (0.21583843f * _e146)) * layer2_cone_share_v);
+    let layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e137) * layer2_lobe_normaliser_v), 0f), 1f);
     let layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1f - layer2_next_v), 0.000001f)), 0f), 1f);
-    let _e159 = car_paint_glossy_quick_curve(layer1_n_dot_v);
-    let _e160 = car_paint_glossy_steady_curve(layer1_n_dot_v);
-    let layer2_later_v = car_paint_glossy_later(layer2_next_v, _e159, _e160, 0.43932146f, car_paint_layer2_survival);
+    let _e171 = car_paint_glossy_quick_curve(layer1_n_dot_v);
+    let _e172 = car_paint_glossy_steady_curve(layer1_n_dot_v);
+    let layer2_later_v = car_paint_glossy_later(layer2_next_v, _e171, _e172, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    let _e168 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
-    let layer2_once_colour_v = (layer2_once_v / vec3(max(_e168.x, 0.000001f)));
+    let _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
+    let layer2_once_colour_v = (layer2_once_v / vec3(max(_e180.x, 0.000001f)));
     let layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     let layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     let layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    let _e187 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    let layer1_under = ((_e187 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    let _e193 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
-    let _e194 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    let _e195 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    let layer1_later = car_paint_glossy_remainder_lobe(_e194, _e195, car_paint_layer1_remainder_avg);
-    let layer1_f = (_e193 + layer1_later);
+    let _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    let layer1_under = ((_e199 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    let _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
+    let _e206 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    let _e207 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    let layer1_later = car_paint_glossy_remainder_lobe(_e206, _e207, car_paint_layer1_remainder_avg);
+    let layer1_f = (_e205 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e211 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let _e223 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let under = (_e211 + trapped);
+    let under = (_e223 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -519,17 +538,18 @@ fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let _e46 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
     let _e51 = max(layer2_cos_v_1, 0.19711706f);
     let _e52 = car_paint_ggx_albedo_curve(_e51);
-    let _e55 = car_paint_glossy_trapped_share(_e51, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_l_1 = (1f - _e55);
-    let layer2_lobe_normaliser_l_1 = (_e52 * layer2_cone_share_l_1);
+    let _e55 = car_paint_ggx_albedo_curve_b(_e51);
+    let _e61 = car_paint_glossy_trapped_share(_e51, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_l_1 = (1f - _e61);
+    let layer2_lobe_normaliser_l_1 = (((0.78416157f * _e52) + (0.21583843f * _e55)) * layer2_cone_share_l_1);
     let layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e46) * layer2_lobe_normaliser_l_1), 0f), 1f);
     let layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
-    let _e74 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    let _e75 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e74, _e75, 0.43932146f, car_paint_layer2_survival);
+    let _e80 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    let _e81 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e80, _e81, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    let _e83 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
-    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e83.x, 0.000001f)));
+    let _e89 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e89.x, 0.000001f)));
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
     let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l);
     let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l);
@@ -537,9 +557,9 @@ fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_4, v_4, 0.0016f);
     let reflected_1 = car_paint_specular_dominant_direction(n_4, v_4, 0.138277f);
-    let _e110 = (dot(n_4, v_4) > 0f);
+    let _e116 = (dot(n_4, v_4) > 0f);
     let light_a = car_paint_environment(reflected, 0.04f);
     let light_b = car_paint_environment(reflected_1, car_paint_base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e110) * light_a) + (select(vec3(0f), under_albedo, _e110) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e116) * light_a) + (select(vec3(0f), under_albedo, _e116) * light_b));
 }
 

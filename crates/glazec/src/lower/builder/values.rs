@@ -524,6 +524,9 @@ impl<'a> Real for Expr<'a> {
     fn known(self) -> Option<f32> {
         self.as_const()
     }
+    fn table_curves(b: &'a ModuleBuilder) -> bool {
+        b.curves.get()
+    }
     fn fetch(table: Codes, index: Self) -> Self {
         let b = index.b;
         if let Val::Const(i) = index.v {

@@ -42,7 +42,7 @@ use super::interface::{CoatInterface, interfaced_lobe};
 use super::level::{Albedo, Level};
 use crate::math::Sum;
 use crate::math::quadrature::GAUSS_LEGENDRE_4;
-use crate::math::tables::{self, TableId};
+use crate::math::tables::{self, Axis, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
 use crate::model::{Approximations, Coat, Color, ConductorFresnel, Lobe, Scalar};
@@ -226,8 +226,52 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         let mu = mu.at_least(GLOSSY_GRAZING as f32);
         let mu_refracted = mu_refracted.max(self.refracted_cosine(self.inputs.lit(GLOSSY_GRAZING as f32)));
         let alpha = self.alpha(mu, mu, None);
-        let white = tables::lookup(TableId::GgxAlbedo, &[mu_refracted, alpha.sqrt()]);
+        let white = self.white_albedo(mu_refracted, alpha);
         (white * self.cone_share(mu_refracted, alpha, side)).named(&self.name(&format!("lobe_normaliser_{side}")))
+    }
+
+    /// E(μ′; α), `ggx_albedo` at the refracted cosine and the lobe's roughness √α: a lookup in
+    /// two arguments that both follow the direction. Where lookups are curves
+    /// ([`Real::table_curves`]) and α(μ) is known to stay within a few cells of the table's
+    /// roughness axis, it is the same bilinear interpolation written as Σⱼ hatⱼ(√α)·E(μ′; rⱼ)
+    /// over the nodes rⱼ it can reach (hatⱼ the tent of node j, 1 − |s − j| at node position
+    /// s), each E(μ′; rⱼ) a curve: no table read.
+    fn white_albedo(&self, mu_refracted: F, alpha: F) -> F {
+        let rho = alpha.sqrt();
+        let (axis, n) = TableId::GgxAlbedo.spec().axes[1];
+        let Some((first, last)) = self.roughness_nodes(axis, n).filter(|_| F::table_curves(self.inputs.ctx)) else {
+            return tables::lookup(TableId::GgxAlbedo, &[mu_refracted, rho]);
+        };
+        let position = axis.coordinate(rho) * (n - 1) as f32;
+        let mut total = self.inputs.lit(0.0);
+        for j in first..=last {
+            let tent = (position - j as f32).abs().one_minus().at_least(0.0);
+            let at_node = tables::lookup(TableId::GgxAlbedo, &[mu_refracted, self.inputs.lit(axis.node(j, n) as f32)]);
+            total = total + tent * at_node;
+        }
+        total
+    }
+
+    /// The first and last roughness nodes (of `n` on `axis`) whose tents √α(μ) can reach, when α
+    /// is known at compile time as a function of μ: α grows with the blur, which is piecewise
+    /// linear between the blur table's direction nodes, so its extremes are at those nodes or at
+    /// the ends of μ ∈ [GLOSSY_GRAZING, 1]. `None` with runtime parameters or beyond four nodes.
+    fn roughness_nodes(&self, axis: Axis, n: usize) -> Option<(usize, usize)> {
+        let (blur_axis, blur_nodes) = TableId::GlossyBlur.spec().axes[0];
+        let grazing = GLOSSY_GRAZING as f32;
+        let mus = (0..blur_nodes).map(|k| blur_axis.node(k, blur_nodes) as f32).filter(|&m| m > grazing);
+        let mut positions = Vec::new();
+        for mu in std::iter::once(grazing).chain(mus) {
+            let mu = self.inputs.lit(mu);
+            let rho = self.alpha(mu, mu, None).sqrt();
+            positions.push(axis.coordinate(rho).known()? * (n - 1) as f32);
+        }
+        // (A margin of 10⁻³ node against rounding between these values and the shader's.)
+        let lowest = positions.iter().copied().fold(f32::INFINITY, f32::min) - 1e-3;
+        let highest = positions.iter().copied().fold(f32::NEG_INFINITY, f32::max) + 1e-3;
+        let first = lowest.floor().clamp(0.0, (n - 1) as f32) as usize;
+        let last = (highest.floor() + 1.0).clamp(0.0, (n - 1) as f32) as usize;
+        (last - first < 4).then_some((first, last))
     }
 
     /// The share of a GGX lobe (α) from Snell's cosine μ′ that stays inside the coat's escape

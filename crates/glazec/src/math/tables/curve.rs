@@ -187,7 +187,7 @@ pub fn with_curves<R>(on: bool, f: impl FnOnce() -> R) -> R {
 }
 
 /// Whether the CPU sums curves now (see [`with_curves`]).
-pub(super) fn curves_on_cpu() -> bool {
+pub fn curves_on_cpu() -> bool {
     CURVES_ON_CPU.get()
 }
 

@@ -46,7 +46,7 @@ pub use catalogue::{
     Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID, GLOSSY_SINGLE_GRID,
     GLOSSY_TRAPPED_GRID, Rounding, SPECS, TableId, TableSpec,
 };
-pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, with_curves};
+pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, curves_on_cpu, with_curves};
 pub use storage::{
     Quantization, buffer, buffer_len, buffer_vec4s, decode, decode_by_name, encode, evaluate_on_cpu_with, total_bytes,
 };
@@ -70,7 +70,7 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
         // rounding even where a lobe divides by a tiny table value (a sharp coat's
         // multiple-scattering share).
         if F::IMMEDIATE
-            && curve::curves_on_cpu()
+            && F::table_curves(args[0].ctx())
             && spec.axes.len() > 1
             && matches!(spec.axes[0].0, Axis::Cosine | Axis::RootCosine)
         {
