@@ -51,6 +51,10 @@ pub struct Curve {
     /// How the argument maps to u.
     pub mapping: Axis,
     pub form: Form,
+    /// The smallest and largest value at its nodes: the curve's range, which its sum is clamped
+    /// to (a piecewise-linear function never leaves it; rounding could, below zero for a share
+    /// that is zero).
+    pub range: (f32, f32),
     /// The nodes the curve was built on (uniform in u).
     pub nodes: usize,
 }
@@ -113,7 +117,9 @@ impl Curve {
                 .collect();
             Form::Pieces { start: points[0].1 as f32, pieces }
         };
-        Curve { mapping, form, nodes: points.len() }
+        let low = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) as f32;
+        let high = points.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max) as f32;
+        Curve { mapping, form, range: (low, high), nodes: points.len() }
     }
 
     /// How many of its nodes the curve keeps.
@@ -127,6 +133,12 @@ impl Curve {
     /// The curve at argument `x` (mapped to u and clamped like the lookup's axis), written once
     /// over the shading ops: the body of the shader's curve function, and the CPU's lookup.
     pub fn evaluate<F: Real>(&self, x: F) -> F {
+        let (low, high) = self.range;
+        self.sum(x).clamp(low, high)
+    }
+
+    /// The curve's sum, before the clamp to its range.
+    fn sum<F: Real>(&self, x: F) -> F {
         let u = self.mapping.coordinate(x).named("u");
         // (A partial sum that folds to a number, as on the CPU, stays unnamed.)
         let partial = |v: F| if v.known().is_some() { v } else { v.named("f") };
