@@ -110,7 +110,7 @@ float car_paint_coat_extra_curve(float cos_theta)
     float f_2 = (f_1 + dot((min(max((u).xxx, float3(0.4, 0.46666667, 0.53333336)), float3(0.46666667, 0.53333336, 0.6)) - float3(0.4, 0.46666667, 0.53333336)), float3(-0.004698718, -0.001614229, -0.00043627838)));
     float f_3 = (f_2 + dot((min(max((u).xxx, float3(0.6, 0.6666667, 0.73333335)), float3(0.6666667, 0.73333335, 0.8)) - float3(0.6, 0.6666667, 0.73333335)), float3(-8.289289e-5, 3.9265044e-5, -5.23534e-5)));
     float f_4 = (f_3 + dot((min(max((u).xxx, float3(0.8, 0.8666667, 0.93333334)), float3(0.8666667, 0.93333334, 1.0)) - float3(0.8, 0.8666667, 0.93333334)), float3(5.23534e-5, -5.23534e-5, 0.0)));
-    return min(max(f_4, 0.0), 0.094958596);
+    return max(f_4, 0.0);
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -141,7 +141,7 @@ float car_paint_coat_deficit_curve(float cos_theta_1)
     float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.0010818008, 0.00073341554, 0.0006600808)));
     float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.00056840753, 0.00016501092, 0.0004583981)));
     float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(-0.0002016904, 0.00031170354, 7.334174e-5)));
-    return min(max(f_13, -1.2183096e-5), 0.12229025);
+    return f_13;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -183,7 +183,7 @@ float car_paint_glossy_scale_curve(float cos_theta_3)
     float f_14 = (1.020074 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(0.45252323, -0.36825275, -0.2977066)));
     float f_15 = (f_14 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(0.035661697, 0.09215355, 0.04754448)));
     float f_16 = (f_15 + (max(u_2, 0.875) * 0.02336979));
-    return min(max(f_16, 1.00447), 1.0715692);
+    return f_16;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -196,7 +196,7 @@ float car_paint_glossy_next_curve(float cos_theta_4)
     float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float f_17 = ((u_3 * 0.0019297004) + 0.2134062);
     float f_18 = (f_17 + dot(max((u_3).xxx, float3(0.25, 0.5, 0.75)), float3(0.009461105, 0.028464973, 0.00029283762)));
-    return min(max(f_18, 0.2302236), 0.25355482);
+    return f_18;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -214,7 +214,7 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
     float f_20 = (f_19 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.052953, 1.1106987, 0.25857544)));
     float f_21 = (f_20 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.078886986, -0.16258144, -0.008225441)));
     float f_22 = (f_21 + (max(u_4, 0.875) * 0.07219601));
-    return min(max(f_22, 1.0164603), 2.6898336);
+    return f_22;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -232,7 +232,7 @@ float car_paint_ggx_albedo_curve(float cos_theta_6)
     float f_27 = (f_26 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.07329763, -0.12263686, -0.09455592)));
     float f_28 = (f_27 + (max(u_5, 0.8666667) * -0.056797568));
     float f_29 = (f_28 + (max(u_5, 0.93333334) * -0.032047037));
-    return min(max(f_29, 0.88827777), 0.9998519);
+    return f_29;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -250,7 +250,7 @@ float car_paint_ggx_albedo_curve_b(float cos_theta_7)
     float f_34 = (f_33 + dot(max((u_6).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.14310391, -0.009678305, -0.08868546)));
     float f_35 = (f_34 + (max(u_6, 0.8666667) * -0.09392203));
     float f_36 = (f_35 + (max(u_6, 0.93333334) * -0.06806106));
-    return min(max(f_36, 0.87806064), 0.99991536);
+    return f_36;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -301,7 +301,7 @@ float car_paint_glossy_quick_curve(float cos_theta_8)
     float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float f_37 = ((u_7 * 0.0144017935) + 0.2634757);
     float f_38 = (f_37 + dot(max((u_7).xxx, float3(0.25, 0.5, 0.75)), float3(-0.029078186, -0.006097257, -0.009634793)));
-    return min(max(f_38, 0.23306724), 0.24953187);
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -315,7 +315,7 @@ float car_paint_glossy_steady_curve(float cos_theta_9)
     float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
     float f_39 = ((u_8 * 0.02468437) + 0.24147323);
     float f_40 = (f_39 + dot(max((u_8).xxx, float3(0.25, 0.5, 0.75)), float3(-0.067401886, 0.055904448, -0.029418409)));
-    return min(max(f_40, 0.22524175), 0.23668227);
+    return f_40;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first

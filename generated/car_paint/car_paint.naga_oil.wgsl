@@ -96,7 +96,7 @@ fn car_paint_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_2 = (f_1 + dot((min(max(vec3(u), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.004698718f, -0.001614229f, -0.00043627838f)));
     let f_3 = (f_2 + dot((min(max(vec3(u), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.00008289289f, 0.000039265044f, -0.0000523534f)));
     let f_4 = (f_3 + dot((min(max(vec3(u), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.0000523534f, -0.0000523534f, 0f)));
-    return min(max(f_4, 0f), 0.094958596f);
+    return max(f_4, 0f);
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -125,7 +125,7 @@ fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0010818008f, 0.00073341554f, 0.0006600808f)));
     let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.00056840753f, 0.00016501092f, 0.0004583981f)));
     let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.0002016904f, 0.00031170354f, 0.00007334174f)));
-    return min(max(f_13, -0.000012183096f), 0.12229025f);
+    return f_13;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -163,7 +163,7 @@ fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let f_14 = (1.020074f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45252323f, -0.36825275f, -0.2977066f)));
     let f_15 = (f_14 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035661697f, 0.09215355f, 0.04754448f)));
     let f_16 = (f_15 + (max(u_2, 0.875f) * 0.02336979f));
-    return min(max(f_16, 1.00447f), 1.0715692f);
+    return f_16;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -175,7 +175,7 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_17 = ((u_3 * 0.0019297004f) + 0.2134062f);
     let f_18 = (f_17 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
-    return min(max(f_18, 0.2302236f), 0.25355482f);
+    return f_18;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -192,7 +192,7 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let f_20 = (f_19 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.052953f, 1.1106987f, 0.25857544f)));
     let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.078886986f, -0.16258144f, -0.008225441f)));
     let f_22 = (f_21 + (max(u_4, 0.875f) * 0.07219601f));
-    return min(max(f_22, 1.0164603f), 2.6898336f);
+    return f_22;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -209,7 +209,7 @@ fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
     let f_28 = (f_27 + (max(u_5, 0.8666667f) * -0.056797568f));
     let f_29 = (f_28 + (max(u_5, 0.93333334f) * -0.032047037f));
-    return min(max(f_29, 0.88827777f), 0.9998519f);
+    return f_29;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -226,7 +226,7 @@ fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
     let f_35 = (f_34 + (max(u_6, 0.8666667f) * -0.09392203f));
     let f_36 = (f_35 + (max(u_6, 0.93333334f) * -0.06806106f));
-    return min(max(f_36, 0.87806064f), 0.99991536f);
+    return f_36;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -274,7 +274,7 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let f_37 = ((u_7 * 0.0144017935f) + 0.2634757f);
     let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
-    return min(max(f_38, 0.23306724f), 0.24953187f);
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -287,7 +287,7 @@ fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_39 = ((u_8 * 0.02468437f) + 0.24147323f);
     let f_40 = (f_39 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
-    return min(max(f_40, 0.22524175f), 0.23668227f);
+    return f_40;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first

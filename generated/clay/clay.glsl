@@ -173,7 +173,7 @@ float clay_seed_ggx_dfg_scale_curve(float cos_theta_1) {
     float f_8 = (f_7 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.2036838, 0.15571661, 0.09164066)));
     float f_9 = (f_8 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.019355277, -0.0440134, -0.088944845)));
     float f_10 = (f_9 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.10872479, -0.10610707, -0.09462981)));
-    return min(max(f_10, 0.13308474), 0.9576596);
+    return f_10;
 }
 
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
@@ -194,7 +194,7 @@ float clay_seed_ggx_dfg_bias_curve(float cos_theta_2) {
     float f_19 = (f_18 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(-0.0616536, -0.04034416, -0.0067038056)));
     float f_20 = (f_19 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.03013172, 0.06141271, 0.07599169)));
     float f_21 = (f_20 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.069528475, 0.04600502, 0.019350072)));
-    return min(max(f_21, 5.4279426e-6), 0.06440054);
+    return f_21;
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:

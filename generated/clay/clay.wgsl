@@ -177,7 +177,7 @@ fn clay_seed_ggx_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2036838f, 0.15571661f, 0.09164066f)));
     let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.019355277f, -0.0440134f, -0.088944845f)));
     let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.10872479f, -0.10610707f, -0.09462981f)));
-    return min(max(f_10, 0.13308474f), 0.9576596f);
+    return f_10;
 }
 
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
@@ -198,7 +198,7 @@ fn clay_seed_ggx_dfg_bias_curve(cos_theta_2: f32) -> f32 {
     let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.0616536f, -0.04034416f, -0.0067038056f)));
     let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.03013172f, 0.06141271f, 0.07599169f)));
     let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.069528475f, 0.04600502f, 0.019350072f)));
-    return min(max(f_21, 0.0000054279426f), 0.06440054f);
+    return f_21;
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:

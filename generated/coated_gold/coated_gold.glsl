@@ -49,7 +49,7 @@ float coated_gold_coat_deficit_curve(float cos_theta) {
     float f_8 = (f_7 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.0056411014, 0.0029031776, 0.0027003947)));
     float f_9 = (f_8 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.00097233977, 0.00068066386, 0.0006626124)));
     float f_10 = (f_9 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.00031395722, 9.168719e-5, 5.6957517e-5)));
-    return min(max(f_10, -8.03381e-5), 0.19366813);
+    return f_10;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -65,7 +65,7 @@ float coated_gold_coat_extra_curve(float cos_theta_1) {
     float f_13 = (f_12 + dot((min(max(vec3(u_1), vec3(0.4, 0.46666667, 0.53333336)), vec3(0.46666667, 0.53333336, 0.6)) - vec3(0.4, 0.46666667, 0.53333336)), vec3(-0.18726073, -0.072158016, -0.018342651)));
     float f_14 = (f_13 + dot((min(max(vec3(u_1), vec3(0.6, 0.6666667, 0.73333335)), vec3(0.6666667, 0.73333335, 0.8)) - vec3(0.6, 0.6666667, 0.73333335)), vec3(-0.0070282086, -0.0025538243, -0.0011246431)));
     float f_15 = (f_14 + dot((min(max(vec3(u_1), vec3(0.8, 0.8666667, 0.93333334)), vec3(0.8666667, 0.93333334, 1.0)) - vec3(0.8, 0.8666667, 0.93333334)), vec3(-0.00022964855, -0.00029603578, 3.8460796e-5)));
-    return min(max(f_15, 3.4902264e-6), 0.06909181);
+    return f_15;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -82,7 +82,7 @@ float coated_gold_coat_path_curve(float cos_theta_2) {
     float f_18 = (f_17 + dot(max(vec3(u_2), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(0.2956947, 0.2761799, 0.11678062)));
     float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.03567663, 0.017004954, 0.0054510883)));
     float f_20 = (f_19 + (max(u_2, 0.90909094) * 0.0033320163));
-    return min(max(f_20, 1.0000819), 1.2580266);
+    return f_20;
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
@@ -119,7 +119,7 @@ float coated_gold_glossy_scale_curve(float cos_theta_3) {
     float f_21 = (1.061078 + dot(max(vec3(u_3), vec3(0.125, 0.25, 0.375)), vec3(1.6036968, -1.043827, -0.450099)));
     float f_22 = (f_21 + dot(max(vec3(u_3), vec3(0.5, 0.625, 0.75)), vec3(-0.056822777, -0.13677979, 0.033405304)));
     float f_23 = (f_22 + (max(u_3, 0.875) * 0.007704735));
-    return min(max(f_23, 0.74969304), 1.0404787);
+    return f_23;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -131,7 +131,7 @@ float coated_gold_glossy_next_curve(float cos_theta_4) {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float f_24 = ((u_4 * -0.035583183) + -0.6395629);
     float f_25 = (f_24 + dot(max(vec3(u_4), vec3(0.25, 0.5, 0.75)), vec3(0.19231004, 0.43643332, 0.56710935)));
-    return min(max(f_25, 0.04316747), 0.5207066);
+    return f_25;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -148,7 +148,7 @@ float coated_gold_glossy_lobe_albedo_curve(float cos_theta_5) {
     float f_27 = (f_26 + dot(max(vec3(u_5), vec3(0.125, 0.25, 0.375)), vec3(-3.4574757, 2.6117744, 0.4405985)));
     float f_28 = (f_27 + dot(max(vec3(u_5), vec3(0.5, 0.625, 0.75)), vec3(0.24509239, 0.13171291, -0.079696655)));
     float f_29 = (f_28 + (max(u_5, 0.875) * -0.19508076));
-    return min(max(f_29, 0.8529507), 1.30201);
+    return f_29;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -163,7 +163,7 @@ float coated_gold_glossy_blur_curve(float cos_theta_6) {
     float f_30 = ((u_6 * 0.5371948) + 0.70036405);
     float f_31 = (f_30 + dot(max(vec3(u_6), vec3(0.2, 0.4, 0.6)), vec3(0.10144182, 0.10002294, -0.34336916)));
     float f_32 = (f_31 + (max(u_6, 0.8) * -0.6577203));
-    return min(max(f_32, 0.028463857), 0.49042016);
+    return f_32;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -180,7 +180,7 @@ float coated_gold_ggx_albedo_curve(float cos_theta_7) {
     float f_37 = (f_36 + dot(max(vec3(u_7), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1370752, -0.0824985, -0.04236013)));
     float f_38 = (f_37 + (max(u_7, 0.8666667) * -0.020624401));
     float f_39 = (f_38 + (max(u_7, 0.93333334) * -0.009836555));
-    return min(max(f_39, 0.8910383), 0.9997038);
+    return f_39;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -197,7 +197,7 @@ float coated_gold_ggx_albedo_curve_b(float cos_theta_8) {
     float f_44 = (f_43 + dot(max(vec3(u_8), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.07329763, -0.12263686, -0.09455592)));
     float f_45 = (f_44 + (max(u_8, 0.8666667) * -0.056797568));
     float f_46 = (f_45 + (max(u_8, 0.93333334) * -0.032047037));
-    return min(max(f_46, 0.88827777), 0.9998519);
+    return f_46;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -245,7 +245,7 @@ float coated_gold_glossy_quick_curve(float cos_theta_9) {
     float u_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
     float f_47 = ((u_9 * 0.5028753) + 0.48326114);
     float f_48 = (f_47 + dot(max(vec3(u_9), vec3(0.25, 0.5, 0.75)), vec3(-0.42151442, -0.1746285, -0.30422544)));
-    return min(max(f_48, 0.0623992), 0.20845827);
+    return f_48;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -258,7 +258,7 @@ float coated_gold_glossy_steady_curve(float cos_theta_10) {
     float u_10 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
     float f_49 = ((u_10 * -0.01998204) + 0.39283627);
     float f_50 = (f_49 + dot(max(vec3(u_10), vec3(0.25, 0.5, 0.75)), vec3(0.0125947, -0.27517235, -0.0626439)));
-    return min(max(f_50, 0.047632676), 0.21141584);
+    return f_50;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first

@@ -84,7 +84,7 @@ float color_clay_coat_extra_curve(float cos_theta) {
     float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.034776215, 0.03084838, 0.01943276)));
     float f_5 = (f_4 + (max(u, 0.8666667) * 0.0091498215));
     float f_6 = (f_5 + (max(u, 0.93333334) * 0.004228473));
-    return min(max(f_6, 5.2213087e-5), 0.024687838);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -115,7 +115,7 @@ float color_clay_coat_deficit_curve(float cos_theta_1) {
     float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.18356468, 0.14936402, 0.10603942)));
     float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.06968238, 0.041379392, 0.02283904)));
     float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.01028424, 0.0021841878, -0.00095110235)));
-    return min(max(f_17, -0.0009068137), 0.59434766);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -140,7 +140,7 @@ float color_clay_coat_path_curve(float cos_theta_2) {
     float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5487826, -0.2514776, 0.31529698)));
     float f_21 = (f_20 + dot(max(vec3(u_2), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.45393932, 0.3660667, 0.1972187)));
     float f_22 = (f_21 + (max(u_2, 0.90909094) * 0.098493144));
-    return min(max(f_22, 1.0015092), 1.5416601);
+    return f_22;
 }
 
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)

@@ -89,7 +89,7 @@ fn color_clay_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.034776215f, 0.03084838f, 0.01943276f)));
     let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0091498215f));
     let f_6 = (f_5 + (max(u, 0.93333334f) * 0.004228473f));
-    return min(max(f_6, 0.000052213087f), 0.024687838f);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -120,7 +120,7 @@ fn color_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.18356468f, 0.14936402f, 0.10603942f)));
     let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.06968238f, 0.041379392f, 0.02283904f)));
     let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.01028424f, 0.0021841878f, -0.00095110235f)));
-    return min(max(f_17, -0.0009068137f), 0.59434766f);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -145,7 +145,7 @@ fn color_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
     let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5487826f, -0.2514776f, 0.31529698f)));
     let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.45393932f, 0.3660667f, 0.1972187f)));
     let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.098493144f));
-    return min(max(f_22, 1.0015092f), 1.5416601f);
+    return f_22;
 }
 
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)

@@ -126,7 +126,7 @@ float disney_clay_clearcoat_dfg_scale_curve(float cos_theta_1) {
     float f_9 = (f_8 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.14276204, 0.09588727, 0.04137042)));
     float f_10 = (f_9 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(-0.009783208, -0.049331613, -0.07192301)));
     float f_11 = (f_10 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.07407081, -0.062303912, -0.050380655)));
-    return min(max(f_11, 0.39737839), 0.8615401);
+    return f_11;
 }
 
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
@@ -147,7 +147,7 @@ float disney_clay_clearcoat_dfg_bias_curve(float cos_theta_2) {
     float f_20 = (f_19 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(-0.049915038, -0.021614432, 0.0125583)));
     float f_21 = (f_20 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.044379782, 0.06605709, 0.07147286)));
     float f_22 = (f_21 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.060199402, 0.037934743, 0.01631319)));
-    return min(max(f_22, 1.9116895e-5), 0.068558134);
+    return f_22;
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:

@@ -132,7 +132,7 @@ fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.14276204f, 0.09588727f, 0.04137042f)));
     let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(-0.009783208f, -0.049331613f, -0.07192301f)));
     let f_11 = (f_10 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.07407081f, -0.062303912f, -0.050380655f)));
-    return min(max(f_11, 0.39737839f), 0.8615401f);
+    return f_11;
 }
 
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
@@ -153,7 +153,7 @@ fn disney_clay_clearcoat_dfg_bias_curve(cos_theta_2: f32) -> f32 {
     let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.049915038f, -0.021614432f, 0.0125583f)));
     let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.044379782f, 0.06605709f, 0.07147286f)));
     let f_22 = (f_21 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.060199402f, 0.037934743f, 0.01631319f)));
-    return min(max(f_22, 0.000019116895f), 0.068558134f);
+    return f_22;
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:

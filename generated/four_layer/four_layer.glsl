@@ -84,7 +84,7 @@ float four_layer_coat_extra_curve(float cos_theta) {
     float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.04920451, 0.018836666, 0.009842166)));
     float f_5 = (f_4 + (max(u, 0.8666667) * 0.0014008618));
     float f_6 = (f_5 + (max(u, 0.93333334) * 0.0024044155));
-    return min(max(f_6, 3.1251067e-5), 0.044582553);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -115,7 +115,7 @@ float four_layer_coat_deficit_curve(float cos_theta_1) {
     float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.06498287, 0.04524257, 0.029461829)));
     float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.017693672, 0.011034623, 0.0060840296)));
     float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.0022085947, 0.00022501462, -0.0006167449)));
-    return min(max(f_17, -0.00046600006), 0.39086205);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -163,7 +163,7 @@ float four_layer_coat_extra_curve_b(float cos_theta_2) {
     float f_22 = (f_21 + dot(max(vec3(u_2), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.018134223, 0.0170108, 0.007356576)));
     float f_23 = (f_22 + (max(u_2, 0.8666667) * 0.0043196985));
     float f_24 = (f_23 + (max(u_2, 0.93333334) * 0.0010579526));
-    return min(max(f_24, 5.838121e-6), 0.01206171);
+    return f_24;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -186,7 +186,7 @@ float four_layer_coat_deficit_curve_b(float cos_theta_3) {
     float f_33 = (f_32 + dot(max(vec3(u_3), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.12061872, 0.09854463, 0.047694944)));
     float f_34 = (f_33 + dot(max(vec3(u_3), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.029384391, 0.0081188185, -0.0006174671)));
     float f_35 = (f_34 + dot(max(vec3(u_3), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.0004804347, -0.0018209529, -0.0012223871)));
-    return min(max(f_35, -0.0009263222), 0.44171104);
+    return f_35;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -203,7 +203,7 @@ float four_layer_coat_path_curve(float cos_theta_4) {
     float f_38 = (f_37 + dot(max(vec3(u_4), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.60916936, -0.13257658, 0.29391366)));
     float f_39 = (f_38 + dot(max(vec3(u_4), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.3908839, 0.26766932, 0.1410726)));
     float f_40 = (f_39 + (max(u_4, 0.90909094) * 0.052866425));
-    return min(max(f_40, 1.0003545), 1.3906232);
+    return f_40;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -227,7 +227,7 @@ float four_layer_coat_extra_curve_c(float cos_theta_5) {
     float f_45 = (f_44 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.002338869, -0.00018841123, 0.0069350894)));
     float f_46 = (f_45 + (max(u_5, 0.8666667) * 0.008031735));
     float f_47 = (f_46 + (max(u_5, 0.93333334) * 0.0057133455));
-    return min(max(f_47, 0.00014843121), 0.011717036);
+    return f_47;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -250,7 +250,7 @@ float four_layer_coat_deficit_curve_c(float cos_theta_6) {
     float f_56 = (f_55 + dot(max(vec3(u_6), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.25036666, 0.2267318, 0.19118905)));
     float f_57 = (f_56 + dot(max(vec3(u_6), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13426276, 0.09615541, 0.05844929)));
     float f_58 = (f_57 + dot(max(vec3(u_6), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.028768161, 0.018730978, 0.006326918)));
-    return min(max(f_58, -0.00030236118), 0.84294695);
+    return f_58;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -308,7 +308,7 @@ float four_layer_coat_path_curve_b(float cos_theta_7) {
     float f_61 = (f_60 + dot(max(vec3(u_7), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.4452579, -1.1080844, -0.88944095)));
     float f_62 = (f_61 + dot(max(vec3(u_7), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.042240035, 0.45094156, 0.4904393)));
     float f_63 = (f_62 + (max(u_7, 0.90909094) * 0.3090855));
-    return min(max(f_63, 1.0046068), 1.4718686);
+    return f_63;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection

@@ -85,7 +85,7 @@ float lacquered_wood_coat_extra_curve(float cos_theta) {
     float f_2 = (f_1 + dot((min(max(vec3(u), vec3(0.4, 0.46666667, 0.53333336)), vec3(0.46666667, 0.53333336, 0.6)) - vec3(0.4, 0.46666667, 0.53333336)), vec3(-0.09195643, -0.0348923, -0.0078382455)));
     float f_3 = (f_2 + dot((min(max(vec3(u), vec3(0.6, 0.6666667, 0.73333335)), vec3(0.6666667, 0.73333335, 0.8)) - vec3(0.6, 0.6666667, 0.73333335)), vec3(-0.003442991, -0.0013478278, -0.000305352)));
     float f_4 = (f_3 + dot((min(max(vec3(u), vec3(0.8, 0.8666667, 0.93333334)), vec3(0.8666667, 0.93333334, 1.0)) - vec3(0.8, 0.8666667, 0.93333334)), vec3(-0.00019250734, -8.192771e-5, -2.271294e-5)));
-    return min(max(f_4, 1.9760307e-6), 0.08108829);
+    return f_4;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -116,7 +116,7 @@ float lacquered_wood_coat_deficit_curve(float cos_theta_1) {
     float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.002113927, 0.0011134122, 0.0011625958)));
     float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.0007188123, 7.0419126e-5, 0.00010629118)));
     float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.00010497527, 7.041098e-5, -0.00035209657)));
-    return min(max(f_15, -4.0599592e-5), 0.16625087);
+    return f_15;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -141,7 +141,7 @@ float lacquered_wood_coat_path_curve(float cos_theta_2) {
     float f_18 = (f_17 + dot(max(vec3(u_2), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(0.37824118, 0.16072369, 0.049116123)));
     float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.013638865, 0.0068554822, 0.0023800158)));
     float f_20 = (f_19 + (max(u_2, 0.90909094) * 0.0013755548));
-    return min(max(f_20, 1.0000349), 1.2269003);
+    return f_20;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction

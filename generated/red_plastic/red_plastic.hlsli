@@ -105,7 +105,7 @@ float red_plastic_coat_extra_curve(float cos_theta)
     float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.004585139, 0.02986656, 0.024032336)));
     float f_5 = (f_4 + (max(u, 0.8666667) * 0.014882657));
     float f_6 = (f_5 + (max(u, 0.93333334) * 0.0063436297));
-    return min(max(f_6, 0.00023693607), 0.020607285);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -138,7 +138,7 @@ float red_plastic_coat_deficit_curve(float cos_theta_1)
     float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.20530218, 0.18280314, 0.1477205)));
     float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.11412321, 0.07661143, 0.049278356)));
     float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.028747028, 0.012877605, 0.0038608788)));
-    return min(max(f_17, -0.0004883789), 0.63716614);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,

@@ -91,7 +91,7 @@ fn red_plastic_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.004585139f, 0.02986656f, 0.024032336f)));
     let f_5 = (f_4 + (max(u, 0.8666667f) * 0.014882657f));
     let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0063436297f));
-    return min(max(f_6, 0.00023693607f), 0.020607285f);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -122,7 +122,7 @@ fn red_plastic_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.20530218f, 0.18280314f, 0.1477205f)));
     let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.11412321f, 0.07661143f, 0.049278356f)));
     let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.028747028f, 0.012877605f, 0.0038608788f)));
-    return min(max(f_17, -0.0004883789f), 0.63716614f);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,

@@ -102,7 +102,7 @@ float wet_clay_coat_extra_curve(float cos_theta)
     float f_2 = (f_1 + dot((min(max((u).xxx, float3(0.4, 0.46666667, 0.53333336)), float3(0.46666667, 0.53333336, 0.6)) - float3(0.4, 0.46666667, 0.53333336)), float3(-0.24466835, -0.1083341, -0.03847635)));
     float f_3 = (f_2 + dot((min(max((u).xxx, float3(0.6, 0.6666667, 0.73333335)), float3(0.6666667, 0.73333335, 0.8)) - float3(0.6, 0.6666667, 0.73333335)), float3(-0.012524265, -0.0057400935, -0.0015397702)));
     float f_4 = (f_3 + dot((min(max((u).xxx, float3(0.8, 0.8666667, 0.93333334)), float3(0.8666667, 0.93333334, 1.0)) - float3(0.8, 0.8666667, 0.93333334)), float3(-0.00049228925, -0.0004468308, -7.660015e-5)));
-    return min(max(f_4, 8.557696e-7), 0.06724444);
+    return f_4;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -135,7 +135,7 @@ float wet_clay_coat_deficit_curve(float cos_theta_1)
     float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.010482618, 0.0066695036, 0.0039460715)));
     float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0020093047, 0.0014331861, 0.00044266268)));
     float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-0.00012353197, -0.00022089764, -0.00057611306)));
-    return min(max(f_15, -0.00015526565), 0.23196156);
+    return f_15;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -162,7 +162,7 @@ float wet_clay_coat_path_curve(float cos_theta_2)
     float f_18 = (f_17 + dot(max((u_2).xxx, float3(0.36363637, 0.45454547, 0.54545456)), float3(0.32010722, 0.40435708, 0.20917626)));
     float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.6363636, 0.72727275, 0.8181818)), float3(0.062463924, 0.022351125, 0.012212166)));
     float f_20 = (f_19 + (max(u_2, 0.90909094) * 0.004816409));
-    return min(max(f_20, 1.0000727), 1.3224959);
+    return f_20;
 }
 
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)

@@ -232,6 +232,10 @@ pub trait Vector:
     /// Whether the value is known when the code is generated, with three equal components (a
     /// grey colour: one scalar computation can then stand for three).
     fn is_known_grey(self) -> bool {
+        // (Checked first, so that no component of a runtime vector is extracted into the code.)
+        if !self.is_known() {
+            return false;
+        }
         match (self.x().known(), self.y().known(), self.z().known()) {
             (Some(x), Some(y), Some(z)) => x == y && y == z,
             _ => false,

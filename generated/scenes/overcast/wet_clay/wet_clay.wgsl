@@ -86,7 +86,7 @@ fn wet_clay_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_2 = (f_1 + dot((min(max(vec3(u), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.24466835f, -0.1083341f, -0.03847635f)));
     let f_3 = (f_2 + dot((min(max(vec3(u), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.012524265f, -0.0057400935f, -0.0015397702f)));
     let f_4 = (f_3 + dot((min(max(vec3(u), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00049228925f, -0.0004468308f, -0.00007660015f)));
-    return min(max(f_4, 0.0000008557696f), 0.06724444f);
+    return f_4;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -117,7 +117,7 @@ fn wet_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.010482618f, 0.0066695036f, 0.0039460715f)));
     let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0020093047f, 0.0014331861f, 0.00044266268f)));
     let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.00012353197f, -0.00022089764f, -0.00057611306f)));
-    return min(max(f_15, -0.00015526565f), 0.23196156f);
+    return f_15;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -142,7 +142,7 @@ fn wet_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
     let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.32010722f, 0.40435708f, 0.20917626f)));
     let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.062463924f, 0.022351125f, 0.012212166f)));
     let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.004816409f));
-    return min(max(f_20, 1.0000727f), 1.3224959f);
+    return f_20;
 }
 
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)

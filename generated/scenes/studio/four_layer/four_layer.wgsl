@@ -87,7 +87,7 @@ fn four_layer_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.04920451f, 0.018836666f, 0.009842166f)));
     let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0014008618f));
     let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0024044155f));
-    return min(max(f_6, 0.000031251067f), 0.044582553f);
+    return f_6;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -118,7 +118,7 @@ fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.06498287f, 0.04524257f, 0.029461829f)));
     let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.017693672f, 0.011034623f, 0.0060840296f)));
     let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0022085947f, 0.00022501462f, -0.0006167449f)));
-    return min(max(f_17, -0.00046600006f), 0.39086205f);
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -166,7 +166,7 @@ fn four_layer_coat_extra_curve_b(cos_theta_2: f32) -> f32 {
     let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.018134223f, 0.0170108f, 0.007356576f)));
     let f_23 = (f_22 + (max(u_2, 0.8666667f) * 0.0043196985f));
     let f_24 = (f_23 + (max(u_2, 0.93333334f) * 0.0010579526f));
-    return min(max(f_24, 0.000005838121f), 0.01206171f);
+    return f_24;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -189,7 +189,7 @@ fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
     let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.12061872f, 0.09854463f, 0.047694944f)));
     let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.029384391f, 0.0081188185f, -0.0006174671f)));
     let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0004804347f, -0.0018209529f, -0.0012223871f)));
-    return min(max(f_35, -0.0009263222f), 0.44171104f);
+    return f_35;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -206,7 +206,7 @@ fn four_layer_coat_path_curve(cos_theta_4: f32) -> f32 {
     let f_38 = (f_37 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.60916936f, -0.13257658f, 0.29391366f)));
     let f_39 = (f_38 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.3908839f, 0.26766932f, 0.1410726f)));
     let f_40 = (f_39 + (max(u_4, 0.90909094f) * 0.052866425f));
-    return min(max(f_40, 1.0003545f), 1.3906232f);
+    return f_40;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -230,7 +230,7 @@ fn four_layer_coat_extra_curve_c(cos_theta_5: f32) -> f32 {
     let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.002338869f, -0.00018841123f, 0.0069350894f)));
     let f_46 = (f_45 + (max(u_5, 0.8666667f) * 0.008031735f));
     let f_47 = (f_46 + (max(u_5, 0.93333334f) * 0.0057133455f));
-    return min(max(f_47, 0.00014843121f), 0.011717036f);
+    return f_47;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -253,7 +253,7 @@ fn four_layer_coat_deficit_curve_c(cos_theta_6: f32) -> f32 {
     let f_56 = (f_55 + dot(max(vec3(u_6), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.25036666f, 0.2267318f, 0.19118905f)));
     let f_57 = (f_56 + dot(max(vec3(u_6), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13426276f, 0.09615541f, 0.05844929f)));
     let f_58 = (f_57 + dot(max(vec3(u_6), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.028768161f, 0.018730978f, 0.006326918f)));
-    return min(max(f_58, -0.00030236118f), 0.84294695f);
+    return f_58;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -311,7 +311,7 @@ fn four_layer_coat_path_curve_b(cos_theta_7: f32) -> f32 {
     let f_61 = (f_60 + dot(max(vec3(u_7), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.4452579f, -1.1080844f, -0.88944095f)));
     let f_62 = (f_61 + dot(max(vec3(u_7), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.042240035f, 0.45094156f, 0.4904393f)));
     let f_63 = (f_62 + (max(u_7, 0.90909094f) * 0.3090855f));
-    return min(max(f_63, 1.0046068f), 1.4718686f);
+    return f_63;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection

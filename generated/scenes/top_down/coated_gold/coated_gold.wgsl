@@ -52,7 +52,7 @@ fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0056411014f, 0.0029031776f, 0.0027003947f)));
     let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.00097233977f, 0.00068066386f, 0.0006626124f)));
     let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.00031395722f, 0.00009168719f, 0.000056957517f)));
-    return min(max(f_10, -0.0000803381f), 0.19366813f);
+    return f_10;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -68,7 +68,7 @@ fn coated_gold_coat_extra_curve(cos_theta_1: f32) -> f32 {
     let f_13 = (f_12 + dot((min(max(vec3(u_1), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.18726073f, -0.072158016f, -0.018342651f)));
     let f_14 = (f_13 + dot((min(max(vec3(u_1), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.0070282086f, -0.0025538243f, -0.0011246431f)));
     let f_15 = (f_14 + dot((min(max(vec3(u_1), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00022964855f, -0.00029603578f, 0.000038460796f)));
-    return min(max(f_15, 0.0000034902264f), 0.06909181f);
+    return f_15;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -85,7 +85,7 @@ fn coated_gold_coat_path_curve(cos_theta_2: f32) -> f32 {
     let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.2956947f, 0.2761799f, 0.11678062f)));
     let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.03567663f, 0.017004954f, 0.0054510883f)));
     let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.0033320163f));
-    return min(max(f_20, 1.0000819f), 1.2580266f);
+    return f_20;
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
@@ -122,7 +122,7 @@ fn coated_gold_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let f_21 = (1.061078f + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036968f, -1.043827f, -0.450099f)));
     let f_22 = (f_21 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056822777f, -0.13677979f, 0.033405304f)));
     let f_23 = (f_22 + (max(u_3, 0.875f) * 0.007704735f));
-    return min(max(f_23, 0.74969304f), 1.0404787f);
+    return f_23;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -134,7 +134,7 @@ fn coated_gold_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_24 = ((u_4 * -0.035583183f) + -0.6395629f);
     let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.19231004f, 0.43643332f, 0.56710935f)));
-    return min(max(f_25, 0.04316747f), 0.5207066f);
+    return f_25;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -151,7 +151,7 @@ fn coated_gold_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-3.4574757f, 2.6117744f, 0.4405985f)));
     let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.24509239f, 0.13171291f, -0.079696655f)));
     let f_29 = (f_28 + (max(u_5, 0.875f) * -0.19508076f));
-    return min(max(f_29, 0.8529507f), 1.30201f);
+    return f_29;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -166,7 +166,7 @@ fn coated_gold_glossy_blur_curve(cos_theta_6: f32) -> f32 {
     let f_30 = ((u_6 * 0.5371948f) + 0.70036405f);
     let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.2f, 0.4f, 0.6f)), vec3<f32>(0.10144182f, 0.10002294f, -0.34336916f)));
     let f_32 = (f_31 + (max(u_6, 0.8f) * -0.6577203f));
-    return min(max(f_32, 0.028463857f), 0.49042016f);
+    return f_32;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -183,7 +183,7 @@ fn coated_gold_ggx_albedo_curve(cos_theta_7: f32) -> f32 {
     let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1370752f, -0.0824985f, -0.04236013f)));
     let f_38 = (f_37 + (max(u_7, 0.8666667f) * -0.020624401f));
     let f_39 = (f_38 + (max(u_7, 0.93333334f) * -0.009836555f));
-    return min(max(f_39, 0.8910383f), 0.9997038f);
+    return f_39;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -200,7 +200,7 @@ fn coated_gold_ggx_albedo_curve_b(cos_theta_8: f32) -> f32 {
     let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
     let f_45 = (f_44 + (max(u_8, 0.8666667f) * -0.056797568f));
     let f_46 = (f_45 + (max(u_8, 0.93333334f) * -0.032047037f));
-    return min(max(f_46, 0.88827777f), 0.9998519f);
+    return f_46;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -248,7 +248,7 @@ fn coated_gold_glossy_quick_curve(cos_theta_9: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_47 = ((u_9 * 0.5028753f) + 0.48326114f);
     let f_48 = (f_47 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
-    return min(max(f_48, 0.0623992f), 0.20845827f);
+    return f_48;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -261,7 +261,7 @@ fn coated_gold_glossy_steady_curve(cos_theta_10: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_10, 0f), 1f));
     let f_49 = ((u_10 * -0.01998204f) + 0.39283627f);
     let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
-    return min(max(f_50, 0.047632676f), 0.21141584f);
+    return f_50;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first

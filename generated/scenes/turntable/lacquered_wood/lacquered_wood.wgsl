@@ -88,7 +88,7 @@ fn lacquered_wood_coat_extra_curve(cos_theta: f32) -> f32 {
     let f_2 = (f_1 + dot((min(max(vec3(u), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.09195643f, -0.0348923f, -0.0078382455f)));
     let f_3 = (f_2 + dot((min(max(vec3(u), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.003442991f, -0.0013478278f, -0.000305352f)));
     let f_4 = (f_3 + dot((min(max(vec3(u), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00019250734f, -0.00008192771f, -0.00002271294f)));
-    return min(max(f_4, 0.0000019760307f), 0.08108829f);
+    return f_4;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -119,7 +119,7 @@ fn lacquered_wood_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.002113927f, 0.0011134122f, 0.0011625958f)));
     let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0007188123f, 0.000070419126f, 0.00010629118f)));
     let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00010497527f, 0.00007041098f, -0.00035209657f)));
-    return min(max(f_15, -0.000040599592f), 0.16625087f);
+    return f_15;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -144,7 +144,7 @@ fn lacquered_wood_coat_path_curve(cos_theta_2: f32) -> f32 {
     let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.37824118f, 0.16072369f, 0.049116123f)));
     let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.013638865f, 0.0068554822f, 0.0023800158f)));
     let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.0013755548f));
-    return min(max(f_20, 1.0000349f), 1.2269003f);
+    return f_20;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction

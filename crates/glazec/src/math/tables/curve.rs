@@ -51,10 +51,12 @@ pub struct Curve {
     /// How the argument maps to u.
     pub mapping: Axis,
     pub form: Form,
-    /// The smallest and largest value at its nodes: the curve's range, which its sum is clamped
-    /// to (a piecewise-linear function never leaves it; rounding could, below zero for a share
-    /// that is zero).
-    pub range: (f32, f32),
+    /// The smallest value at its nodes, and how far the sum may round away from the exact
+    /// piecewise-linear value (f32 ε times the sum of its terms' sizes). Where the smallest value
+    /// is a share of zero or within rounding of it, the sum is held at or above it, so that a
+    /// share never rounds below zero (a lobe divides by one); elsewhere rounding stays inside.
+    pub floor: f32,
+    pub rounding: f32,
     /// The nodes the curve was built on (uniform in u).
     pub nodes: usize,
 }
@@ -107,9 +109,12 @@ impl Curve {
             knots.push((points[knot].0 as f32, change as f32));
         }
         let size = constant.abs() + slopes[0].abs() + knots.iter().map(|&(_, c)| f64::from(c.abs())).sum::<f64>();
-        let form = if f64::from(f32::EPSILON) * size <= step / 8.0 {
+        let mut rounding = f64::from(f32::EPSILON) * size;
+        let form = if rounding <= step / 8.0 {
             Form::Hinges { constant: constant as f32, slope: slopes[0] as f32, knots }
         } else {
+            let changes = kept.windows(2).map(|w| (points[w[1]].1 - points[w[0]].1).abs()).sum::<f64>();
+            rounding = f64::from(f32::EPSILON) * (points[0].1.abs() + changes);
             let pieces = kept
                 .windows(2)
                 .zip(&slopes)
@@ -117,9 +122,8 @@ impl Curve {
                 .collect();
             Form::Pieces { start: points[0].1 as f32, pieces }
         };
-        let low = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) as f32;
-        let high = points.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max) as f32;
-        Curve { mapping, form, range: (low, high), nodes: points.len() }
+        let floor = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) as f32;
+        Curve { mapping, form, floor, rounding: rounding as f32, nodes: points.len() }
     }
 
     /// How many of its nodes the curve keeps.
@@ -133,11 +137,11 @@ impl Curve {
     /// The curve at argument `x` (mapped to u and clamped like the lookup's axis), written once
     /// over the shading ops: the body of the shader's curve function, and the CPU's lookup.
     pub fn evaluate<F: Real>(&self, x: F) -> F {
-        let (low, high) = self.range;
-        self.sum(x).clamp(low, high)
+        let sum = self.sum(x);
+        if self.floor >= 0.0 && self.floor <= 4.0 * self.rounding { sum.at_least(self.floor) } else { sum }
     }
 
-    /// The curve's sum, before the clamp to its range.
+    /// The curve's sum, before the floor.
     fn sum<F: Real>(&self, x: F) -> F {
         let u = self.mapping.coordinate(x).named("u");
         // (A partial sum that folds to a number, as on the CPU, stays unnamed.)
