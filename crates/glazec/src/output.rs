@@ -26,14 +26,18 @@ pub struct OutputFile {
 /// # Errors
 /// The first I/O error; files already staged are removed.
 pub fn write_all(files: &[OutputFile]) -> io::Result<()> {
-    let staged: Vec<io::Result<Staged>> = files.par_iter().map(stage).collect();
-    if let Some(e) = staged.iter().position(Result::is_err) {
-        let mut staged = staged;
-        let error = staged.swap_remove(e).err();
-        abandon(staged.into_iter().flatten().collect());
-        return Err(error.unwrap_or_else(|| io::Error::other("staging failed")));
+    let (mut staged, mut error) = (Vec::with_capacity(files.len()), None);
+    for result in files.par_iter().map(stage).collect::<Vec<_>>() {
+        match result {
+            Ok(s) => staged.push(s),
+            Err(e) => error = error.or(Some(e)),
+        }
     }
-    staged.into_iter().flatten().try_for_each(Staged::persist)
+    if let Some(e) = error {
+        abandon(staged);
+        return Err(e);
+    }
+    staged.into_iter().try_for_each(Staged::persist)
 }
 
 /// A file written under a temporary name beside its destination, removed when dropped unless

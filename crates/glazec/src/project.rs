@@ -398,28 +398,32 @@ impl Project {
                     Err(CompileError::Internal(e)) => return Err(ProjectError::Validate(e)),
                 };
                 let planned = plan_one(&self.out_dir, &c, &self.targets, &self.bindings)?;
-                let staged = planned
-                    .iter()
-                    .map(|f| output::stage(f).map_err(written(&f.path)))
-                    .collect::<Result<Vec<_>, _>>()?;
+                let mut staged = Vec::with_capacity(planned.len());
+                for f in &planned {
+                    match output::stage(f) {
+                        Ok(s) => staged.push(s),
+                        Err(e) => {
+                            output::abandon(staged);
+                            return Err(written(&f.path)(e));
+                        }
+                    }
+                }
                 let span = c.source_map.name.unwrap_or_default();
                 Ok(Streamed::Staged { name: c.material.name, span, staged, notes: c.source_map.notes })
             })
             .collect();
-        let abandon = |streamed: Vec<Result<Streamed, ProjectError>>| {
-            let staged = streamed.into_iter().flatten().flat_map(|s| match s {
-                Streamed::Staged { staged, .. } => staged,
-                Streamed::Failed(_) => Vec::new(),
-            });
-            output::abandon(staged.collect());
-        };
-        if let Some(e) = streamed.iter().position(Result::is_err) {
-            let mut streamed = streamed;
-            let error = streamed.swap_remove(e);
-            abandon(streamed);
-            return Err(error.err().unwrap_or_else(|| unreachable!("an error was found")));
+        let (mut ok, mut error) = (Vec::with_capacity(streamed.len()), None);
+        for result in streamed {
+            match result {
+                Ok(s) => ok.push(s),
+                Err(e) => error = error.or(Some(e)),
+            }
         }
-        let streamed: Vec<Streamed> = streamed.into_iter().flatten().collect();
+        let streamed = ok;
+        if let Some(e) = error {
+            abandon(streamed);
+            return Err(e);
+        }
         let mut failed: BTreeMap<usize, Vec<Diagnostic>> = BTreeMap::new();
         let mut names = Vec::new();
         for (index, s) in streamed.iter().enumerate() {
@@ -434,7 +438,7 @@ impl Project {
             failed.entry(index).or_default().push(d);
         }
         if !failed.is_empty() {
-            abandon(streamed.into_iter().map(Ok).collect());
+            abandon(streamed);
             return Err(failures(&files, failed));
         }
         let mut written_files = 0;
@@ -453,4 +457,13 @@ impl Project {
         }
         Ok(Written { materials: files.len(), files: written_files, notes })
     }
+}
+
+/// Removes what [`Project::write`] staged for `streamed` (see [`output::abandon`]).
+fn abandon(streamed: Vec<Streamed>) {
+    let staged = streamed.into_iter().flat_map(|s| match s {
+        Streamed::Staged { staged, .. } => staged,
+        Streamed::Failed(_) => Vec::new(),
+    });
+    output::abandon(staged.collect());
 }

@@ -181,20 +181,17 @@ pub fn emit(
                 let probe_text = write_glsl(&probe, &probe_info, ShaderStage::Fragment, "main")?;
                 let text = library::glsl_library(name, library, polished(library, &probe_text, false));
                 let declared = library::declared_names(&text);
+                let library_file = format!("{name}.glsl");
+                out.push(artifact(library_file.clone(), &header, &text, None, false));
                 for ep in &module.entry_points {
                     let (single, single_info) = single_entry_point(name, view, &ep.name)?;
                     let entry = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
-                    let library_file = format!("{name}.glsl");
                     let whole = library::glsl_entry(&entry, &library_file, &declared, |harness| {
                         polished(&single, harness, true)
                     });
                     let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
                     out.push(artifact(file, &header, &whole, Some((ep.stage, ep.name.clone())), true));
                 }
-                out.insert(
-                    out.len() - module.entry_points.len(),
-                    artifact(format!("{name}.glsl"), &header, &text, None, false),
-                );
             }
             (Target::Hlsl, Some((view, view_info))) => {
                 let library_text = polished(library, &write_hlsl(library, library_info)?, false);

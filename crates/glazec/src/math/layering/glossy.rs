@@ -89,6 +89,8 @@ struct Glossy<'a, 'i, F: Real> {
     /// The coat's roughness (0 for a smooth coat).
     roughness: F,
     level: usize,
+    /// [`Glossy::roughness_nodes`], worked out on first use.
+    roughness_span: std::cell::OnceCell<Option<(usize, usize)>>,
 }
 
 /// What the level needs to know about one direction (at outer cosine μ).
@@ -239,7 +241,12 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     fn white_albedo(&self, mu_refracted: F, alpha: F) -> F {
         let rho = alpha.sqrt();
         let (axis, n) = TableId::GgxAlbedo.spec().axes[1];
-        let Some((first, last)) = self.roughness_nodes(axis, n).filter(|_| F::table_curves(self.inputs.ctx)) else {
+        let span = if F::table_curves(self.inputs.ctx) {
+            *self.roughness_span.get_or_init(|| self.roughness_nodes(axis, n))
+        } else {
+            None
+        };
+        let Some((first, last)) = span else {
             return tables::lookup(TableId::GgxAlbedo, &[mu_refracted, rho]);
         };
         let position = axis.coordinate(rho) * (n - 1) as f32;
@@ -439,6 +446,7 @@ pub(super) fn glossy_level<F: Real>(
         n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
         roughness: coat_roughness,
         level: k + 1,
+        roughness_span: std::cell::OnceCell::new(),
     };
     let below = g.refracted(eta);
     let c = glossy.survival();
@@ -547,6 +555,7 @@ fn white_level<'a>(
         fresnel: conductor,
         n_medium: Some(eta as f32),
         level: 1,
+        roughness_span: std::cell::OnceCell::new(),
     }
 }
 

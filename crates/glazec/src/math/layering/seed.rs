@@ -90,12 +90,10 @@ pub(super) fn weidlich_wilkie<F: Real>(
     // No absorption (σa = 0 or d = 0) is e^0 = 1: skip the call.
     let absorption = if sigma_a.is_known_zero() || thickness.splat().is_known_zero() {
         inputs.lit(1.0).splat()
+    } else if sigma_a.is_known_grey() {
+        absorption_ww_grey(sigma_a.x(), thickness, below.n_dot_l, below.n_dot_v).splat().named(&name("absorption"))
     } else {
-        if sigma_a.is_known_grey() {
-            absorption_ww_grey(sigma_a.x(), thickness, below.n_dot_l, below.n_dot_v).splat().named(&name("absorption"))
-        } else {
-            absorption_ww(sigma_a, thickness, below.n_dot_l, below.n_dot_v).named(&name("absorption"))
-        }
+        absorption_ww(sigma_a, thickness, below.n_dot_l, below.n_dot_v).named(&name("absorption"))
     };
     let inner = ww_inner_reflection(shadowing, t12).named(&name("inner"));
     let n_below = Some(n_medium.map_or(eta, |n| n * eta));

@@ -211,8 +211,9 @@ pub fn curves_on_cpu() -> bool {
 /// directions builds each of its curves once.
 const CPU_CURVES: usize = 32;
 
-/// A cached curve: its table, its fixed arguments' bits, the tables' generation, the curve.
-type Cached = (TableId, Vec<u32>, usize, std::rc::Rc<Curve>);
+/// A cached curve: its table, its fixed arguments' bits (tables have at most four axes), the
+/// tables' generation, the curve.
+type Cached = (TableId, [u32; 3], usize, std::rc::Rc<Curve>);
 
 thread_local! {
     static CACHE: std::cell::RefCell<Vec<Cached>> =
@@ -222,18 +223,25 @@ thread_local! {
 /// `with` the curve of `table` along its first axis with the other arguments of `args` fixed,
 /// from this thread's cache.
 pub(super) fn on_cpu<R>(table: TableId, args: &[f32], with: impl FnOnce(&Curve) -> R) -> R {
-    let key: Vec<u32> = args[1..].iter().map(|x| x.to_bits()).collect();
+    let mut key = [0_u32; 3];
+    for (k, x) in key.iter_mut().zip(&args[1..]) {
+        *k = x.to_bits();
+    }
     let generation = super::storage::generation();
     let curve = CACHE.with_borrow_mut(|cache| {
         let found = cache.iter().position(|(t, k, g, _)| *t == table && *k == key && *g == generation);
-        let entry = match found {
-            Some(at) => cache.remove(at),
-            None => (table, key, generation, std::rc::Rc::new(Curve::of_table(table, 0, args))),
-        };
-        let curve = entry.3.clone();
-        cache.insert(0, entry);
-        cache.truncate(CPU_CURVES);
-        curve
+        match found {
+            Some(0) => {}
+            Some(at) => {
+                let entry = cache.remove(at);
+                cache.insert(0, entry);
+            }
+            None => {
+                cache.insert(0, (table, key, generation, std::rc::Rc::new(Curve::of_table(table, 0, args))));
+                cache.truncate(CPU_CURVES);
+            }
+        }
+        cache[0].3.clone()
     });
     with(&curve)
 }

@@ -74,8 +74,12 @@ pub fn lookup<F: Real>(id: TableId, args: &[F]) -> F {
             && spec.axes.len() > 1
             && matches!(spec.axes[0].0, Axis::Cosine | Axis::RootCosine)
         {
-            let fixed: Vec<f32> = args.iter().map(|x| x.known().unwrap_or(0.0)).collect();
-            return curve::on_cpu(id, &fixed, |curve| curve.evaluate(args[0]));
+            // (No allocation: this is the CPU's hot path. Tables have at most four axes.)
+            let mut fixed = [0.0_f32; 4];
+            for (f, x) in fixed.iter_mut().zip(args) {
+                *f = x.known().unwrap_or(0.0);
+            }
+            return curve::on_cpu(id, &fixed[..args.len()], |curve| curve.evaluate(args[0]));
         }
         return args[0].lit(multilinear::<f32>(id, |a| known[a], &[]));
     }
