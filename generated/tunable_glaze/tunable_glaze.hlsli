@@ -105,6 +105,23 @@ float tunable_glaze_table_code(uint entry)
     return float(((codes >> ((entry & 1u) << 4u)) & 65535u));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+float tunable_glaze_table_trilinear(uint corner, uint3 strides, float3 weights, float scale, float offset)
+{
+    const float code_lll = tunable_glaze_table_code(corner);
+    const float code_ull = tunable_glaze_table_code((corner + strides.x));
+    const float code_lul = tunable_glaze_table_code((corner + strides.y));
+    const float code_uul = tunable_glaze_table_code(((corner + strides.x) + strides.y));
+    const float code_llu = tunable_glaze_table_code((corner + strides.z));
+    const float code_ulu = tunable_glaze_table_code(((corner + strides.x) + strides.z));
+    const float code_luu = tunable_glaze_table_code(((corner + strides.y) + strides.z));
+    const float code_uuu = tunable_glaze_table_code((((corner + strides.x) + strides.y) + strides.z));
+    return ((((((((((code_lll * scale) + offset) * (((1.0 - weights.x) * (1.0 - weights.y)) * (1.0 - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1.0 - weights.y)) * (1.0 - weights.z)))) + (((code_lul * scale) + offset) * (((1.0 - weights.x) * weights.y) * (1.0 - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1.0 - weights.z)))) + (((code_llu * scale) + offset) * (((1.0 - weights.x) * (1.0 - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1.0 - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1.0 - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
+}
+
 #ifndef GLAZEC_NAGA_F2U32
 #define GLAZEC_NAGA_F2U32
 uint naga_f2u32(float value) {
@@ -130,23 +147,21 @@ float tunable_glaze_coat_extra(float cos_theta, float roughness, float eta_1)
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    const float code_lll = tunable_glaze_table_code(naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))));
-    float at_lll = (code_lll * 1.4542611e-6);
-    const float code_ull = tunable_glaze_table_code(naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + (cell_eta * 256.0))));
-    float at_ull = (code_ull * 1.4542611e-6);
-    const float code_lul = tunable_glaze_table_code(naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))));
-    float at_lul = (code_lul * 1.4542611e-6);
-    const float code_uul = tunable_glaze_table_code(naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + (cell_eta * 256.0))));
-    float at_uul = (code_uul * 1.4542611e-6);
-    const float code_llu = tunable_glaze_table_code(naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))));
-    float at_llu = (code_llu * 1.4542611e-6);
-    const float code_ulu = tunable_glaze_table_code(naga_f2u32((((cell_cos_theta + 1.0) + (cell_roughness * 16.0)) + ((cell_eta + 1.0) * 256.0))));
-    float at_ulu = (code_ulu * 1.4542611e-6);
-    const float code_luu = tunable_glaze_table_code(naga_f2u32(((cell_cos_theta + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))));
-    float at_luu = (code_luu * 1.4542611e-6);
-    const float code_uuu = tunable_glaze_table_code(naga_f2u32((((cell_cos_theta + 1.0) + ((cell_roughness + 1.0) * 16.0)) + ((cell_eta + 1.0) * 256.0))));
-    float at_uuu = (code_uuu * 1.4542611e-6);
-    return ((((((((at_lll * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * (1.0 - weight_eta))) + (at_ull * ((weight_cos_theta * (1.0 - weight_roughness)) * (1.0 - weight_eta)))) + (at_lul * (((1.0 - weight_cos_theta) * weight_roughness) * (1.0 - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1.0 - weight_eta)))) + (at_llu * (((1.0 - weight_cos_theta) * (1.0 - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1.0 - weight_roughness)) * weight_eta))) + (at_luu * (((1.0 - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    const float value = tunable_glaze_table_trilinear(naga_f2u32(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))), uint3(1u, 16u, 256u), float3(weight_cos_theta, weight_roughness, weight_eta), 1.4542611e-6, 0.0);
+    return value;
+}
+
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+float tunable_glaze_table_bilinear(uint corner_1, uint2 strides_1, float2 weights_1, float scale_1, float offset_1)
+{
+    const float code_ll = tunable_glaze_table_code(corner_1);
+    const float code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
+    const float code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
+    const float code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
+    return ((((((code_ll * scale_1) + offset_1) * ((1.0 - weights_1.x) * (1.0 - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1.0 - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1.0 - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -162,15 +177,8 @@ float tunable_glaze_coat_extra_avg(float roughness_1, float eta_2)
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    const float code_ll = tunable_glaze_table_code((naga_f2u32((cell_roughness_1 + (cell_eta_1 * 16.0))) + 2048u));
-    float at_ll = (code_ll * 4.36632e-7);
-    const float code_ul = tunable_glaze_table_code((naga_f2u32(((cell_roughness_1 + 1.0) + (cell_eta_1 * 16.0))) + 2048u));
-    float at_ul = (code_ul * 4.36632e-7);
-    const float code_lu = tunable_glaze_table_code((naga_f2u32((cell_roughness_1 + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
-    float at_lu = (code_lu * 4.36632e-7);
-    const float code_uu = tunable_glaze_table_code((naga_f2u32(((cell_roughness_1 + 1.0) + ((cell_eta_1 + 1.0) * 16.0))) + 2048u));
-    float at_uu = (code_uu * 4.36632e-7);
-    return ((((at_ll * ((1.0 - weight_roughness_1) * (1.0 - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1.0 - weight_eta_1)))) + (at_lu * ((1.0 - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
+    const float value = tunable_glaze_table_bilinear((naga_f2u32((cell_roughness_1 + (cell_eta_1 * 16.0))) + 2048u), uint2(1u, 16u), float2(weight_roughness_1, weight_eta_1), 4.36632e-7, 0.0);
+    return value;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -201,23 +209,8 @@ float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_2, float eta
     float node_eta_2 = (u_eta_2 * 7.0);
     float cell_eta_2 = min(floor(node_eta_2), 6.0);
     float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    const float code_lll = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
-    float at_lll_1 = ((code_lll * 1.4786756e-5) + -0.0058085914);
-    const float code_ull = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
-    float at_ull_1 = ((code_ull * 1.4786756e-5) + -0.0058085914);
-    const float code_lul = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
-    float at_lul_1 = ((code_lul * 1.4786756e-5) + -0.0058085914);
-    const float code_uul = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u));
-    float at_uul_1 = ((code_uul * 1.4786756e-5) + -0.0058085914);
-    const float code_llu = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
-    float at_llu_1 = ((code_llu * 1.4786756e-5) + -0.0058085914);
-    const float code_ulu = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + (cell_roughness_2 * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
-    float at_ulu_1 = ((code_ulu * 1.4786756e-5) + -0.0058085914);
-    const float code_luu = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
-    float at_luu_1 = ((code_luu * 1.4786756e-5) + -0.0058085914);
-    const float code_uuu = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_1 + 1.0) + ((cell_roughness_2 + 1.0) * 32.0)) + ((cell_eta_2 + 1.0) * 1024.0))) + 2176u));
-    float at_uuu_1 = ((code_uuu * 1.4786756e-5) + -0.0058085914);
-    return ((((((((at_lll_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * (1.0 - weight_eta_2)))) + (at_lul_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1.0 - weight_eta_2)))) + (at_llu_1 * (((1.0 - weight_cos_theta_1) * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1.0 - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1.0 - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
+    const float value = tunable_glaze_table_trilinear((naga_f2u32(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u), uint3(1u, 32u, 1024u), float3(weight_cos_theta_1, weight_roughness_2, weight_eta_2), 1.4786756e-5, -0.0058085914);
+    return value;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -248,23 +241,8 @@ float tunable_glaze_coat_path(float cos_theta_2, float roughness_3, float eta_5)
     float node_eta_3 = (u_eta_3 * 7.0);
     float cell_eta_3 = min(floor(node_eta_3), 6.0);
     float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    const float code_lll = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
-    float at_lll_2 = ((code_lll * 1.0802426e-5) + 0.8801917);
-    const float code_ull = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
-    float at_ull_2 = ((code_ull * 1.0802426e-5) + 0.8801917);
-    const float code_lul = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
-    float at_lul_2 = ((code_lul * 1.0802426e-5) + 0.8801917);
-    const float code_uul = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + (cell_eta_3 * 144.0))) + 10368u));
-    float at_uul_2 = ((code_uul * 1.0802426e-5) + 0.8801917);
-    const float code_llu = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
-    float at_llu_2 = ((code_llu * 1.0802426e-5) + 0.8801917);
-    const float code_ulu = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + (cell_roughness_3 * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
-    float at_ulu_2 = ((code_ulu * 1.0802426e-5) + 0.8801917);
-    const float code_luu = tunable_glaze_table_code((naga_f2u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
-    float at_luu_2 = ((code_luu * 1.0802426e-5) + 0.8801917);
-    const float code_uuu = tunable_glaze_table_code((naga_f2u32((((cell_cos_theta_2 + 1.0) + ((cell_roughness_3 + 1.0) * 12.0)) + ((cell_eta_3 + 1.0) * 144.0))) + 10368u));
-    float at_uuu_2 = ((code_uuu * 1.0802426e-5) + 0.8801917);
-    return ((((((((at_lll_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * (1.0 - weight_eta_3)))) + (at_lul_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1.0 - weight_eta_3)))) + (at_llu_2 * (((1.0 - weight_cos_theta_2) * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1.0 - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1.0 - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
+    const float value = tunable_glaze_table_trilinear((naga_f2u32(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u), uint3(1u, 12u, 144u), float3(weight_cos_theta_2, weight_roughness_3, weight_eta_3), 1.0802426e-5, 0.8801917);
+    return value;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -328,6 +306,17 @@ float3 tunable_glaze_albedo_eon(float3 albedo_3, float r_4, float mu_2)
     return ((albedo_3 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+float tunable_glaze_table_linear(uint corner_2, uint strides_2, float weights_2, float scale_2, float offset_2)
+{
+    const float code_l = tunable_glaze_table_code(corner_2);
+    const float code_u = tunable_glaze_table_code((corner_2 + strides_2));
+    return ((((code_l * scale_2) + offset_2) * (1.0 - weights_2)) + (((code_u * scale_2) + offset_2) * weights_2));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
@@ -337,11 +326,8 @@ float tunable_glaze_fresnel_transmit_avg(float eta_6)
     float node_eta_4 = (u_eta_4 * 63.0);
     float cell_eta_4 = min(floor(node_eta_4), 62.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    const float code_l = tunable_glaze_table_code((naga_f2u32(cell_eta_4) + 11520u));
-    float at_l = ((code_l * 4.2145934e-6) + 0.7237966);
-    const float code_u = tunable_glaze_table_code((naga_f2u32((cell_eta_4 + 1.0)) + 11520u));
-    float at_u = ((code_u * 4.2145934e-6) + 0.7237966);
-    return ((at_l * (1.0 - weight_eta_4)) + (at_u * weight_eta_4));
+    const float value = tunable_glaze_table_linear((naga_f2u32(cell_eta_4) + 11520u), 1u, weight_eta_4, 4.2145934e-6, 0.7237966);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -357,15 +343,8 @@ float tunable_glaze_coat_deficit_avg(float roughness_4, float eta_7)
     float node_eta_5 = (u_eta_5 * 7.0);
     float cell_eta_5 = min(floor(node_eta_5), 6.0);
     float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    const float code_ll = tunable_glaze_table_code((naga_f2u32((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11584u));
-    float at_ll_1 = ((code_ll * 2.646295e-6) + -0.0021989432);
-    const float code_ul = tunable_glaze_table_code((naga_f2u32(((cell_roughness_4 + 1.0) + (cell_eta_5 * 32.0))) + 11584u));
-    float at_ul_1 = ((code_ul * 2.646295e-6) + -0.0021989432);
-    const float code_lu = tunable_glaze_table_code((naga_f2u32((cell_roughness_4 + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
-    float at_lu_1 = ((code_lu * 2.646295e-6) + -0.0021989432);
-    const float code_uu = tunable_glaze_table_code((naga_f2u32(((cell_roughness_4 + 1.0) + ((cell_eta_5 + 1.0) * 32.0))) + 11584u));
-    float at_uu_1 = ((code_uu * 2.646295e-6) + -0.0021989432);
-    return ((((at_ll_1 * ((1.0 - weight_roughness_4) * (1.0 - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1.0 - weight_eta_5)))) + (at_lu_1 * ((1.0 - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
+    const float value = tunable_glaze_table_bilinear((naga_f2u32((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11584u), uint2(1u, 32u), float2(weight_roughness_4, weight_eta_5), 2.646295e-6, -0.0021989432);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -389,23 +368,8 @@ float tunable_glaze_coat_return(float tau_1, float roughness_5, float eta_8)
     float node_eta_6 = (u_eta_6 * 7.0);
     float cell_eta_6 = min(floor(node_eta_6), 6.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    const float code_lll = tunable_glaze_table_code((naga_f2u32(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
-    float at_lll_3 = ((code_lll * 0.00017661336) + 1.0);
-    const float code_ull = tunable_glaze_table_code((naga_f2u32((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
-    float at_ull_3 = ((code_ull * 0.00017661336) + 1.0);
-    const float code_lul = tunable_glaze_table_code((naga_f2u32(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
-    float at_lul_3 = ((code_lul * 0.00017661336) + 1.0);
-    const float code_uul = tunable_glaze_table_code((naga_f2u32((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + (cell_eta_6 * 256.0))) + 11840u));
-    float at_uul_3 = ((code_uul * 0.00017661336) + 1.0);
-    const float code_llu = tunable_glaze_table_code((naga_f2u32(((cell_tau + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
-    float at_llu_3 = ((code_llu * 0.00017661336) + 1.0);
-    const float code_ulu = tunable_glaze_table_code((naga_f2u32((((cell_tau + 1.0) + (cell_roughness_5 * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
-    float at_ulu_3 = ((code_ulu * 0.00017661336) + 1.0);
-    const float code_luu = tunable_glaze_table_code((naga_f2u32(((cell_tau + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
-    float at_luu_3 = ((code_luu * 0.00017661336) + 1.0);
-    const float code_uuu = tunable_glaze_table_code((naga_f2u32((((cell_tau + 1.0) + ((cell_roughness_5 + 1.0) * 16.0)) + ((cell_eta_6 + 1.0) * 256.0))) + 11840u));
-    float at_uuu_3 = ((code_uuu * 0.00017661336) + 1.0);
-    return ((((((((at_lll_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1.0 - weight_roughness_5)) * (1.0 - weight_eta_6)))) + (at_lul_3 * (((1.0 - weight_tau) * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1.0 - weight_eta_6)))) + (at_llu_3 * (((1.0 - weight_tau) * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1.0 - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1.0 - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
+    const float value = tunable_glaze_table_trilinear((naga_f2u32(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u), uint3(1u, 16u, 256u), float3(weight_tau, weight_roughness_5, weight_eta_6), 0.00017661336, 1.0);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -427,23 +391,8 @@ float tunable_glaze_coat_escape(float tau_2, float roughness_6, float eta_9)
     float node_eta_7 = (u_eta_7 * 7.0);
     float cell_eta_7 = min(floor(node_eta_7), 6.0);
     float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    const float code_lll = tunable_glaze_table_code((naga_f2u32(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
-    float at_lll_4 = (code_lll * 1.5259022e-5);
-    const float code_ull = tunable_glaze_table_code((naga_f2u32((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
-    float at_ull_4 = (code_ull * 1.5259022e-5);
-    const float code_lul = tunable_glaze_table_code((naga_f2u32(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
-    float at_lul_4 = (code_lul * 1.5259022e-5);
-    const float code_uul = tunable_glaze_table_code((naga_f2u32((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + (cell_eta_7 * 256.0))) + 13888u));
-    float at_uul_4 = (code_uul * 1.5259022e-5);
-    const float code_llu = tunable_glaze_table_code((naga_f2u32(((cell_tau_1 + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
-    float at_llu_4 = (code_llu * 1.5259022e-5);
-    const float code_ulu = tunable_glaze_table_code((naga_f2u32((((cell_tau_1 + 1.0) + (cell_roughness_6 * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
-    float at_ulu_4 = (code_ulu * 1.5259022e-5);
-    const float code_luu = tunable_glaze_table_code((naga_f2u32(((cell_tau_1 + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
-    float at_luu_4 = (code_luu * 1.5259022e-5);
-    const float code_uuu = tunable_glaze_table_code((naga_f2u32((((cell_tau_1 + 1.0) + ((cell_roughness_6 + 1.0) * 16.0)) + ((cell_eta_7 + 1.0) * 256.0))) + 13888u));
-    float at_uuu_4 = (code_uuu * 1.5259022e-5);
-    return ((((((((at_lll_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * (1.0 - weight_eta_7)))) + (at_lul_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1.0 - weight_eta_7)))) + (at_llu_4 * (((1.0 - weight_tau_1) * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1.0 - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1.0 - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
+    const float value = tunable_glaze_table_trilinear((naga_f2u32(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u), uint3(1u, 16u, 256u), float3(weight_tau_1, weight_roughness_6, weight_eta_7), 1.5259022e-5, 0.0);
+    return value;
 }
 
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
@@ -542,11 +491,8 @@ float tunable_glaze_eon_escape_shape(float eta_12)
     float node_eta_8 = (u_eta_8 * 31.0);
     float cell_eta_8 = min(floor(node_eta_8), 30.0);
     float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    const float code_l = tunable_glaze_table_code((naga_f2u32(cell_eta_8) + 15936u));
-    float at_l_1 = ((code_l * 4.9967284e-6) + 0.99966115);
-    const float code_u = tunable_glaze_table_code((naga_f2u32((cell_eta_8 + 1.0)) + 15936u));
-    float at_u_1 = ((code_u * 4.9967284e-6) + 0.99966115);
-    return ((at_l_1 * (1.0 - weight_eta_8)) + (at_u_1 * weight_eta_8));
+    const float value = tunable_glaze_table_linear((naga_f2u32(cell_eta_8) + 15936u), 1u, weight_eta_8, 4.9967284e-6, 0.99966115);
+    return value;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection

@@ -91,6 +91,22 @@ fn tunable_glaze_table_code(entry: u32) -> f32 {
     return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<f32>, scale: f32, offset: f32) -> f32 {
+    let code_lll = tunable_glaze_table_code(corner);
+    let code_ull = tunable_glaze_table_code((corner + strides.x));
+    let code_lul = tunable_glaze_table_code((corner + strides.y));
+    let code_uul = tunable_glaze_table_code(((corner + strides.x) + strides.y));
+    let code_llu = tunable_glaze_table_code((corner + strides.z));
+    let code_ulu = tunable_glaze_table_code(((corner + strides.x) + strides.z));
+    let code_luu = tunable_glaze_table_code(((corner + strides.y) + strides.z));
+    let code_uuu = tunable_glaze_table_code((((corner + strides.x) + strides.y) + strides.z));
+    return ((((((((((code_lll * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * (1f - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1f - weights.y)) * (1f - weights.z)))) + (((code_lul * scale) + offset) * (((1f - weights.x) * weights.y) * (1f - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1f - weights.z)))) + (((code_llu * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1f - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1f - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -108,23 +124,20 @@ fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let code_lll = tunable_glaze_table_code(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))));
-    let at_lll = (code_lll * 0.0000014542611f);
-    let code_ull = tunable_glaze_table_code(u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + (cell_eta * 256f))));
-    let at_ull = (code_ull * 0.0000014542611f);
-    let code_lul = tunable_glaze_table_code(u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))));
-    let at_lul = (code_lul * 0.0000014542611f);
-    let code_uul = tunable_glaze_table_code(u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + (cell_eta * 256f))));
-    let at_uul = (code_uul * 0.0000014542611f);
-    let code_llu = tunable_glaze_table_code(u32(((cell_cos_theta + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))));
-    let at_llu = (code_llu * 0.0000014542611f);
-    let code_ulu = tunable_glaze_table_code(u32((((cell_cos_theta + 1f) + (cell_roughness * 16f)) + ((cell_eta + 1f) * 256f))));
-    let at_ulu = (code_ulu * 0.0000014542611f);
-    let code_luu = tunable_glaze_table_code(u32(((cell_cos_theta + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))));
-    let at_luu = (code_luu * 0.0000014542611f);
-    let code_uuu = tunable_glaze_table_code(u32((((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f)) + ((cell_eta + 1f) * 256f))));
-    let at_uuu = (code_uuu * 0.0000014542611f);
-    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * (1f - weight_eta))) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * (1f - weight_eta)))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * (1f - weight_eta)))) + (at_uul * ((weight_cos_theta * weight_roughness) * (1f - weight_eta)))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * weight_eta)));
+    let value = tunable_glaze_table_trilinear(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, weight_eta), 0.0000014542611f, 0f);
+    return value;
+}
+
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_bilinear(corner_1: u32, strides_1: vec2<u32>, weights_1: vec2<f32>, scale_1: f32, offset_1: f32) -> f32 {
+    let code_ll = tunable_glaze_table_code(corner_1);
+    let code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
+    let code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
+    let code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
+    return ((((((code_ll * scale_1) + offset_1) * ((1f - weights_1.x) * (1f - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1f - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1f - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -139,15 +152,8 @@ fn tunable_glaze_coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let code_ll = tunable_glaze_table_code((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 2048u));
-    let at_ll = (code_ll * 0.000000436632f);
-    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + (cell_eta_1 * 16f))) + 2048u));
-    let at_ul = (code_ul * 0.000000436632f);
-    let code_lu = tunable_glaze_table_code((u32((cell_roughness_1 + ((cell_eta_1 + 1f) * 16f))) + 2048u));
-    let at_lu = (code_lu * 0.000000436632f);
-    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_1 + 1f) + ((cell_eta_1 + 1f) * 16f))) + 2048u));
-    let at_uu = (code_uu * 0.000000436632f);
-    return ((((at_ll * ((1f - weight_roughness_1) * (1f - weight_eta_1))) + (at_ul * (weight_roughness_1 * (1f - weight_eta_1)))) + (at_lu * ((1f - weight_roughness_1) * weight_eta_1))) + (at_uu * (weight_roughness_1 * weight_eta_1)));
+    let value = tunable_glaze_table_bilinear((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 2048u), vec2<u32>(1u, 16u), vec2<f32>(weight_roughness_1, weight_eta_1), 0.000000436632f, 0f);
+    return value;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -176,23 +182,8 @@ fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) ->
     let node_eta_2 = (u_eta_2 * 7f);
     let cell_eta_2 = min(floor(node_eta_2), 6f);
     let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
-    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
-    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
-    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + (cell_eta_2 * 1024f))) + 2176u));
-    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
-    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
-    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
-    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f)) + ((cell_eta_2 + 1f) * 1024f))) + 2176u));
-    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * (1f - weight_eta_2))) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * (1f - weight_eta_2)))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * (1f - weight_eta_2)))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * (1f - weight_eta_2)))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * weight_eta_2))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * weight_eta_2))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * weight_eta_2))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * weight_eta_2)));
+    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_2, weight_eta_2), 0.000014786756f, -0.0058085914f);
+    return value;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -221,23 +212,8 @@ fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f3
     let node_eta_3 = (u_eta_3 * 7f);
     let cell_eta_3 = min(floor(node_eta_3), 6f);
     let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let code_lll = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
-    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u));
-    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
-    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + (cell_eta_3 * 144f))) + 10368u));
-    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
-    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
-    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
-    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f)) + ((cell_eta_3 + 1f) * 144f))) + 10368u));
-    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * (1f - weight_eta_3))) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * (1f - weight_eta_3)))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * (1f - weight_eta_3)))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * (1f - weight_eta_3)))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * weight_eta_3))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * weight_eta_3))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * weight_eta_3))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * weight_eta_3)));
+    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_3, weight_eta_3), 0.000010802426f, 0.8801917f);
+    return value;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -295,6 +271,16 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
     return ((albedo_3 * e_f) + (rho_ms * (1f - e_f)));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_linear(corner_2: u32, strides_2: u32, weights_2: f32, scale_2: f32, offset_2: f32) -> f32 {
+    let code_l = tunable_glaze_table_code(corner_2);
+    let code_u = tunable_glaze_table_code((corner_2 + strides_2));
+    return ((((code_l * scale_2) + offset_2) * (1f - weights_2)) + (((code_u * scale_2) + offset_2) * weights_2));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
@@ -303,11 +289,8 @@ fn tunable_glaze_fresnel_transmit_avg(eta_6: f32) -> f32 {
     let node_eta_4 = (u_eta_4 * 63f);
     let cell_eta_4 = min(floor(node_eta_4), 62f);
     let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let code_l = tunable_glaze_table_code((u32(cell_eta_4) + 11520u));
-    let at_l = ((code_l * 0.0000042145934f) + 0.7237966f);
-    let code_u = tunable_glaze_table_code((u32((cell_eta_4 + 1f)) + 11520u));
-    let at_u = ((code_u * 0.0000042145934f) + 0.7237966f);
-    return ((at_l * (1f - weight_eta_4)) + (at_u * weight_eta_4));
+    let value = tunable_glaze_table_linear((u32(cell_eta_4) + 11520u), 1u, weight_eta_4, 0.0000042145934f, 0.7237966f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -322,15 +305,8 @@ fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_7: f32) -> f32 {
     let node_eta_5 = (u_eta_5 * 7f);
     let cell_eta_5 = min(floor(node_eta_5), 6f);
     let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let code_ll = tunable_glaze_table_code((u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11584u));
-    let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
-    let code_ul = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + (cell_eta_5 * 32f))) + 11584u));
-    let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
-    let code_lu = tunable_glaze_table_code((u32((cell_roughness_4 + ((cell_eta_5 + 1f) * 32f))) + 11584u));
-    let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
-    let code_uu = tunable_glaze_table_code((u32(((cell_roughness_4 + 1f) + ((cell_eta_5 + 1f) * 32f))) + 11584u));
-    let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
-    return ((((at_ll_1 * ((1f - weight_roughness_4) * (1f - weight_eta_5))) + (at_ul_1 * (weight_roughness_4 * (1f - weight_eta_5)))) + (at_lu_1 * ((1f - weight_roughness_4) * weight_eta_5))) + (at_uu_1 * (weight_roughness_4 * weight_eta_5)));
+    let value = tunable_glaze_table_bilinear((u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11584u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_4, weight_eta_5), 0.000002646295f, -0.0021989432f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -353,23 +329,8 @@ fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_8: f32) -> f32 {
     let node_eta_6 = (u_eta_6 * 7f);
     let cell_eta_6 = min(floor(node_eta_6), 6f);
     let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let code_lll = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u));
-    let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u));
-    let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u));
-    let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + (cell_eta_6 * 256f))) + 11840u));
-    let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_tau + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
-    let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_tau + 1f) + (cell_roughness_5 * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
-    let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_tau + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
-    let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f)) + ((cell_eta_6 + 1f) * 256f))) + 11840u));
-    let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
-    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * (1f - weight_eta_6))) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * (1f - weight_eta_6)))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * (1f - weight_eta_6)))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * (1f - weight_eta_6)))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * weight_eta_6))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * weight_eta_6))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * weight_eta_6))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * weight_eta_6)));
+    let value = tunable_glaze_table_trilinear((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_5, weight_eta_6), 0.00017661336f, 1f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -390,23 +351,8 @@ fn tunable_glaze_coat_escape(tau_2: f32, roughness_6: f32, eta_9: f32) -> f32 {
     let node_eta_7 = (u_eta_7 * 7f);
     let cell_eta_7 = min(floor(node_eta_7), 6f);
     let weight_eta_7 = (node_eta_7 - cell_eta_7);
-    let code_lll = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u));
-    let at_lll_4 = (code_lll * 0.000015259022f);
-    let code_ull = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u));
-    let at_ull_4 = (code_ull * 0.000015259022f);
-    let code_lul = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u));
-    let at_lul_4 = (code_lul * 0.000015259022f);
-    let code_uul = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + (cell_eta_7 * 256f))) + 13888u));
-    let at_uul_4 = (code_uul * 0.000015259022f);
-    let code_llu = tunable_glaze_table_code((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
-    let at_llu_4 = (code_llu * 0.000015259022f);
-    let code_ulu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + (cell_roughness_6 * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
-    let at_ulu_4 = (code_ulu * 0.000015259022f);
-    let code_luu = tunable_glaze_table_code((u32(((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
-    let at_luu_4 = (code_luu * 0.000015259022f);
-    let code_uuu = tunable_glaze_table_code((u32((((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f)) + ((cell_eta_7 + 1f) * 256f))) + 13888u));
-    let at_uuu_4 = (code_uuu * 0.000015259022f);
-    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * (1f - weight_eta_7))) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * (1f - weight_eta_7)))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * (1f - weight_eta_7)))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * (1f - weight_eta_7)))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * weight_eta_7))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * weight_eta_7))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * weight_eta_7))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * weight_eta_7)));
+    let value = tunable_glaze_table_trilinear((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_6, weight_eta_7), 0.000015259022f, 0f);
+    return value;
 }
 
 // One Gauss–Legendre node of R(τ) inside the TIR cone μ ∈ [0, μc], where F_int = 1, with
@@ -499,11 +445,8 @@ fn tunable_glaze_eon_escape_shape(eta_12: f32) -> f32 {
     let node_eta_8 = (u_eta_8 * 31f);
     let cell_eta_8 = min(floor(node_eta_8), 30f);
     let weight_eta_8 = (node_eta_8 - cell_eta_8);
-    let code_l = tunable_glaze_table_code((u32(cell_eta_8) + 15936u));
-    let at_l_1 = ((code_l * 0.0000049967284f) + 0.99966115f);
-    let code_u = tunable_glaze_table_code((u32((cell_eta_8 + 1f)) + 15936u));
-    let at_u_1 = ((code_u * 0.0000049967284f) + 0.99966115f);
-    return ((at_l_1 * (1f - weight_eta_8)) + (at_u_1 * weight_eta_8));
+    let value = tunable_glaze_table_linear((u32(cell_eta_8) + 15936u), 1u, weight_eta_8, 0.0000049967284f, 0.99966115f);
+    return value;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection

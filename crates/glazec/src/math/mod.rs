@@ -133,6 +133,13 @@ pub trait Real:
     /// buffer `glazec_tables`; `tables::lookup` scales it to the value); `index` holds a whole
     /// number in range (callers clamp).
     fn fetch(table: Codes, index: Self) -> Self;
+    /// Multilinear interpolation of table `id` in `cells` (per axis, the lower node's index and
+    /// the upper node's weight): on the CPU and for cells known now, the corners summed here
+    /// (`tables::corners`); in a shader, for a cell known only at run time, a call of the
+    /// module's interpolation helper, whose body sums the same corners.
+    fn interpolate(id: tables::TableId, cells: &[(Self, Self)]) -> Self {
+        tables::corners(id, cells)
+    }
 
     /// Calls (or, on the CPU, simply evaluates) a term. Use `shading_fn!` rather than this.
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self>;

@@ -91,6 +91,22 @@ fn tunable_glaze_table_code(entry: u32) -> f32 {
     return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<f32>, scale: f32, offset: f32) -> f32 {
+    let code_lll = tunable_glaze_table_code(corner);
+    let code_ull = tunable_glaze_table_code((corner + strides.x));
+    let code_lul = tunable_glaze_table_code((corner + strides.y));
+    let code_uul = tunable_glaze_table_code(((corner + strides.x) + strides.y));
+    let code_llu = tunable_glaze_table_code((corner + strides.z));
+    let code_ulu = tunable_glaze_table_code(((corner + strides.x) + strides.z));
+    let code_luu = tunable_glaze_table_code(((corner + strides.y) + strides.z));
+    let code_uuu = tunable_glaze_table_code((((corner + strides.x) + strides.y) + strides.z));
+    return ((((((((((code_lll * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * (1f - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1f - weights.y)) * (1f - weights.z)))) + (((code_lul * scale) + offset) * (((1f - weights.x) * weights.y) * (1f - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1f - weights.z)))) + (((code_llu * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1f - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1f - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
@@ -102,23 +118,8 @@ fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
     let node_cos_theta = (u_cos_theta * 31f);
     let cell_cos_theta = min(floor(node_cos_theta), 30f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    let code_lll = tunable_glaze_table_code(u32(cell_cos_theta));
-    let at_lll = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code(u32((cell_cos_theta + 1f)));
-    let at_ull = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta) + 32u));
-    let at_lul = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 32u));
-    let at_uul = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta) + 64u));
-    let at_llu = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 64u));
-    let at_ulu = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta) + 96u));
-    let at_luu = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta + 1f)) + 96u));
-    let at_uuu = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll * (((1f - weight_cos_theta) * 0.9937515f) * 0.111111164f)) + (at_ull * ((weight_cos_theta * 0.9937515f) * 0.111111164f))) + (at_lul * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_uul * ((weight_cos_theta * tunable_glaze_weight_roughness) * 0.111111164f))) + (at_llu * (((1f - weight_cos_theta) * 0.9937515f) * tunable_glaze_weight_eta))) + (at_ulu * ((weight_cos_theta * 0.9937515f) * tunable_glaze_weight_eta))) + (at_luu * (((1f - weight_cos_theta) * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta))) + (at_uuu * ((weight_cos_theta * tunable_glaze_weight_roughness) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear(u32(cell_cos_theta), vec3<u32>(1u, 32u, 64u), vec3<f32>(weight_cos_theta, tunable_glaze_weight_roughness, tunable_glaze_weight_eta), 0.000014786756f, -0.0058085914f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -131,23 +132,8 @@ fn tunable_glaze_coat_extra_slice(cos_theta_1: f32) -> f32 {
     let node_cos_theta_1 = (u_cos_theta_1 * 15f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 14f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_1) + 128u));
-    let at_lll_1 = (code_lll * 0.0000014542611f);
-    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 128u));
-    let at_ull_1 = (code_ull * 0.0000014542611f);
-    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_1) + 144u));
-    let at_lul_1 = (code_lul * 0.0000014542611f);
-    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 144u));
-    let at_uul_1 = (code_uul * 0.0000014542611f);
-    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 160u));
-    let at_llu_1 = (code_llu * 0.0000014542611f);
-    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 160u));
-    let at_ulu_1 = (code_ulu * 0.0000014542611f);
-    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_1) + 176u));
-    let at_luu_1 = (code_luu * 0.0000014542611f);
-    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_1 + 1f)) + 176u));
-    let at_uuu_1 = (code_uuu * 0.0000014542611f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * 0.19052505f) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * 0.19052505f) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * 0.19052505f) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * tunable_glaze_weight_roughness_1) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_1) + 128u), vec3<u32>(1u, 16u, 32u), vec3<f32>(weight_cos_theta_1, tunable_glaze_weight_roughness_1, tunable_glaze_weight_eta), 0.0000014542611f, 0f);
+    return value;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -169,23 +155,8 @@ fn tunable_glaze_coat_path_slice(cos_theta_2: f32) -> f32 {
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let code_lll = tunable_glaze_table_code((u32(cell_cos_theta_2) + 192u));
-    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 192u));
-    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32(cell_cos_theta_2) + 204u));
-    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 204u));
-    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 216u));
-    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 216u));
-    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32(cell_cos_theta_2) + 228u));
-    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32((cell_cos_theta_2 + 1f)) + 228u));
-    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * 0.73971844f) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * 0.73971844f) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * 0.73971844f) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * tunable_glaze_weight_roughness_2) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_2) + 192u), vec3<u32>(1u, 12u, 24u), vec3<f32>(weight_cos_theta_2, tunable_glaze_weight_roughness_2, tunable_glaze_weight_eta), 0.000010802426f, 0.8801917f);
+    return value;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction

@@ -89,6 +89,22 @@ fn tunable_glaze_table_code(entry: u32) -> f32 {
     return f32(((codes >> ((entry & 1u) << 4u)) & 65535u));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<f32>, scale: f32, offset: f32) -> f32 {
+    let code_lll = tunable_glaze_table_code(corner);
+    let code_ull = tunable_glaze_table_code((corner + strides.x));
+    let code_lul = tunable_glaze_table_code((corner + strides.y));
+    let code_uul = tunable_glaze_table_code(((corner + strides.x) + strides.y));
+    let code_llu = tunable_glaze_table_code((corner + strides.z));
+    let code_ulu = tunable_glaze_table_code(((corner + strides.x) + strides.z));
+    let code_luu = tunable_glaze_table_code(((corner + strides.y) + strides.z));
+    let code_uuu = tunable_glaze_table_code((((corner + strides.x) + strides.y) + strides.z));
+    return ((((((((((code_lll * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * (1f - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1f - weights.y)) * (1f - weights.z)))) + (((code_lul * scale) + offset) * (((1f - weights.x) * weights.y) * (1f - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1f - weights.z)))) + (((code_llu * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1f - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1f - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
@@ -103,23 +119,20 @@ fn tunable_glaze_coat_extra_slice(cos_theta: f32, roughness: f32) -> f32 {
     let node_roughness = (u_roughness * 15f);
     let cell_roughness = min(floor(node_roughness), 14f);
     let weight_roughness = (node_roughness - cell_roughness);
-    let code_lll = tunable_glaze_table_code(u32((cell_cos_theta + (cell_roughness * 16f))));
-    let at_lll = (code_lll * 0.0000014542611f);
-    let code_ull = tunable_glaze_table_code(u32(((cell_cos_theta + 1f) + (cell_roughness * 16f))));
-    let at_ull = (code_ull * 0.0000014542611f);
-    let code_lul = tunable_glaze_table_code(u32((cell_cos_theta + ((cell_roughness + 1f) * 16f))));
-    let at_lul = (code_lul * 0.0000014542611f);
-    let code_uul = tunable_glaze_table_code(u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f))));
-    let at_uul = (code_uul * 0.0000014542611f);
-    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta + (cell_roughness * 16f))) + 256u));
-    let at_llu = (code_llu * 0.0000014542611f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta + 1f) + (cell_roughness * 16f))) + 256u));
-    let at_ulu = (code_ulu * 0.0000014542611f);
-    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta + ((cell_roughness + 1f) * 16f))) + 256u));
-    let at_luu = (code_luu * 0.0000014542611f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta + 1f) + ((cell_roughness + 1f) * 16f))) + 256u));
-    let at_uuu = (code_uuu * 0.0000014542611f);
-    return ((((((((at_lll * (((1f - weight_cos_theta) * (1f - weight_roughness)) * 0.111111164f)) + (at_ull * ((weight_cos_theta * (1f - weight_roughness)) * 0.111111164f))) + (at_lul * (((1f - weight_cos_theta) * weight_roughness) * 0.111111164f))) + (at_uul * ((weight_cos_theta * weight_roughness) * 0.111111164f))) + (at_llu * (((1f - weight_cos_theta) * (1f - weight_roughness)) * tunable_glaze_weight_eta))) + (at_ulu * ((weight_cos_theta * (1f - weight_roughness)) * tunable_glaze_weight_eta))) + (at_luu * (((1f - weight_cos_theta) * weight_roughness) * tunable_glaze_weight_eta))) + (at_uuu * ((weight_cos_theta * weight_roughness) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear(u32((cell_cos_theta + (cell_roughness * 16f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, tunable_glaze_weight_eta), 0.0000014542611f, 0f);
+    return value;
+}
+
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_bilinear(corner_1: u32, strides_1: vec2<u32>, weights_1: vec2<f32>, scale_1: f32, offset_1: f32) -> f32 {
+    let code_ll = tunable_glaze_table_code(corner_1);
+    let code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
+    let code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
+    let code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
+    return ((((((code_ll * scale_1) + offset_1) * ((1f - weights_1.x) * (1f - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1f - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1f - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -131,15 +144,8 @@ fn tunable_glaze_coat_extra_avg_slice(roughness_1: f32) -> f32 {
     let node_roughness_1 = (u_roughness_1 * 15f);
     let cell_roughness_1 = min(floor(node_roughness_1), 14f);
     let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let code_ll = tunable_glaze_table_code((u32(cell_roughness_1) + 512u));
-    let at_ll = (code_ll * 0.000000436632f);
-    let code_ul = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 512u));
-    let at_ul = (code_ul * 0.000000436632f);
-    let code_lu = tunable_glaze_table_code((u32(cell_roughness_1) + 528u));
-    let at_lu = (code_lu * 0.000000436632f);
-    let code_uu = tunable_glaze_table_code((u32((cell_roughness_1 + 1f)) + 528u));
-    let at_uu = (code_uu * 0.000000436632f);
-    return ((((at_ll * ((1f - weight_roughness_1) * 0.111111164f)) + (at_ul * (weight_roughness_1 * 0.111111164f))) + (at_lu * ((1f - weight_roughness_1) * tunable_glaze_weight_eta))) + (at_uu * (weight_roughness_1 * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_bilinear((u32(cell_roughness_1) + 512u), vec2<u32>(1u, 16u), vec2<f32>(weight_roughness_1, tunable_glaze_weight_eta), 0.000000436632f, 0f);
+    return value;
 }
 
 // Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
@@ -165,23 +171,8 @@ fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_2: f32) -> f32 {
     let node_roughness_2 = (u_roughness_2 * 31f);
     let cell_roughness_2 = min(floor(node_roughness_2), 30f);
     let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 544u));
-    let at_lll_1 = ((code_lll * 0.000014786756f) + -0.0058085914f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 544u));
-    let at_ull_1 = ((code_ull * 0.000014786756f) + -0.0058085914f);
-    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 544u));
-    let at_lul_1 = ((code_lul * 0.000014786756f) + -0.0058085914f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 544u));
-    let at_uul_1 = ((code_uul * 0.000014786756f) + -0.0058085914f);
-    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 1568u));
-    let at_llu_1 = ((code_llu * 0.000014786756f) + -0.0058085914f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + (cell_roughness_2 * 32f))) + 1568u));
-    let at_ulu_1 = ((code_ulu * 0.000014786756f) + -0.0058085914f);
-    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_1 + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
-    let at_luu_1 = ((code_luu * 0.000014786756f) + -0.0058085914f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_1 + 1f) + ((cell_roughness_2 + 1f) * 32f))) + 1568u));
-    let at_uuu_1 = ((code_uuu * 0.000014786756f) + -0.0058085914f);
-    return ((((((((at_lll_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * 0.111111164f)) + (at_ull_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * 0.111111164f))) + (at_lul_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * 0.111111164f))) + (at_uul_1 * ((weight_cos_theta_1 * weight_roughness_2) * 0.111111164f))) + (at_llu_1 * (((1f - weight_cos_theta_1) * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_ulu_1 * ((weight_cos_theta_1 * (1f - weight_roughness_2)) * tunable_glaze_weight_eta))) + (at_luu_1 * (((1f - weight_cos_theta_1) * weight_roughness_2) * tunable_glaze_weight_eta))) + (at_uuu_1 * ((weight_cos_theta_1 * weight_roughness_2) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 544u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_2, tunable_glaze_weight_eta), 0.000014786756f, -0.0058085914f);
+    return value;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -207,23 +198,8 @@ fn tunable_glaze_coat_path_slice(cos_theta_2: f32, roughness_3: f32) -> f32 {
     let node_roughness_3 = (u_roughness_3 * 11f);
     let cell_roughness_3 = min(floor(node_roughness_3), 10f);
     let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let code_lll = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2592u));
-    let at_lll_2 = ((code_lll * 0.000010802426f) + 0.8801917f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2592u));
-    let at_ull_2 = ((code_ull * 0.000010802426f) + 0.8801917f);
-    let code_lul = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
-    let at_lul_2 = ((code_lul * 0.000010802426f) + 0.8801917f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2592u));
-    let at_uul_2 = ((code_uul * 0.000010802426f) + 0.8801917f);
-    let code_llu = tunable_glaze_table_code((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2736u));
-    let at_llu_2 = ((code_llu * 0.000010802426f) + 0.8801917f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + (cell_roughness_3 * 12f))) + 2736u));
-    let at_ulu_2 = ((code_ulu * 0.000010802426f) + 0.8801917f);
-    let code_luu = tunable_glaze_table_code((u32((cell_cos_theta_2 + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
-    let at_luu_2 = ((code_luu * 0.000010802426f) + 0.8801917f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_cos_theta_2 + 1f) + ((cell_roughness_3 + 1f) * 12f))) + 2736u));
-    let at_uuu_2 = ((code_uuu * 0.000010802426f) + 0.8801917f);
-    return ((((((((at_lll_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * 0.111111164f)) + (at_ull_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * 0.111111164f))) + (at_lul_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * 0.111111164f))) + (at_uul_2 * ((weight_cos_theta_2 * weight_roughness_3) * 0.111111164f))) + (at_llu_2 * (((1f - weight_cos_theta_2) * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_ulu_2 * ((weight_cos_theta_2 * (1f - weight_roughness_3)) * tunable_glaze_weight_eta))) + (at_luu_2 * (((1f - weight_cos_theta_2) * weight_roughness_3) * tunable_glaze_weight_eta))) + (at_uuu_2 * ((weight_cos_theta_2 * weight_roughness_3) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2592u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_3, tunable_glaze_weight_eta), 0.000010802426f, 0.8801917f);
+    return value;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -290,15 +266,8 @@ fn tunable_glaze_coat_deficit_avg_slice(roughness_4: f32) -> f32 {
     let node_roughness_4 = (u_roughness_4 * 31f);
     let cell_roughness_4 = min(floor(node_roughness_4), 30f);
     let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let code_ll = tunable_glaze_table_code((u32(cell_roughness_4) + 2880u));
-    let at_ll_1 = ((code_ll * 0.000002646295f) + -0.0021989432f);
-    let code_ul = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2880u));
-    let at_ul_1 = ((code_ul * 0.000002646295f) + -0.0021989432f);
-    let code_lu = tunable_glaze_table_code((u32(cell_roughness_4) + 2912u));
-    let at_lu_1 = ((code_lu * 0.000002646295f) + -0.0021989432f);
-    let code_uu = tunable_glaze_table_code((u32((cell_roughness_4 + 1f)) + 2912u));
-    let at_uu_1 = ((code_uu * 0.000002646295f) + -0.0021989432f);
-    return ((((at_ll_1 * ((1f - weight_roughness_4) * 0.111111164f)) + (at_ul_1 * (weight_roughness_4 * 0.111111164f))) + (at_lu_1 * ((1f - weight_roughness_4) * tunable_glaze_weight_eta))) + (at_uu_1 * (weight_roughness_4 * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_bilinear((u32(cell_roughness_4) + 2880u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_4, tunable_glaze_weight_eta), 0.000002646295f, -0.0021989432f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -318,23 +287,8 @@ fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_5: f32) -> f32 {
     let node_roughness_5 = (u_roughness_5 * 15f);
     let cell_roughness_5 = min(floor(node_roughness_5), 14f);
     let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    let code_lll = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 2944u));
-    let at_lll_3 = ((code_lll * 0.00017661336f) + 1f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 2944u));
-    let at_ull_3 = ((code_ull * 0.00017661336f) + 1f);
-    let code_lul = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
-    let at_lul_3 = ((code_lul * 0.00017661336f) + 1f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 2944u));
-    let at_uul_3 = ((code_uul * 0.00017661336f) + 1f);
-    let code_llu = tunable_glaze_table_code((u32((cell_tau + (cell_roughness_5 * 16f))) + 3200u));
-    let at_llu_3 = ((code_llu * 0.00017661336f) + 1f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_tau + 1f) + (cell_roughness_5 * 16f))) + 3200u));
-    let at_ulu_3 = ((code_ulu * 0.00017661336f) + 1f);
-    let code_luu = tunable_glaze_table_code((u32((cell_tau + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
-    let at_luu_3 = ((code_luu * 0.00017661336f) + 1f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_tau + 1f) + ((cell_roughness_5 + 1f) * 16f))) + 3200u));
-    let at_uuu_3 = ((code_uuu * 0.00017661336f) + 1f);
-    return ((((((((at_lll_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * 0.111111164f)) + (at_ull_3 * ((weight_tau * (1f - weight_roughness_5)) * 0.111111164f))) + (at_lul_3 * (((1f - weight_tau) * weight_roughness_5) * 0.111111164f))) + (at_uul_3 * ((weight_tau * weight_roughness_5) * 0.111111164f))) + (at_llu_3 * (((1f - weight_tau) * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_ulu_3 * ((weight_tau * (1f - weight_roughness_5)) * tunable_glaze_weight_eta))) + (at_luu_3 * (((1f - weight_tau) * weight_roughness_5) * tunable_glaze_weight_eta))) + (at_uuu_3 * ((weight_tau * weight_roughness_5) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32((cell_tau + (cell_roughness_5 * 16f))) + 2944u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_5, tunable_glaze_weight_eta), 0.00017661336f, 1f);
+    return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -352,23 +306,8 @@ fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_6: f32) -> f32 {
     let node_roughness_6 = (u_roughness_6 * 15f);
     let cell_roughness_6 = min(floor(node_roughness_6), 14f);
     let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    let code_lll = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3456u));
-    let at_lll_4 = (code_lll * 0.000015259022f);
-    let code_ull = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3456u));
-    let at_ull_4 = (code_ull * 0.000015259022f);
-    let code_lul = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
-    let at_lul_4 = (code_lul * 0.000015259022f);
-    let code_uul = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3456u));
-    let at_uul_4 = (code_uul * 0.000015259022f);
-    let code_llu = tunable_glaze_table_code((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3712u));
-    let at_llu_4 = (code_llu * 0.000015259022f);
-    let code_ulu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + (cell_roughness_6 * 16f))) + 3712u));
-    let at_ulu_4 = (code_ulu * 0.000015259022f);
-    let code_luu = tunable_glaze_table_code((u32((cell_tau_1 + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
-    let at_luu_4 = (code_luu * 0.000015259022f);
-    let code_uuu = tunable_glaze_table_code((u32(((cell_tau_1 + 1f) + ((cell_roughness_6 + 1f) * 16f))) + 3712u));
-    let at_uuu_4 = (code_uuu * 0.000015259022f);
-    return ((((((((at_lll_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * 0.111111164f)) + (at_ull_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * 0.111111164f))) + (at_lul_4 * (((1f - weight_tau_1) * weight_roughness_6) * 0.111111164f))) + (at_uul_4 * ((weight_tau_1 * weight_roughness_6) * 0.111111164f))) + (at_llu_4 * (((1f - weight_tau_1) * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_ulu_4 * ((weight_tau_1 * (1f - weight_roughness_6)) * tunable_glaze_weight_eta))) + (at_luu_4 * (((1f - weight_tau_1) * weight_roughness_6) * tunable_glaze_weight_eta))) + (at_uuu_4 * ((weight_tau_1 * weight_roughness_6) * tunable_glaze_weight_eta)));
+    let value = tunable_glaze_table_trilinear((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3456u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_6, tunable_glaze_weight_eta), 0.000015259022f, 0f);
+    return value;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection

@@ -84,19 +84,30 @@ struct State {
     constants: HashMap<(String, [u32; 3], bool), Handle<naga::Constant>>,
     /// The table buffer, once used.
     tables_buffer: Option<Handle<naga::GlobalVariable>>,
-    /// Every table window a fetch reads, with the function and the expression of its offset
+    /// Every table block a lookup reads, with the function and the expression of its offset
     /// literal, which [`ModuleBuilder::finish_tables`] sets once the buffer is laid out.
     table_fetches: Vec<TableFetch>,
 }
 
-/// One fetch from the table buffer (see `tables.rs`).
+/// One lookup's read of the table buffer (see `tables.rs`).
 struct TableFetch {
     /// The function's name (unique in a module under construction).
     function: String,
-    /// The `Add` of the entry and the offset literal.
+    /// The `Add` of the lookup's runtime position and the offset literal.
     add: Handle<Expression>,
     offset: Handle<Expression>,
-    codes: crate::math::Codes,
+    block: TableBlock,
+}
+
+/// What a lookup reads of a table: `window` entries from each of `starts`, laid out one after
+/// another in the buffer (one start: a window the buffer may share with other lookups).
+#[derive(PartialEq, Eq)]
+struct TableBlock {
+    /// The table's place in the catalogue's buffer (its identity).
+    table: u32,
+    codes: &'static [u16],
+    starts: Vec<u32>,
+    window: u32,
 }
 
 /// Index into the builder's table of constant names.

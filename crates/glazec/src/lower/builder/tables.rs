@@ -8,10 +8,13 @@
 
 use naga::{
     BinaryOperator, Expression, Function, FunctionArgument, FunctionResult, Handle, Literal, Scalar as NagaScalar,
-    Span, Statement, TypeInner, VectorSize,
+    ScalarKind, Span, Statement, TypeInner, VectorSize,
 };
 
-use super::{ModuleBuilder, insert_type};
+use super::values::Expr;
+use super::{ModuleBuilder, TableBlock, insert_type};
+use crate::math::Real;
+use crate::math::tables::{TableId, corner_sum};
 
 /// The name of the table buffer in generated code (before `lower` prefixes it with the material's).
 pub const TABLES_BUFFER_NAME: &str = "glazec_tables";
@@ -57,33 +60,162 @@ impl ModuleBuilder {
         self.append(Expression::GlobalVariable(global))
     }
 
-    /// `position + offset`: the entry of the module's table buffer for `position` within the
-    /// window of `table` a fetch can reach. The offset is a placeholder until
-    /// [`Self::finish_tables`] lays the buffer out.
-    pub(super) fn table_entry(&self, table: crate::math::Codes, position: Handle<Expression>) -> Handle<Expression> {
+    /// Multilinear interpolation of table `id` in `cells` (per axis, the lower node's index and
+    /// the upper node's weight; at least one known only at run time): the entry of the cell's
+    /// lowest corner in the table buffer, then a call of the module's interpolation helper
+    /// ([`Self::interpolation_function`]) with the strides between corners, the weights and the
+    /// table's quantisation.
+    ///
+    /// The buffer holds a *block* for the lookup: the windows of the table that its corners can
+    /// reach. Axes known only at run time span their whole range; a known axis adds its upper
+    /// node to the window while that keeps the window contiguous in the table (its stride is at
+    /// most the window's length), and otherwise the block repeats the window at the upper node
+    /// (so a slice at literal roughness and IOR is 4 windows of the direction axis, not the
+    /// table between them).
+    pub(super) fn table_interpolation<'a>(&'a self, id: TableId, cells: &[(Expr<'a>, Expr<'a>)]) -> Expr<'a> {
+        let spec = id.spec();
+        let zero = self.constant(0.0);
+        // The runtime part of the lowest corner's entry, Σ cell·stride over the runtime axes;
+        // the known part, `start`; and the window that the runtime axes reach.
+        let (mut index, mut start, mut window, mut stride) = (zero, 0u32, 1u32, 1u32);
+        let mut table_strides = Vec::with_capacity(cells.len());
+        for (&(i, _), &(_, n)) in cells.iter().zip(spec.axes) {
+            match i.known() {
+                Some(cell) => start += cell as u32 * stride,
+                None => {
+                    index = index + i * stride as f32;
+                    window += (n as u32 - 1) * stride;
+                }
+            }
+            table_strides.push(stride);
+            stride *= n as u32;
+        }
+        // The known axes, by increasing stride: contiguous in the window while they can be, then
+        // repeating the block.
+        let mut starts = vec![start];
+        let mut strides = table_strides.clone();
+        for (axis, &(i, _)) in cells.iter().enumerate() {
+            if i.known().is_none() {
+                continue;
+            }
+            if starts.len() == 1 && table_strides[axis] <= window {
+                window += table_strides[axis];
+            } else {
+                strides[axis] = starts.len() as u32 * window;
+                let upper: Vec<u32> = starts.iter().map(|s| s + table_strides[axis]).collect();
+                starts.extend(upper);
+            }
+        }
+        let position = self.append(Expression::As { expr: index.handle(), kind: ScalarKind::Uint, convert: Some(4) });
         let offset = self.append(Expression::Literal(Literal::U32(0)));
-        let add = self.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
-        let mut state = self.state.borrow_mut();
-        let function = state.stack.last().and_then(|f| f.function.name.clone()).unwrap_or_default();
-        state.table_fetches.push(super::TableFetch { function, add, offset, codes: table });
-        add
+        let entry = self.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
+        {
+            let mut state = self.state.borrow_mut();
+            let function = state.stack.last().and_then(|f| f.function.name.clone()).unwrap_or_default();
+            let block = super::TableBlock { table: id.buffer_offset(), codes: id.codes(), starts, window };
+            state.table_fetches.push(super::TableFetch { function, add: entry, offset, block });
+        }
+        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
+        let vector = |components: Vec<Handle<Expression>>, scalar| match components.len() {
+            1 => components[0],
+            k => {
+                let size = [VectorSize::Bi, VectorSize::Tri, VectorSize::Quad][k - 2];
+                let ty = self.with_module(|m| insert_type(m, None, TypeInner::Vector { size, scalar }));
+                self.append(Expression::Compose { ty, components })
+            }
+        };
+        let strides = vector(strides.into_iter().map(u32_literal).collect(), NagaScalar::U32);
+        let weights = vector(cells.iter().map(|&(_, w)| w.handle()).collect(), NagaScalar::F32);
+        let quantization = id.quantization();
+        let scale = self.constant(quantization.scale).handle();
+        let offset = self.constant(quantization.offset).handle();
+        let function = self.interpolation_function(cells.len());
+        let value = self.call(function, vec![entry, strides, weights, scale, offset]);
+        self.name(value, "value");
+        self.scalar(value)
     }
 
-    /// Lays the table buffer out and returns its contents: per table, the windows its fetches
-    /// reach, merged where they overlap or touch, one after another in order of first use (so a
-    /// table's share is never more than the whole table). Then gives every fetch its offset
-    /// (a fetch at offset 0 reads the entry itself) and the buffer its final size. Empty when no
-    /// lookup reads the buffer.
+    /// The module's interpolation helper for tables of `axes` axes (1 to 4), created on first
+    /// use: `glazec_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<f32>,
+    /// scale: f32, offset: f32) -> f32` and its siblings `_linear` (scalars), `_bilinear` and
+    /// `_quadrilinear`. It sums the corners of a cell whose lowest corner is entry `corner` of the
+    /// table buffer, the corner one node up an axis `strides[axis]` entries further, each code
+    /// decoded as scale·code + offset: the CPU's [`corner_sum`], term for term.
+    fn interpolation_function(&self, axes: usize) -> Handle<Function> {
+        const NAMES: [&str; 4] =
+            ["glazec_table_linear", "glazec_table_bilinear", "glazec_table_trilinear", "glazec_table_quadrilinear"];
+        let name = NAMES[axes - 1];
+        if let Some(&f) = self.state.borrow().terms.get(name) {
+            return f;
+        }
+        let vector = |scalar| match axes {
+            1 => insert_type_in(self, TypeInner::Scalar(scalar)),
+            k => insert_type_in(
+                self,
+                TypeInner::Vector { size: [VectorSize::Bi, VectorSize::Tri, VectorSize::Quad][k - 2], scalar },
+            ),
+        };
+        let argument = |name: &str, ty| FunctionArgument { name: Some(name.to_string()), ty, binding: None };
+        let arguments = vec![
+            argument("corner", self.types.u32),
+            argument("strides", vector(NagaScalar::U32)),
+            argument("weights", vector(NagaScalar::F32)),
+            argument("scale", self.types.f32),
+            argument("offset", self.types.f32),
+        ];
+        let result = FunctionResult { ty: self.types.f32, binding: None };
+        let code = self.table_code_function();
+        self.begin_function(name, arguments, Some(result));
+        let (lowest, strides, weights) = (self.argument(0), self.argument(1), self.argument(2));
+        let (scale, offset) = (self.scalar(self.argument(3)), self.scalar(self.argument(4)));
+        let component = |vector, axis: usize| match axes {
+            1 => vector,
+            _ => self.append(Expression::AccessIndex { base: vector, index: axis as u32 }),
+        };
+        let axis_strides: Vec<Handle<Expression>> = (0..axes).map(|a| component(strides, a)).collect();
+        let axis_weights: Vec<Expr<'_>> = (0..axes).map(|a| self.scalar(component(weights, a))).collect();
+        let total = corner_sum(&axis_weights, scale, offset, |corner| {
+            // Corner names list the lower (l) or upper (u) node per axis, first axis first: `code_lul`.
+            let corner_name: String = (0..axes).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect();
+            let mut at = lowest;
+            for (_, &stride) in axis_strides.iter().enumerate().filter(|(a, _)| corner >> a & 1 == 1) {
+                at = self.append(Expression::Binary { op: BinaryOperator::Add, left: at, right: stride });
+            }
+            let value = self.call(code, vec![at]);
+            self.name(value, &format!("code_{corner_name}"));
+            self.scalar(value)
+        });
+        self.statement(Statement::Return { value: Some(total.handle()) });
+        let function = self.end_function();
+        let doc = [
+            "Multilinear interpolation in a table of the table buffer: the sum over the cell's corners",
+            "of their values, scale·code + offset, each weighted by the product over the axes of the",
+            "upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis",
+            "is `strides` entries further.",
+        ];
+        let handle = self.add_function(function, &doc);
+        self.state.borrow_mut().terms.insert(name, handle);
+        handle
+    }
+
+    /// Lays the table buffer out and returns its contents, then gives every lookup its offset
+    /// (a lookup at offset 0 reads its runtime position itself) and the buffer its final size.
+    /// A block of a single window shares the table's merged windows: per table, the windows
+    /// such blocks reach, merged where they overlap or touch, one after another in order of
+    /// first use (so a table's share is never more than the whole table). A block of repeated
+    /// windows (a slice) follows once for every distinct block. Empty when no lookup reads the
+    /// buffer.
     pub fn finish_tables(&self) -> Vec<u16> {
         let mut state = self.state.borrow_mut();
-        // Per table (by its place in the catalogue's buffer), the windows its fetches reach.
+        // Per table (by its place in the catalogue's buffer), the windows its single-window
+        // blocks reach.
         let mut tables: Vec<TableWindows> = Vec::new();
-        for fetch in &state.table_fetches {
-            let c = fetch.codes;
-            let window = (c.start, c.start + c.len);
-            match tables.iter_mut().find(|(offset, ..)| *offset == c.buffer_offset) {
+        for fetch in state.table_fetches.iter().filter(|f| f.block.starts.len() == 1) {
+            let b = &fetch.block;
+            let window = (b.starts[0], b.starts[0] + b.window);
+            match tables.iter_mut().find(|(table, ..)| *table == b.table) {
                 Some((_, _, windows)) => windows.push(window),
-                None => tables.push((c.buffer_offset, c.codes, vec![window])),
+                None => tables.push((b.table, b.codes, vec![window])),
             }
         }
         let mut codes: Vec<u16> = Vec::new();
@@ -103,27 +235,45 @@ impl ModuleBuilder {
                 codes.extend_from_slice(&table_codes[start as usize..(end as usize).min(table_codes.len())]);
             }
         }
+        // Repeated-window blocks, each once.
+        let mut repeated: Vec<(&TableBlock, u32)> = Vec::new();
         let fetches = std::mem::take(&mut state.table_fetches);
+        for fetch in fetches.iter().filter(|f| f.block.starts.len() > 1) {
+            if repeated.iter().all(|(b, _)| **b != fetch.block) {
+                repeated.push((&fetch.block, codes.len() as u32));
+                for &start in &fetch.block.starts {
+                    let window = start as usize..((start + fetch.block.window) as usize).min(fetch.block.codes.len());
+                    codes.extend_from_slice(&fetch.block.codes[window]);
+                }
+            }
+        }
         for fetch in &fetches {
-            let c = fetch.codes;
-            let Some(&(_, (start, _), at)) = placed
-                .iter()
-                .find(|(table, (start, end), _)| *table == c.buffer_offset && *start <= c.start && c.start < *end)
-            else {
-                unreachable!("every fetch's window was placed")
+            let b = &fetch.block;
+            let offset = if b.starts.len() == 1 {
+                let Some(&(_, (start, _), at)) = placed
+                    .iter()
+                    .find(|(table, (start, end), _)| *table == b.table && *start <= b.starts[0] && b.starts[0] < *end)
+                else {
+                    unreachable!("every lookup's window was placed")
+                };
+                at + (b.starts[0] - start)
+            } else {
+                let Some(&(_, at)) = repeated.iter().find(|(placed, _)| *placed == b) else {
+                    unreachable!("every lookup's block was placed")
+                };
+                at
             };
-            let offset = at + (c.start - start);
             let Some((_, function)) =
                 state.module.functions.iter_mut().find(|(_, f)| f.name.as_deref() == Some(fetch.function.as_str()))
             else {
-                unreachable!("a fetch belongs to a finished function")
+                unreachable!("a lookup belongs to a finished function")
             };
             if offset == 0 {
                 // entry = position: the call reads the position itself. The addition, now
                 // unused, adds the literal to itself instead, so that it does not count as a
                 // second use of the position (which a backend would then spell as a `let`).
                 let Expression::Binary { left, .. } = function.expressions[fetch.add] else {
-                    unreachable!("a fetch's entry is an addition")
+                    unreachable!("a lookup's entry is an addition")
                 };
                 replace_argument(&mut function.body, fetch.add, left);
                 function.expressions[fetch.add] =
@@ -183,6 +333,11 @@ impl ModuleBuilder {
 /// A table's windows: (its place in the catalogue's buffer, its codes, [start, end) of each
 /// window its fetches reach).
 type TableWindows = (u32, &'static [u16], Vec<(u32, u32)>);
+
+/// A type of the module under construction.
+fn insert_type_in(b: &ModuleBuilder, inner: TypeInner) -> Handle<naga::Type> {
+    b.with_module(|module| insert_type(module, None, inner))
+}
 
 /// `array<vec4<u32>, vec4s>`.
 fn tables_type(module: &mut naga::Module, vec4s: u32) -> Handle<naga::Type> {

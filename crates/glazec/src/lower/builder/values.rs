@@ -533,11 +533,15 @@ impl<'a> Real for Expr<'a> {
             let codes = table.codes;
             return b.constant(f32::from(codes[(table.start as usize + i as usize).min(codes.len() - 1)]));
         }
-        let expr = index.handle();
-        let position = b.append(Expression::As { expr, kind: naga::ScalarKind::Uint, convert: Some(4) });
-        let entry = b.table_entry(table, position);
-        let function = b.table_code_function();
-        index.dynamic(b.call(function, vec![entry]))
+        // Cells known only at run time go through `interpolate` and the module's helper, whose
+        // fetches read the table buffer directly.
+        unreachable!("a table fetch at a runtime index")
+    }
+    fn interpolate(id: crate::math::tables::TableId, cells: &[(Self, Self)]) -> Self {
+        if cells.iter().all(|(i, w)| i.known().is_some() && w.known().is_some()) {
+            return crate::math::tables::corners(id, cells);
+        }
+        cells[0].0.b.table_interpolation(id, cells)
     }
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self> {
         let all_const = args.iter().all(|a| match a {

@@ -1,6 +1,6 @@
 //! Multilinear interpolation of a table, written once over the shading ops: it folds literal
-//! lookups at compile time, evaluates on the CPU, is the body of a shader's lookup function, and
-//! gives a curve its nodes.
+//! lookups at compile time, evaluates on the CPU, gives a curve its nodes, and is the body of the
+//! interpolation helper that a shader's lookup functions call.
 
 use super::catalogue::TableId;
 use crate::math::{Codes, Real};
@@ -13,64 +13,76 @@ fn cell<F: Real>(s: F, n: usize) -> (F, F) {
 }
 
 /// Multilinear interpolation of table `id` at coordinates u ∈ [0, 1] (`coordinate(axis)`, asked
-/// for once per axis, in order), written once over the shading ops: it folds literal lookups at
-/// compile time, evaluates on the CPU, and is the body of the shader's lookup function. `names`
-/// (one per axis, or none at all) name the generated `let`s.
+/// for once per axis, in order): the cell and weight on every axis, then [`Real::interpolate`]
+/// (on the CPU and for cells known at compile time, [`corners`]; in a shader otherwise, a call of
+/// the module's interpolation helper, whose body is [`corners`] too). `names` (one per axis, or
+/// none at all) name the generated `let`s.
 pub(super) fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&str]) -> F {
     let spec = id.spec();
-    let cells: Vec<(F, F)> = spec
-        .axes
-        .iter()
-        .enumerate()
-        .map(|(a, &(_, n))| {
-            let node = coordinate(a) * (n - 1) as f32;
-            match names.get(a) {
-                Some(name) => {
-                    let (i, w) = cell(node.named(&format!("node_{name}")), n);
-                    (i.named(&format!("cell_{name}")), w.named(&format!("weight_{name}")))
-                }
-                // (No names: no strings built on the CPU's hot path.)
-                None => cell(node, n),
+    let cell_on = |a: usize| {
+        let n = spec.axes[a].1;
+        let node = coordinate(a) * (n - 1) as f32;
+        match names.get(a) {
+            Some(name) => {
+                let (i, w) = cell(node.named(&format!("node_{name}")), n);
+                (i.named(&format!("cell_{name}")), w.named(&format!("weight_{name}")))
             }
-        })
-        .collect();
-    let zero = cells[0].0.lit(0.0);
+            // (No names: no strings built on the CPU's hot path.)
+            None => cell(node, n),
+        }
+    };
+    // (Tables have at most four axes: no allocation on the CPU's hot path.)
+    let first = cell_on(0);
+    let mut cells = [first; 4];
+    for (a, c) in cells.iter_mut().enumerate().take(spec.axes.len()).skip(1) {
+        *c = cell_on(a);
+    }
+    F::interpolate(id, &cells[..spec.axes.len()])
+}
+
+/// Σ over the 2^k corners of a k-axis cell of (scale·code + offset)·Π weight, the corners in
+/// order (axis 0 changing fastest) and added from zero, each weight the product over the axes
+/// of w (upper node) or 1 − w (lower node), first axis first. `code(corner)` is the 16-bit code
+/// at the corner (bit `a` of `corner` set: the upper node on axis `a`). The one copy of the
+/// arithmetic: the CPU, the compile-time fold, and the shader's interpolation helper all sum
+/// exactly this, in this order, so that they agree to rounding.
+pub(crate) fn corner_sum<F: Real>(weights: &[F], scale: F, offset: F, code: impl Fn(usize) -> F) -> F {
+    let zero = scale.lit(0.0);
     let mut total = zero;
-    for corner in 0..1usize << cells.len() {
-        // The corner's entry is start + index: a known cell (every one on the CPU) adds its
-        // axis' part to `start`; an axis known only at run time adds to `index`, over its cells
-        // i ∈ [0, n − 2] plus one on the upper side, so the corner reaches the window
-        // [start, start + span].
-        let (mut index, mut weight, mut stride) = (zero, zero.lit(1.0), 1u32);
-        let (mut start, mut span) = (0u32, 0u32);
-        for (axis, &(i, w)) in cells.iter().enumerate() {
-            let upper = corner >> axis & 1 == 1;
-            weight = weight * if upper { w } else { w.one_minus() };
-            let n = spec.axes[axis].1 as u32;
-            match i.known() {
-                Some(cell) => start += (cell as u32 + u32::from(upper)) * stride,
-                None => {
-                    index = index + (if upper { i + 1.0 } else { i }) * stride as f32;
-                    span += (n - 1) * stride;
-                }
-            }
-            stride *= n;
+    for corner in 0..1usize << weights.len() {
+        let mut weight = zero.lit(1.0);
+        for (axis, &w) in weights.iter().enumerate() {
+            weight = weight * if corner >> axis & 1 == 1 { w } else { w.one_minus() };
         }
-        // The entry's value: offset + scale·code, the stored encoding.
-        let quantization = id.quantization();
-        let codes = Codes { codes: id.codes(), buffer_offset: id.buffer_offset(), start, len: span + 1 };
-        let mut code = F::fetch(codes, index);
-        // Corner names list the lower (l) or upper (u) node per axis, first axis first: `at_lul`.
-        let corner_name =
-            || -> String { (0..cells.len()).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect() };
-        if !names.is_empty() {
-            code = code.named(&format!("code_{}", corner_name()));
-        }
-        let mut value = code * quantization.scale + quantization.offset;
-        if !names.is_empty() {
-            value = value.named(&format!("at_{}", corner_name()));
-        }
-        total = total + value * weight;
+        total = total + (code(corner) * scale + offset) * weight;
     }
     total
+}
+
+/// [`corner_sum`] at cells (lower node index, upper node weight) known now: the CPU's lookup and
+/// a shader's lookup at literal arguments, folded.
+pub(crate) fn corners<F: Real>(id: TableId, cells: &[(F, F)]) -> F {
+    let spec = id.spec();
+    let mut weights = [cells[0].1; 4];
+    for (w, &(_, cell_weight)) in weights.iter_mut().zip(cells) {
+        *w = cell_weight;
+    }
+    let quantization = id.quantization();
+    let ctx = cells[0].0.ctx();
+    corner_sum(
+        &weights[..cells.len()],
+        F::constant(ctx, quantization.scale),
+        F::constant(ctx, quantization.offset),
+        |corner| {
+            // The corner's entry: Σ (cell + upper)·stride over the axes.
+            let (mut entry, mut stride) = (cells[0].0.lit(0.0), 1u32);
+            for (axis, &(i, _)) in cells.iter().enumerate() {
+                let upper = corner >> axis & 1 == 1;
+                entry = entry + (if upper { i + 1.0 } else { i }) * stride as f32;
+                stride *= spec.axes[axis].1 as u32;
+            }
+            let codes = id.codes();
+            F::fetch(Codes { codes, buffer_offset: id.buffer_offset(), start: 0, len: codes.len() as u32 }, entry)
+        },
+    )
 }
