@@ -34,6 +34,34 @@ fn naga_from_wgsl(wgsl: &str) -> usize {
     artifacts.iter().map(|a| a.contents.len()).sum()
 }
 
+/// WGSL and HLSL of `library`, GLSL of `module`'s `eval_pairs`: bytes written.
+fn naga_backends(
+    library: &naga::Module,
+    library_info: &naga::valid::ModuleInfo,
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+) -> usize {
+    use naga::back::{glsl, hlsl, wgsl};
+    let wgsl = wgsl::write_string(library, library_info, wgsl::WriterFlags::empty()).expect("WGSL");
+    let mut hlsl = String::new();
+    let options = hlsl::Options { shader_model: hlsl::ShaderModel::V6_0, ..Default::default() };
+    hlsl::Writer::new(&mut hlsl, &options, &hlsl::PipelineOptions { entry_point: None })
+        .write(library, library_info, None)
+        .expect("HLSL");
+    let mut glsl = String::new();
+    let options = glsl::Options { version: glsl::Version::Desktop(450), ..Default::default() };
+    let pipeline = glsl::PipelineOptions {
+        shader_stage: naga::ShaderStage::Compute,
+        entry_point: "eval_pairs".to_string(),
+        multiview: None,
+    };
+    glsl::Writer::new(&mut glsl, module, info, &options, &pipeline, naga::proc::BoundsCheckPolicies::default())
+        .expect("GLSL writer")
+        .write()
+        .expect("GLSL");
+    wgsl.len() + hlsl.len() + glsl.len()
+}
+
 fn stages(c: &mut Criterion) {
     let mut group = c.benchmark_group(GROUP);
     group.bench_function(MATERIAL, |b| b.iter(compile_clay));
@@ -63,6 +91,11 @@ fn stages(c: &mut Criterion) {
         info: &info,
         layout: &lowered.layout,
     };
+    // The floor under emit: naga's three backends writing the library once each, with none of
+    // glazec's text passes (GLSL needs an entry point: the whole module's `eval_pairs`).
+    group.bench_function("naga_backends_library_only", |b| {
+        b.iter(|| naga_backends(black_box(&lowered.library), &library_info, &lowered.module, &info))
+    });
     let origin = glazec::Origin::new(Some("clay.ron"), CLAY);
     for target in Target::TEXT {
         group.bench_function(format!("emit_{}", target.name()), |b| {

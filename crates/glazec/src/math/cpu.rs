@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use super::{Codes, Logic, Named, Real, Slot, Sum, TermDef, Vector};
+use super::{Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 impl Named for f32 {
     fn named(self, _: &str) -> Self {
@@ -82,11 +82,6 @@ impl Real for f32 {
     }
     fn table_curves((): ()) -> bool {
         super::tables::curves_on_cpu()
-    }
-    fn fetch(table: Codes, index: f32) -> f32 {
-        // `as` saturates: a negative index reads entry 0.
-        let codes = table.codes;
-        f32::from(codes[(table.start as usize + index as usize).min(codes.len() - 1)])
     }
     fn call(_: &'static TermDef, args: &[Slot<f32>], body: &dyn Fn(&[Slot<f32>]) -> Slot<f32>) -> Slot<f32> {
         body(args)

@@ -46,20 +46,6 @@ pub struct TermDef {
     pub doc: &'static [&'static str],
 }
 
-/// A table's stored codes as [`Real::fetch`] reads them: the codes themselves (for an index
-/// known now), where they start in the catalogue's buffer, and the window of entries this fetch
-/// can reach: entry `start + index` with `index` ∈ [0, `len`), which is all a shader needs bound.
-#[derive(Clone, Copy, Debug)]
-pub struct Codes {
-    pub codes: &'static [u16],
-    /// In entries (16-bit codes) from the start of the catalogue's buffer.
-    pub buffer_offset: u32,
-    /// The first entry of the table this fetch can read.
-    pub start: u32,
-    /// How many entries from `start` it can read.
-    pub len: u32,
-}
-
 /// A term argument or result of either shape.
 pub enum Slot<F: Real> {
     S(F),
@@ -129,10 +115,6 @@ pub trait Real:
     /// Whether table lookups along one runtime argument are curves here (`tables::Curve`): in
     /// the shader of a material without runtime parameters, and in its CPU evaluation.
     fn table_curves(ctx: Self::Ctx) -> bool;
-    /// The 16-bit code of entry `index` of a table, as a number (in a shader: from the table
-    /// buffer `glazec_tables`; `tables::lookup` scales it to the value); `index` holds a whole
-    /// number in range (callers clamp).
-    fn fetch(table: Codes, index: Self) -> Self;
     /// Multilinear interpolation of table `id` in `cells` (per axis, the lower node's index and
     /// the upper node's weight): on the CPU and for cells known now, the corners summed here
     /// (`tables::corners`); in a shader, for a cell known only at run time, a call of the

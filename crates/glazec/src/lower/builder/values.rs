@@ -10,7 +10,7 @@ use naga::{
 };
 
 use super::{ArgKey, CallKey, ConstName, ModuleBuilder};
-use crate::math::{Codes, Kind, Logic, Named, Real, Slot, Sum, TermDef, Vector};
+use crate::math::{Kind, Logic, Named, Real, Slot, Sum, TermDef, Vector};
 
 impl ModuleBuilder {
     pub fn scalar(&self, handle: Handle<Expression>) -> Expr<'_> {
@@ -134,7 +134,7 @@ impl ModuleBuilder {
     /// The function that implements `def`, building it on first use.
     /// A table lookup with the arguments that are literals here (`literals[i]`) built into it:
     /// its parameters are the others, and its cells along the literal axes are constants, so
-    /// that it reads only the slices they select ([`crate::math::Codes`]'s window). The first
+    /// that it reads only the slices they select (the table block of `tables.rs`). The first
     /// specialisation of a table is named `<lookup>_slice`, later ones `<lookup>_slice_b`, `_c`, …
     fn specialised_lookup<'a>(
         &'a self,
@@ -526,16 +526,6 @@ impl<'a> Real for Expr<'a> {
     }
     fn table_curves(b: &'a ModuleBuilder) -> bool {
         b.curves.get()
-    }
-    fn fetch(table: Codes, index: Self) -> Self {
-        let b = index.b;
-        if let Val::Const(i) = index.v {
-            let codes = table.codes;
-            return b.constant(f32::from(codes[(table.start as usize + i as usize).min(codes.len() - 1)]));
-        }
-        // Cells known only at run time go through `interpolate` and the module's helper, whose
-        // fetches read the table buffer directly.
-        unreachable!("a table fetch at a runtime index")
     }
     fn interpolate(id: crate::math::tables::TableId, cells: &[(Self, Self)]) -> Self {
         if cells.iter().all(|(i, w)| i.known().is_some() && w.known().is_some()) {

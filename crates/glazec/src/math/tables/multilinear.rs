@@ -3,7 +3,7 @@
 //! interpolation helper that a shader's lookup functions call.
 
 use super::catalogue::TableId;
-use crate::math::{Codes, Real};
+use crate::math::Real;
 
 /// The lower node index and the weight of the upper node at fractional node position `s`
 /// = u·(n − 1) on `n` nodes.
@@ -60,7 +60,8 @@ pub(crate) fn corner_sum<F: Real>(weights: &[F], scale: F, offset: F, code: impl
 }
 
 /// [`corner_sum`] at cells (lower node index, upper node weight) known now: the CPU's lookup and
-/// a shader's lookup at literal arguments, folded.
+/// a shader's lookup at literal arguments, folded. The codes are read here, from the tables
+/// compiled into the crate.
 pub(crate) fn corners<F: Real>(id: TableId, cells: &[(F, F)]) -> F {
     let spec = id.spec();
     let mut weights = [cells[0].1; 4];
@@ -69,20 +70,21 @@ pub(crate) fn corners<F: Real>(id: TableId, cells: &[(F, F)]) -> F {
     }
     let quantization = id.quantization();
     let ctx = cells[0].0.ctx();
+    let codes = id.codes();
     corner_sum(
         &weights[..cells.len()],
         F::constant(ctx, quantization.scale),
         F::constant(ctx, quantization.offset),
         |corner| {
-            // The corner's entry: Σ (cell + upper)·stride over the axes.
-            let (mut entry, mut stride) = (cells[0].0.lit(0.0), 1u32);
+            // The corner's entry: Σ (cell + upper)·stride over the axes (every cell is known).
+            let (mut entry, mut stride) = (0usize, 1usize);
             for (axis, &(i, _)) in cells.iter().enumerate() {
-                let upper = corner >> axis & 1 == 1;
-                entry = entry + (if upper { i + 1.0 } else { i }) * stride as f32;
-                stride *= spec.axes[axis].1 as u32;
+                let upper = usize::from(corner >> axis & 1 == 1);
+                // (`as` saturates: a cell is never negative, its coordinate being clamped.)
+                entry += (i.known().unwrap_or(0.0) as usize + upper) * stride;
+                stride *= spec.axes[axis].1;
             }
-            let codes = id.codes();
-            F::fetch(Codes { codes, buffer_offset: id.buffer_offset(), start: 0, len: codes.len() as u32 }, entry)
+            F::constant(ctx, f32::from(codes[entry.min(codes.len() - 1)]))
         },
     )
 }
