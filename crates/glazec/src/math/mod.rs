@@ -46,6 +46,19 @@ pub struct TermDef {
     pub doc: &'static [&'static str],
 }
 
+/// A table as a shader's interpolation helper reads it ([`Real::interpolate_at_runtime`]): its
+/// 16-bit codes, where they start in the catalogue's buffer (the table's identity), its nodes per
+/// axis (first axis fastest in memory) and its quantisation, value = scale·code + offset.
+#[derive(Clone, Copy, Debug)]
+pub struct TableCodes {
+    pub codes: &'static [u16],
+    pub buffer_offset: u32,
+    pub nodes: [u32; 4],
+    pub axes: usize,
+    pub scale: f32,
+    pub offset: f32,
+}
+
 /// A term argument or result of either shape.
 pub enum Slot<F: Real> {
     S(F),
@@ -115,12 +128,13 @@ pub trait Real:
     /// Whether table lookups along one runtime argument are curves here (`tables::Curve`): in
     /// the shader of a material without runtime parameters, and in its CPU evaluation.
     fn table_curves(ctx: Self::Ctx) -> bool;
-    /// Multilinear interpolation of table `id` in `cells` (per axis, the lower node's index and
-    /// the upper node's weight): on the CPU and for cells known now, the corners summed here
-    /// (`tables::corners`); in a shader, for a cell known only at run time, a call of the
-    /// module's interpolation helper, whose body sums the same corners.
-    fn interpolate(id: tables::TableId, cells: &[(Self, Self)]) -> Self {
-        tables::corners(id, cells)
+    /// Multilinear interpolation of `table` in `cells` (per axis, the lower node's index and the
+    /// upper node's weight) where a cell is known only at run time: in a shader, a call of the
+    /// module's interpolation helper, whose body sums the corners as `tables` does. `None` where
+    /// every cell is known now (always on the CPU): `tables` then sums the corners itself.
+    fn interpolate_at_runtime(table: &TableCodes, cells: &[(Self, Self)]) -> Option<Self> {
+        let _ = (table, cells);
+        None
     }
 
     /// Calls (or, on the CPU, simply evaluates) a term. Use `shading_fn!` rather than this.

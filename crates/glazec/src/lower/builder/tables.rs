@@ -14,7 +14,8 @@ use naga::{
 use super::values::Expr;
 use super::{ModuleBuilder, TableBlock, insert_type};
 use crate::math::Real;
-use crate::math::tables::{TableId, corner_sum};
+use crate::math::TableCodes;
+use crate::math::tables::corner_sum;
 
 /// The name of the table buffer in generated code (before `lower` prefixes it with the material's).
 pub const TABLES_BUFFER_NAME: &str = "glazec_tables";
@@ -60,7 +61,7 @@ impl ModuleBuilder {
         self.append(Expression::GlobalVariable(global))
     }
 
-    /// Multilinear interpolation of table `id` in `cells` (per axis, the lower node's index and
+    /// Multilinear interpolation of `table` in `cells` (per axis, the lower node's index and
     /// the upper node's weight; at least one known only at run time): the entry of the cell's
     /// lowest corner in the table buffer, then a call of the module's interpolation helper
     /// ([`Self::interpolation_function`]) with the strides between corners, the weights and the
@@ -72,23 +73,22 @@ impl ModuleBuilder {
     /// most the window's length), and otherwise the block repeats the window at the upper node
     /// (so a slice at literal roughness and IOR is 4 windows of the direction axis, not the
     /// table between them).
-    pub(super) fn table_interpolation<'a>(&'a self, id: TableId, cells: &[(Expr<'a>, Expr<'a>)]) -> Expr<'a> {
-        let spec = id.spec();
+    pub(super) fn table_interpolation<'a>(&'a self, table: &TableCodes, cells: &[(Expr<'a>, Expr<'a>)]) -> Expr<'a> {
         let zero = self.constant(0.0);
         // The runtime part of the lowest corner's entry, Σ cell·stride over the runtime axes;
         // the known part, `start`; and the window that the runtime axes reach.
         let (mut index, mut start, mut window, mut stride) = (zero, 0u32, 1u32, 1u32);
         let mut table_strides = Vec::with_capacity(cells.len());
-        for (&(i, _), &(_, n)) in cells.iter().zip(spec.axes) {
+        for (&(i, _), &n) in cells.iter().zip(&table.nodes) {
             match i.known() {
                 Some(cell) => start += cell as u32 * stride,
                 None => {
                     index = index + i * stride as f32;
-                    window += (n as u32 - 1) * stride;
+                    window += (n - 1) * stride;
                 }
             }
             table_strides.push(stride);
-            stride *= n as u32;
+            stride *= n;
         }
         // The known axes, by increasing stride: contiguous in the window while they can be, then
         // repeating the block.
@@ -112,7 +112,7 @@ impl ModuleBuilder {
         {
             let mut state = self.state.borrow_mut();
             let function = state.stack.last().and_then(|f| f.function.name.clone()).unwrap_or_default();
-            let block = super::TableBlock { table: id.buffer_offset(), codes: id.codes(), starts, window };
+            let block = super::TableBlock { table: table.buffer_offset, codes: table.codes, starts, window };
             state.table_fetches.push(super::TableFetch { function, add: entry, offset, block });
         }
         let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
@@ -126,9 +126,8 @@ impl ModuleBuilder {
         };
         let strides = vector(strides.into_iter().map(u32_literal).collect(), NagaScalar::U32);
         let weights = vector(cells.iter().map(|&(_, w)| w.handle()).collect(), NagaScalar::F32);
-        let quantization = id.quantization();
-        let scale = self.constant(quantization.scale).handle();
-        let offset = self.constant(quantization.offset).handle();
+        let scale = self.constant(table.scale).handle();
+        let offset = self.constant(table.offset).handle();
         let function = self.interpolation_function(cells.len());
         let value = self.call(function, vec![entry, strides, weights, scale, offset]);
         self.name(value, "value");

@@ -527,11 +527,9 @@ impl<'a> Real for Expr<'a> {
     fn table_curves(b: &'a ModuleBuilder) -> bool {
         b.curves.get()
     }
-    fn interpolate(id: crate::math::tables::TableId, cells: &[(Self, Self)]) -> Self {
-        if cells.iter().all(|(i, w)| i.known().is_some() && w.known().is_some()) {
-            return crate::math::tables::corners(id, cells);
-        }
-        cells[0].0.b.table_interpolation(id, cells)
+    fn interpolate_at_runtime(table: &crate::math::TableCodes, cells: &[(Self, Self)]) -> Option<Self> {
+        let runtime = cells.iter().any(|(i, w)| i.known().is_none() || w.known().is_none());
+        runtime.then(|| cells[0].0.b.table_interpolation(table, cells))
     }
     fn call(def: &'static TermDef, args: &[Slot<Self>], body: &dyn Fn(&[Slot<Self>]) -> Slot<Self>) -> Slot<Self> {
         let all_const = args.iter().all(|a| match a {

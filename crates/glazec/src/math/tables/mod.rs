@@ -53,7 +53,7 @@ pub use storage::{
 
 use super::{Real, Slot};
 use multilinear::multilinear;
-pub(crate) use multilinear::{corner_sum, corners};
+pub(crate) use multilinear::corner_sum;
 
 /// Multilinear interpolation of table `id` at `args` (one argument per axis, in the table's
 /// order). With every argument known (always on the CPU; literal parameters in a shader) the

@@ -3,7 +3,7 @@
 //! interpolation helper that a shader's lookup functions call.
 
 use super::catalogue::TableId;
-use crate::math::Real;
+use crate::math::{Real, TableCodes};
 
 /// The lower node index and the weight of the upper node at fractional node position `s`
 /// = u·(n − 1) on `n` nodes.
@@ -37,7 +37,21 @@ pub(super) fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F,
     for (a, c) in cells.iter_mut().enumerate().take(spec.axes.len()).skip(1) {
         *c = cell_on(a);
     }
-    F::interpolate(id, &cells[..spec.axes.len()])
+    let cells = &cells[..spec.axes.len()];
+    let quantization = id.quantization();
+    let mut nodes = [0u32; 4];
+    for (n, &(_, axis_nodes)) in nodes.iter_mut().zip(spec.axes) {
+        *n = axis_nodes as u32;
+    }
+    let table = TableCodes {
+        codes: id.codes(),
+        buffer_offset: id.buffer_offset(),
+        nodes,
+        axes: spec.axes.len(),
+        scale: quantization.scale,
+        offset: quantization.offset,
+    };
+    F::interpolate_at_runtime(&table, cells).unwrap_or_else(|| corners(id, cells))
 }
 
 /// Σ over the 2^k corners of a k-axis cell of (scale·code + offset)·Π weight, the corners in
@@ -62,7 +76,7 @@ pub(crate) fn corner_sum<F: Real>(weights: &[F], scale: F, offset: F, code: impl
 /// [`corner_sum`] at cells (lower node index, upper node weight) known now: the CPU's lookup and
 /// a shader's lookup at literal arguments, folded. The codes are read here, from the tables
 /// compiled into the crate.
-pub(crate) fn corners<F: Real>(id: TableId, cells: &[(F, F)]) -> F {
+fn corners<F: Real>(id: TableId, cells: &[(F, F)]) -> F {
     let spec = id.spec();
     let mut weights = [cells[0].1; 4];
     for (w, &(_, cell_weight)) in weights.iter_mut().zip(cells) {
