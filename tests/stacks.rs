@@ -104,6 +104,26 @@ fn eight_coats_compile() {
     compiled.emit(&glazec::Target::TEXT).expect("emits");
 }
 
+/// A stack whose lookups at literal roughnesses and runtime IORs, depths and a runtime conductor
+/// roughness would take 72,368 bytes of table uniform as compact per-lookup blocks (found by the
+/// deep tier's random stacks, which wgpu then refused: over WebGPU's 64 KiB) fits: the buffer
+/// falls back to the tables' own windows, merged, never more than the tables themselves.
+#[test]
+fn many_slices_fit_the_table_uniform() {
+    let text = r#"Material(name: "random", method: Interfaced(multiple_scattering: false), layers: [
+    Coat(lobe: Ggx(roughness: Param("p1", 0.13390031)), ior: 1.2035459, absorption: Param("p2", (1.1395423, 0.56253743, 0.82903504)), thickness: 0.18741773),
+    Coat(lobe: Ggx(roughness: Param("p3", 0.8260229)), ior: 2.5485573, absorption: (0.09027628, 4.310355, 4.281066), thickness: 0.4810426),
+    Coat(lobe: Ggx(roughness: 0.12954053), ior: 2.9184213, absorption: (1.201069, 0.2354038, 4.3134212), thickness: 0.8504063),
+    Coat(lobe: Ggx(roughness: Param("p4", 0.45693025)), ior: 1.4478294, absorption: (0.45201188, 0.14726332, 0.28869337), thickness: 0.43310073),
+    Coat(lobe: Ggx(roughness: Param("p5", 0.98685557)), ior: 2.0829754, absorption: (4.511372, 4.28169, 3.325157), thickness: 1.8258964),
+    Plastic(albedo: (0.46454486, 0.258839, 0.25338265), roughness: 0.49807295, ior: Param("p6", 2.432246))
+])"#;
+    let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(compiled.uses_tables(), "the lookups read the table uniform");
+    let bytes = compiled.tables_bytes().len();
+    assert!(bytes <= glazec::lower::builder::MAX_UNIFORM_BYTES, "{bytes} bytes of tables");
+}
+
 /// The WGSL of a material, as text.
 fn wgsl(text: &str) -> String {
     let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}"));

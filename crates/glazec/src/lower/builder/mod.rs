@@ -35,7 +35,7 @@ use crate::math::Kind;
 mod tables;
 mod values;
 
-pub use tables::{TABLES_BUFFER_NAME, table_bytes};
+pub use tables::{MAX_UNIFORM_BYTES, TABLES_BUFFER_NAME, table_bytes};
 pub use values::{Expr, ExprBool, ExprVec};
 
 /// Types the builder uses everywhere.
@@ -90,6 +90,7 @@ struct State {
 }
 
 /// One lookup's read of the table buffer (see `tables.rs`).
+#[derive(Clone)]
 struct TableFetch {
     /// The function's name (unique in a module under construction).
     function: String,
@@ -97,11 +98,16 @@ struct TableFetch {
     add: Handle<Expression>,
     offset: Handle<Expression>,
     block: TableBlock,
+    /// The stride literals of the axes whose windows `block` repeats, with the table's own
+    /// stride there, and the length of the window from the lowest corner to the highest in the
+    /// table: what the fetch reads instead when the buffer would grow too large.
+    repeated: Vec<(Handle<Expression>, u32)>,
+    contiguous: u32,
 }
 
 /// What a lookup reads of a table: `window` entries from each of `starts`, laid out one after
 /// another in the buffer (one start: a window the buffer may share with other lookups).
-#[derive(PartialEq, Eq)]
+#[derive(Clone, PartialEq, Eq)]
 struct TableBlock {
     /// The table's place in the catalogue's buffer (its identity).
     table: u32,

@@ -12,7 +12,7 @@ use naga::{
 };
 
 use super::values::Expr;
-use super::{ModuleBuilder, TableBlock, insert_type};
+use super::{ModuleBuilder, insert_type};
 use crate::math::Real;
 use crate::math::TableCodes;
 use crate::math::tables::corner_sum;
@@ -90,10 +90,14 @@ impl ModuleBuilder {
             table_strides.push(stride);
             stride *= n;
         }
+        // The whole window from the lowest corner to the highest, contiguous in the table.
+        let contiguous = window
+            + cells.iter().zip(&table_strides).filter(|((i, _), _)| i.known().is_some()).map(|(_, &s)| s).sum::<u32>();
         // The known axes, by increasing stride: contiguous in the window while they can be, then
         // repeating the block.
         let mut starts = vec![start];
         let mut strides = table_strides.clone();
+        let mut repeated = Vec::new();
         for (axis, &(i, _)) in cells.iter().enumerate() {
             if i.known().is_none() {
                 continue;
@@ -102,6 +106,7 @@ impl ModuleBuilder {
                 window += table_strides[axis];
             } else {
                 strides[axis] = starts.len() as u32 * window;
+                repeated.push(axis);
                 let upper: Vec<u32> = starts.iter().map(|s| s + table_strides[axis]).collect();
                 starts.extend(upper);
             }
@@ -109,13 +114,15 @@ impl ModuleBuilder {
         let position = self.append(Expression::As { expr: index.handle(), kind: ScalarKind::Uint, convert: Some(4) });
         let offset = self.append(Expression::Literal(Literal::U32(0)));
         let entry = self.append(Expression::Binary { op: BinaryOperator::Add, left: position, right: offset });
+        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
+        let stride_literals: Vec<Handle<Expression>> = strides.into_iter().map(u32_literal).collect();
         {
             let mut state = self.state.borrow_mut();
             let function = state.stack.last().and_then(|f| f.function.name.clone()).unwrap_or_default();
             let block = super::TableBlock { table: table.buffer_offset, codes: table.codes, starts, window };
-            state.table_fetches.push(super::TableFetch { function, add: entry, offset, block });
+            let repeated = repeated.iter().map(|&axis| (stride_literals[axis], table_strides[axis])).collect();
+            state.table_fetches.push(super::TableFetch { function, add: entry, offset, block, repeated, contiguous });
         }
-        let u32_literal = |x| self.append(Expression::Literal(Literal::U32(x)));
         let vector = |components: Vec<Handle<Expression>>, scalar| match components.len() {
             1 => components[0],
             k => {
@@ -124,7 +131,7 @@ impl ModuleBuilder {
                 self.append(Expression::Compose { ty, components })
             }
         };
-        let strides = vector(strides.into_iter().map(u32_literal).collect(), NagaScalar::U32);
+        let strides = vector(stride_literals, NagaScalar::U32);
         let weights = vector(cells.iter().map(|&(_, w)| w.handle()).collect(), NagaScalar::F32);
         let scale = self.constant(table.scale).handle();
         let offset = self.constant(table.offset).handle();
@@ -199,69 +206,40 @@ impl ModuleBuilder {
 
     /// Lays the table buffer out and returns its contents, then gives every lookup its offset
     /// (a lookup at offset 0 reads its runtime position itself) and the buffer its final size.
+    /// Empty when no lookup reads the buffer.
+    ///
     /// A block of a single window shares the table's merged windows: per table, the windows
     /// such blocks reach, merged where they overlap or touch, one after another in order of
     /// first use (so a table's share is never more than the whole table). A block of repeated
-    /// windows (a slice) follows once for every distinct block. Empty when no lookup reads the
-    /// buffer.
+    /// windows (a slice) follows once for every distinct block. Where that is larger than
+    /// reading every slice's whole window from the lowest corner to the highest, contiguous in
+    /// the table and merged with the others (the helper then stepping by the table's own
+    /// strides), the buffer is laid out that way instead: it is then never more than the tables
+    /// themselves, all of which fit in [`MAX_UNIFORM_BYTES`].
     pub fn finish_tables(&self) -> Vec<u16> {
         let mut state = self.state.borrow_mut();
-        // Per table (by its place in the catalogue's buffer), the windows its single-window
-        // blocks reach.
-        let mut tables: Vec<TableWindows> = Vec::new();
-        for fetch in state.table_fetches.iter().filter(|f| f.block.starts.len() == 1) {
-            let b = &fetch.block;
-            let window = (b.starts[0], b.starts[0] + b.window);
-            match tables.iter_mut().find(|(table, ..)| *table == b.table) {
-                Some((_, _, windows)) => windows.push(window),
-                None => tables.push((b.table, b.codes, vec![window])),
-            }
-        }
-        let mut codes: Vec<u16> = Vec::new();
-        // (table, merged window, its offset in the buffer).
-        let mut placed: Vec<(u32, (u32, u32), u32)> = Vec::new();
-        for (table, table_codes, mut windows) in tables {
-            windows.sort_unstable();
-            let mut merged: Vec<(u32, u32)> = Vec::new();
-            for (start, end) in windows {
-                match merged.last_mut() {
-                    Some(last) if start <= last.1 => last.1 = last.1.max(end),
-                    _ => merged.push((start, end)),
+        let mut fetches = std::mem::take(&mut state.table_fetches);
+        let (mut codes, mut offsets) = lay_out(&fetches);
+        // The slices as contiguous windows instead, merged with the rest: kept if smaller.
+        let contiguous: Vec<super::TableFetch> = fetches
+            .iter()
+            .map(|f| {
+                let mut f = f.clone();
+                f.block.starts.truncate(1);
+                f.block.window = if f.repeated.is_empty() { f.block.window } else { f.contiguous };
+                f
+            })
+            .collect();
+        let (merged_codes, merged_offsets) = lay_out(&contiguous);
+        if merged_codes.len() < codes.len() {
+            for fetch in &fetches {
+                for &(literal, stride) in &fetch.repeated {
+                    set_literal(&mut state.module, &fetch.function, literal, stride);
                 }
             }
-            for (start, end) in merged {
-                placed.push((table, (start, end), codes.len() as u32));
-                codes.extend_from_slice(&table_codes[start as usize..(end as usize).min(table_codes.len())]);
-            }
+            (codes, offsets, fetches) = (merged_codes, merged_offsets, contiguous);
         }
-        // Repeated-window blocks, each once.
-        let mut repeated: Vec<(&TableBlock, u32)> = Vec::new();
-        let fetches = std::mem::take(&mut state.table_fetches);
-        for fetch in fetches.iter().filter(|f| f.block.starts.len() > 1) {
-            if repeated.iter().all(|(b, _)| **b != fetch.block) {
-                repeated.push((&fetch.block, codes.len() as u32));
-                for &start in &fetch.block.starts {
-                    let window = start as usize..((start + fetch.block.window) as usize).min(fetch.block.codes.len());
-                    codes.extend_from_slice(&fetch.block.codes[window]);
-                }
-            }
-        }
-        for fetch in &fetches {
-            let b = &fetch.block;
-            let offset = if b.starts.len() == 1 {
-                let Some(&(_, (start, _), at)) = placed
-                    .iter()
-                    .find(|(table, (start, end), _)| *table == b.table && *start <= b.starts[0] && b.starts[0] < *end)
-                else {
-                    unreachable!("every lookup's window was placed")
-                };
-                at + (b.starts[0] - start)
-            } else {
-                let Some(&(_, at)) = repeated.iter().find(|(placed, _)| *placed == b) else {
-                    unreachable!("every lookup's block was placed")
-                };
-                at
-            };
+        for (fetch, offset) in fetches.iter().zip(offsets) {
             let Some((_, function)) =
                 state.module.functions.iter_mut().find(|(_, f)| f.name.as_deref() == Some(fetch.function.as_str()))
             else {
@@ -327,6 +305,82 @@ impl ModuleBuilder {
         self.state.borrow_mut().terms.insert(TABLE_CODE_FUNCTION, handle);
         handle
     }
+}
+
+/// The largest uniform binding WebGPU guarantees (`maxUniformBufferBindingSize`), in bytes.
+pub const MAX_UNIFORM_BYTES: usize = 65_536;
+
+/// The buffer's codes for `fetches` and each fetch's offset (see
+/// [`ModuleBuilder::finish_tables`]).
+fn lay_out(fetches: &[super::TableFetch]) -> (Vec<u16>, Vec<u32>) {
+    // Per table (by its place in the catalogue's buffer), the windows its single-window blocks
+    // reach.
+    let mut tables: Vec<TableWindows> = Vec::new();
+    for fetch in fetches.iter().filter(|f| f.block.starts.len() == 1) {
+        let b = &fetch.block;
+        let window = (b.starts[0], b.starts[0] + b.window);
+        match tables.iter_mut().find(|(table, ..)| *table == b.table) {
+            Some((_, _, windows)) => windows.push(window),
+            None => tables.push((b.table, b.codes, vec![window])),
+        }
+    }
+    let mut codes: Vec<u16> = Vec::new();
+    // (table, merged window, its offset in the buffer).
+    let mut placed: Vec<(u32, (u32, u32), u32)> = Vec::new();
+    for (table, table_codes, mut windows) in tables {
+        windows.sort_unstable();
+        let mut merged: Vec<(u32, u32)> = Vec::new();
+        for (start, end) in windows {
+            match merged.last_mut() {
+                Some(last) if start <= last.1 => last.1 = last.1.max(end),
+                _ => merged.push((start, end)),
+            }
+        }
+        for (start, end) in merged {
+            placed.push((table, (start, end), codes.len() as u32));
+            codes.extend_from_slice(&table_codes[start as usize..(end as usize).min(table_codes.len())]);
+        }
+    }
+    // Repeated-window blocks, each once.
+    let mut repeated: Vec<(&super::TableBlock, u32)> = Vec::new();
+    for fetch in fetches.iter().filter(|f| f.block.starts.len() > 1) {
+        if repeated.iter().all(|(b, _)| **b != fetch.block) {
+            repeated.push((&fetch.block, codes.len() as u32));
+            for &start in &fetch.block.starts {
+                let window = start as usize..((start + fetch.block.window) as usize).min(fetch.block.codes.len());
+                codes.extend_from_slice(&fetch.block.codes[window]);
+            }
+        }
+    }
+    let offsets = fetches
+        .iter()
+        .map(|fetch| {
+            let b = &fetch.block;
+            if b.starts.len() == 1 {
+                let Some(&(_, (start, _), at)) = placed
+                    .iter()
+                    .find(|(table, (start, end), _)| *table == b.table && *start <= b.starts[0] && b.starts[0] < *end)
+                else {
+                    unreachable!("every lookup's window was placed")
+                };
+                at + (b.starts[0] - start)
+            } else {
+                let Some(&(_, at)) = repeated.iter().find(|(placed, _)| *placed == b) else {
+                    unreachable!("every lookup's block was placed")
+                };
+                at
+            }
+        })
+        .collect();
+    (codes, offsets)
+}
+
+/// Sets the `u32` literal `literal` of function `function` to `value`.
+fn set_literal(module: &mut naga::Module, function: &str, literal: Handle<Expression>, value: u32) {
+    let Some((_, f)) = module.functions.iter_mut().find(|(_, f)| f.name.as_deref() == Some(function)) else {
+        unreachable!("a lookup belongs to a finished function")
+    };
+    f.expressions[literal] = Expression::Literal(Literal::U32(value));
 }
 
 /// A table's windows: (its place in the catalogue's buffer, its codes, [start, end) of each

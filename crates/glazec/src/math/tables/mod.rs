@@ -52,8 +52,8 @@ pub use storage::{
 };
 
 use super::{Real, Slot};
-use multilinear::multilinear;
 pub(crate) use multilinear::corner_sum;
+use multilinear::multilinear;
 
 /// Multilinear interpolation of table `id` at `args` (one argument per axis, in the table's
 /// order). With every argument known (always on the CPU; literal parameters in a shader) the
