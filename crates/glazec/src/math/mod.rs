@@ -53,8 +53,8 @@ pub struct TermDef {
 pub struct TableCodes {
     pub codes: &'static [u16],
     pub buffer_offset: u32,
+    /// Nodes per axis (as many axes as the lookup has cells; at most four).
     pub nodes: [u32; 4],
-    pub axes: usize,
     pub scale: f32,
     pub offset: f32,
 }
@@ -129,9 +129,10 @@ pub trait Real:
     /// the shader of a material without runtime parameters, and in its CPU evaluation.
     fn table_curves(ctx: Self::Ctx) -> bool;
     /// Multilinear interpolation of `table` in `cells` (per axis, the lower node's index and the
-    /// upper node's weight) where a cell is known only at run time: in a shader, a call of the
-    /// module's interpolation helper, whose body sums the corners as `tables` does. `None` where
-    /// every cell is known now (always on the CPU): `tables` then sums the corners itself.
+    /// upper node's weight), asked for only where a cell is known only at run time: in a shader,
+    /// a call of the module's interpolation helper, whose body sums the corners as `tables` does.
+    /// `None` where there is no such helper (the CPU, whose cells are always known): `tables`
+    /// then sums the corners itself.
     fn interpolate_at_runtime(table: &TableCodes, cells: &[(Self, Self)]) -> Option<Self> {
         let _ = (table, cells);
         None

@@ -126,8 +126,7 @@ impl ModuleBuilder {
         let vector = |components: Vec<Handle<Expression>>, scalar| match components.len() {
             1 => components[0],
             k => {
-                let size = [VectorSize::Bi, VectorSize::Tri, VectorSize::Quad][k - 2];
-                let ty = self.with_module(|m| insert_type(m, None, TypeInner::Vector { size, scalar }));
+                let ty = axes_type(self, k, scalar);
                 self.append(Expression::Compose { ty, components })
             }
         };
@@ -154,13 +153,7 @@ impl ModuleBuilder {
         if let Some(&f) = self.state.borrow().terms.get(name) {
             return f;
         }
-        let vector = |scalar| match axes {
-            1 => insert_type_in(self, TypeInner::Scalar(scalar)),
-            k => insert_type_in(
-                self,
-                TypeInner::Vector { size: [VectorSize::Bi, VectorSize::Tri, VectorSize::Quad][k - 2], scalar },
-            ),
-        };
+        let vector = |scalar| axes_type(self, axes, scalar);
         let argument = |name: &str, ty| FunctionArgument { name: Some(name.to_string()), ty, binding: None };
         let arguments = vec![
             argument("corner", self.types.u32),
@@ -184,8 +177,10 @@ impl ModuleBuilder {
             // Corner names list the lower (l) or upper (u) node per axis, first axis first: `code_lul`.
             let corner_name: String = (0..axes).map(|a| if corner >> a & 1 == 1 { 'u' } else { 'l' }).collect();
             let mut at = lowest;
-            for (_, &stride) in axis_strides.iter().enumerate().filter(|(a, _)| corner >> a & 1 == 1) {
-                at = self.append(Expression::Binary { op: BinaryOperator::Add, left: at, right: stride });
+            for (axis, &stride) in axis_strides.iter().enumerate() {
+                if corner >> axis & 1 == 1 {
+                    at = self.append(Expression::Binary { op: BinaryOperator::Add, left: at, right: stride });
+                }
             }
             let value = self.call(code, vec![at]);
             self.name(value, &format!("code_{corner_name}"));
@@ -387,8 +382,13 @@ fn set_literal(module: &mut naga::Module, function: &str, literal: Handle<Expres
 /// window its fetches reach).
 type TableWindows = (u32, &'static [u16], Vec<(u32, u32)>);
 
-/// A type of the module under construction.
-fn insert_type_in(b: &ModuleBuilder, inner: TypeInner) -> Handle<naga::Type> {
+/// The type of one value per axis of a table of `axes` axes: `scalar` itself for one axis, a
+/// vector of `axes` components for more.
+fn axes_type(b: &ModuleBuilder, axes: usize, scalar: NagaScalar) -> Handle<naga::Type> {
+    let inner = match axes {
+        1 => TypeInner::Scalar(scalar),
+        k => TypeInner::Vector { size: [VectorSize::Bi, VectorSize::Tri, VectorSize::Quad][k - 2], scalar },
+    };
     b.with_module(|module| insert_type(module, None, inner))
 }
 

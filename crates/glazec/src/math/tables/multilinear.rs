@@ -13,10 +13,11 @@ fn cell<F: Real>(s: F, n: usize) -> (F, F) {
 }
 
 /// Multilinear interpolation of table `id` at coordinates u ∈ [0, 1] (`coordinate(axis)`, asked
-/// for once per axis, in order): the cell and weight on every axis, then [`Real::interpolate`]
-/// (on the CPU and for cells known at compile time, [`corners`]; in a shader otherwise, a call of
-/// the module's interpolation helper, whose body is [`corners`] too). `names` (one per axis, or
-/// none at all) name the generated `let`s.
+/// for once per axis, in order): the cell and weight on every axis, then the corners, summed by
+/// [`corners`] where every cell is known now (always on the CPU; literal lookups in a shader) and
+/// otherwise by a call of the shader's interpolation helper ([`Real::interpolate_at_runtime`]),
+/// whose body is [`corner_sum`] too. `names` (one per axis, or none at all) name the generated
+/// `let`s.
 pub(super) fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F, names: &[&str]) -> F {
     let spec = id.spec();
     let cell_on = |a: usize| {
@@ -38,6 +39,10 @@ pub(super) fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F,
         *c = cell_on(a);
     }
     let cells = &cells[..spec.axes.len()];
+    // (Checked first: the CPU's hot path builds no table description.)
+    if cells.iter().all(|(i, w)| i.known().is_some() && w.known().is_some()) {
+        return corners(id, cells);
+    }
     let quantization = id.quantization();
     let mut nodes = [0u32; 4];
     for (n, &(_, axis_nodes)) in nodes.iter_mut().zip(spec.axes) {
@@ -47,7 +52,6 @@ pub(super) fn multilinear<F: Real>(id: TableId, coordinate: impl Fn(usize) -> F,
         codes: id.codes(),
         buffer_offset: id.buffer_offset(),
         nodes,
-        axes: spec.axes.len(),
         scale: quantization.scale,
         offset: quantization.offset,
     };
