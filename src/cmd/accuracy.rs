@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use anyhow::Context;
 use glazec::output::{self, OutputFile};
+use glazec_lab::accuracy::full::{self, FullReference};
 use glazec_lab::accuracy::{self, ReferenceData};
 use glazec_lab::reference::InterfaceMode;
 
@@ -34,6 +35,12 @@ pub struct Args {
     /// With --regenerate-reference: analog walks per directional albedo.
     #[arg(long, default_value_t = 200_000)]
     walks: u32,
+    /// Recompute only the whole-BRDF references (the standard metrics read the stored one)
+    #[arg(long)]
+    regenerate_full_reference: bool,
+    /// Reference samples per value of the whole-BRDF bands (with --regenerate-reference)
+    #[arg(long, default_value_t = 16_384)]
+    full_samples: u32,
     /// Directory for `accuracy.md` and `accuracy.csv`.
     #[arg(long, short, default_value = "docs/results")]
     out: PathBuf,
@@ -61,11 +68,35 @@ pub fn run(args: Args) -> Result<(), Failure> {
     };
     let methods = accuracy::measure_methods(&cases, &reference);
     let markdown = accuracy::markdown(&cases, &methods, &reference);
+    let full_markdown = whole_brdf(args.regenerate_reference || args.regenerate_full_reference, args.full_samples)?;
     let files = [
         OutputFile { path: args.out.join("accuracy.md"), contents: markdown.clone().into_bytes() },
         OutputFile { path: args.out.join("accuracy.csv"), contents: accuracy::csv(&cases, &methods).into_bytes() },
+        OutputFile { path: args.out.join("accuracy-full.md"), contents: full_markdown.clone().into_bytes() },
     ];
     output::write_all(&files).with_context(|| format!("cannot write to {}", args.out.display()))?;
-    println!("{markdown}");
+    println!("{markdown}\n{full_markdown}");
     Ok(())
+}
+
+/// The whole-BRDF bands of the standard set, the multi-coat set and the shipped materials,
+/// against their stored references (computed first with `regenerate`).
+fn whole_brdf(regenerate: bool, samples: u32) -> Result<String, Failure> {
+    if regenerate {
+        for full::Set { name, subjects, .. } in full::sets().map_err(|e| anyhow::anyhow!(e))? {
+            let path = full::stored_reference(name);
+            let start = Instant::now();
+            let done = AtomicUsize::new(0);
+            let progress = |_| {
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                eprint!("\rwhole-BRDF reference, {name}: {n}/{}", subjects.len());
+            };
+            let data = FullReference::compute(&subjects, samples, &progress);
+            eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
+            data.write(&path).with_context(|| format!("cannot write {}", path.display()))?;
+        }
+    }
+    // (Read back even when just computed: the file stores f32, and the tables must not depend on
+    // whether the reference was recomputed.)
+    Ok(full::report().map_err(|e| anyhow::anyhow!(e))?)
 }

@@ -12,6 +12,7 @@
 //! agreement tests tie to every shader language; the albedos are deterministic quadratures
 //! ([`quadrature`]). The reference side is Monte Carlo with a stated standard error.
 
+pub mod full;
 pub mod quadrature;
 
 use std::io::Read;
