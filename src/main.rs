@@ -6,7 +6,7 @@
 //! The default build has the compiler's commands (`compile`, `check`, `eval` on the CPU,
 //! `optics`). Feature `gpu` adds `preview` and the GPU backends of `eval`; feature `lab` adds
 //! `accuracy`, `stability`, `tables` and the reference backend of `eval`; both together add
-//! `bench`.
+//! `bench` and `images`.
 
 mod choice;
 mod cmd;
@@ -33,7 +33,7 @@ struct Cli {
 const AFTER_HELP: &str = "This build has every command (features `gpu` and `lab`).";
 #[cfg(not(all(feature = "gpu", feature = "lab")))]
 const AFTER_HELP: &str = "Optional commands: `preview` and the GPU backends of `eval` (feature `gpu`); `accuracy`, \
-     `stability`, `tables` and `eval --backend reference` (feature `lab`); `bench` (both). Build with \
+     `stability`, `tables` and `eval --backend reference` (feature `lab`); `bench` and `images` (both). Build with \
      `cargo run --release --features gpu,lab -- …` for every command.";
 
 #[derive(Subcommand)]
@@ -49,6 +49,8 @@ enum Command {
     Accuracy(cmd::accuracy::Args),
     #[cfg(all(feature = "lab", feature = "gpu"))]
     Bench(cmd::bench::Args),
+    #[cfg(all(feature = "lab", feature = "gpu"))]
+    Images(cmd::images::Args),
     #[cfg(feature = "lab")]
     Stability(cmd::stability::Args),
     #[cfg(feature = "lab")]
@@ -67,6 +69,8 @@ fn main() -> ExitCode {
         Command::Accuracy(args) => cmd::accuracy::run(args),
         #[cfg(all(feature = "lab", feature = "gpu"))]
         Command::Bench(args) => cmd::bench::run(args),
+        #[cfg(all(feature = "lab", feature = "gpu"))]
+        Command::Images(args) => cmd::images::run(args),
         #[cfg(feature = "lab")]
         Command::Stability(args) => cmd::stability::run(args),
         #[cfg(feature = "lab")]

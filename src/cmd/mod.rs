@@ -9,6 +9,8 @@ pub mod optics;
 pub mod accuracy;
 #[cfg(all(feature = "lab", feature = "gpu"))]
 pub mod bench;
+#[cfg(all(feature = "lab", feature = "gpu"))]
+pub mod images;
 #[cfg(feature = "gpu")]
 pub mod preview;
 #[cfg(feature = "lab")]

@@ -21,6 +21,8 @@ pub mod bench;
 #[cfg(feature = "gpu")]
 pub mod chart;
 pub mod fuzzing;
+#[cfg(feature = "gpu")]
+pub mod images;
 pub mod reference;
 pub mod stability;
 

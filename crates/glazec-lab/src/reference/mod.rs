@@ -432,6 +432,20 @@ impl Stack {
         acc.estimate()
     }
 
+    /// The radiance reflected towards `wo` from an environment of radiance `radiance(wi)` (both
+    /// in the stack's frame), ∫ f(wi, wo) L(wi) cos θi dωi, by the same analog walks as
+    /// [`Self::albedo`] (which is this under L = 1): each walk's weight times the radiance from
+    /// the direction it leaves in.
+    pub fn reflected(&self, wo: DVec3, radiance: &dyn Fn(DVec3) -> DVec3, opts: &Options) -> Estimate {
+        let mut rng = Rng::seeded(seed_of(&[wo.x, wo.y, wo.z, 3.0], opts.seed));
+        let mut acc = Accumulator::new();
+        for _ in 0..opts.samples.max(1) {
+            let sample = self.sample_once(wo, opts, &mut rng);
+            acc.add(sample.map_or(DVec3::ZERO, |(wi, w)| w * radiance(wi)));
+        }
+        acc.estimate()
+    }
+
     /// One sample of f(wo, wi) (both above; reciprocal, so the order is immaterial).
     fn f_once(&self, wo: DVec3, wi: DVec3, opts: &Options, rng: &mut Rng) -> DVec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
