@@ -295,4 +295,57 @@ mod on_the_device {
         let failures = check_default_method(&cases, &metrics);
         assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
+    /// The whole-BRDF bands of the multi-coat set and the shipped materials on lavapipe: every
+    /// probe agrees with the CPU, and the bands measured from the device's values are the
+    /// published ones (the CPU's) within [`BAND_TOL`].
+    #[test]
+    fn whole_brdf_bands_hold_on_the_gpu() {
+        use glazec_lab::accuracy::full::{self, FullReference};
+        /// How far a band's figure from the device's values may lie from the CPU's (absolute,
+        /// relative error): what the shaders' f32 rounding moves at the sharpest peaks.
+        const BAND_TOL: f64 = 1e-3;
+        let Some(gpu) = common::open_gpu() else { return };
+        let (mut disagreements, mut values_checked, mut bands_checked) = (Vec::new(), 0usize, 0usize);
+        for set in full::sets().unwrap_or_else(|e| panic!("{e}")).into_iter().filter(|s| s.name != "standard") {
+            let reference =
+                FullReference::read(&full::stored_reference(set.name), &set.subjects).unwrap_or_else(|e| panic!("{e}"));
+            for (subject, estimates) in set.subjects.iter().zip(&reference.values) {
+                let compiled = glazec::compile_material(subject.with_method(Method::INTERFACED), Default::default())
+                    .unwrap_or_else(|e| panic!("{}: {e}", subject.label));
+                let kernel = EvalKernel::new(&gpu, &compiled, ShaderPath::NagaIr).unwrap_or_else(|e| panic!("{e}"));
+                let probes = subject.probes();
+                let pairs: Vec<Pair> = probes.iter().map(|p| Pair { wi: p.wi.as_vec3(), wo: p.wo.as_vec3() }).collect();
+                let on_gpu = kernel.eval(&gpu, &pairs, &subject.values).unwrap_or_else(|e| panic!("{e}"));
+                let on_cpu = full::cpu_values(subject, Method::INTERFACED);
+                let max = on_cpu.iter().map(|f| f.max_element()).fold(0.0, f64::max) as f32;
+                for ((p, c), g) in pairs.iter().zip(&on_cpu).zip(&on_gpu) {
+                    for k in 0..3 {
+                        values_checked += 1;
+                        if !common::agreement::agrees(c[k] as f32, g[k], max) && disagreements.len() < 10 {
+                            disagreements
+                                .push(format!("{}: wi {} wo {}: cpu {} gpu {}", subject.label, p.wi, p.wo, c[k], g[k]));
+                        }
+                    }
+                }
+                let gpu_values: Vec<DVec3> = on_gpu.iter().map(|v| v.as_dvec3()).collect();
+                let (a, b) =
+                    (full::measure(&probes, &on_cpu, estimates), full::measure(&probes, &gpu_values, estimates));
+                for (x, y) in [
+                    (a.body_p90, b.body_p90),
+                    (a.body_max, b.body_max),
+                    (a.grazing_p90, b.grazing_p90),
+                    (a.grazing_max, b.grazing_max),
+                    (a.peak_height, b.peak_height),
+                    (a.peak_width, b.peak_width),
+                ] {
+                    bands_checked += 1;
+                    assert!((x - y).abs() <= BAND_TOL * x.abs().max(1.0), "{}: CPU {a:?}, GPU {b:?}", subject.label);
+                }
+            }
+        }
+        eprintln!(
+            "whole-BRDF probes on the device: {values_checked} values compared with the CPU, {bands_checked} band figures"
+        );
+        assert!(disagreements.is_empty(), "GPU and CPU disagree:\n{}", disagreements.join("\n"));
+    }
 }
