@@ -117,6 +117,10 @@ fn laws_hold_for_the_default_method_and_the_others_are_reported() {
     let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/results/accuracy.md"))
         .expect("docs/results/accuracy.md");
     assert_eq!(table, docs, "docs/results/accuracy.md is out of date: run `glazec accuracy`");
+    // And so is the per-case file beside it (every digit: the table rounds, the file does not).
+    let csv = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/results/accuracy.csv"))
+        .expect("docs/results/accuracy.csv");
+    assert!(accuracy::csv(&cases, &methods) == csv, "docs/results/accuracy.csv is out of date: run `glazec accuracy`");
 }
 
 /// (Deep tier: recomputing even two cases of the reference takes most of a minute.)
