@@ -6,9 +6,9 @@ static const float3 car_paint_one = float3(1.0, 1.0, 1.0);
 static const float3 car_paint_layer2_survival = float3(0.67227614, 0.004048639, 0.000535044);
 static const float car_paint_layer2_alpha_1 = 0.09037713;
 static const float3 car_paint_layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 car_paint_layer1_remainder_avg = float3(0.0026943586, 1.5088695e-8, 1.8821267e-10);
+static const float3 car_paint_layer1_remainder_avg = float3(0.0026940068, 1.5091631e-8, 1.8827935e-10);
 static const float car_paint_layer1_mu_c = 0.745356;
-static const float3 car_paint_layer1_rho = float3(0.7406756, 0.06705829, 0.031262092);
+static const float3 car_paint_layer1_rho = float3(0.74067616, 0.06705829, 0.031262092);
 static const float car_paint_layer1_trapped_escape = 0.15678635;
 static const float car_paint_base_roughness = 0.37185615;
 
@@ -98,50 +98,45 @@ float3 car_paint_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it): no table read.
-float car_paint_coat_extra_curve(float cos_theta)
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 14 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float car_paint_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = (0.011792603 + dot((min(max((u).xxx, float3(0.0, 0.06666667, 0.13333334)), float3(0.06666667, 0.13333334, 0.2)) - float3(0.0, 0.06666667, 0.13333334)), float3(0.8190295, 0.4284603, -0.92731404)));
-    float f_1 = (f + dot((min(max((u).xxx, float3(0.2, 0.26666668, 0.33333334)), float3(0.26666668, 0.33333334, 0.4)) - float3(0.2, 0.26666668, 0.33333334)), float3(-0.3916077, -0.08196797, -0.016644018)));
-    float f_2 = (f_1 + dot((min(max((u).xxx, float3(0.4, 0.46666667, 0.53333336)), float3(0.46666667, 0.53333336, 0.6)) - float3(0.4, 0.46666667, 0.53333336)), float3(-0.004698718, -0.001614229, -0.00043627838)));
-    float f_3 = (f_2 + dot((min(max((u).xxx, float3(0.6, 0.6666667, 0.73333335)), float3(0.6666667, 0.73333335, 0.8)) - float3(0.6, 0.6666667, 0.73333335)), float3(-8.289289e-5, 3.9265044e-5, -5.23534e-5)));
-    float f_4 = (f_3 + dot((min(max((u).xxx, float3(0.8, 0.8666667, 0.93333334)), float3(0.8666667, 0.93333334, 1.0)) - float3(0.8, 0.8666667, 0.93333334)), float3(5.23534e-5, -5.23534e-5, 0.0)));
-    return max(f_4, 0.0);
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float car_paint_multiple_scattering_lobe(float e_i, float e_o, float e_avg)
-{
-    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
+    float f = ((u * 0.8360856) + 1.0000006);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.33166942, -1.3342792, 0.6242377)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.17057773, 0.027964713, 0.0043541198)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.0022459035, -4.827998e-5, 0.0003898144)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.0004076958, -0.0006884337, 0.0004220009)));
+    return f_4;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 26 of the table's
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 29 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float car_paint_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_5 = ((u_1 * 0.5533126) + -1.2183096e-5);
-    float f_6 = (f_5 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(0.31049478, -0.09624367, -0.88188595)));
-    float f_7 = (f_6 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.9280916, -0.113479316, 0.4223049)));
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(0.32917854, 0.22987321, 0.09948889)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.040191602, 0.016318684, 0.006692493)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.0033920882, 0.0030987046, 0.0015035287)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.0010818008, 0.00073341554, 0.0006600808)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.00056840753, 0.00016501092, 0.0004583981)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(-0.0002016904, 0.00031170354, 7.334174e-5)));
-    return f_13;
+    float f_5 = ((u_1 * -0.23525593) + -8.429401e-6);
+    float f_6 = (f_5 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(0.42355445, 0.11186912, -0.9008823)));
+    float f_7 = (f_6 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(0.043015163, 0.32627678, 0.14866436)));
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(0.06702751, 0.062109314, -0.038766224)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.017394189, -0.03652423, 0.011807078)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.006165725, 0.0035800978, -0.0011752645)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.0018261934, 0.00019889172, 0.0007051798)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(-0.00018082031, 0.0006690102, -0.00014465104)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.0002531391, 0.00021697595, -0.00014465071)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.00014465082, -5.4244127e-5, -1.808135e-5)));
+    return f_14;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -180,10 +175,10 @@ float3 car_paint_f_schlick(float3 f0_, float cos_theta_2)
 float car_paint_glossy_scale_curve(float cos_theta_3)
 {
     float u_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
-    float f_14 = (1.020074 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(0.45252323, -0.36825275, -0.2977066)));
-    float f_15 = (f_14 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(0.035661697, 0.09215355, 0.04754448)));
-    float f_16 = (f_15 + (max(u_2, 0.875) * 0.02336979));
-    return f_16;
+    float f_15 = (1.0202647 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(0.45261955, -0.3683653, -0.29751205)));
+    float f_16 = (f_15 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(0.035235405, 0.092440605, 0.047664642)));
+    float f_17 = (f_16 + (max(u_2, 0.875) * 0.023005486));
+    return f_17;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -194,9 +189,9 @@ float car_paint_glossy_scale_curve(float cos_theta_3)
 float car_paint_glossy_next_curve(float cos_theta_4)
 {
     float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_17 = ((u_3 * 0.0019297004) + 0.2134062);
-    float f_18 = (f_17 + dot(max((u_3).xxx, float3(0.25, 0.5, 0.75)), float3(0.009461105, 0.028464973, 0.00029283762)));
-    return f_18;
+    float f_18 = ((u_3 * 0.0019297004) + 0.2134062);
+    float f_19 = (f_18 + dot(max((u_3).xxx, float3(0.25, 0.5, 0.75)), float3(0.009461105, 0.028464973, 0.00029283762)));
+    return f_19;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -210,11 +205,11 @@ float car_paint_glossy_next_curve(float cos_theta_4)
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_19 = ((u_4 * -11.370897) + 1.1426286);
-    float f_20 = (f_19 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.052953, 1.1106987, 0.25857544)));
-    float f_21 = (f_20 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.078886986, -0.16258144, -0.008225441)));
-    float f_22 = (f_21 + (max(u_4, 0.875) * 0.07219601));
-    return f_22;
+    float f_20 = ((u_4 * -11.364231) + 1.1429214);
+    float f_21 = (f_20 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.047794, 1.1094351, 0.25702763)));
+    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.07725239, -0.1627922, -0.008248329)));
+    float f_23 = (f_22 + (max(u_4, 0.875) * 0.071787834));
+    return f_23;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -225,14 +220,14 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 float car_paint_ggx_albedo_curve(float cos_theta_6)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_23 = ((u_5 * -0.02538353) + 0.9516745);
-    float f_24 = (f_23 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.04854798, -0.083768085, -0.11518026)));
-    float f_25 = (f_24 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.12120999, -0.047754053, 0.1340604)));
-    float f_26 = (f_25 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.3204757, 0.30429307, 0.10328204)));
-    float f_27 = (f_26 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.07329763, -0.12263686, -0.09455592)));
-    float f_28 = (f_27 + (max(u_5, 0.8666667) * -0.056797568));
-    float f_29 = (f_28 + (max(u_5, 0.93333334) * -0.032047037));
-    return f_29;
+    float f_24 = ((u_5 * -0.02538353) + 0.9516745);
+    float f_25 = (f_24 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.04854798, -0.083768085, -0.11518026)));
+    float f_26 = (f_25 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.12120999, -0.047754053, 0.1340604)));
+    float f_27 = (f_26 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.3204757, 0.30429307, 0.10328204)));
+    float f_28 = (f_27 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.07329763, -0.12263686, -0.09455592)));
+    float f_29 = (f_28 + (max(u_5, 0.8666667) * -0.056797568));
+    float f_30 = (f_29 + (max(u_5, 0.93333334) * -0.032047037));
+    return f_30;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -243,14 +238,14 @@ float car_paint_ggx_albedo_curve(float cos_theta_6)
 float car_paint_ggx_albedo_curve_b(float cos_theta_7)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_30 = ((u_6 * -0.019831358) + 0.8686472);
-    float f_31 = (f_30 + dot(max((u_6).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.035854872, -0.060288023, -0.08456107)));
-    float f_32 = (f_31 + dot(max((u_6).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.10058468, -0.08979679, -0.019196572)));
-    float f_33 = (f_32 + dot(max((u_6).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.11597439, 0.2546345, 0.2678034)));
-    float f_34 = (f_33 + dot(max((u_6).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.14310391, -0.009678305, -0.08868546)));
-    float f_35 = (f_34 + (max(u_6, 0.8666667) * -0.09392203));
-    float f_36 = (f_35 + (max(u_6, 0.93333334) * -0.06806106));
-    return f_36;
+    float f_31 = ((u_6 * -0.019831358) + 0.8686472);
+    float f_32 = (f_31 + dot(max((u_6).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.035854872, -0.060288023, -0.08456107)));
+    float f_33 = (f_32 + dot(max((u_6).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.10058468, -0.08979679, -0.019196572)));
+    float f_34 = (f_33 + dot(max((u_6).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.11597439, 0.2546345, 0.2678034)));
+    float f_35 = (f_34 + dot(max((u_6).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.14310391, -0.009678305, -0.08868546)));
+    float f_36 = (f_35 + (max(u_6, 0.8666667) * -0.09392203));
+    float f_37 = (f_36 + (max(u_6, 0.93333334) * -0.06806106));
+    return f_37;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -299,9 +294,9 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4)
 float car_paint_glossy_quick_curve(float cos_theta_8)
 {
     float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
-    float f_37 = ((u_7 * 0.0144017935) + 0.2634757);
-    float f_38 = (f_37 + dot(max((u_7).xxx, float3(0.25, 0.5, 0.75)), float3(-0.029078186, -0.006097257, -0.009634793)));
-    return f_38;
+    float f_38 = ((u_7 * 0.0144017935) + 0.2634757);
+    float f_39 = (f_38 + dot(max((u_7).xxx, float3(0.25, 0.5, 0.75)), float3(-0.029078186, -0.006097257, -0.009634793)));
+    return f_39;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -313,9 +308,9 @@ float car_paint_glossy_quick_curve(float cos_theta_8)
 float car_paint_glossy_steady_curve(float cos_theta_9)
 {
     float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
-    float f_39 = ((u_8 * 0.02468437) + 0.24147323);
-    float f_40 = (f_39 + dot(max((u_8).xxx, float3(0.25, 0.5, 0.75)), float3(-0.067401886, 0.055904448, -0.029418409)));
-    return f_40;
+    float f_40 = ((u_8 * 0.02468437) + 0.24147323);
+    float f_41 = (f_40 + dot(max((u_8).xxx, float3(0.25, 0.5, 0.75)), float3(-0.067401886, 0.055904448, -0.029418409)));
+    return f_41;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -355,6 +350,41 @@ float3 car_paint_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
+// leaves after three or more conductor events: the mean cosine of its azimuth about the
+// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
+// internal reflection keeps the direction's horizontal part).
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
+// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float car_paint_glossy_spread_curve(float cos_theta_10)
+{
+    float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
+    float f_42 = ((u_9 * 0.008631557) + 0.0920461);
+    float f_43 = (f_42 + dot(max((u_9).xxx, float3(0.25, 0.5, 0.75)), float3(0.001826942, 0.013103694, -0.023562193)));
+    return f_43;
+}
+
+// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
+// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
+// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
+// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
+// directions' components in the plane of `n`, so no azimuth is divided out and along the
+// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
+// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
+// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
+float car_paint_forward_azimuth_weight(float3 n_1, float3 v_1, float3 l_1, float kappa)
+{
+    float3 l_t = (l_1 - (n_1 * dot(n_1, l_1)));
+    float3 v_t = (v_1 - (n_1 * dot(n_1, v_1)));
+    float sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 1e-12));
+    float k = min(kappa, ((1.0 / sines) * 0.95));
+    float _e21 = (k * sines);
+    float rho2_ = (_e21 * _e21);
+    return ((1.0 - rho2_) / ((rho2_ + 1.0) + ((k * dot(l_t, v_t)) * 2.0)));
+}
+
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
 // events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
 // and reflected by the conductor (F, at the refracted direction), but not let out at once
@@ -365,8 +395,9 @@ float3 car_paint_glossy_remainder(float t, float3 a, float3 fresnel_1, float sin
 }
 
 // Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
-// that leaves after several conductor events has forgotten where it entered, so
-// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// that leaves after several conductor events has forgotten the angle at which it entered,
+// so f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ); the level
+// spreads it over the azimuth ([`forward_azimuth_weight`]).
 // Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
 float3 car_paint_glossy_remainder_lobe(float3 m_i, float3 m_o, float3 m_avg)
 {
@@ -389,9 +420,9 @@ float3 car_paint_glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, float
 // coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
 // rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
 // symmetric in i and o.
-float3 car_paint_interfaced_glossy_under(float3 f_below, float3 e_i_1, float3 k_i, float3 e_o_1, float3 k_o)
+float3 car_paint_interfaced_glossy_under(float3 f_below, float3 e_i, float3 k_i, float3 e_o, float3 k_o)
 {
-    float3 _e8 = sqrt((((e_i_1 * k_i) * e_o_1) * k_o));
+    float3 _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
     return (f_below / ((1.0).xxx - _e8));
 }
 
@@ -404,45 +435,60 @@ float3 car_paint_interfaced_glossy_under(float3 f_below, float3 e_i_1, float3 k_
 // albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
 // all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-float3 car_paint_trapped_lobe(float3 e_i_2, float p_i, float3 e_o_2, float p_o, float mu_c_2, float3 round_trip, float3 rho, float q)
+float3 car_paint_trapped_lobe(float3 e_i_1, float p_i, float3 e_o_1, float p_o, float mu_c_2, float3 round_trip, float3 rho, float q)
 {
     float3 _e21 = ((rho * round_trip) * (1.0 - q));
-    return ((((e_i_2 * e_o_2) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / ((1.0).xxx - _e21));
+    return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / ((1.0).xxx - _e21));
+}
+
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
+// leaves after three or more conductor events: the mean cosine of its azimuth about the
+// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
+// internal reflection keeps the direction's horizontal part).
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
+// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float car_paint_glossy_spread_curve_b(float cos_theta_11)
+{
+    float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
+    float f_44 = ((u_10 * 0.0020885468) + 0.8244415);
+    float f_45 = (f_44 + dot(max((u_10).xxx, float3(0.25, 0.5, 0.75)), float3(0.12044048, 0.21109223, -0.33362126)));
+    return f_45;
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
+float3 car_paint_brdf(float3 n_2, float3 v_2, float3 l_2)
 {
-    float n_dot_v_2 = dot(n_1, v_1);
-    float n_dot_l_2 = dot(n_1, l_1);
+    float n_dot_v_2 = dot(n_2, v_2);
+    float n_dot_l_2 = dot(n_2, l_2);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    const float3 h = car_paint_half_vector(v_1, l_1);
-    float3 n_cross_h = cross(n_1, h);
-    const float d = car_paint_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016);
+    const float3 h = car_paint_half_vector(v_2, l_2);
+    float3 n_cross_h = cross(n_2, h);
+    const float d = car_paint_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.0016);
     const float g = car_paint_g_smith_ggx_correlated(cos_v, cos_l, 0.0016);
-    const float fresnel = car_paint_fr_dielectric(dot(v_1, h), 1.5);
+    const float fresnel = car_paint_fr_dielectric(dot(v_2, h), 1.5);
     const float3 _e21 = car_paint_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float layer1_restored_l = car_paint_coat_extra_curve(n_dot_l_2);
-    const float layer1_restored_v = car_paint_coat_extra_curve(n_dot_v_2);
-    const float _e25 = car_paint_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 1.0653821e-5);
-    float3 specular = (_e21 + (_e25).xxx);
+    const float layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
+    const float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
+    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
-    const float _e32 = car_paint_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
+    const float _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     const float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5);
-    const float _e43 = car_paint_coat_deficit_curve(n_dot_v_2);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
-    const float3 layer1_v = car_paint_refract_down(v_1, n_1, 1.5);
-    const float3 layer1_l = car_paint_refract_down(l_1, n_1, 1.5);
-    float layer1_n_dot_v = dot(n_1, layer1_v);
-    float layer1_n_dot_l = dot(n_1, layer1_l);
+    const float _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    const float3 layer1_v = car_paint_refract_down(v_2, n_2, 1.5);
+    const float3 layer1_l = car_paint_refract_down(l_2, n_2, 1.5);
+    float layer1_n_dot_v = dot(n_2, layer1_v);
+    float layer1_n_dot_l = dot(n_2, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float3 layer2_v = car_paint_refract_down(layer1_v, n_1, 1.02);
-    const float3 layer2_l = car_paint_refract_down(layer1_l, n_1, 1.02);
-    float layer2_n_dot_v = dot(n_1, layer2_v);
-    float layer2_n_dot_l = dot(n_1, layer2_l);
+    const float3 layer2_v = car_paint_refract_down(layer1_v, n_2, 1.02);
+    const float3 layer2_l = car_paint_refract_down(layer1_l, n_2, 1.02);
+    float layer2_n_dot_v = dot(n_2, layer2_v);
+    float layer2_n_dot_l = dot(n_2, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
     const float layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_l, 1.02);
@@ -451,72 +497,80 @@ float3 car_paint_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_l);
     const float layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_l);
     const float layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_l);
-    const float _e81 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
-    float _e86 = max(layer2_cos_l, 0.19711706);
-    const float _e87 = car_paint_ggx_albedo_curve(_e86);
-    const float _e90 = car_paint_ggx_albedo_curve_b(_e86);
-    const float _e96 = car_paint_glossy_trapped_share(_e86, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l = (1.0 - _e96);
-    float layer2_lobe_normaliser_l = (((0.78416157 * _e87) + (0.21583843 * _e90)) * layer2_cone_share_l);
-    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e81) * layer2_lobe_normaliser_l), 0.0), 1.0);
+    const float _e77 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
+    float _e82 = max(layer2_cos_l, 0.19711706);
+    const float _e83 = car_paint_ggx_albedo_curve(_e82);
+    const float _e86 = car_paint_ggx_albedo_curve_b(_e82);
+    const float _e92 = car_paint_glossy_trapped_share(_e82, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l = (1.0 - _e92);
+    float layer2_lobe_normaliser_l = (((0.78416157 * _e83) + (0.21583843 * _e86)) * layer2_cone_share_l);
+    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e77) * layer2_lobe_normaliser_l), 0.0), 1.0);
     float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    const float _e115 = car_paint_glossy_quick_curve(layer1_n_dot_l);
-    const float _e116 = car_paint_glossy_steady_curve(layer1_n_dot_l);
-    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e115, _e116, 0.43932146, car_paint_layer2_survival);
+    const float _e111 = car_paint_glossy_quick_curve(layer1_n_dot_l);
+    const float _e112 = car_paint_glossy_steady_curve(layer1_n_dot_l);
+    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e111, _e112, 0.43932146, car_paint_layer2_survival);
     const float3 layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    const float3 _e124 = car_paint_glossy_once(layer2_single_l, layer2_next_l, (1.0).xxx);
-    float3 layer2_once_colour_l = (layer2_once_l / (max(_e124.x, 1e-6)).xxx);
+    const float3 _e120 = car_paint_glossy_once(layer2_single_l, layer2_next_l, (1.0).xxx);
+    float3 layer2_once_colour_l = (layer2_once_l / (max(_e120.x, 1e-6)).xxx);
     const float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     const float3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     const float3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
     const float layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v);
     const float layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v);
-    const float _e141 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
-    float _e146 = max(layer2_cos_v, 0.19711706);
-    const float _e147 = car_paint_ggx_albedo_curve(_e146);
-    const float _e150 = car_paint_ggx_albedo_curve_b(_e146);
-    const float _e156 = car_paint_glossy_trapped_share(_e146, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_v = (1.0 - _e156);
-    float layer2_lobe_normaliser_v = (((0.78416157 * _e147) + (0.21583843 * _e150)) * layer2_cone_share_v);
-    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e141) * layer2_lobe_normaliser_v), 0.0), 1.0);
+    const float _e137 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
+    float _e142 = max(layer2_cos_v, 0.19711706);
+    const float _e143 = car_paint_ggx_albedo_curve(_e142);
+    const float _e146 = car_paint_ggx_albedo_curve_b(_e142);
+    const float _e152 = car_paint_glossy_trapped_share(_e142, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v = (1.0 - _e152);
+    float layer2_lobe_normaliser_v = (((0.78416157 * _e143) + (0.21583843 * _e146)) * layer2_cone_share_v);
+    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e137) * layer2_lobe_normaliser_v), 0.0), 1.0);
     float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
-    const float _e175 = car_paint_glossy_quick_curve(layer1_n_dot_v);
-    const float _e176 = car_paint_glossy_steady_curve(layer1_n_dot_v);
-    const float3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e175, _e176, 0.43932146, car_paint_layer2_survival);
+    const float _e171 = car_paint_glossy_quick_curve(layer1_n_dot_v);
+    const float _e172 = car_paint_glossy_steady_curve(layer1_n_dot_v);
+    const float3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e171, _e172, 0.43932146, car_paint_layer2_survival);
     const float3 layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    const float3 _e184 = car_paint_glossy_once(layer2_single_v, layer2_next_v, (1.0).xxx);
-    float3 layer2_once_colour_v = (layer2_once_v / (max(_e184.x, 1e-6)).xxx);
+    const float3 _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, (1.0).xxx);
+    float3 layer2_once_colour_v = (layer2_once_v / (max(_e180.x, 1e-6)).xxx);
     const float3 layer2_h = car_paint_half_vector(layer2_v, layer2_l);
-    float3 layer2_n_cross_h = cross(n_1, layer2_h);
-    const float layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
+    float3 layer2_n_cross_h = cross(n_2, layer2_h);
+    const float layer2_d = car_paint_d_ggx(dot(n_2, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     const float layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     const float3 layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    const float3 _e203 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    float3 layer1_under = ((_e203 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    const float3 _e209 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
-    const float3 _e210 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    const float3 _e211 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    const float3 layer1_later = car_paint_glossy_remainder_lobe(_e210, _e211, car_paint_layer1_remainder_avg);
-    float3 layer1_f = (_e209 + layer1_later);
+    const float3 _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    float3 layer1_under = ((_e199 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    const float3 _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    const float layer1_spread_l = car_paint_glossy_spread_curve(layer1_n_dot_l);
+    const float layer1_spread_v = car_paint_glossy_spread_curve(layer1_n_dot_v);
+    const float layer1_spread = car_paint_forward_azimuth_weight(n_2, layer1_v, layer1_l, sqrt(max((layer1_spread_l * layer1_spread_v), 0.0)));
+    const float3 _e213 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    const float3 _e214 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    const float3 _e216 = car_paint_glossy_remainder_lobe(_e213, _e214, car_paint_layer1_remainder_avg);
+    float3 layer1_later = (_e216 * layer1_spread);
+    float3 layer1_f = (_e205 + layer1_later);
     const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     const float3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     float3 inner_l = ((1.0).xxx * (1.0 - layer1_transmit_l));
     float3 inner_v = ((1.0).xxx * (1.0 - layer1_transmit_v));
-    const float3 _e227 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    const float3 _e231 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     const float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     const float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    const float3 trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, (1.0).xxx, car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    float3 under = (_e227 + trapped);
+    const float3 _e243 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, (1.0).xxx, car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    const float _e244 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    const float _e245 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    const float layer1_trapped_spread = car_paint_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((_e244 * _e245), 0.0)));
+    float3 trapped = (_e243 * layer1_trapped_spread);
+    float3 under = (_e231 + trapped);
     const float3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
-float3 car_paint_eval(float3 n_2, float3 v_2, float3 l_2)
+float3 car_paint_eval(float3 n_3, float3 v_3, float3 l_3)
 {
-    const float3 f = car_paint_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0.0));
+    const float3 f = car_paint_brdf(n_3, v_3, l_3);
+    return (f * max(dot(n_3, l_3), 0.0));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
@@ -557,8 +611,8 @@ float3 car_paint_irradiance_at(float3 direction_1)
 // `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
 float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below)
 {
-    float3 k = ((a_2 * a_2) * (1.0 - t_2));
-    float3 _e11 = (e_below * k);
+    float3 k_1 = ((a_2 * a_2) * (1.0 - t_2));
+    float3 _e11 = (e_below * k_1);
     return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / ((1.0).xxx - _e11)) + ((1.0 - t_2)).xxx);
 }
 
@@ -567,32 +621,31 @@ float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below)
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 car_paint_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_5)
+float3 car_paint_specular_dominant_direction(float3 n_4, float3 v_4, float alpha_5)
 {
-    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float3 r = ((n_4 * (max(dot(n_4, v_4), 0.0) * 2.0)) - v_4);
     float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
     float t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    float3 d_2 = ((n_3 * (1.0 - t_3)) + (r * t_3));
+    float3 d_2 = ((n_4 * (1.0 - t_3)) + (r * t_3));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
 // directional albedo times the environment prefiltered for it (car_paint_environment) or the irradiance
 // over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 car_paint_ibl(float3 n_4, float3 v_4)
+float3 car_paint_ibl(float3 n_5, float3 v_5)
 {
-    float n_dot_v_3 = dot(n_4, v_4);
+    float n_dot_v_3 = dot(n_5, v_5);
     float cos_v_1 = max(n_dot_v_3, 0.0001);
     const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5);
     const float _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
-    const float layer1_restored_l = car_paint_coat_extra_curve(n_dot_v_3);
-    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e9) - layer1_restored_l), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e9) - layer1_restored_l), 0.0), 1.0);
-    const float3 layer1_v = car_paint_refract_down(v_4, n_4, 1.5);
-    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    const float3 layer1_v = car_paint_refract_down(v_5, n_5, 1.5);
+    float layer1_n_dot_v_1 = dot(n_5, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float3 layer2_v = car_paint_refract_down(layer1_v, n_4, 1.02);
-    float layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    const float3 layer2_v = car_paint_refract_down(layer1_v, n_5, 1.02);
+    float layer2_n_dot_v_1 = dot(n_5, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
     const float layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02);
     float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
@@ -600,30 +653,30 @@ float3 car_paint_ibl(float3 n_4, float3 v_4)
     const float3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
     const float layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
     const float layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_v_1);
-    const float _e46 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
-    float _e51 = max(layer2_cos_v_1, 0.19711706);
-    const float _e52 = car_paint_ggx_albedo_curve(_e51);
-    const float _e55 = car_paint_ggx_albedo_curve_b(_e51);
-    const float _e61 = car_paint_glossy_trapped_share(_e51, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l_1 = (1.0 - _e61);
-    float layer2_lobe_normaliser_l_1 = (((0.78416157 * _e52) + (0.21583843 * _e55)) * layer2_cone_share_l_1);
-    float layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e46) * layer2_lobe_normaliser_l_1), 0.0), 1.0);
+    const float _e43 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
+    float _e48 = max(layer2_cos_v_1, 0.19711706);
+    const float _e49 = car_paint_ggx_albedo_curve(_e48);
+    const float _e52 = car_paint_ggx_albedo_curve_b(_e48);
+    const float _e58 = car_paint_glossy_trapped_share(_e48, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l_1 = (1.0 - _e58);
+    float layer2_lobe_normaliser_l_1 = (((0.78416157 * _e49) + (0.21583843 * _e52)) * layer2_cone_share_l_1);
+    float layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e43) * layer2_lobe_normaliser_l_1), 0.0), 1.0);
     float layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    const float _e80 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    const float _e81 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e80, _e81, 0.43932146, car_paint_layer2_survival);
+    const float _e77 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    const float _e78 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e77, _e78, 0.43932146, car_paint_layer2_survival);
     const float3 layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    const float3 _e89 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, (1.0).xxx);
-    float3 layer2_once_colour_l_1 = (layer2_once_l / (max(_e89.x, 1e-6)).xxx);
+    const float3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, (1.0).xxx);
+    float3 layer2_once_colour_l_1 = (layer2_once_l / (max(_e86.x, 1e-6)).xxx);
     const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
     const float3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l);
     const float3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_l);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
-    const float3 reflected = car_paint_specular_dominant_direction(n_4, v_4, 0.0016);
-    const float3 reflected_1 = car_paint_specular_dominant_direction(n_4, v_4, 0.138277);
-    bool _e116 = (dot(n_4, v_4) > 0.0);
+    const float3 reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016);
+    const float3 reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277);
+    bool _e113 = (dot(n_5, v_5) > 0.0);
     const float3 light_a = car_paint_environment(reflected, 0.04);
     const float3 light_b = car_paint_environment(reflected_1, car_paint_base_roughness);
-    return (((_e116 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e116 ? under_albedo : (0.0).xxx) * light_b));
+    return (((_e113 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e113 ? under_albedo : (0.0).xxx) * light_b));
 }

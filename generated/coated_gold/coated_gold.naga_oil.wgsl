@@ -3,7 +3,7 @@
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_survival: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577435f, 0.03172735f, 0.0034032734f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577632f, 0.03172815f, 0.0034033447f);
 
 @group(2) @binding(0) 
 var coated_gold_environment_sampler: sampler;
@@ -36,41 +36,26 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.03977546f) + -0.00059166015f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.039294586f, 0.054643333f, 0.05453755f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.021227807f, -0.08235487f, -0.23751779f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.3878627f, -0.3968423f, -0.182437f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.07996112f, 0.210451f, 0.22886147f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.17656256f, 0.13737065f, 0.08590667f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.054050826f, 0.034983985f, 0.02294786f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.015539572f, 0.010878009f, 0.007216233f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0056411014f, 0.0029031776f, 0.0027003947f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.00097233977f, 0.00068066386f, 0.0006626124f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.00031395722f, 0.00009168719f, 0.000056957517f)));
+    let f = ((u * -0.09193404f) + -0.00044265765f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.041281834f, -0.17662261f, 0.046880037f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.039753288f, -0.13207489f, 0.055374578f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.3457993f, -0.025617354f, 0.03628184f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.026981566f, 0.22346427f, 0.15814403f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.046465307f, 0.068501875f, 0.0008675591f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.037316743f, 0.014992681f, 0.019915992f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.009369533f, 0.00963811f, 0.005380646f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0050012525f, 0.002772499f, 0.0019204987f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0011232548f, 0.00058081566f, 0.000071219794f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00029040664f, -0.00014381928f, -0.00023699505f)));
     return f_10;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-// Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it): no table read.
-fn coated_gold_coat_extra_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = (0.0017819707f + dot((min(max(vec3(u_1), vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)) - vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.14615278f, 0.3663786f, 0.43831316f)));
-    let f_12 = (f_11 + dot((min(max(vec3(u_1), vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)) - vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.058803063f, -0.36916384f, -0.37816724f)));
-    let f_13 = (f_12 + dot((min(max(vec3(u_1), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.18726073f, -0.072158016f, -0.018342651f)));
-    let f_14 = (f_13 + dot((min(max(vec3(u_1), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.0070282086f, -0.0025538243f, -0.0011246431f)));
-    let f_15 = (f_14 + dot((min(max(vec3(u_1), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00022964855f, -0.00029603578f, 0.000038460796f)));
-    return f_15;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -80,14 +65,14 @@ fn coated_gold_coat_extra_curve(cos_theta_1: f32) -> f32 {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_16 = ((u_2 * -0.121218085f) + 1.0023229f);
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.2866441f, -0.40036285f, 0.055864096f)));
-    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.2956947f, 0.2761799f, 0.11678062f)));
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.03567663f, 0.017004954f, 0.0054510883f)));
-    let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.0033320163f));
-    return f_20;
+fn coated_gold_coat_path_curve(cos_theta_1: f32) -> f32 {
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_11 = ((u_1 * -0.00927484f) + 1.0023464f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.45981467f, -0.3406396f, 0.03321135f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.34221184f, 0.25382876f, 0.113687254f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.041521102f, 0.013379203f, 0.006570941f)));
+    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.0030513976f));
+    return f_15;
 }
 
 // Fresnel reflectance of a conductor with complex IOR η + iκ, unpolarised, per channel
@@ -119,12 +104,12 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // (solved over μ at each node).
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_scale_curve(cos_theta_3: f32) -> f32 {
-    let u_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_21 = (1.061078f + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036968f, -1.043827f, -0.450099f)));
-    let f_22 = (f_21 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056822777f, -0.13677979f, 0.033405304f)));
-    let f_23 = (f_22 + (max(u_3, 0.875f) * 0.007704735f));
-    return f_23;
+fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
+    let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
+    let f_16 = (1.061315f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6039219f, -1.0439978f, -0.45039368f)));
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056563377f, -0.1368208f, 0.033548355f)));
+    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007332802f));
+    return f_18;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -132,11 +117,11 @@ fn coated_gold_glossy_scale_curve(cos_theta_3: f32) -> f32 {
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_next_curve(cos_theta_4: f32) -> f32 {
-    let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_24 = ((u_4 * -0.035583183f) + -0.6395629f);
-    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.19231004f, 0.43643332f, 0.56710935f)));
-    return f_25;
+fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
+    let u_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
+    let f_19 = ((u_3 * -0.035583183f) + -0.6395629f);
+    let f_20 = (f_19 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.19231004f, 0.43643332f, 0.56710935f)));
+    return f_20;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -147,13 +132,13 @@ fn coated_gold_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
-    let u_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_26 = ((u_5 * 0.3719349f) + 0.895136f);
-    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-3.4574757f, 2.6117744f, 0.4405985f)));
-    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.24509239f, 0.13171291f, -0.079696655f)));
-    let f_29 = (f_28 + (max(u_5, 0.875f) * -0.19508076f));
-    return f_29;
+fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
+    let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
+    let f_21 = ((u_4 * 0.24190712f) + 0.89434123f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.965723f, 2.2643862f, 0.4501238f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20816708f, 0.1467824f, -0.08180857f)));
+    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.19411612f));
+    return f_24;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -163,12 +148,12 @@ fn coated_gold_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 6 of the table's
 // 6 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_blur_curve(cos_theta_6: f32) -> f32 {
-    let u_6 = sqrt(min(max(cos_theta_6, 0f), 1f));
-    let f_30 = ((u_6 * 0.5371948f) + 0.70036405f);
-    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.2f, 0.4f, 0.6f)), vec3<f32>(0.10144182f, 0.10002294f, -0.34336916f)));
-    let f_32 = (f_31 + (max(u_6, 0.8f) * -0.6577203f));
-    return f_32;
+fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
+    let u_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
+    let f_25 = ((u_5 * 0.5371948f) + 0.70036405f);
+    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.2f, 0.4f, 0.6f)), vec3<f32>(0.10144182f, 0.10002294f, -0.34336916f)));
+    let f_27 = (f_26 + (max(u_5, 0.8f) * -0.6577203f));
+    return f_27;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -176,16 +161,16 @@ fn coated_gold_glossy_blur_curve(cos_theta_6: f32) -> f32 {
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Here roughness = 0.21777777 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_ggx_albedo_curve(cos_theta_7: f32) -> f32 {
-    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_33 = ((u_7 * -0.03918707f) + 0.9841455f);
-    let f_34 = (f_33 + dot(max(vec3(u_7), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.07646977f, -0.12850733f, -0.15928559f)));
-    let f_35 = (f_34 + dot(max(vec3(u_7), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.09106646f, 0.16150744f, 0.41677687f)));
-    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.33824426f, 0.029349815f, -0.14548214f)));
-    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1370752f, -0.0824985f, -0.04236013f)));
-    let f_38 = (f_37 + (max(u_7, 0.8666667f) * -0.020624401f));
-    let f_39 = (f_38 + (max(u_7, 0.93333334f) * -0.009836555f));
-    return f_39;
+fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_28 = ((u_6 * -0.03918707f) + 0.9841455f);
+    let f_29 = (f_28 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.07646977f, -0.12850733f, -0.15928559f)));
+    let f_30 = (f_29 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.09106646f, 0.16150744f, 0.41677687f)));
+    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.33824426f, 0.029349815f, -0.14548214f)));
+    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1370752f, -0.0824985f, -0.04236013f)));
+    let f_33 = (f_32 + (max(u_6, 0.8666667f) * -0.020624401f));
+    let f_34 = (f_33 + (max(u_6, 0.93333334f) * -0.009836555f));
+    return f_34;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -193,16 +178,16 @@ fn coated_gold_ggx_albedo_curve(cos_theta_7: f32) -> f32 {
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_ggx_albedo_curve_b(cos_theta_8: f32) -> f32 {
-    let u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_40 = ((u_8 * -0.02538353f) + 0.9516745f);
-    let f_41 = (f_40 + dot(max(vec3(u_8), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_42 = (f_41 + dot(max(vec3(u_8), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_43 = (f_42 + dot(max(vec3(u_8), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_45 = (f_44 + (max(u_8, 0.8666667f) * -0.056797568f));
-    let f_46 = (f_45 + (max(u_8, 0.93333334f) * -0.032047037f));
-    return f_46;
+fn coated_gold_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
+    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_35 = ((u_7 * -0.02538353f) + 0.9516745f);
+    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_39 = (f_38 + dot(max(vec3(u_7), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_40 = (f_39 + (max(u_7, 0.8666667f) * -0.056797568f));
+    let f_41 = (f_40 + (max(u_7, 0.93333334f) * -0.032047037f));
+    return f_41;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -246,11 +231,11 @@ fn coated_gold_glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_quick_curve(cos_theta_9: f32) -> f32 {
-    let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_47 = ((u_9 * 0.5028753f) + 0.48326114f);
-    let f_48 = (f_47 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
-    return f_48;
+fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
+    let u_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
+    let f_42 = ((u_8 * 0.5028753f) + 0.48326114f);
+    let f_43 = (f_42 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
+    return f_43;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -259,11 +244,11 @@ fn coated_gold_glossy_quick_curve(cos_theta_9: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn coated_gold_glossy_steady_curve(cos_theta_10: f32) -> f32 {
-    let u_10 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_49 = ((u_10 * -0.01998204f) + 0.39283627f);
-    let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
-    return f_50;
+fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
+    let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
+    let f_44 = ((u_9 * -0.01998204f) + 0.39283627f);
+    let f_45 = (f_44 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
+    return f_45;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -339,12 +324,24 @@ fn coated_gold_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn coated_gold_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
+// Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn coated_gold_coat_scale_curve(cos_theta_10: f32) -> f32 {
+    let u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_46 = ((u_10 * 0.15601157f) + 1.0003927f);
+    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.28042316f, 0.11270111f, -0.4168833f)));
+    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.49425244f, 0.031675104f, 0.1990074f)));
+    let f_49 = (f_48 + dot(max(vec3(u_10), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.09816172f, 0.01991986f, 0.006784201f)));
+    let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0038820507f, 0.0013017656f, -0.000050067905f)));
+    let f_51 = (f_50 + (max(u_10, 0.8666667f) * 0.00051856047f));
+    let f_52 = (f_51 + (max(u_10, 0.93333334f) * 0.00043809417f));
+    return f_52;
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -356,6 +353,39 @@ fn coated_gold_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
+// leaves after three or more conductor events: the mean cosine of its azimuth about the
+// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
+// internal reflection keeps the direction's horizontal part).
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
+// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn coated_gold_glossy_spread_curve(cos_theta_11: f32) -> f32 {
+    let u_11 = sqrt(min(max(cos_theta_11, 0f), 1f));
+    let f_53 = ((u_11 * 0.013588667f) + 0.9104079f);
+    let f_54 = (f_53 + dot(max(vec3(u_11), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.11148405f, 0.17691398f, -0.3019867f)));
+    return f_54;
+}
+
+// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
+// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
+// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
+// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
+// directions' components in the plane of `n`, so no azimuth is divided out and along the
+// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
+// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
+// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
+fn coated_gold_forward_azimuth_weight(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, kappa: f32) -> f32 {
+    let l_t = (l_1 - (n_1 * dot(n_1, l_1)));
+    let v_t = (v_1 - (n_1 * dot(n_1, v_1)));
+    let sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
+    let k_1 = min(kappa, ((1f / sines) * 0.95f));
+    let _e21 = (k_1 * sines);
+    let rho2_ = (_e21 * _e21);
+    return ((1f - rho2_) / ((rho2_ + 1f) + ((k_1 * dot(l_t, v_t)) * 2f)));
+}
+
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
 // events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
 // and reflected by the conductor (F, at the refracted direction), but not let out at once
@@ -365,115 +395,119 @@ fn coated_gold_glossy_remainder(t: f32, a: vec3<f32>, fresnel_1: vec3<f32>, sing
 }
 
 // Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
-// that leaves after several conductor events has forgotten where it entered, so
-// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// that leaves after several conductor events has forgotten the angle at which it entered,
+// so f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ); the level
+// spreads it over the azimuth ([`forward_azimuth_weight`]).
 // Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
 fn coated_gold_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f32>) -> vec3<f32> {
     return ((m_i * m_o) / (max(m_avg, vec3(0.000001f)) * vec3(3.1415927f)));
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn coated_gold_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_1, v_1);
-    let n_dot_l_2 = dot(n_1, l_1);
+fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_2, v_2);
+    let n_dot_l_2 = dot(n_2, l_2);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let layer1_v = coated_gold_refract_down(v_1, n_1, 1.5f);
-    let layer1_l = coated_gold_refract_down(l_1, n_1, 1.5f);
-    let layer1_n_dot_v = dot(n_1, layer1_v);
-    let layer1_n_dot_l = dot(n_1, layer1_l);
+    let layer1_v = coated_gold_refract_down(v_2, n_2, 1.5f);
+    let layer1_l = coated_gold_refract_down(l_2, n_2, 1.5f);
+    let layer1_n_dot_v = dot(n_2, layer1_v);
+    let layer1_n_dot_l = dot(n_2, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_l_2, 1.5f);
     let _e23 = coated_gold_coat_deficit_curve(n_dot_l_2);
-    let layer1_restored_l = coated_gold_coat_extra_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e23) - layer1_restored_l), 0f), 1f);
-    let _e31 = coated_gold_coat_path_curve(n_dot_l_2);
-    let layer1_path_cos_l = (layer1_cos_l / _e31);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e23), 0f), 1f);
+    let _e29 = coated_gold_coat_path_curve(n_dot_l_2);
+    let layer1_path_cos_l = (layer1_cos_l / _e29);
     let layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_l_2);
     let layer1_next_l = coated_gold_glossy_next_curve(n_dot_l_2);
-    let _e45 = coated_gold_glossy_lobe_albedo_curve(n_dot_l_2);
-    let _e50 = max(layer1_cos_l, 0.7453635f);
-    let _e51 = coated_gold_glossy_blur_curve(max(n_dot_l_2, 0.005f));
-    let layer1_blur_l = (_e51 * 0.010000001f);
-    let layer1_blur_v = (_e51 * 0.010000001f);
+    let _e43 = coated_gold_glossy_lobe_albedo_curve(n_dot_l_2);
+    let _e48 = max(layer1_cos_l, 0.7453635f);
+    let _e49 = coated_gold_glossy_blur_curve(max(n_dot_l_2, 0.005f));
+    let layer1_blur_l = (_e49 * 0.010000001f);
+    let layer1_blur_v = (_e49 * 0.010000001f);
     let layer1_alpha = sqrt(((0.00390625f + (layer1_blur_l * layer1_blur_l)) + (layer1_blur_v * layer1_blur_v)));
-    let _e69 = (sqrt(min(max(sqrt(layer1_alpha), 0f), 1f)) * 15f);
-    let _e77 = coated_gold_ggx_albedo_curve(_e50);
-    let _e86 = coated_gold_ggx_albedo_curve_b(_e50);
-    let _e90 = coated_gold_glossy_trapped_share(_e50, 0.745356f, layer1_alpha);
-    let layer1_cone_share_l = (1f - _e90);
-    let layer1_lobe_normaliser_l = (((max((1f - abs((_e69 - 7f))), 0f) * _e77) + (max((1f - abs((_e69 - 8f))), 0f) * _e86)) * layer1_cone_share_l);
-    let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e45) * layer1_lobe_normaliser_l), 0f), 1f);
+    let _e67 = (sqrt(min(max(sqrt(layer1_alpha), 0f), 1f)) * 15f);
+    let _e75 = coated_gold_ggx_albedo_curve(_e48);
+    let _e84 = coated_gold_ggx_albedo_curve_b(_e48);
+    let _e88 = coated_gold_glossy_trapped_share(_e48, 0.745356f, layer1_alpha);
+    let layer1_cone_share_l = (1f - _e88);
+    let layer1_lobe_normaliser_l = (((max((1f - abs((_e67 - 7f))), 0f) * _e75) + (max((1f - abs((_e67 - 8f))), 0f) * _e84)) * layer1_cone_share_l);
+    let layer1_lobe_albedo_l = min(max((((layer1_scale_l * layer1_scale_l) * _e43) * layer1_lobe_normaliser_l), 0f), 1f);
     let layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e109 = coated_gold_glossy_quick_curve(n_dot_l_2);
-    let _e110 = coated_gold_glossy_steady_curve(n_dot_l_2);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e109, _e110, 0.9170209f, coated_gold_layer1_survival);
+    let _e107 = coated_gold_glossy_quick_curve(n_dot_l_2);
+    let _e108 = coated_gold_glossy_steady_curve(n_dot_l_2);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e107, _e108, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_survival);
-    let _e118 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e118.x, 0.000001f)));
+    let _e116 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l = (layer1_once_l / vec3(max(_e116.x, 0.000001f)));
     let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e128 = coated_gold_coat_deficit_curve(n_dot_v_2);
-    let layer1_restored_v = coated_gold_coat_extra_curve(n_dot_v_2);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e128) - layer1_restored_v), 0f), 1f);
-    let _e136 = coated_gold_coat_path_curve(n_dot_v_2);
-    let layer1_path_cos_v = (layer1_cos_v / _e136);
+    let _e126 = coated_gold_coat_deficit_curve(n_dot_v_2);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e126), 0f), 1f);
+    let _e132 = coated_gold_coat_path_curve(n_dot_v_2);
+    let layer1_path_cos_v = (layer1_cos_v / _e132);
     let layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_2);
     let layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_2);
-    let _e150 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
-    let _e155 = max(layer1_cos_v, 0.7453635f);
-    let _e156 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005f));
-    let layer1_blur_l_1 = (_e156 * 0.010000001f);
-    let layer1_blur_v_1 = (_e156 * 0.010000001f);
+    let _e146 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
+    let _e151 = max(layer1_cos_v, 0.7453635f);
+    let _e152 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005f));
+    let layer1_blur_l_1 = (_e152 * 0.010000001f);
+    let layer1_blur_v_1 = (_e152 * 0.010000001f);
     let layer1_alpha_1 = sqrt(((0.00390625f + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
-    let _e174 = (sqrt(min(max(sqrt(layer1_alpha_1), 0f), 1f)) * 15f);
-    let _e182 = coated_gold_ggx_albedo_curve(_e155);
-    let _e191 = coated_gold_ggx_albedo_curve_b(_e155);
-    let _e195 = coated_gold_glossy_trapped_share(_e155, 0.745356f, layer1_alpha_1);
-    let layer1_cone_share_v = (1f - _e195);
-    let layer1_lobe_normaliser_v = (((max((1f - abs((_e174 - 7f))), 0f) * _e182) + (max((1f - abs((_e174 - 8f))), 0f) * _e191)) * layer1_cone_share_v);
-    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e150) * layer1_lobe_normaliser_v), 0f), 1f);
+    let _e170 = (sqrt(min(max(sqrt(layer1_alpha_1), 0f), 1f)) * 15f);
+    let _e178 = coated_gold_ggx_albedo_curve(_e151);
+    let _e187 = coated_gold_ggx_albedo_curve_b(_e151);
+    let _e191 = coated_gold_glossy_trapped_share(_e151, 0.745356f, layer1_alpha_1);
+    let layer1_cone_share_v = (1f - _e191);
+    let layer1_lobe_normaliser_v = (((max((1f - abs((_e170 - 7f))), 0f) * _e178) + (max((1f - abs((_e170 - 8f))), 0f) * _e187)) * layer1_cone_share_v);
+    let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e146) * layer1_lobe_normaliser_v), 0f), 1f);
     let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
-    let _e214 = coated_gold_glossy_quick_curve(n_dot_v_2);
-    let _e215 = coated_gold_glossy_steady_curve(n_dot_v_2);
-    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e214, _e215, 0.9170209f, coated_gold_layer1_survival);
+    let _e210 = coated_gold_glossy_quick_curve(n_dot_v_2);
+    let _e211 = coated_gold_glossy_steady_curve(n_dot_v_2);
+    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_survival);
-    let _e223 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
-    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e223.x, 0.000001f)));
-    let _e229 = coated_gold_glossy_blur_curve(n_dot_l_2);
-    let layer1_blur_l_2 = (_e229 * 0.010000001f);
-    let _e232 = coated_gold_glossy_blur_curve(n_dot_v_2);
-    let layer1_blur_v_2 = (_e232 * 0.010000001f);
+    let _e219 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
+    let layer1_once_colour_v = (layer1_once_v / vec3(max(_e219.x, 0.000001f)));
+    let _e225 = coated_gold_glossy_blur_curve(n_dot_l_2);
+    let layer1_blur_l_2 = (_e225 * 0.010000001f);
+    let _e228 = coated_gold_glossy_blur_curve(n_dot_v_2);
+    let layer1_blur_v_2 = (_e228 * 0.010000001f);
     let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
-    let h = coated_gold_half_vector(v_1, l_1);
-    let n_cross_h = cross(n_1, h);
-    let d = coated_gold_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.010000001f);
+    let h = coated_gold_half_vector(v_2, l_2);
+    let n_cross_h = cross(n_2, h);
+    let d = coated_gold_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.010000001f);
     let g = coated_gold_g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
-    let fresnel = coated_gold_fr_dielectric(dot(v_1, h), 1.5f);
-    let _e253 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let _e255 = coated_gold_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0002099174f);
-    let specular = (_e253 + vec3(_e255));
+    let fresnel = coated_gold_fr_dielectric(dot(v_2, h), 1.5f);
+    let _e249 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
+    let layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_2);
+    let specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
-    let layer1_n_cross_h = cross(n_1, layer1_h);
-    let layer1_d = coated_gold_d_ggx(dot(n_1, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    let layer1_n_cross_h = cross(n_2, layer1_h);
+    let layer1_d = coated_gold_d_ggx(dot(n_2, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let _e276 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let under = ((_e276 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    let _e285 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    let _e288 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e291 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let later = coated_gold_glossy_remainder_lobe(_e288, _e291, coated_gold_remainder_avg);
-    let f_51 = (_e285 + later);
-    return select(vec3(0f), f_51, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
+    let _e272 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
+    let spread_v = coated_gold_glossy_spread_curve(n_dot_v_2);
+    let spread = coated_gold_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((spread_l * spread_v), 0f)));
+    let _e291 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e294 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let _e296 = coated_gold_glossy_remainder_lobe(_e291, _e294, coated_gold_remainder_avg);
+    let later_2 = (_e296 * spread);
+    let f_55 = (_e281 + later_2);
+    return select(vec3(0f), f_55, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
-fn coated_gold_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
-    let f = coated_gold_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0f));
+fn coated_gold_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
+    let f = coated_gold_brdf(n_3, v_3, l_3);
+    return (f * max(dot(n_3, l_3), 0f));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
@@ -513,65 +547,64 @@ fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn coated_gold_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+fn coated_gold_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+    let r = ((n_4 * (max(dot(n_4, v_4), 0f) * 2f)) - v_4);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_3 * (1f - t_2)) + (r * t_2));
+    let d_2 = ((n_4 * (1f - t_2)) + (r * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
 // directional albedo times the environment prefiltered for it (coated_gold_environment) or the irradiance
 // over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn coated_gold_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_4, v_4);
+fn coated_gold_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_3 = dot(n_5, v_5);
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
-    let layer1_v = coated_gold_refract_down(v_4, n_4, 1.5f);
-    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    let layer1_v = coated_gold_refract_down(v_5, n_5, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_5, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_3, 1.5f);
     let _e14 = coated_gold_coat_deficit_curve(n_dot_v_3);
-    let layer1_restored_l = coated_gold_coat_extra_curve(n_dot_v_3);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e14) - layer1_restored_l), 0f), 1f);
-    let _e22 = coated_gold_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e22);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e14), 0f), 1f);
+    let _e20 = coated_gold_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
     let layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_3);
     let layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_3);
-    let _e36 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
-    let _e41 = max(layer1_cos_v_1, 0.7453635f);
-    let _e42 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005f));
-    let layer1_blur_l_3 = (_e42 * 0.010000001f);
-    let layer1_blur_v_3 = (_e42 * 0.010000001f);
+    let _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
+    let _e39 = max(layer1_cos_v_1, 0.7453635f);
+    let _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005f));
+    let layer1_blur_l_3 = (_e40 * 0.010000001f);
+    let layer1_blur_v_3 = (_e40 * 0.010000001f);
     let layer1_alpha_3 = sqrt(((0.00390625f + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
-    let _e60 = (sqrt(min(max(sqrt(layer1_alpha_3), 0f), 1f)) * 15f);
-    let _e68 = coated_gold_ggx_albedo_curve(_e41);
-    let _e77 = coated_gold_ggx_albedo_curve_b(_e41);
-    let _e81 = coated_gold_glossy_trapped_share(_e41, 0.745356f, layer1_alpha_3);
-    let layer1_cone_share_l_1 = (1f - _e81);
-    let layer1_lobe_normaliser_l_1 = (((max((1f - abs((_e60 - 7f))), 0f) * _e68) + (max((1f - abs((_e60 - 8f))), 0f) * _e77)) * layer1_cone_share_l_1);
-    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e36) * layer1_lobe_normaliser_l_1), 0f), 1f);
+    let _e58 = (sqrt(min(max(sqrt(layer1_alpha_3), 0f), 1f)) * 15f);
+    let _e66 = coated_gold_ggx_albedo_curve(_e39);
+    let _e75 = coated_gold_ggx_albedo_curve_b(_e39);
+    let _e79 = coated_gold_glossy_trapped_share(_e39, 0.745356f, layer1_alpha_3);
+    let layer1_cone_share_l_1 = (1f - _e79);
+    let layer1_lobe_normaliser_l_1 = (((max((1f - abs((_e58 - 7f))), 0f) * _e66) + (max((1f - abs((_e58 - 8f))), 0f) * _e75)) * layer1_cone_share_l_1);
+    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0f), 1f);
     let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e100 = coated_gold_glossy_quick_curve(n_dot_v_3);
-    let _e101 = coated_gold_glossy_steady_curve(n_dot_v_3);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e100, _e101, 0.9170209f, coated_gold_layer1_survival);
+    let _e98 = coated_gold_glossy_quick_curve(n_dot_v_3);
+    let _e99 = coated_gold_glossy_steady_curve(n_dot_v_3);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209f, coated_gold_layer1_survival);
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_survival);
-    let _e109 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e109.x, 0.000001f)));
-    let _e115 = coated_gold_glossy_blur_curve(n_dot_v_3);
-    let layer1_blur_l_4 = (_e115 * 0.010000001f);
-    let layer1_blur_v_4 = (_e115 * 0.010000001f);
+    let _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
+    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e107.x, 0.000001f)));
+    let _e113 = coated_gold_glossy_blur_curve(n_dot_v_3);
+    let layer1_blur_l_4 = (_e113 * 0.010000001f);
+    let layer1_blur_v_4 = (_e113 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
     let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
     let coat_albedo = (1f - layer1_transmit_l_1);
     let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
-    let reflected = coated_gold_specular_dominant_direction(n_4, v_4, 0.010000001f);
+    let reflected = coated_gold_specular_dominant_direction(n_5, v_5, 0.010000001f);
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
-    let reflected_1 = coated_gold_specular_dominant_direction(n_4, v_4, (base_roughness * base_roughness));
-    let _e150 = (dot(n_4, v_4) > 0f);
+    let reflected_1 = coated_gold_specular_dominant_direction(n_5, v_5, (base_roughness * base_roughness));
+    let _e148 = (dot(n_5, v_5) > 0f);
     let light_a = coated_gold_environment(reflected, 0.1f);
     let light_b = coated_gold_environment(reflected_1, base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e150) * light_a) + (select(vec3(0f), under_albedo, _e150) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e148) * light_a) + (select(vec3(0f), under_albedo, _e148) * light_b));
 }
 

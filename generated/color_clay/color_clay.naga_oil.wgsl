@@ -3,7 +3,7 @@
 
 const color_clay_layer1_rho_ms: vec3<f32> = vec3<f32>(0.28973147f, 0.0132765025f, 0.009134458f);
 const color_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5261278f, 0.110294394f, 0.09139683f);
-const color_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.41532898f, 0.41532898f, 0.41532898f);
+const color_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.41528052f, 0.41528052f, 0.41528052f);
 
 @group(2) @binding(0) 
 var color_clay_environment_sampler: sampler;
@@ -76,50 +76,45 @@ fn color_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.33 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn color_clay_coat_extra_curve(cos_theta: f32) -> f32 {
+fn color_clay_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.0019427591f) + 0.0017167919f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.011654053f, 0.022355989f, 0.027888639f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.023199782f, 0.007846063f, -0.046237737f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.09631246f, -0.051708154f, -0.0007291558f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.034776215f, 0.03084838f, 0.01943276f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0091498215f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.004228473f));
+    let f = ((u * 0.0066840644f) + 1.0335633f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.027347801f, 0.050522096f, 0.060009032f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.09167079f, 0.060683195f, -0.07042051f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.23869874f, -0.11694433f, -0.088319786f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.09728552f, 0.0638938f, -0.0010460616f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.019074084f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0055056815f));
     return f_6;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn color_clay_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.33 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn color_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.028098643f) + -0.010294161f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.023974478f, -0.037352145f, -0.052972972f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06909084f, -0.08618617f, -0.1058979f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.12156123f, -0.13666654f, -0.14630806f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.1531364f, -0.1637018f, -0.1703389f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.121221244f, -0.08686799f, -0.044514924f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.037321206f, 0.108586915f, 0.17196828f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21172099f, 0.22630309f, 0.21798663f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.18356468f, 0.14936402f, 0.10603942f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.06968238f, 0.041379392f, 0.02283904f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.01028424f, 0.0021841878f, -0.00095110235f)));
+    let f_7 = ((u_1 * -0.030750155f) + -0.011522229f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02365297f, -0.047795594f, -0.054541707f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.08313739f, -0.09450841f, -0.11672199f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13406676f, -0.14922196f, -0.16781303f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.15469405f, -0.1628463f, -0.14584705f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.12886629f, -0.003839612f, -0.004864186f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.071727514f, 0.12463196f, 0.18078484f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.22248222f, 0.20501284f, 0.19273302f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.16905336f, 0.12979442f, 0.097409144f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.061896898f, 0.034557488f, 0.018205743f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.007468045f, 0.0012405238f, -0.002260481f)));
     return f_17;
 }
 
@@ -140,11 +135,11 @@ fn color_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn color_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * 0.552807f) + 1.0604889f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.22496831f, -0.38465214f, -0.632921f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5487826f, -0.2514776f, 0.31529698f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.45393932f, 0.3660667f, 0.1972187f)));
-    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.098493144f));
+    let f_18 = ((u_2 * 0.5507194f) + 1.0632226f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.20918548f, -0.37085462f, -0.64313865f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5775342f, -0.23689723f, 0.30165812f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.46164456f, 0.36589098f, 0.20220034f)));
+    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.093710825f));
     return f_22;
 }
 
@@ -167,9 +162,9 @@ fn color_clay_e_fon(mu_1: f32, r: f32) -> f32 {
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn color_clay_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
-    let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg_1));
-    return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
+    let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
+    let _e15 = (albedo * (1f - e_avg));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -182,9 +177,9 @@ fn color_clay_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = color_clay_e_fon(n_dot_v_2, r_2);
     let e_i = color_clay_e_fon(n_dot_l_2, r_2);
-    let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
+    let e_avg_1 = (a_f * ((r_2 * 0.07248825f) + 1f));
     let rho_ms = color_clay_eon_rho_ms(albedo_1, r_2);
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
@@ -202,9 +197,9 @@ fn color_clay_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_2: f32) -> vec3<f32> 
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-fn color_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+fn color_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -228,44 +223,43 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let g = color_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.09f);
     let fresnel = color_clay_fr_dielectric(dot(v_1, h), 1.33f);
     let _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = color_clay_coat_extra_curve(n_dot_l_3);
-    let layer1_restored_v = color_clay_coat_extra_curve(n_dot_v_3);
-    let _e25 = color_clay_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0017248275f);
-    let specular = (_e21 + vec3(_e25));
+    let layer1_scale_l = color_clay_coat_scale_curve(n_dot_l_3);
+    let layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_3);
+    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33f);
-    let _e32 = color_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e32) - layer1_restored_l), 0f), 1f);
+    let _e30 = color_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_3, 1.33f);
-    let _e43 = color_clay_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e43) - layer1_restored_v), 0f), 1f);
+    let _e40 = color_clay_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = color_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e60 = color_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e60);
-    let _e62 = color_clay_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_v = (layer1_cos_v / _e62);
-    let _e65 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
-    let absorb_l = vec3(_e65);
-    let _e68 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
-    let absorb_v = vec3(_e68);
+    let _e56 = color_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e56);
+    let _e58 = color_clay_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_v = (layer1_cos_v / _e58);
+    let _e61 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
+    let absorb_l = vec3(_e61);
+    let _e64 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
+    let absorb_v = vec3(_e64);
     let layer1_f_base = color_clay_fd_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_l);
     let layer1_albedo_v = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e60);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e62);
-    let _e96 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
-    let _e98 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e98)) * vec3(0.23442733f)) / max(_e96, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333209f))) / vec3(0.4666791f)), vec3(0f)), vec3(1f));
-    let _e133 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
-    let _e135 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e135)) * vec3(0.23442733f)) / max(_e133, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333209f))) / vec3(0.4666791f)), vec3(0f)), vec3(1f));
-    let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825439f, 0.9961419f, 0.996795f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e56);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e58);
+    let _e92 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
+    let _e94 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e94)) * vec3(0.23442733f)) / max(_e92, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
+    let _e129 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
+    let _e131 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e131)) * vec3(0.23442733f)) / max(_e129, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
+    let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825418f, 0.99614143f, 0.99679464f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     let f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -329,38 +323,37 @@ fn color_clay_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_4, 1.33f);
     let _e9 = color_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_restored_l = color_clay_coat_extra_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e30 = color_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e30);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e30);
-    let _e34 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l_2);
-    let absorb_l_1 = vec3(_e34);
-    let _e37 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
-    let absorb_v_1 = vec3(_e37);
+    let _e27 = color_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
+    let _e31 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l_2);
+    let absorb_l_1 = vec3(_e31);
+    let _e34 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
+    let absorb_v_1 = vec3(_e34);
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v_1);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e30);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e30);
-    let _e52 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_3);
-    let _e54 = color_clay_e_fon(layer1_path_cos_l_3, 0.5f);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e54)) * vec3(0.23442733f)) / max(_e52, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333209f))) / vec3(0.4666791f)), vec3(0f)), vec3(1f));
-    let _e89 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
-    let _e91 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e91)) * vec3(0.23442733f)) / max(_e89, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333209f))) / vec3(0.4666791f)), vec3(0f)), vec3(1f));
-    let albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51686996f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51686996f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
+    let _e49 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_3);
+    let _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5f);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e51)) * vec3(0.23442733f)) / max(_e49, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
+    let _e86 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
+    let _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e88)) * vec3(0.23442733f)) / max(_e86, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
+    let albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09f);
-    let _e143 = (dot(n_4, v_4) > 0f);
+    let _e140 = (dot(n_4, v_4) > 0f);
     let light_a = color_clay_environment(reflected, 0.3f);
     let light_b = color_clay_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e143) * light_a) + (select(vec3(0f), under_albedo, _e143) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e140) * light_a) + (select(vec3(0f), under_albedo, _e140) * light_b));
 }
 

@@ -2,14 +2,14 @@
 const vec3 four_layer_layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 four_layer_layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 four_layer_layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
-const vec3 four_layer_layer4_r_return = vec3(0.32247323, 0.32247323, 0.32247323);
-const vec3 four_layer_layer3_rho = vec3(0.85277396, 0.85277396, 0.7852343);
-const vec3 four_layer_layer3_r_return = vec3(0.020906627, 0.056411505, 0.14856523);
-const vec3 four_layer_layer2_rho = vec3(0.26353127, 0.4134952, 0.6440171);
+const vec3 four_layer_layer4_r_return = vec3(0.3223219, 0.3223219, 0.3223219);
+const vec3 four_layer_layer3_rho = vec3(0.8527689, 0.8527689, 0.78522366);
+const vec3 four_layer_layer3_r_return = vec3(0.02070725, 0.056239247, 0.14843833);
+const vec3 four_layer_layer2_rho = vec3(0.26342994, 0.4134114, 0.64397824);
 const vec3 four_layer_layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 four_layer_layer1_rho = vec3(0.2438511, 0.38261583, 0.59592247);
-const vec3 four_layer_layer1_r_return = vec3(0.5949677, 0.5949677, 0.5949677);
+const vec3 four_layer_layer1_rho = vec3(0.24375734, 0.3825383, 0.5958865);
+const vec3 four_layer_layer1_r_return = vec3(0.5949445, 0.5949445, 0.5949445);
 
 layout(binding = 33) uniform sampler2D four_layer_radiance;
 
@@ -71,50 +71,45 @@ vec3 four_layer_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1,
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_extra_curve(float cos_theta) {
+float four_layer_coat_scale_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.0238638) + 0.00047642717);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.043392938, 0.072941415, 0.065340556)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.006861045, -0.17179242, -0.19136608)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.04519139, 0.05225672, 0.07528171)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.04920451, 0.018836666, 0.009842166)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.0014008618));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0024044155));
+    float f = ((u * 0.031875372) + 1.0102208);
+    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.07371246, 0.11994841, 0.13061099)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.0065534515, -0.21846236, -0.30766907)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.093548186, 0.087488174, 0.10498703)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.031732325, 0.04088402, -0.012624265)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 0.009346605));
+    float f_6 = (f_5 + (max(u, 0.93333334) * -0.0017470123));
     return f_6;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float four_layer_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
-    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float four_layer_coat_deficit_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.017934203) + -0.004048938);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.01577419, -0.024486303, -0.034648895)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.04652804, -0.05914721, -0.07278818)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.09051174, -0.11266804, -0.14476797)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.17544237, -0.18643275, -0.17930415)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.10113627, 0.015349209, 0.12060779)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.18125671, 0.20034748, 0.19044091)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.16176808, 0.124173574, 0.09539394)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.06498287, 0.04524257, 0.029461829)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.017693672, 0.011034623, 0.0060840296)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.0022085947, 0.00022501462, -0.0006167449)));
+    float f_7 = ((u_1 * -0.03834161) + -0.004981162);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.014694184, -0.064813316, -0.04077694)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.10648364, -0.07544339, -0.12260336)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.1165871, -0.099422485, -0.13716912)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.08694744, -0.1522116, -0.028819263)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.0040012896, 0.048852503, 0.15331748)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.14091185, 0.16513813, 0.16581412)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.10528529, 0.1050934, 0.06659178)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.05249732, 0.033154104, 0.025457583)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.01801131, 0.007955713, 0.0040271506)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.0018491934, -0.00016434962, -0.0004808017)));
     return f_17;
 }
 
@@ -150,42 +145,45 @@ float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_extra_curve_b(float cos_theta_2) {
+float four_layer_coat_scale_curve_b(float cos_theta_2) {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * -0.0039188713) + 0.00055114104);
-    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.008401701, 0.0060381875, 0.018616488)));
-    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.015130185, -0.0071142595, -0.020895667)));
-    float f_21 = (f_20 + dot(max(vec3(u_2), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.038923174, -0.035441317, 0.009682175)));
-    float f_22 = (f_21 + dot(max(vec3(u_2), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.018134223, 0.0170108, 0.007356576)));
-    float f_23 = (f_22 + (max(u_2, 0.8666667) * 0.0043196985));
-    float f_24 = (f_23 + (max(u_2, 0.93333334) * 0.0010579526));
+    float f_18 = ((u_2 * -0.015060603) + 1.0256641);
+    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.021902023, 0.029723348, 0.045953378)));
+    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.06363901, 0.032585267, -0.047657494)));
+    float f_21 = (f_20 + dot(max(vec3(u_2), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.11613251, -0.12729764, 0.02443135)));
+    float f_22 = (f_21 + dot(max(vec3(u_2), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.012624265, 0.059487823, 0.020468833)));
+    float f_23 = (f_22 + (max(u_2, 0.8666667) * -0.008962155));
+    float f_24 = (f_23 + (max(u_2, 0.93333334) * 0.0051319604));
     return f_24;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float four_layer_coat_deficit_curve_b(float cos_theta_3) {
     float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_25 = ((u_3 * -0.02504617) + -0.003344956);
-    float f_26 = (f_25 + dot(max(vec3(u_3), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.022289336, -0.034500152, -0.047335505)));
-    float f_27 = (f_26 + dot(max(vec3(u_3), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.06199181, -0.077869475, -0.093123525)));
-    float f_28 = (f_27 + dot(max(vec3(u_3), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.10627207, -0.11752021, -0.1218504)));
-    float f_29 = (f_28 + dot(max(vec3(u_3), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.12306437, -0.12169334, -0.11585817)));
-    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.06900631, -0.031101689, 0.0106134415)));
-    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.074394874, 0.124821536, 0.16269375)));
-    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.14519773, 0.18315698, 0.17076662)));
-    float f_33 = (f_32 + dot(max(vec3(u_3), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.12061872, 0.09854463, 0.047694944)));
-    float f_34 = (f_33 + dot(max(vec3(u_3), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.029384391, 0.0081188185, -0.0006174671)));
-    float f_35 = (f_34 + dot(max(vec3(u_3), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.0004804347, -0.0018209529, -0.0012223871)));
+    float f_25 = ((u_3 * -0.019963026) + -0.0036066887);
+    float f_26 = (f_25 + dot(max(vec3(u_3), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.02197522, -0.040990353, -0.048499584)));
+    float f_27 = (f_26 + dot(max(vec3(u_3), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.06875825, -0.081968695, -0.0997366)));
+    float f_28 = (f_27 + dot(max(vec3(u_3), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.11511722, -0.122522056, -0.13581657)));
+    float f_29 = (f_28 + dot(max(vec3(u_3), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.120381445, -0.11980495, -0.10119216)));
+    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.06555103, -0.0024274737, 0.024272427)));
+    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.10645688, 0.13926408, 0.1540812)));
+    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.15939546, 0.16005497, 0.1593905)));
+    float f_33 = (f_32 + dot(max(vec3(u_3), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.105802804, 0.08690234, 0.04736138)));
+    float f_34 = (f_33 + dot(max(vec3(u_3), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.022433989, 0.00457169, 0.0023984252)));
+    float f_35 = (f_34 + dot(max(vec3(u_3), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.0007751087, -0.0018081414, -0.0015191835)));
     return f_35;
 }
 
@@ -198,11 +196,11 @@ float four_layer_coat_deficit_curve_b(float cos_theta_3) {
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float four_layer_coat_path_curve(float cos_theta_4) {
     float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_36 = ((u_4 * 0.6172732) + 1.0212488);
-    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.21987784, -0.23970342, -0.58324623)));
-    float f_38 = (f_37 + dot(max(vec3(u_4), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.60916936, -0.13257658, 0.29391366)));
-    float f_39 = (f_38 + dot(max(vec3(u_4), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.3908839, 0.26766932, 0.1410726)));
-    float f_40 = (f_39 + (max(u_4, 0.90909094) * 0.052866425));
+    float f_36 = ((u_4 * 0.61936736) + 1.0213565);
+    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.205127, -0.30001545, -0.5639963)));
+    float f_38 = (f_37 + dot(max(vec3(u_4), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5196192, -0.20065153, 0.29480273)));
+    float f_39 = (f_38 + dot(max(vec3(u_4), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.38684246, 0.27492082, 0.13936397)));
+    float f_40 = (f_39 + (max(u_4, 0.90909094) * 0.05309328));
     return f_40;
 }
 
@@ -214,42 +212,45 @@ vec3 four_layer_slab_transmittance(vec3 tau_1, float mu_1) {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_extra_curve_c(float cos_theta_5) {
+float four_layer_coat_scale_curve_c(float cos_theta_5) {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_41 = ((u_5 * -0.0105091315) + 0.004109644);
-    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.00418894, 0.003715389, 0.0072866413)));
-    float f_43 = (f_42 + dot(max(vec3(u_5), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.004911866, 0.002210308, 0.0076858145)));
-    float f_44 = (f_43 + dot(max(vec3(u_5), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.0067613022, -0.0017514292, -0.019567324)));
-    float f_45 = (f_44 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.002338869, -0.00018841123, 0.0069350894)));
-    float f_46 = (f_45 + (max(u_5, 0.8666667) * 0.008031735));
-    float f_47 = (f_46 + (max(u_5, 0.93333334) * 0.0057133455));
+    float f_41 = ((u_5 * -0.09693145) + 1.1485513);
+    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.016946197, 0.047528736, -0.032536972)));
+    float f_43 = (f_42 + dot(max(vec3(u_5), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.07585465, 0.005950928, 0.049590472)));
+    float f_44 = (f_43 + dot(max(vec3(u_5), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.008364883, 0.03277305, 0.00065803534)));
+    float f_45 = (f_44 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1937771, -0.0123006115, -0.15396775)));
+    float f_46 = (f_45 + (max(u_5, 0.8666667) * 0.15924813));
+    float f_47 = (f_46 + (max(u_5, 0.93333334) * -0.049645904));
     return f_47;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float four_layer_coat_deficit_curve_c(float cos_theta_6) {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_48 = ((u_6 * -0.038037658) + -0.013623765);
-    float f_49 = (f_48 + dot(max(vec3(u_6), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.033405364, -0.05235952, -0.07303947)));
-    float f_50 = (f_49 + dot(max(vec3(u_6), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.095461845, -0.1192922, -0.14366764)));
-    float f_51 = (f_50 + dot(max(vec3(u_6), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.16697508, -0.19729471, -0.22221339)));
-    float f_52 = (f_51 + dot(max(vec3(u_6), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.20784533, -0.19898725, -0.17649466)));
-    float f_53 = (f_52 + dot(max(vec3(u_6), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.14103553, -0.09068358, -0.034773618)));
-    float f_54 = (f_53 + dot(max(vec3(u_6), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.030408287, 0.101777606, 0.16531079)));
-    float f_55 = (f_54 + dot(max(vec3(u_6), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.21174529, 0.18464117, 0.3007247)));
-    float f_56 = (f_55 + dot(max(vec3(u_6), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.25036666, 0.2267318, 0.19118905)));
-    float f_57 = (f_56 + dot(max(vec3(u_6), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13426276, 0.09615541, 0.05844929)));
-    float f_58 = (f_57 + dot(max(vec3(u_6), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.028768161, 0.018730978, 0.006326918)));
+    float f_48 = ((u_6 * -0.023300052) + -0.01609135);
+    float f_49 = (f_48 + dot(max(vec3(u_6), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.031880975, -0.054331064, -0.073233485)));
+    float f_50 = (f_49 + dot(max(vec3(u_6), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.100670636, -0.12005901, -0.1382981)));
+    float f_51 = (f_50 + dot(max(vec3(u_6), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.1669991, -0.1905911, -0.23060215)));
+    float f_52 = (f_51 + dot(max(vec3(u_6), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.21502751, -0.19809479, -0.1784274)));
+    float f_53 = (f_52 + dot(max(vec3(u_6), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.1412397, -0.08890697, -0.03257388)));
+    float f_54 = (f_53 + dot(max(vec3(u_6), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.03142177, 0.10445408, 0.1682191)));
+    float f_55 = (f_54 + dot(max(vec3(u_6), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.2139603, 0.20863476, 0.28863242)));
+    float f_56 = (f_55 + dot(max(vec3(u_6), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.2500063, 0.2236042, 0.18725146)));
+    float f_57 = (f_56 + dot(max(vec3(u_6), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13397235, 0.08653011, 0.05199398)));
+    float f_58 = (f_57 + dot(max(vec3(u_6), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.030348241, 0.016953703, 0.0046103266)));
     return f_58;
 }
 
@@ -265,9 +266,9 @@ float four_layer_e_fon(float mu_2, float r) {
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 vec3 four_layer_eon_rho_ms(vec3 albedo, float r_1) {
-    float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    vec3 _e15 = (albedo * (1.0 - e_avg_1));
-    return (((albedo * albedo) * e_avg_1) / (vec3(1.0) - _e15));
+    float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
+    vec3 _e15 = (albedo * (1.0 - e_avg));
+    return (((albedo * albedo) * e_avg) / (vec3(1.0) - _e15));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -280,9 +281,9 @@ vec3 four_layer_fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
     float e_o = four_layer_e_fon(n_dot_v_2, r_2);
     float e_i = four_layer_e_fon(n_dot_l_2, r_2);
-    float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
+    float e_avg_1 = (a_f * ((r_2 * 0.07248825) + 1.0));
     vec3 rho_ms = four_layer_eon_rho_ms(albedo_1, r_2);
-    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
+    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
@@ -303,11 +304,11 @@ vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_3) {
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float four_layer_coat_path_curve_b(float cos_theta_7) {
     float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_59 = ((u_7 * 0.9847932) + 1.2135721);
-    float f_60 = (f_59 + dot(max(vec3(u_7), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(0.026944637, 0.06535792, -0.051504016)));
-    float f_61 = (f_60 + dot(max(vec3(u_7), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.4452579, -1.1080844, -0.88944095)));
-    float f_62 = (f_61 + dot(max(vec3(u_7), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.042240035, 0.45094156, 0.4904393)));
-    float f_63 = (f_62 + (max(u_7, 0.90909094) * 0.3090855));
+    float f_59 = ((u_7 * 0.9989592) + 1.2154765);
+    float f_60 = (f_59 + dot(max(vec3(u_7), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.008608699, 0.10287821, -0.086366296)));
+    float f_61 = (f_60 + dot(max(vec3(u_7), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.42313886, -1.11914, -0.8689335)));
+    float f_62 = (f_61 + dot(max(vec3(u_7), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.05576874, 0.45673752, 0.48545372)));
+    float f_63 = (f_62 + (max(u_7, 0.90909094) * 0.30706084));
     return f_63;
 }
 
@@ -317,9 +318,9 @@ float four_layer_coat_path_curve_b(float cos_theta_7) {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-vec3 four_layer_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
+vec3 four_layer_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
     vec3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -353,16 +354,15 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25);
     float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
     vec3 _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    float layer1_restored_l = four_layer_coat_extra_curve(n_dot_l_3);
-    float layer1_restored_v = four_layer_coat_extra_curve(n_dot_v_3);
-    float _e25 = four_layer_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0011290095);
-    vec3 specular = (_e21 + vec3(_e25));
+    float layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
+    float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_3);
+    vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
-    float _e32 = four_layer_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max((((1.0 - layer1_fresnel_l) + _e32) - layer1_restored_l), 0.0), 1.0);
+    float _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5);
-    float _e43 = four_layer_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max((((1.0 - layer1_fresnel_v) + _e43) - layer1_restored_v), 0.0), 1.0);
+    float _e40 = four_layer_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     vec3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -379,36 +379,35 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    float _e79 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
-    vec3 layer1_absorb_l = vec3(_e79);
-    float _e82 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
-    vec3 layer1_absorb_v = vec3(_e82);
+    float _e75 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
+    vec3 layer1_absorb_l = vec3(_e75);
+    float _e78 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
+    vec3 layer1_absorb_v = vec3(_e78);
     vec3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
     float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    vec3 _e96 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    float layer3_restored_l = four_layer_coat_extra_curve_b(layer2_n_dot_l);
-    float layer3_restored_v = four_layer_coat_extra_curve_b(layer2_n_dot_v);
-    float _e100 = four_layer_multiple_scattering_lobe(layer3_restored_l, layer3_restored_v, 0.000710287);
-    vec3 layer2_specular = (_e96 + vec3(_e100));
+    vec3 _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    float layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
+    float layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
+    vec3 layer2_specular = (_e92 * (layer3_scale_l * layer3_scale_v));
     float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1);
-    float _e107 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    float layer3_transmit_l = min(max((((1.0 - layer3_fresnel_l) + _e107) - layer3_restored_l), 0.0), 1.0);
+    float _e101 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
+    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e101), 0.0), 1.0);
     float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
-    float _e118 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    float layer3_transmit_v = min(max((((1.0 - layer3_fresnel_v) + _e118) - layer3_restored_v), 0.0), 1.0);
+    float _e111 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
+    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e111), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     vec3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    float _e135 = four_layer_coat_path_curve(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / _e135);
-    float _e137 = four_layer_coat_path_curve(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / _e137);
+    float _e127 = four_layer_coat_path_curve(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / _e127);
+    float _e129 = four_layer_coat_path_curve(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / _e129);
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -416,17 +415,16 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    vec3 _e155 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    float layer4_restored_l = four_layer_coat_extra_curve_c(layer3_n_dot_l);
-    float layer4_restored_v = four_layer_coat_extra_curve_c(layer3_n_dot_v);
-    float _e159 = four_layer_multiple_scattering_lobe(layer4_restored_l, layer4_restored_v, 0.0014621245);
-    vec3 layer3_specular = (_e155 + vec3(_e159));
+    vec3 _e147 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    float layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
+    float layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
+    vec3 layer3_specular = (_e147 * (layer4_scale_l * layer4_scale_v));
     float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2);
-    float _e166 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    float layer4_transmit_l = min(max((((1.0 - layer4_fresnel_l) + _e166) - layer4_restored_l), 0.0), 1.0);
+    float _e156 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
+    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e156), 0.0), 1.0);
     float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
-    float _e177 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    float layer4_transmit_v = min(max((((1.0 - layer4_fresnel_v) + _e177) - layer4_restored_v), 0.0), 1.0);
+    float _e166 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
+    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e166), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     vec3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -436,55 +434,55 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_f_base = four_layer_fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     vec3 layer4_albedo_v = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    float _e213 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    float layer4_path_cos_l = (layer4_cos_l / _e213);
-    float _e215 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e215);
-    vec3 _e222 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    float _e224 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e224)) * vec3(0.18698311)) / max(_e222, vec3(1e-6))));
-    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 _e259 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    float _e261 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e261)) * vec3(0.18698311)) / max(_e259, vec3(1e-6))));
-    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671245, 0.9671245, 0.96892464), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
+    float _e201 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e201);
+    float _e203 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e203);
+    vec3 _e210 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e212 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e212)) * vec3(0.18698311)) / max(_e210, vec3(1e-6))));
+    vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.6776781))) / vec3(0.3223219)), vec3(0.0)), vec3(1.0));
+    vec3 _e247 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e249 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e249)) * vec3(0.18698311)) / max(_e247, vec3(1e-6))));
+    vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.6776781))) / vec3(0.3223219)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671017, 0.9671017, 0.968903), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     vec3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
-    vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_l, layer4_first_return_l);
-    vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_v, layer4_first_return_v);
-    float _e324 = (1.0 - layer4_transmit_l);
-    vec3 _e345 = min(max(((vec3((_e324 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e324)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e345 / vec3(0.8096463));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e345) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    float _e362 = (1.0 - layer4_transmit_v);
-    vec3 _e383 = min(max(((vec3((_e362 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e362)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e383 / vec3(0.8096463));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e383) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9322981, 0.9322981, 0.93121034), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781), layer4_first_escape_l, layer4_first_return_l);
+    vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781), layer4_first_escape_v, layer4_first_return_v);
+    float _e312 = (1.0 - layer4_transmit_l);
+    vec3 _e333 = min(max(((vec3((_e312 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e312)), vec3(0.0)) * vec3(0.820149))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e333 / vec3(0.8097652));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e333) / vec3(0.19023478)), vec3(0.0)), vec3(1.0));
+    float _e350 = (1.0 - layer4_transmit_v);
+    vec3 _e371 = min(max(((vec3((_e350 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e350)), vec3(0.0)) * vec3(0.820149))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e371 / vec3(0.8097652));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e371) / vec3(0.19023478)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9328693, 0.9328693, 0.93179023), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l, layer2_first_return_l);
-    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v, layer2_first_return_v);
-    float _e428 = (1.0 - layer3_transmit_l);
-    vec3 _e446 = min(max(((vec3((_e428 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e428)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e446 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e446) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e463 = (1.0 - layer3_transmit_v);
-    vec3 _e481 = min(max(((vec3((_e463 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e463)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e481 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e481) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_v, layer2_first_return_v);
+    float _e416 = (1.0 - layer3_transmit_l);
+    vec3 _e434 = min(max(((vec3((_e416 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e416)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e434 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e434) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e451 = (1.0 - layer3_transmit_v);
+    vec3 _e469 = min(max(((vec3((_e451 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e451)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e469 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e469) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
-    float _e521 = (1.0 - layer2_transmit_l);
-    vec3 _e542 = min(max(((vec3((_e521 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e521)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e542 / vec3(0.40503228));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e542) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    float _e559 = (1.0 - layer2_transmit_v);
-    vec3 _e580 = min(max(((vec3((_e559 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e559)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e580 / vec3(0.40503228));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e580) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9806059), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    float _e509 = (1.0 - layer2_transmit_l);
+    vec3 _e530 = min(max(((vec3((_e509 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e509)), vec3(0.0)) * vec3(0.41649783))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e530 / vec3(0.4050555));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e530) / vec3(0.5949445)), vec3(0.0)), vec3(1.0));
+    float _e547 = (1.0 - layer2_transmit_v);
+    vec3 _e568 = min(max(((vec3((_e547 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e547)), vec3(0.0)) * vec3(0.41649783))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e568 / vec3(0.4050555));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e568) / vec3(0.5949445)), vec3(0.0)), vec3(1.0));
+    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807674), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
@@ -537,9 +535,8 @@ vec3 four_layer_ibl(vec3 n_4, vec3 v_4) {
     float cos_v_1 = max(n_dot_v_4, 0.0001);
     float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_4, 1.5);
     float _e9 = four_layer_coat_deficit_curve(n_dot_v_4);
-    float layer1_restored_l = four_layer_coat_extra_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max((((1.0 - layer1_fresnel_l) + _e9) - layer1_restored_l), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max((((1.0 - layer1_fresnel_l) + _e9) - layer1_restored_l), 0.0), 1.0);
+    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     vec3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
@@ -549,79 +546,77 @@ vec3 four_layer_ibl(vec3 n_4, vec3 v_4) {
     vec3 layer2_v = four_layer_refract_down(layer1_v, n_4, 1.0);
     float layer2_n_dot_v_1 = dot(n_4, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    float _e42 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v_1);
-    vec3 layer1_absorb_l_1 = vec3(_e42);
-    vec3 layer1_absorb_v_1 = vec3(_e42);
+    float _e39 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v_1);
+    vec3 layer1_absorb_l_1 = vec3(_e39);
+    vec3 layer1_absorb_v_1 = vec3(_e39);
     float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
-    float _e49 = four_layer_coat_deficit_curve_b(layer2_n_dot_v_1);
-    float layer3_restored_l = four_layer_coat_extra_curve_b(layer2_n_dot_v_1);
-    float layer3_transmit_l_1 = min(max((((1.0 - layer3_fresnel_l) + _e49) - layer3_restored_l), 0.0), 1.0);
-    float layer3_transmit_v_1 = min(max((((1.0 - layer3_fresnel_l) + _e49) - layer3_restored_l), 0.0), 1.0);
+    float _e46 = four_layer_coat_deficit_curve_b(layer2_n_dot_v_1);
+    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
+    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1);
     float layer3_n_dot_v_1 = dot(n_4, layer3_v);
     float layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001);
-    float _e70 = four_layer_coat_path_curve(layer2_n_dot_v_1);
-    float layer3_path_cos_l_1 = (layer3_cos_v_1 / _e70);
-    float layer3_path_cos_v_1 = (layer3_cos_v_1 / _e70);
+    float _e64 = four_layer_coat_path_curve(layer2_n_dot_v_1);
+    float layer3_path_cos_l_1 = (layer3_cos_v_1 / _e64);
+    float layer3_path_cos_v_1 = (layer3_cos_v_1 / _e64);
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
-    float _e81 = four_layer_coat_deficit_curve_c(layer3_n_dot_v_1);
-    float layer4_restored_l = four_layer_coat_extra_curve_c(layer3_n_dot_v_1);
-    float layer4_transmit_l_1 = min(max((((1.0 - layer4_fresnel_l) + _e81) - layer4_restored_l), 0.0), 1.0);
-    float layer4_transmit_v_1 = min(max((((1.0 - layer4_fresnel_l) + _e81) - layer4_restored_l), 0.0), 1.0);
+    float _e75 = four_layer_coat_deficit_curve_c(layer3_n_dot_v_1);
+    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
+    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2);
     float layer4_n_dot_v_1 = dot(n_4, layer4_v);
     float layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001);
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v_1);
-    float _e108 = four_layer_coat_path_curve_b(layer3_n_dot_v_1);
-    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e108);
-    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e108);
-    vec3 _e116 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
-    float _e118 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
-    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e118)) * vec3(0.18698311)) / max(_e116, vec3(1e-6))));
-    vec3 layer4_first_return_l_1 = min(max(((vec3(1.0) - (layer4_first_escape_l_1 * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 _e153 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
-    float _e155 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
-    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e155)) * vec3(0.18698311)) / max(_e153, vec3(1e-6))));
-    vec3 layer4_first_return_v_1 = min(max(((vec3(1.0) - (layer4_first_escape_v_1 * vec3(0.6775268))) / vec3(0.32247323)), vec3(0.0)), vec3(1.0));
-    vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_l_1, layer4_first_return_l_1);
-    vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6775268), layer4_first_escape_v_1, layer4_first_return_v_1);
-    float _e200 = (1.0 - layer4_transmit_l_1);
-    vec3 _e221 = min(max(((vec3((_e200 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e200)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l_1 = (_e221 / vec3(0.8096463));
-    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e221) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    float _e238 = (1.0 - layer4_transmit_v_1);
-    vec3 _e259 = min(max(((vec3((_e238 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e238)), vec3(0.0)) * vec3(0.8201256))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v_1 = (_e259 / vec3(0.8096463));
-    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e259) / vec3(0.19035369)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_l_1, layer2_first_return_l_1);
-    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.48113698, 0.6022451, 0.7614758), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e290 = (1.0 - layer3_transmit_l_1);
-    vec3 _e308 = min(max(((vec3((_e290 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e290)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l_1 = (_e308 / vec3(0.9999998));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e308) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e325 = (1.0 - layer3_transmit_v_1);
-    vec3 _e343 = min(max(((vec3((_e325 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e325)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v_1 = (_e343 / vec3(0.9999998));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e343) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e99 = four_layer_coat_path_curve_b(layer3_n_dot_v_1);
+    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e99);
+    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e99);
+    vec3 _e107 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
+    float _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
+    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e109)) * vec3(0.18698311)) / max(_e107, vec3(1e-6))));
+    vec3 layer4_first_return_l_1 = min(max(((vec3(1.0) - (layer4_first_escape_l_1 * vec3(0.6776781))) / vec3(0.3223219)), vec3(0.0)), vec3(1.0));
+    vec3 _e144 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
+    float _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
+    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e146)) * vec3(0.18698311)) / max(_e144, vec3(1e-6))));
+    vec3 layer4_first_return_v_1 = min(max(((vec3(1.0) - (layer4_first_escape_v_1 * vec3(0.6776781))) / vec3(0.3223219)), vec3(0.0)), vec3(1.0));
+    vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781), layer4_first_escape_l_1, layer4_first_return_l_1);
+    vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781), layer4_first_escape_v_1, layer4_first_return_v_1);
+    float _e191 = (1.0 - layer4_transmit_l_1);
+    vec3 _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0.0)) * vec3(0.820149))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l_1 = (_e212 / vec3(0.8097652));
+    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e212) / vec3(0.19023478)), vec3(0.0)), vec3(1.0));
+    float _e229 = (1.0 - layer4_transmit_v_1);
+    vec3 _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0.0)) * vec3(0.820149))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v_1 = (_e250 / vec3(0.8097652));
+    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e250) / vec3(0.19023478)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_l_1, layer2_first_return_l_1);
+    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_v_1, layer2_first_return_v_1);
+    float _e281 = (1.0 - layer3_transmit_l_1);
+    vec3 _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l_1 = (_e299 / vec3(0.9999998));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e299) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e316 = (1.0 - layer3_transmit_v_1);
+    vec3 _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v_1 = (_e334 / vec3(0.9999998));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e334) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e370 = (1.0 - layer2_transmit_l_1);
-    vec3 _e391 = min(max(((vec3((_e370 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e370)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l_1 = (_e391 / vec3(0.40503228));
-    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e391) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    float _e408 = (1.0 - layer2_transmit_v_1);
-    vec3 _e429 = min(max(((vec3((_e408 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e408)), vec3(0.0)) * vec3(0.41657114))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v_1 = (_e429 / vec3(0.40503228));
-    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e429) / vec3(0.5949677)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.40503228), first_escape_l_1, first_return_l_1);
-    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.40503228), first_escape_v_1, first_return_v_1);
+    float _e361 = (1.0 - layer2_transmit_l_1);
+    vec3 _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0.0)) * vec3(0.41649783))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l_1 = (_e382 / vec3(0.4050555));
+    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e382) / vec3(0.5949445)), vec3(0.0)), vec3(1.0));
+    float _e399 = (1.0 - layer2_transmit_v_1);
+    vec3 _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0.0)) * vec3(0.41649783))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v_1 = (_e420 / vec3(0.4050555));
+    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e420) / vec3(0.5949445)), vec3(0.0)), vec3(1.0));
+    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555), first_escape_l_1, first_return_l_1);
+    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555), first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
-    bool _e471 = (dot(n_4, v_4) > 0.0);
+    bool _e462 = (dot(n_4, v_4) > 0.0);
     vec3 light_a = four_layer_environment(reflected, 0.2);
     vec3 light_b = four_layer_irradiance_at(n_4);
-    return (((_e471 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e471 ? under_albedo : vec3(0.0)) * light_b));
+    return (((_e462 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e462 ? under_albedo : vec3(0.0)) * light_b));
 }

@@ -2,10 +2,10 @@
 #define_import_path glazec::lacquered_wood
 
 const lacquered_wood_tau: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
-const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19010219f, 0.09112962f, 0.038870376f);
+const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19010004f, 0.091129504f, 0.03887021f);
 const lacquered_wood_layer1_albedo_l: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_layer1_rho: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
-const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49949837f, 0.35321862f, 0.14432436f);
+const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947953f, 0.3532142f, 0.14428955f);
 const lacquered_wood_layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 
 @group(2) @binding(0) 
@@ -79,49 +79,46 @@ fn lacquered_wood_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1:
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.08, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it): no table read.
-fn lacquered_wood_coat_extra_curve(cos_theta: f32) -> f32 {
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = (0.0029704892f + dot((min(max(vec3(u), vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)) - vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.23654573f, 0.54746604f, 0.38775524f)));
-    let f_1 = (f + dot((min(max(vec3(u), vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)) - vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(-0.36990896f, -0.46136802f, -0.24493739f)));
-    let f_2 = (f_1 + dot((min(max(vec3(u), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.09195643f, -0.0348923f, -0.0078382455f)));
-    let f_3 = (f_2 + dot((min(max(vec3(u), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.003442991f, -0.0013478278f, -0.000305352f)));
-    let f_4 = (f_3 + dot((min(max(vec3(u), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00019250734f, -0.00008192771f, -0.00002271294f)));
-    return f_4;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn lacquered_wood_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+    let f = ((u * 0.24101077f) + 1.0001287f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.39785382f, -0.16063029f, -0.8319354f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.023287019f, 0.21459104f, 0.10371388f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.042618524f, 0.009201759f, 0.004202128f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.001012087f, 0.0011301042f, -0.00014305116f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.00040054324f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.00014305116f));
+    return f_6;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.08, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn lacquered_wood_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_5 = ((u_1 * 0.08958348f) + -0.000012183096f);
-    let f_6 = (f_5 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.0910529f, 0.11061427f, 0.08248514f)));
-    let f_7 = (f_6 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.05157654f, -0.27895254f, -0.49605322f)));
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.47795087f, -0.13399331f, 0.16362074f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.23789878f, 0.23692149f, 0.16013685f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.10707365f, 0.05897459f, 0.035167262f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.022090564f, 0.013451395f, 0.009280832f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.0071030566f, 0.004087002f, 0.003875733f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.002113927f, 0.0011134122f, 0.0011625958f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0007188123f, 0.000070419126f, 0.00010629118f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00010497527f, 0.00007041098f, -0.00035209657f)));
-    return f_15;
+    let f_7 = ((u_1 * -0.1377045f) + -0.00028620308f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.09349053f, -0.20126668f, 0.06605962f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.105583094f, -0.39272207f, 0.13863808f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.12506987f, -0.18841746f, 0.17495908f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.16499546f, 0.13213691f, 0.10692f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0030397265f, 0.033235718f, -0.010187234f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.017132793f, 0.004275262f, 0.007178875f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.0032035308f, 0.0041351416f, 0.0024121667f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0018972224f, 0.00092372514f, 0.0007992522f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0005005133f, 0.000020962905f, 0.00025681124f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00010481509f, -0.0003825893f, 0.00020833011f)));
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -141,12 +138,12 @@ fn lacquered_wood_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn lacquered_wood_coat_path_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_16 = ((u_2 * -0.19290435f) + 1.0009764f);
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.2610842f, -0.42732716f, 0.26804328f)));
-    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.37824118f, 0.16072369f, 0.049116123f)));
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.013638865f, 0.0068554822f, 0.0023800158f)));
-    let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.0013755548f));
-    return f_20;
+    let f_18 = ((u_2 * -0.013566732f) + 1.0009205f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.59184575f, -0.24992633f, 0.23101997f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.41376042f, 0.13527393f, 0.04887091f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.01646341f, 0.0047416636f, 0.0031379485f)));
+    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.0011827935f));
+    return f_22;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -176,26 +173,25 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let g = lacquered_wood_g_smith_ggx_correlated(cos_v, cos_l, 0.0064f);
     let fresnel = lacquered_wood_fr_dielectric(dot(v_1, h), 1.5f);
     let _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = lacquered_wood_coat_extra_curve(n_dot_l_2);
-    let layer1_restored_v = lacquered_wood_coat_extra_curve(n_dot_v_2);
-    let _e25 = lacquered_wood_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.0001141029f);
-    let specular = (_e21 + vec3(_e25));
+    let layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
+    let layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_2);
+    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_l_2, 1.5f);
-    let _e32 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e32) - layer1_restored_l), 0f), 1f);
+    let _e30 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e43 = lacquered_wood_coat_deficit_curve(n_dot_v_2);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e43) - layer1_restored_v), 0f), 1f);
+    let _e40 = lacquered_wood_coat_deficit_curve(n_dot_v_2);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5f);
     let layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e60 = lacquered_wood_coat_path_curve(n_dot_l_2);
-    let layer1_path_cos_l = (layer1_cos_l / _e60);
-    let _e62 = lacquered_wood_coat_path_curve(n_dot_v_2);
-    let layer1_path_cos_v = (layer1_cos_v / _e62);
+    let _e56 = lacquered_wood_coat_path_curve(n_dot_l_2);
+    let layer1_path_cos_l = (layer1_cos_l / _e56);
+    let _e58 = lacquered_wood_coat_path_curve(n_dot_v_2);
+    let layer1_path_cos_v = (layer1_cos_v / _e58);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     let f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5f);
@@ -261,25 +257,24 @@ fn lacquered_wood_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
     let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5f);
     let _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
-    let layer1_restored_l = lacquered_wood_coat_extra_curve(n_dot_v_3);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e30 = lacquered_wood_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e30);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e30);
+    let _e27 = lacquered_wood_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.3854801f, 0.35186365f, 0.2708955f), vec3(1f), vec3(1f));
-    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.3854801f, 0.35186365f, 0.2708955f), vec3(1f), vec3(1f));
+    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
+    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);
-    let _e73 = (dot(n_4, v_4) > 0f);
+    let _e70 = (dot(n_4, v_4) > 0f);
     let light_a = lacquered_wood_environment(reflected, 0.08f);
     let light_b = lacquered_wood_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e73) * light_a) + (select(vec3(0f), under_albedo, _e73) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e70) * light_a) + (select(vec3(0f), under_albedo, _e70) * light_b));
 }
 

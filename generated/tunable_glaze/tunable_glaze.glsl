@@ -7,7 +7,7 @@ struct TunableGlazeParams {
     vec3 body_albedo;
     float body_roughness;
 };
-layout(std140, binding = 4) uniform tunable_glaze_tables_block { uvec4 tunable_glaze_tables[1996]; };
+layout(std140, binding = 4) uniform tunable_glaze_tables_block { uvec4 tunable_glaze_tables[1980]; };
 
 layout(binding = 33) uniform sampler2D tunable_glaze_radiance;
 
@@ -103,9 +103,11 @@ float tunable_glaze_table_trilinear(uint corner, uvec3 strides, vec3 weights, fl
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-float tunable_glaze_coat_extra(float cos_theta, float roughness, float eta_1) {
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
+float tunable_glaze_coat_scale(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta = (u_cos_theta * 15.0);
     float cell_cos_theta = min(floor(node_cos_theta), 14.0);
@@ -118,65 +120,30 @@ float tunable_glaze_coat_extra(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float value = tunable_glaze_table_trilinear(uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))), uvec3(1u, 16u, 256u), vec3(weight_cos_theta, weight_roughness, weight_eta), 1.4542611e-6, 0.0);
+    float value = tunable_glaze_table_trilinear(uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))), uvec3(1u, 16u, 256u), vec3(weight_cos_theta, weight_roughness, weight_eta), 5.1992565e-6, 0.9212891);
     return value;
-}
-
-// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
-// of their values, scale·code + offset, each weighted by the product over the axes of the
-// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
-// is `strides` entries further.
-float tunable_glaze_table_bilinear(uint corner_1, uvec2 strides_1, vec2 weights_1, float scale_1, float offset_1) {
-    float code_ll = tunable_glaze_table_code(corner_1);
-    float code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
-    float code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
-    float code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
-    return ((((((code_ll * scale_1) + offset_1) * ((1.0 - weights_1.x) * (1.0 - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1.0 - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1.0 - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-float tunable_glaze_coat_extra_avg(float roughness_1, float eta_2) {
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_1, float eta_2) {
+    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
+    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
+    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
     float u_roughness_1 = sqrt(min(max(roughness_1, 0.0), 1.0));
-    float node_roughness_1 = (u_roughness_1 * 15.0);
-    float cell_roughness_1 = min(floor(node_roughness_1), 14.0);
+    float node_roughness_1 = (u_roughness_1 * 31.0);
+    float cell_roughness_1 = min(floor(node_roughness_1), 30.0);
     float weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
     float u_eta_1 = min(max((((eta_2 - 1.0) * 2.0) / (eta_2 + 1.0)), 0.0), 1.0);
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float value = tunable_glaze_table_bilinear((uint((cell_roughness_1 + (cell_eta_1 * 16.0))) + 2048u), uvec2(1u, 16u), vec2(weight_roughness_1, weight_eta_1), 4.36632e-7, 0.0);
-    return value;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-float tunable_glaze_multiple_scattering_lobe(float e_i, float e_o, float e_avg) {
-    return ((e_i * e_o) / (max(e_avg, 1e-6) * 3.1415927));
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_2, float eta_3) {
-    float u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float node_cos_theta_1 = (u_cos_theta_1 * 31.0);
-    float cell_cos_theta_1 = min(floor(node_cos_theta_1), 30.0);
-    float weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
-    float node_roughness_2 = (u_roughness_2 * 31.0);
-    float cell_roughness_2 = min(floor(node_roughness_2), 30.0);
-    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    float u_eta_2 = min(max((((eta_3 - 1.0) * 2.0) / (eta_3 + 1.0)), 0.0), 1.0);
-    float node_eta_2 = (u_eta_2 * 7.0);
-    float cell_eta_2 = min(floor(node_eta_2), 6.0);
-    float weight_eta_2 = (node_eta_2 - cell_eta_2);
-    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_1 + (cell_roughness_2 * 32.0)) + (cell_eta_2 * 1024.0))) + 2176u), uvec3(1u, 32u, 1024u), vec3(weight_cos_theta_1, weight_roughness_2, weight_eta_2), 1.4786756e-5, -0.0058085914);
+    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u), uvec3(1u, 32u, 1024u), vec3(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 1.4581692e-5, -0.009180314);
     return value;
 }
 
@@ -184,8 +151,8 @@ float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_2, float eta
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_4) {
-    return -(refract(-(w), n, (1.0 / eta_4)));
+vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_3) {
+    return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -193,20 +160,20 @@ vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_4) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-float tunable_glaze_coat_path(float cos_theta_2, float roughness_3, float eta_5) {
+float tunable_glaze_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float node_cos_theta_2 = (u_cos_theta_2 * 11.0);
     float cell_cos_theta_2 = min(floor(node_cos_theta_2), 10.0);
     float weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
-    float node_roughness_3 = (u_roughness_3 * 11.0);
-    float cell_roughness_3 = min(floor(node_roughness_3), 10.0);
-    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    float u_eta_3 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
-    float node_eta_3 = (u_eta_3 * 7.0);
-    float cell_eta_3 = min(floor(node_eta_3), 6.0);
-    float weight_eta_3 = (node_eta_3 - cell_eta_3);
-    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_2 + (cell_roughness_3 * 12.0)) + (cell_eta_3 * 144.0))) + 10368u), uvec3(1u, 12u, 144u), vec3(weight_cos_theta_2, weight_roughness_3, weight_eta_3), 1.0802426e-5, 0.8801917);
+    float u_roughness_2 = sqrt(min(max(roughness_2, 0.0), 1.0));
+    float node_roughness_2 = (u_roughness_2 * 11.0);
+    float cell_roughness_2 = min(floor(node_roughness_2), 10.0);
+    float weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    float u_eta_2 = min(max((((eta_4 - 1.0) * 2.0) / (eta_4 + 1.0)), 0.0), 1.0);
+    float node_eta_2 = (u_eta_2 * 7.0);
+    float cell_eta_2 = min(floor(node_eta_2), 6.0);
+    float weight_eta_2 = (node_eta_2 - cell_eta_2);
+    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_2 + (cell_roughness_2 * 12.0)) + (cell_eta_2 * 144.0))) + 10240u), uvec3(1u, 12u, 144u), vec3(weight_cos_theta_2, weight_roughness_2, weight_eta_2), 1.072428e-5, 0.88077754);
     return value;
 }
 
@@ -228,9 +195,9 @@ float tunable_glaze_e_fon(float mu_1, float r) {
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 vec3 tunable_glaze_eon_rho_ms(vec3 albedo, float r_1) {
-    float e_avg_1 = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    vec3 _e15 = (albedo * (1.0 - e_avg_1));
-    return (((albedo * albedo) * e_avg_1) / (vec3(1.0) - _e15));
+    float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
+    vec3 _e15 = (albedo * (1.0 - e_avg));
+    return (((albedo * albedo) * e_avg) / (vec3(1.0) - _e15));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -243,18 +210,18 @@ vec3 tunable_glaze_fd_eon(vec3 albedo_1, float r_2, float n_dot_v_2, float n_dot
     vec3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
     float e_o = tunable_glaze_e_fon(n_dot_v_2, r_2);
     float e_i = tunable_glaze_e_fon(n_dot_l_2, r_2);
-    float e_avg_2 = (a_f * ((r_2 * 0.07248825) + 1.0));
+    float e_avg_1 = (a_f * ((r_2 * 0.07248825) + 1.0));
     vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
-    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_2), 1e-7) * 3.1415927)));
+    vec3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
 vec3 tunable_glaze_albedo_avg_eon(vec3 albedo_2, float r_3) {
-    float e_avg_3 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
+    float e_avg_2 = (((r_3 * 0.07248825) + 1.0) / ((r_3 * 0.2877934) + 1.0));
     vec3 rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
-    return ((albedo_2 * e_avg_3) + (rho_ms * (1.0 - e_avg_3)));
+    return ((albedo_2 * e_avg_2) + (rho_ms * (1.0 - e_avg_2)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
@@ -269,37 +236,49 @@ vec3 tunable_glaze_albedo_eon(vec3 albedo_3, float r_4, float mu_2) {
 // of their values, scale·code + offset, each weighted by the product over the axes of the
 // upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
 // is `strides` entries further.
-float tunable_glaze_table_linear(uint corner_2, uint strides_2, float weights_2, float scale_2, float offset_2) {
-    float code_l = tunable_glaze_table_code(corner_2);
-    float code_u = tunable_glaze_table_code((corner_2 + strides_2));
-    return ((((code_l * scale_2) + offset_2) * (1.0 - weights_2)) + (((code_u * scale_2) + offset_2) * weights_2));
+float tunable_glaze_table_linear(uint corner_1, uint strides_1, float weights_1, float scale_1, float offset_1) {
+    float code_l = tunable_glaze_table_code(corner_1);
+    float code_u = tunable_glaze_table_code((corner_1 + strides_1));
+    return ((((code_l * scale_1) + offset_1) * (1.0 - weights_1)) + (((code_u * scale_1) + offset_1) * weights_1));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
-float tunable_glaze_fresnel_transmit_avg(float eta_6) {
-    float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
-    float node_eta_4 = (u_eta_4 * 63.0);
-    float cell_eta_4 = min(floor(node_eta_4), 62.0);
-    float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float value = tunable_glaze_table_linear((uint(cell_eta_4) + 11520u), 1u, weight_eta_4, 4.2145934e-6, 0.7237966);
+float tunable_glaze_fresnel_transmit_avg(float eta_5) {
+    float u_eta_3 = min(max((((eta_5 - 1.0) * 2.0) / (eta_5 + 1.0)), 0.0), 1.0);
+    float node_eta_3 = (u_eta_3 * 63.0);
+    float cell_eta_3 = min(floor(node_eta_3), 62.0);
+    float weight_eta_3 = (node_eta_3 - cell_eta_3);
+    float value = tunable_glaze_table_linear((uint(cell_eta_3) + 11392u), 1u, weight_eta_3, 4.2145934e-6, 0.7237966);
     return value;
+}
+
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+float tunable_glaze_table_bilinear(uint corner_2, uvec2 strides_2, vec2 weights_2, float scale_2, float offset_2) {
+    float code_ll = tunable_glaze_table_code(corner_2);
+    float code_ul = tunable_glaze_table_code((corner_2 + strides_2.x));
+    float code_lu = tunable_glaze_table_code((corner_2 + strides_2.y));
+    float code_uu = tunable_glaze_table_code(((corner_2 + strides_2.x) + strides_2.y));
+    return ((((((code_ll * scale_2) + offset_2) * ((1.0 - weights_2.x) * (1.0 - weights_2.y))) + (((code_ul * scale_2) + offset_2) * (weights_2.x * (1.0 - weights_2.y)))) + (((code_lu * scale_2) + offset_2) * ((1.0 - weights_2.x) * weights_2.y))) + (((code_uu * scale_2) + offset_2) * (weights_2.x * weights_2.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-float tunable_glaze_coat_deficit_avg(float roughness_4, float eta_7) {
-    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
-    float node_roughness_4 = (u_roughness_4 * 31.0);
-    float cell_roughness_4 = min(floor(node_roughness_4), 30.0);
-    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    float u_eta_5 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
-    float node_eta_5 = (u_eta_5 * 7.0);
-    float cell_eta_5 = min(floor(node_eta_5), 6.0);
-    float weight_eta_5 = (node_eta_5 - cell_eta_5);
-    float value = tunable_glaze_table_bilinear((uint((cell_roughness_4 + (cell_eta_5 * 32.0))) + 11584u), uvec2(1u, 32u), vec2(weight_roughness_4, weight_eta_5), 2.646295e-6, -0.0021989432);
+float tunable_glaze_coat_deficit_avg(float roughness_3, float eta_6) {
+    float u_roughness_3 = sqrt(min(max(roughness_3, 0.0), 1.0));
+    float node_roughness_3 = (u_roughness_3 * 31.0);
+    float cell_roughness_3 = min(floor(node_roughness_3), 30.0);
+    float weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    float u_eta_4 = min(max((((eta_6 - 1.0) * 2.0) / (eta_6 + 1.0)), 0.0), 1.0);
+    float node_eta_4 = (u_eta_4 * 7.0);
+    float cell_eta_4 = min(floor(node_eta_4), 6.0);
+    float weight_eta_4 = (node_eta_4 - cell_eta_4);
+    float value = tunable_glaze_table_bilinear((uint((cell_roughness_3 + (cell_eta_4 * 32.0))) + 11456u), uvec2(1u, 32u), vec2(weight_roughness_3, weight_eta_4), 2.2024374e-6, -0.001829707);
     return value;
 }
 
@@ -309,12 +288,34 @@ float tunable_glaze_coat_deficit_avg(float roughness_4, float eta_7) {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-float tunable_glaze_coat_return(float tau_1, float roughness_5, float eta_8) {
+float tunable_glaze_coat_return(float tau_1, float roughness_4, float eta_7) {
     float _e4 = max(tau_1, 0.0);
     float u_tau = (_e4 / (_e4 + 1.0));
     float node_tau = (u_tau * 15.0);
     float cell_tau = min(floor(node_tau), 14.0);
     float weight_tau = (node_tau - cell_tau);
+    float u_roughness_4 = sqrt(min(max(roughness_4, 0.0), 1.0));
+    float node_roughness_4 = (u_roughness_4 * 15.0);
+    float cell_roughness_4 = min(floor(node_roughness_4), 14.0);
+    float weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    float u_eta_5 = min(max((((eta_7 - 1.0) * 2.0) / (eta_7 + 1.0)), 0.0), 1.0);
+    float node_eta_5 = (u_eta_5 * 7.0);
+    float cell_eta_5 = min(floor(node_eta_5), 6.0);
+    float weight_eta_5 = (node_eta_5 - cell_eta_5);
+    float value = tunable_glaze_table_trilinear((uint(((cell_tau + (cell_roughness_4 * 16.0)) + (cell_eta_5 * 256.0))) + 11712u), uvec3(1u, 16u, 256u), vec3(weight_tau, weight_roughness_4, weight_eta_5), 0.00017667137, 1.0);
+    return value;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
+// leaving the body that escapes through the coat (normalised like coat_return).
+float tunable_glaze_coat_escape(float tau_2, float roughness_5, float eta_8) {
+    float _e4 = max(tau_2, 0.0);
+    float u_tau_1 = (_e4 / (_e4 + 1.0));
+    float node_tau_1 = (u_tau_1 * 15.0);
+    float cell_tau_1 = min(floor(node_tau_1), 14.0);
+    float weight_tau_1 = (node_tau_1 - cell_tau_1);
     float u_roughness_5 = sqrt(min(max(roughness_5, 0.0), 1.0));
     float node_roughness_5 = (u_roughness_5 * 15.0);
     float cell_roughness_5 = min(floor(node_roughness_5), 14.0);
@@ -323,29 +324,7 @@ float tunable_glaze_coat_return(float tau_1, float roughness_5, float eta_8) {
     float node_eta_6 = (u_eta_6 * 7.0);
     float cell_eta_6 = min(floor(node_eta_6), 6.0);
     float weight_eta_6 = (node_eta_6 - cell_eta_6);
-    float value = tunable_glaze_table_trilinear((uint(((cell_tau + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 11840u), uvec3(1u, 16u, 256u), vec3(weight_tau, weight_roughness_5, weight_eta_6), 0.00017661336, 1.0);
-    return value;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
-// leaving the body that escapes through the coat (normalised like coat_return).
-float tunable_glaze_coat_escape(float tau_2, float roughness_6, float eta_9) {
-    float _e4 = max(tau_2, 0.0);
-    float u_tau_1 = (_e4 / (_e4 + 1.0));
-    float node_tau_1 = (u_tau_1 * 15.0);
-    float cell_tau_1 = min(floor(node_tau_1), 14.0);
-    float weight_tau_1 = (node_tau_1 - cell_tau_1);
-    float u_roughness_6 = sqrt(min(max(roughness_6, 0.0), 1.0));
-    float node_roughness_6 = (u_roughness_6 * 15.0);
-    float cell_roughness_6 = min(floor(node_roughness_6), 14.0);
-    float weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    float u_eta_7 = min(max((((eta_9 - 1.0) * 2.0) / (eta_9 + 1.0)), 0.0), 1.0);
-    float node_eta_7 = (u_eta_7 * 7.0);
-    float cell_eta_7 = min(floor(node_eta_7), 6.0);
-    float weight_eta_7 = (node_eta_7 - cell_eta_7);
-    float value = tunable_glaze_table_trilinear((uint(((cell_tau_1 + (cell_roughness_6 * 16.0)) + (cell_eta_7 * 256.0))) + 13888u), uvec3(1u, 16u, 256u), vec3(weight_tau_1, weight_roughness_6, weight_eta_7), 1.5259022e-5, 0.0);
+    float value = tunable_glaze_table_trilinear((uint(((cell_tau_1 + (cell_roughness_5 * 16.0)) + (cell_eta_6 * 256.0))) + 13760u), uvec3(1u, 16u, 256u), vec3(weight_tau_1, weight_roughness_5, weight_eta_6), 1.5259022e-5, 0.0);
     return value;
 }
 
@@ -370,9 +349,9 @@ vec3 tunable_glaze_slab_return_node(float mu_c_1, float inv_eta, vec3 tau_4, flo
 // absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
 // Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
 // τ are literals.
-vec3 tunable_glaze_slab_return(float eta_10, vec3 tau_5) {
-    float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
-    float inv_eta_2 = (1.0 / eta_10);
+vec3 tunable_glaze_slab_return(float eta_9, vec3 tau_5) {
+    float mu_c_3 = sqrt(max((1.0 - (1.0 / (eta_9 * eta_9))), 0.0));
+    float inv_eta_2 = (1.0 / eta_9);
     vec3 node = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.009219683, 0.023587668);
     vec3 node_1 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.04794137, 0.05346966);
     vec3 node_2 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.11504866, 0.080039166);
@@ -412,9 +391,9 @@ vec3 tunable_glaze_slab_escape_node(float mu_c_2, float inv_eta_1, vec3 tau_6, f
 // diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
 // coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
 // literals.
-vec3 tunable_glaze_slab_escape(float eta_11, vec3 tau_7) {
-    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_11 * eta_11))), 0.0));
-    float inv_eta_3 = (1.0 / eta_11);
+vec3 tunable_glaze_slab_escape(float eta_10, vec3 tau_7) {
+    float mu_c_4 = sqrt(max((1.0 - (1.0 / (eta_10 * eta_10))), 0.0));
+    float inv_eta_3 = (1.0 / eta_10);
     vec3 node = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683, 0.023587668);
     vec3 node_1 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137, 0.05346966);
     vec3 node_2 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866, 0.080039166);
@@ -434,12 +413,12 @@ vec3 tunable_glaze_slab_escape(float eta_11, vec3 tau_7) {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
 // smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
-float tunable_glaze_eon_escape_shape(float eta_12) {
-    float u_eta_8 = min(max((((eta_12 - 1.0) * 2.0) / (eta_12 + 1.0)), 0.0), 1.0);
-    float node_eta_8 = (u_eta_8 * 31.0);
-    float cell_eta_8 = min(floor(node_eta_8), 30.0);
-    float weight_eta_8 = (node_eta_8 - cell_eta_8);
-    float value = tunable_glaze_table_linear((uint(cell_eta_8) + 15936u), 1u, weight_eta_8, 4.9967284e-6, 0.99966115);
+float tunable_glaze_eon_escape_shape(float eta_11) {
+    float u_eta_7 = min(max((((eta_11 - 1.0) * 2.0) / (eta_11 + 1.0)), 0.0), 1.0);
+    float node_eta_7 = (u_eta_7 * 31.0);
+    float cell_eta_7 = min(floor(node_eta_7), 30.0);
+    float weight_eta_7 = (node_eta_7 - cell_eta_7);
+    float value = tunable_glaze_table_linear((uint(cell_eta_7) + 15808u), 1u, weight_eta_7, 4.9967284e-6, 0.99966115);
     return value;
 }
 
@@ -449,9 +428,9 @@ float tunable_glaze_eon_escape_shape(float eta_12) {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-vec3 tunable_glaze_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1, vec3 rho_below, vec3 r_return) {
+vec3 tunable_glaze_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
     vec3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -459,8 +438,8 @@ vec3 tunable_glaze_interfaced_diffuse_under(vec3 f_below, vec3 e_i_1, vec3 e_o_1
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-vec3 tunable_glaze_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_13) {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
+vec3 tunable_glaze_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_12) {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -479,29 +458,27 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float _e31 = tunable_glaze_fr_dielectric(dot(v_1, h), params.glaze_ior);
     float fresnel_2 = ((params.glaze_ior < 1.0) ? min(_e28, _e29) : _e31);
     vec3 _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
-    float layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float _e37 = tunable_glaze_coat_extra_avg(params.glaze_roughness, params.glaze_ior);
-    float _e38 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
-    vec3 specular = (_e34 + vec3(_e38));
+    float layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    vec3 specular = ((params.glaze_ior < 1.0) ? _e34 : (_e34 * (layer1_scale_l * layer1_scale_v)));
     float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
-    float _e43 = (1.0 - layer1_fresnel_l);
-    float _e44 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e43 : min(max(((_e43 + _e44) - layer1_restored_l), 0.0), 1.0));
+    float _e44 = (1.0 - layer1_fresnel_l);
+    float _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e44 : min(max((_e44 + _e45), 0.0), 1.0));
     float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
     float _e56 = (1.0 - layer1_fresnel_v);
     float _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max(((_e56 + _e57) - layer1_restored_v), 0.0), 1.0));
+    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max((_e56 + _e57), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     vec3 layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e75 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
-    float _e80 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
+    float _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
+    float _e79 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
@@ -509,46 +486,46 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     vec3 layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    float _e101 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
-    float _e102 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_avg = ((_e101 + _e102) - _e37);
-    float _e106 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    float _e108 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e110 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e112 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    vec3 _e114 = (vec3(_e108, _e110, _e112) * _e106);
-    float _e123 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e125 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e127 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    bool _e131 = (params.glaze_ior < 1.0);
-    vec3 _e132 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    vec3 _e133 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    vec3 layer1_r_return = (_e131 ? _e132 : max((vec3(1.0) - _e114), vec3(0.0)));
-    float layer1_transmit_avg_1 = ((_e101 + _e102) - _e37);
-    float _e139 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    vec3 _e140 = vec3(_e139);
-    bool _e150 = (params.glaze_ior < 1.0);
-    vec3 _e153 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
-    vec3 _e156 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
-    vec3 layer1_r_return_1 = (_e150 ? _e153 : max((vec3(1.0) - _e140), vec3(0.0)));
+    float _e100 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    float _e101 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_avg = (_e100 + _e101);
+    float _e104 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    float _e106 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e108 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e110 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    vec3 _e112 = (vec3(_e106, _e108, _e110) * _e104);
+    float _e121 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e123 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e125 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    bool _e129 = (params.glaze_ior < 1.0);
+    vec3 _e130 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    vec3 _e131 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
+    vec3 layer1_r_return = (_e129 ? _e130 : max((vec3(1.0) - _e112), vec3(0.0)));
+    float layer1_transmit_avg_1 = (_e100 + _e101);
+    float _e136 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    vec3 _e137 = vec3(_e136);
+    bool _e147 = (params.glaze_ior < 1.0);
+    vec3 _e150 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
+    vec3 _e153 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
+    vec3 layer1_r_return_1 = (_e147 ? _e150 : max((vec3(1.0) - _e137), vec3(0.0)));
     float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e75));
-    float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e80));
-    vec3 _e171 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    float _e172 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e172)) * (layer1_eon_escape_shape - 1.0)) / max(_e171, vec3(1e-6))));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e150 ? _e156 : vec3(_e139)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e200 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    float _e201 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e201)) * (layer1_eon_escape_shape - 1.0)) / max(_e200, vec3(1e-6))));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * (_e150 ? _e156 : vec3(_e139)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    float _e236 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
-    float _e252 = min(max((((1.0 - ((_e236 * _e236) * _e236)) / max((1.0 - (_e236 * _e236)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e253 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e252);
-    float _e254 = tunable_glaze_e_fon(_e252, params.body_roughness);
-    vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e254)) * (layer1_eon_escape_shape - 1.0)) / max(_e253, vec3(1e-6))));
-    vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e150 ? _e156 : vec3(_e139)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
+    float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
+    vec3 _e168 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    float _e169 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e169)) * (layer1_eon_escape_shape - 1.0)) / max(_e168, vec3(1e-6))));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    vec3 _e197 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    float _e198 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e198)) * (layer1_eon_escape_shape - 1.0)) / max(_e197, vec3(1e-6))));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float _e233 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
+    float _e249 = min(max((((1.0 - ((_e233 * _e233) * _e233)) / max((1.0 - (_e233 * _e233)), 1e-6)) * 0.6666667), 0.0), 1.0);
+    vec3 _e250 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e249);
+    float _e251 = tunable_glaze_e_fon(_e249, params.body_roughness);
+    vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e251)) * (layer1_eon_escape_shape - 1.0)) / max(_e250, vec3(1e-6))));
+    vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
     vec3 under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
@@ -567,9 +544,9 @@ vec2 tunable_glaze_equirect_uv(vec3 d_1) {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 tunable_glaze_environment(vec3 direction, float roughness_7) {
+vec3 tunable_glaze_environment(vec3 direction, float roughness_6) {
     vec2 uv = tunable_glaze_equirect_uv(direction);
-    float lod = (roughness_7 * (float(uint(textureQueryLevels(tunable_glaze_radiance))) - 1.0));
+    float lod = (roughness_6 * (float(uint(textureQueryLevels(tunable_glaze_radiance))) - 1.0));
     vec4 _e11 = textureLod(tunable_glaze_radiance, vec2(uv), lod);
     return _e11.xyz;
 }
@@ -594,8 +571,8 @@ vec3 tunable_glaze_interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 r
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-vec3 tunable_glaze_interfaced_albedo(float eta_14, float e_escape_clear, vec3 e_escape_1, vec3 r_return_2, vec3 rho_below_2) {
-    float eta_sq = (eta_14 * eta_14);
+vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3 r_return_2, vec3 rho_below_2) {
+    float eta_sq = (eta_13 * eta_13);
     float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
     vec3 _e12 = (rho_below_2 * r_return_2);
     return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1.0) - _e12)) + vec3(e_fresnel));
@@ -624,72 +601,70 @@ vec3 tunable_glaze_ibl(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
     float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, params_2.glaze_ior);
     float _e15 = (1.0 - layer1_fresnel_l);
     float _e16 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_restored_l = tunable_glaze_coat_extra(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max(((_e15 + _e16) - layer1_restored_l), 0.0), 1.0));
-    float _e28 = (1.0 - layer1_fresnel_l);
-    float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e28 : min(max(((_e28 + _e16) - layer1_restored_l), 0.0), 1.0));
+    float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max((_e15 + _e16), 0.0), 1.0));
+    float _e26 = (1.0 - layer1_fresnel_l);
+    float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e26 : min(max((_e26 + _e16), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e42 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_path_cos_l_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
-    float layer1_path_cos_v_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
+    float _e39 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_path_cos_l_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
+    float layer1_path_cos_v_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_v_2);
     float blur_1 = ((abs((1.0 - (1.0 / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677);
     vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    float _e64 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
-    float _e65 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    float _e66 = tunable_glaze_coat_extra_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_transmit_avg_2 = ((_e64 + _e65) - _e66);
-    float _e70 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
-    float _e72 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e74 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e76 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    vec3 _e78 = (vec3(_e72, _e74, _e76) * _e70);
-    float _e87 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e89 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e91 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    bool _e95 = (params_2.glaze_ior < 1.0);
-    vec3 _e96 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
-    vec3 _e97 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
-    vec3 layer1_r_return_2 = (_e95 ? _e96 : max((vec3(1.0) - _e78), vec3(0.0)));
-    vec3 _e99 = (_e95 ? _e97 : (vec3(_e87, _e89, _e91) * _e70));
-    float layer1_transmit_avg_3 = ((_e64 + _e65) - _e66);
-    float _e103 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
-    vec3 _e104 = vec3(_e103);
-    bool _e114 = (params_2.glaze_ior < 1.0);
-    vec3 _e117 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0.0));
-    vec3 _e120 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0.0));
-    vec3 layer1_r_return_3 = (_e114 ? _e117 : max((vec3(1.0) - _e104), vec3(0.0)));
-    vec3 _e122 = (_e114 ? _e120 : vec3(_e103));
+    float _e61 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
+    float _e62 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_transmit_avg_2 = (_e61 + _e62);
+    float _e65 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
+    float _e67 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e69 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e71 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    vec3 _e73 = (vec3(_e67, _e69, _e71) * _e65);
+    float _e82 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e84 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e86 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    bool _e90 = (params_2.glaze_ior < 1.0);
+    vec3 _e91 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
+    vec3 _e92 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
+    vec3 layer1_r_return_2 = (_e90 ? _e91 : max((vec3(1.0) - _e73), vec3(0.0)));
+    vec3 _e94 = (_e90 ? _e92 : (vec3(_e82, _e84, _e86) * _e65));
+    float layer1_transmit_avg_3 = (_e61 + _e62);
+    float _e97 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
+    vec3 _e98 = vec3(_e97);
+    bool _e108 = (params_2.glaze_ior < 1.0);
+    vec3 _e111 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0.0));
+    vec3 _e114 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0.0));
+    vec3 layer1_r_return_3 = (_e108 ? _e111 : max((vec3(1.0) - _e98), vec3(0.0)));
+    vec3 _e116 = (_e108 ? _e114 : vec3(_e97));
     float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params_2.glaze_ior);
     vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    float layer1_path_cos_l_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
-    float layer1_path_cos_v_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e42));
-    vec3 _e135 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    float _e136 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    vec3 layer1_first_escape_l_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e136)) * (layer1_eon_escape_shape - 1.0)) / max(_e135, vec3(1e-6))));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e164 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    float _e165 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e165)) * (layer1_eon_escape_shape - 1.0)) / max(_e164, vec3(1e-6))));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    float _e200 = sqrt(max((1.0 - (1.0 / (params_2.glaze_ior * params_2.glaze_ior))), 0.0));
-    float _e216 = min(max((((1.0 - ((_e200 * _e200) * _e200)) / max((1.0 - (_e200 * _e200)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e217 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e216);
-    float _e218 = tunable_glaze_e_fon(_e216, params_2.body_roughness);
-    vec3 layer1_first_escape_cone_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e218)) * (layer1_eon_escape_shape - 1.0)) / max(_e217, vec3(1e-6))));
-    vec3 layer1_first_return_cone_1 = min(max(((vec3(1.0) - (layer1_first_escape_cone_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_l_1, layer1_first_return_l_1);
-    vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_v_1, layer1_first_return_v_1);
-    vec3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e122.x, _e99, layer1_r_return_2, layer1_rho);
+    float layer1_path_cos_l_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
+    float layer1_path_cos_v_3 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
+    vec3 _e129 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    float _e130 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    vec3 layer1_first_escape_l_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e130)) * (layer1_eon_escape_shape - 1.0)) / max(_e129, vec3(1e-6))));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    vec3 _e158 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    float _e159 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e159)) * (layer1_eon_escape_shape - 1.0)) / max(_e158, vec3(1e-6))));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float _e194 = sqrt(max((1.0 - (1.0 / (params_2.glaze_ior * params_2.glaze_ior))), 0.0));
+    float _e210 = min(max((((1.0 - ((_e194 * _e194) * _e194)) / max((1.0 - (_e194 * _e194)), 1e-6)) * 0.6666667), 0.0), 1.0);
+    vec3 _e211 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e210);
+    float _e212 = tunable_glaze_e_fon(_e210, params_2.body_roughness);
+    vec3 layer1_first_escape_cone_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e212)) * (layer1_eon_escape_shape - 1.0)) / max(_e211, vec3(1e-6))));
+    vec3 layer1_first_return_cone_1 = min(max(((vec3(1.0) - (layer1_first_escape_cone_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    vec3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e94, layer1_first_escape_l_1, layer1_first_return_l_1);
+    vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e94, layer1_first_escape_v_1, layer1_first_return_v_1);
+    vec3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e116.x, _e94, layer1_r_return_2, layer1_rho);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    bool _e265 = (dot(n_4, v_4) > 0.0);
+    bool _e259 = (dot(n_4, v_4) > 0.0);
     vec3 light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
     vec3 light_b = tunable_glaze_irradiance_at(n_4);
-    return (((_e265 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e265 ? under_albedo : vec3(0.0)) * light_b));
+    return (((_e259 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e259 ? under_albedo : vec3(0.0)) * light_b));
 }

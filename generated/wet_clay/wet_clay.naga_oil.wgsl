@@ -2,7 +2,7 @@
 #define_import_path glazec::wet_clay
 
 const wet_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.11659962f, 0.11659962f, 0.11659962f);
+const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.11657971f, 0.11657971f, 0.11657971f);
 const wet_clay_layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 
@@ -77,49 +77,46 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.12, eta = 1.33 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it): no table read.
-fn wet_clay_coat_extra_curve(cos_theta: f32) -> f32 {
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn wet_clay_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = (0.0010925519f + dot((min(max(vec3(u), vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)) - vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.0869788f, 0.23727193f, 0.39809644f)));
-    let f_1 = (f + dot((min(max(vec3(u), vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)) - vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.2699311f, -0.20600021f, -0.39035493f)));
-    let f_2 = (f_1 + dot((min(max(vec3(u), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.24466835f, -0.1083341f, -0.03847635f)));
-    let f_3 = (f_2 + dot((min(max(vec3(u), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.012524265f, -0.0057400935f, -0.0015397702f)));
-    let f_4 = (f_3 + dot((min(max(vec3(u), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(-0.00049228925f, -0.0004468308f, -0.00007660015f)));
-    return f_4;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn wet_clay_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
+    let f = ((u * 0.10215103f) + 1.000458f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.19674449f, 0.23803984f, -0.16421565f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.5898964f, -0.15967013f, 0.18314482f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.1204348f, 0.0433695f, 0.022888185f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.0040197377f, 0.012479425f, -0.004073382f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.002101064f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0043129926f));
+    return f_6;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.12, eta = 1.33 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn wet_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_5 = ((u_1 * 0.012312442f) + -0.00034498563f);
-    let f_6 = (f_5 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.013081104f, 0.014221162f, 0.013466358f)));
-    let f_7 = (f_6 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.00088599324f, -0.03608413f, -0.11888108f)));
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.23107655f, -0.31338894f, -0.30158138f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.18189977f, 0.054906175f, 0.18928336f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.21284892f, 0.19407225f, 0.15157685f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.10867732f, 0.07374232f, 0.047391016f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.034662437f, 0.021938352f, 0.016115818f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.010482618f, 0.0066695036f, 0.0039460715f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0020093047f, 0.0014331861f, 0.00044266268f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.00012353197f, -0.00022089764f, -0.00057611306f)));
-    return f_15;
+    let f_7 = ((u_1 * -0.073486164f) + -0.00078662566f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.013768002f, -0.1300918f, -0.002807647f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.121340424f, -0.06928116f, -0.0034016967f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.2566341f, 0.018279731f, -0.067988664f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12588611f, 0.12976222f, 0.12627275f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.14185674f, 0.1368721f, 0.06456471f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.08373688f, 0.031232009f, 0.03484352f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.017606257f, 0.020969963f, 0.014611003f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0073634824f, 0.0030219718f, 0.0037809932f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0029762809f, 0.0009788395f, -0.000007756847f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000013495686f, -0.0007781948f, -0.0000020290636f)));
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -139,12 +136,12 @@ fn wet_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn wet_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_16 = ((u_2 * -0.14205861f) + 1.002812f);
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.15594661f, -0.5617225f, -0.17849576f)));
-    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.32010722f, 0.40435708f, 0.20917626f)));
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.062463924f, 0.022351125f, 0.012212166f)));
-    let f_20 = (f_19 + (max(u_2, 0.90909094f) * 0.004816409f));
-    return f_20;
+    let f_18 = ((u_2 * -0.01600051f) + 1.0027214f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.34522128f, -0.49502707f, -0.183918f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.32279932f, 0.41598308f, 0.19065149f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.07171647f, 0.01959608f, 0.011121162f)));
+    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.005647775f));
+    return f_22;
 }
 
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)
@@ -174,9 +171,9 @@ fn wet_clay_fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-fn wet_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+fn wet_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -200,30 +197,29 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let g = wet_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.0144f);
     let fresnel = wet_clay_fr_dielectric(dot(v_1, h), 1.33f);
     let _e21 = wet_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = wet_clay_coat_extra_curve(n_dot_l_3);
-    let layer1_restored_v = wet_clay_coat_extra_curve(n_dot_v_3);
-    let _e25 = wet_clay_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, 0.00031305003f);
-    let specular = (_e21 + vec3(_e25));
+    let layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
+    let layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_3);
+    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_l_3, 1.33f);
-    let _e32 = wet_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e32) - layer1_restored_l), 0f), 1f);
+    let _e30 = wet_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_3, 1.33f);
-    let _e43 = wet_clay_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e43) - layer1_restored_v), 0f), 1f);
+    let _e40 = wet_clay_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = wet_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e60 = wet_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e60);
-    let _e62 = wet_clay_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_v = (layer1_cos_v / _e62);
-    let _e65 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
-    let absorb_l = vec3(_e65);
-    let _e68 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
-    let absorb_v = vec3(_e68);
+    let _e56 = wet_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e56);
+    let _e58 = wet_clay_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_v = (layer1_cos_v / _e58);
+    let _e61 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
+    let absorb_l = vec3(_e61);
+    let _e64 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
+    let absorb_v = vec3(_e64);
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let under = wet_clay_interfaced_diffuse_under(layer1_f_base, vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), wet_clay_layer1_rho, wet_clay_layer1_r_return);
     let f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
@@ -289,27 +285,26 @@ fn wet_clay_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_4, 1.33f);
     let _e9 = wet_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_restored_l = wet_clay_coat_extra_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e30 = wet_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e30);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e30);
-    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
-    let absorb_l_1 = vec3(_e34);
-    let _e37 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
-    let absorb_v_1 = vec3(_e37);
-    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604128f), vec3(1f), vec3(1f));
-    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604128f), vec3(1f), vec3(1f));
+    let _e27 = wet_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
+    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
+    let absorb_l_1 = vec3(_e31);
+    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
+    let absorb_v_1 = vec3(_e34);
+    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
+    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
-    let _e71 = (dot(n_4, v_4) > 0f);
+    let _e68 = (dot(n_4, v_4) > 0f);
     let light_a = wet_clay_environment(reflected, 0.12f);
     let light_b = wet_clay_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e71) * light_a) + (select(vec3(0f), under_albedo, _e71) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e68) * light_a) + (select(vec3(0f), under_albedo, _e68) * light_b));
 }
 

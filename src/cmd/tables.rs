@@ -49,15 +49,22 @@ pub fn run(args: Args) -> Result<(), Failure> {
             report.max_flux_identity_error, report.max_single_event_sigma
         );
         eprintln!(
-            "single-scattering deficit: the lookup overshot the truth by up to {:.2e} between nodes (nodes lowered)",
+            "coat lobe scale c ∈ [{:.3}, {:.3}]: the scaled lobe reflects E_ss + E_ms within {:.1e} at the nodes",
+            report.scale_range.0, report.scale_range.1, report.max_scale_miss
+        );
+        eprintln!(
+            "coat deficit: the lookup overshot the scaled lobe's by up to {:.2e} between nodes (nodes lowered)",
             report.max_deficit_excess
         );
     }
     eprintln!(
         "glossy level: fitted trapped-light generating function within {:.1e} of the walks'; lobe scale misses its \
          target by up to {:.1e}; a white conductor under a clear coat reflected up to {:.1e} more than it received \
-         at the probes between nodes (K fitted to the law there)",
-        report.glossy.max_tail_fit_error, report.glossy.max_scale_miss, report.glossy.max_energy_excess
+         at the probes between nodes (K fitted to the law there: E − 1 ≤ {:.1e} at every probe after the fit)",
+        report.glossy.max_tail_fit_error,
+        report.glossy.max_scale_miss,
+        report.glossy.max_energy_excess,
+        report.glossy.max_energy_after_fit
     );
     let file = OutputFile { path: args.out.clone(), contents: tables::encode(&values) };
     output::write_all(&[file]).with_context(|| format!("cannot write {}", args.out.display()))?;

@@ -95,8 +95,8 @@ pub struct Approximations {
     /// Schlick's approximation (Schlick 1994) for the coats' dielectric Fresnel reflectance
     /// instead of the exact formula (`fresnel: Schlick`; default `Exact`).
     pub schlick_fresnel: bool,
-    /// Leave out the light a rough coat reflects after several microfacet bounces (the
-    /// Kulla–Conty compensation lobe): it is lost, as in a single-scattering microfacet model
+    /// Leave out the light a rough coat reflects after several microfacet bounces (the scaling of
+    /// its lobe that compensates for them): it is lost, as in a single-scattering microfacet model
     /// (`multiple_scattering: false`; default `true`).
     pub single_scattering: bool,
 }

@@ -4,13 +4,16 @@
 //! Every value is computed in f64 from the reference's microsurface (Heitz et al. 2016), never
 //! from the compiled math it will feed:
 //!
-//! * the single-scattering deficit G(μ) = F(μ) − E_ss(μ) of a rough dielectric interface (GGX D,
-//!   height-correlated Smith G2, exact Fresnel with total internal reflection), E_ss by
-//!   deterministic quadrature over half vectors;
-//! * the share E_ms(μ) that leaves on the reflection side after two or more microfacet events,
+//! * the share E_ms(μ) that a rough dielectric interface (GGX D, height-correlated Smith G2,
+//!   exact Fresnel with total internal reflection) reflects after two or more microfacet events,
 //!   by counting analog microsurface random walks (`walks` per entry: standard error at most
-//!   √(E_ms/walks)). The walk's single-event share equals E_ss in this model (the generator
-//!   checks it), and the walk conserves energy, so T(μ) = 1 − E_ss − E_ms = 1 − F + G − E_ms;
+//!   √(E_ms/walks)), and the single-scattering albedo E_ss by deterministic quadrature over half
+//!   vectors (the walk's single-event share equals it in this model; the generator checks it);
+//! * the scale c(μ) of the interface's reflection lobe ([`scale`]), so that f_ss·c(μi)·c(μo)
+//!   reflects E_ss + E_ms at the nodes, and the deficit G(μ) = F(μ) − A(μ), A that scaled lobe's
+//!   albedo by quadrature through the lookups of c: so T(μ) = 1 − F + G = 1 − A exactly at the
+//!   deficit's nodes, and at most that between them (the nodes are lowered until the lookup
+//!   never overshoots the quadrature inside a cell);
 //! * the geometric-mean cosine of the directions the walks transmit into (the path factor);
 //! * seen from inside (relative IOR 1/η), R_int(μ) = E_ss + E_ms likewise, at 32 Gauss–Legendre
 //!   nodes split at the critical cosine, integrated into R(τ) and E_esc(τ) at each depth node and
@@ -20,6 +23,8 @@
 //! equations. Cosine axes start at μ = [`GRAZING_COSINE`], where the lobes clamp their cosines.
 
 pub mod glossy;
+mod interface;
+mod scale;
 
 use glam::DVec3;
 use glazec::math::sampling::direction_at_cosine;
@@ -30,13 +35,11 @@ use crate::reference::microsurface::{self, RoughDielectric};
 use crate::reference::{Rng, fresnel_dielectric};
 use glazec::math::quadrature::gauss_legendre_16;
 use glazec::math::tables::{Axis, TableId, TableSpec};
+use interface::{SMOOTH_ALPHA, single_scattering_albedo};
 
 /// The smallest cosine any node is evaluated at (the first node of a cosine axis; μ = 0 itself
 /// is degenerate): the lobes' clamp.
 pub const GRAZING_COSINE: f64 = glazec::math::tables::COSINE_FLOOR;
-
-/// GGX α below which an interface is smooth (the reference's threshold).
-const SMOOTH_ALPHA: f64 = 1e-3;
 
 /// What generation measured about its own consistency.
 #[derive(Clone, Copy, Debug, Default)]
@@ -48,8 +51,12 @@ pub struct Report {
     /// Largest deviation of the walks' single-event reflection share from the quadrature E_ss,
     /// in standard errors (a check of both).
     pub max_single_event_sigma: f64,
-    /// Largest amount by which the interpolated single-scattering deficit exceeded the true one
-    /// between its nodes before generation lowered them (see `glazec tables`).
+    /// Largest |A/(E_ss + E_ms) − 1| of the scaled coat lobe at the scale table's nodes once
+    /// solved, and the range of c.
+    pub max_scale_miss: f64,
+    pub scale_range: (f64, f64),
+    /// Largest amount by which the interpolated deficit exceeded the true one (of the scaled
+    /// lobe) between its nodes before generation lowered them.
     pub max_deficit_excess: f64,
     /// What the glossy level's tables measured about themselves.
     pub glossy: glossy::GlossyReport,
@@ -57,27 +64,13 @@ pub struct Report {
 
 /// One column of a table (every node along its first axis) at an (r, η) node pair.
 enum Column {
-    Deficit {
-        values: Vec<f64>,
-        average: f64,
-    },
-    ExtraAndSlab {
-        extra: Vec<f64>,
-        extra_average: f64,
-        returned: Vec<f64>,
-        escape: Vec<f64>,
-        identity_error: f64,
-        sigma: f64,
-    },
-    Path {
-        values: Vec<f64>,
-    },
+    ScaleAndSlab { scale: Vec<f64>, miss: f64, returned: Vec<f64>, escape: Vec<f64>, identity_error: f64, sigma: f64 },
+    Path { values: Vec<f64> },
 }
 
 #[derive(Clone, Copy)]
 enum Job {
-    Deficit(usize, usize),
-    ExtraAndSlab(usize, usize),
+    ScaleAndSlab(usize, usize),
     Path(usize, usize),
 }
 
@@ -85,75 +78,78 @@ enum Job {
 /// per node of the glossy level's tables; `progress(done, total)`.
 pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Vec<f32>>, Report) {
     let dims = |id: TableId| -> Vec<usize> { id.spec().axes.iter().map(|&(_, n)| n).collect() };
-    let (deficit, extra, path, slab) =
-        (dims(TableId::CoatDeficit), dims(TableId::CoatExtra), dims(TableId::CoatPath), dims(TableId::CoatReturn));
+    let (deficit, scale, path, slab) =
+        (dims(TableId::CoatDeficit), dims(TableId::CoatScale), dims(TableId::CoatPath), dims(TableId::CoatReturn));
+    assert_eq!((scale[1], scale[2]), (slab[1], slab[2]), "the scale and the slab tables share their (r, η) nodes");
     let mut jobs = Vec::new();
-    for e in 0..deficit[2] {
-        jobs.extend((0..deficit[1]).map(|r| Job::Deficit(r, e)));
-    }
-    for e in 0..extra[2] {
-        jobs.extend((0..extra[1]).map(|r| Job::ExtraAndSlab(r, e)));
+    for e in 0..scale[2] {
+        jobs.extend((0..scale[1]).map(|r| Job::ScaleAndSlab(r, e)));
     }
     for e in 0..path[2] {
         jobs.extend((0..path[1]).map(|r| Job::Path(r, e)));
     }
     let done = std::sync::atomic::AtomicUsize::new(0);
+    let total = jobs.len() + deficit[1] * deficit[2];
+    let tick = || progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, total);
     let run = |k: usize| {
         let seed = k as u64;
         match jobs[k] {
-            Job::Deficit(r, e) => {
-                deficit_column(Axis::Roughness.node(r, deficit[1]), Axis::Ior.node(e, deficit[2]), deficit[0])
-            }
-            Job::ExtraAndSlab(r, e) => {
-                let (roughness, eta) = (Axis::Roughness.node(r, extra[1]), Axis::Ior.node(e, extra[2]));
-                extra_and_slab_column(roughness, eta, extra[0], slab[0], walks, seed)
+            Job::ScaleAndSlab(r, e) => {
+                let (roughness, eta) = (Axis::Roughness.node(r, scale[1]), Axis::Ior.node(e, scale[2]));
+                scale_and_slab_column(roughness, eta, scale[0], slab[0], walks, seed)
             }
             Job::Path(r, e) => {
                 path_column(Axis::Roughness.node(r, path[1]), Axis::Ior.node(e, path[2]), path[0], walks, seed)
             }
         }
     };
-    let results = crate::parallel_map(jobs.len(), run, |_| {
-        progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, jobs.len())
-    });
+    let results = crate::parallel_map(jobs.len(), run, |_| tick());
     let mut tables: Vec<Vec<f32>> = TableId::ALL.iter().map(|id| vec![0.0; id.spec().len()]).collect();
-    let mut report = Report::default();
-    let mut put = |id: TableId, column: usize, values: &[f64]| {
-        let n = values.len();
-        for (i, v) in values.iter().enumerate() {
-            tables[id as usize][i + n * column] = *v as f32;
-        }
-    };
+    let mut report = Report { scale_range: (f64::INFINITY, 0.0), ..Report::default() };
     for (job, column) in jobs.iter().zip(results) {
         match (*job, column) {
-            (Job::Deficit(r, e), Column::Deficit { values, average }) => {
-                put(TableId::CoatDeficit, r + deficit[1] * e, &values);
-                put(TableId::CoatDeficitAvg, r + deficit[1] * e, &[average]);
-            }
             (
-                Job::ExtraAndSlab(r, e),
-                Column::ExtraAndSlab { extra: values, extra_average, returned, escape, identity_error, sigma },
+                Job::ScaleAndSlab(r, e),
+                Column::ScaleAndSlab { scale: values, miss, returned, escape, identity_error, sigma },
             ) => {
-                let col = r + extra[1] * e;
-                put(TableId::CoatExtra, col, &values);
-                put(TableId::CoatExtraAvg, col, &[extra_average]);
-                put(TableId::CoatReturn, col, &returned);
-                put(TableId::CoatEscape, col, &escape);
+                let col = r + scale[1] * e;
+                put(&mut tables, TableId::CoatScale, col, &values);
+                put(&mut tables, TableId::CoatReturn, col, &returned);
+                put(&mut tables, TableId::CoatEscape, col, &escape);
+                report.max_scale_miss = report.max_scale_miss.max(miss);
+                let (lo, hi) = report.scale_range;
+                report.scale_range = values.iter().fold((lo, hi), |(lo, hi), &c| (lo.min(c), hi.max(c)));
                 report.max_flux_identity_error = report.max_flux_identity_error.max(identity_error);
                 report.max_single_event_sigma = report.max_single_event_sigma.max(sigma);
             }
-            (Job::Path(r, e), Column::Path { values }) => put(TableId::CoatPath, r + path[1] * e, &values),
+            (Job::Path(r, e), Column::Path { values }) => put(&mut tables, TableId::CoatPath, r + path[1] * e, &values),
             _ => unreachable!("each job yields its own kind of column"),
         }
     }
     let n_eta = TableId::FresnelTransmitAvg.spec().axes[0].1;
     let fresnel: Vec<f64> = (0..n_eta).map(|e| smooth_transmission_average(Axis::Ior.node(e, n_eta))).collect();
-    put(TableId::FresnelTransmitAvg, 0, &fresnel);
+    put(&mut tables, TableId::FresnelTransmitAvg, 0, &fresnel);
     let n_eta = TableId::EonEscapeShape.spec().axes[0].1;
     let shape: Vec<f64> = (0..n_eta)
         .map(|e| f64::from(glazec::math::terms::eon_escape_shape_exact::<f32>(Axis::Ior.node(e, n_eta) as f32)))
         .collect();
-    put(TableId::EonEscapeShape, 0, &shape);
+    put(&mut tables, TableId::EonEscapeShape, 0, &shape);
+    // The deficit of the scaled lobe, through the lookups of c as stored.
+    glazec::math::tables::evaluate_on_cpu_with(&tables);
+    let columns = crate::parallel_map(
+        deficit[1] * deficit[2],
+        |k| {
+            let (roughness, eta) =
+                (Axis::Roughness.node(k % deficit[1], deficit[1]), Axis::Ior.node(k / deficit[1], deficit[2]));
+            (0..deficit[0])
+                .map(|i| deficit_at(Axis::Cosine.node(i, deficit[0]), roughness, eta).unwrap_or(0.0))
+                .collect::<Vec<_>>()
+        },
+        |_| tick(),
+    );
+    for (k, values) in columns.iter().enumerate() {
+        put(&mut tables, TableId::CoatDeficit, k, values);
+    }
     report.max_deficit_excess = make_deficit_conservative(&mut tables[TableId::CoatDeficit as usize], &deficit);
     let columns = tables[TableId::CoatDeficit as usize].chunks(deficit[0]);
     let averages: Vec<f32> =
@@ -172,6 +168,14 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
     }
     report.glossy = glossy::generate(&mut tables, glossy_walks, progress);
     (tables, report)
+}
+
+/// Stores `values` as column `column` of table `id` (columns of `values.len()` entries).
+fn put(tables: &mut [Vec<f32>], id: TableId, column: usize, values: &[f64]) {
+    let n = values.len();
+    for (i, v) in values.iter().enumerate() {
+        tables[id as usize][i + n * column] = *v as f32;
+    }
 }
 
 /// Only the glossy level's tables, every other table taken from `existing` (values per table
@@ -247,23 +251,6 @@ fn seed_dfg(lobe: SeedLobe, spec: &TableSpec) -> (Vec<f32>, Vec<f32>) {
     values.into_iter().map(|(a, b)| (a as f32, b as f32)).unzip()
 }
 
-/// The single-scattering reflection lobe of a rough dielectric seen from the side where the
-/// relative IOR is `eta` (TIR included): D G2 F / (4 μi μo).
-fn dielectric_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return 0.0;
-    }
-    let h = (wi + wo).normalize();
-    microsurface::ggx_d(h, alpha) * microsurface::g2(wi, wo, alpha) * fresnel_dielectric(wo.dot(h), eta)
-        / (4.0 * wi.z * wo.z)
-}
-
-/// E_ss(μ): the single-scattering reflection albedo, by quadrature.
-fn single_scattering_albedo(mu: f64, eta: f64, alpha: f64) -> f64 {
-    let lobe = |wi: DVec3, wo: DVec3| DVec3::splat(dielectric_lobe(wi, wo, eta, alpha));
-    directional_albedo_f64(&lobe, direction_at_cosine(mu), alpha).x
-}
-
 /// What a microsurface's walks from one direction show.
 struct Walks {
     /// Share reflected after a single event.
@@ -302,37 +289,29 @@ fn sigma(walks: &Walks, single: f64, n: u32) -> f64 {
     (walks.single - single).abs() / std_err
 }
 
-fn deficit_column(roughness: f64, eta: f64, n_mu: usize) -> Column {
-    let alpha = roughness * roughness;
-    let values: Vec<f64> = (0..n_mu)
-        .map(|i| {
-            if alpha < SMOOTH_ALPHA || eta == 1.0 {
-                return 0.0;
-            }
-            let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
-            fresnel_dielectric(mu, eta) - single_scattering_albedo(mu, eta, alpha)
-        })
-        .collect();
-    let average = curve_average(&values);
-    Column::Deficit { values, average }
-}
-
-fn extra_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, walks: u32, seed: u64) -> Column {
+/// The scale column at the nodes of its cosine axis (`n_mu`) and the slab column at the nodes
+/// of its depth axis (`n_tau`), at one (r, η) node: the walks from outside give E_ms (the
+/// scale's target, with E_ss) and the transmitted share (the flux identity's check), those from
+/// inside the slab's internal reflection.
+fn scale_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, walks: u32, seed: u64) -> Column {
     let alpha = roughness * roughness;
     // Below α = 10⁻³ the reference treats an interface as smooth (pbrt's `EffectivelySmooth`),
     // and so do the tables.
     let smooth = alpha < SMOOTH_ALPHA || eta == 1.0;
     let mut worst_sigma = 0.0_f64;
-    let extra: Vec<f64> = (0..n_mu)
-        .map(|i| {
-            if smooth {
-                return 0.0;
-            }
-            let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
-            walk(mu, eta, alpha, walks, seed << 20 | i as u64).multiple
-        })
-        .collect();
-    let extra_average = curve_average(&extra);
+    let cosines: Vec<f64> = (0..n_mu).map(|i| Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE)).collect();
+    let (mut targets, mut outer_transmit) = (Vec::new(), Vec::new());
+    if !smooth {
+        for (i, &mu) in cosines.iter().enumerate() {
+            let single = single_scattering_albedo(mu, eta, alpha);
+            let w = walk(mu, eta, alpha, walks, seed << 20 | i as u64);
+            worst_sigma = worst_sigma.max(sigma(&w, single, walks));
+            targets.push(single + w.multiple);
+            outer_transmit.push(1.0 - w.single - w.multiple);
+        }
+    }
+    let (scale, miss) =
+        if smooth { (vec![1.0; n_mu], 0.0) } else { scale::scale_column(roughness, eta, &cosines, &targets) };
     // Inside: relative IOR 1/η, 32 Gauss–Legendre nodes split at the critical cosine.
     let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
     let gl = gauss_legendre_16();
@@ -370,17 +349,9 @@ fn extra_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, wa
         returned.push((1.0 - r) / inner_transmit);
         escape.push(e / inner_transmit);
     }
-    let identity_error = if smooth {
-        0.0
-    } else {
-        let deficit = match deficit_column(roughness, eta, 32) {
-            Column::Deficit { average, .. } => average,
-            _ => 0.0,
-        };
-        let outer_transmit = smooth_transmission_average(eta) + deficit - extra_average;
-        (eta * eta * inner_transmit - outer_transmit).abs()
-    };
-    Column::ExtraAndSlab { extra, extra_average, returned, escape, identity_error, sigma: worst_sigma }
+    // The flux identity η²⟨T_int⟩ = ⟨T⟩ checks the walks from inside against those from outside.
+    let identity_error = if smooth { 0.0 } else { (eta * eta * inner_transmit - curve_average(&outer_transmit)).abs() };
+    Column::ScaleAndSlab { scale, miss, returned, escape, identity_error, sigma: worst_sigma }
 }
 
 fn path_column(roughness: f64, eta: f64, n_mu: usize, walks: u32, seed: u64) -> Column {
@@ -425,9 +396,9 @@ fn smooth_transmission_average(eta: f64) -> f64 {
 const DEFICIT_PROBES: [f64; 3] = [0.25, 0.5, 0.75];
 const DEFICIT_PROBES_IOR: [f64; 4] = [0.0, 0.25, 0.5, 0.75];
 
-/// The single-scattering deficit G(μ) = F(μ) − E_ss(μ) at any argument (0 for η = 1, no
-/// interface); `None` below [`SMOOTH_ALPHA`], where the nodes hold the smooth interface's 0 and
-/// the quadrature does not resolve the lobe.
+/// The deficit G(μ) = F(μ) − A(μ) at any argument, A the scaled lobe's albedo through the
+/// lookups of c (0 for η = 1, no interface); `None` below [`SMOOTH_ALPHA`], where the nodes hold
+/// the smooth interface's 0 and the quadrature does not resolve the lobe.
 fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
     let alpha = roughness * roughness;
     if alpha < SMOOTH_ALPHA {
@@ -437,20 +408,14 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
         return Some(0.0);
     }
     let mu = mu.max(GRAZING_COSINE);
-    Some(fresnel_dielectric(mu, eta) - single_scattering_albedo(mu, eta, alpha))
+    Some(fresnel_dielectric(mu, eta) - scale::scaled_albedo(mu, roughness, eta))
 }
 
-/// Makes the deficit table never overestimate: the transmission T = 1 − F + G − E_ms must not
-/// exceed what the analytic single-scattering lobe beside it leaves (1 − E_ss − E_ms), or a
-/// white stack reflects more than it receives. Near grazing incidence, where α ≈ μ, G bends
-/// sharply between nodes and the multilinear lookup overshoots it by up to 3·10⁻³ (the energy
-/// gains in docs/stability.md). Each cell is probed at [`DEFICIT_PROBES`] ×
-/// [`DEFICIT_PROBES`] × [`DEFICIT_PROBES_IOR`] against the true deficit (quadrature; probes
-/// with α below [`SMOOTH_ALPHA`] are skipped, as the nodes there are), and
-/// every node is lowered by the largest overshoot found in any cell it is a corner of: the
-/// lookup is a convex combination of corners, so at every probe it then lies at or below the
-/// truth. Returns the largest overshoot found. Costs a little energy where it lowers (the
-/// lookup undershoots instead), never adds any.
+/// Makes the deficit table never overestimate: the transmission T = 1 − F + G must not exceed
+/// what the scaled lobe beside it leaves (1 − A), or a white stack reflects more than it
+/// receives. Near grazing incidence, where α ≈ μ, G bends sharply between nodes and the
+/// multilinear lookup overshoots it by up to 3·10⁻³ (the energy gains in docs/stability.md).
+/// Each cell is probed at [`DEFICIT_PROBES`] ×
 fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
     let (n_mu, n_r, n_eta) = (dims[0], dims[1], dims[2]);
     let index = |i: usize, j: usize, k: usize| i + n_mu * (j + n_r * k);

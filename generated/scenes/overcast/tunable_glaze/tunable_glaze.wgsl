@@ -9,7 +9,7 @@ struct TunableGlazeParams {
 }
 
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 1996>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 1980>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -107,9 +107,11 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
+fn tunable_glaze_coat_scale(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
@@ -122,65 +124,30 @@ fn tunable_glaze_coat_extra(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let value = tunable_glaze_table_trilinear(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, weight_eta), 0.0000014542611f, 0f);
+    let value = tunable_glaze_table_trilinear(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, weight_eta), 0.0000051992565f, 0.9212891f);
     return value;
-}
-
-// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
-// of their values, scale·code + offset, each weighted by the product over the axes of the
-// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
-// is `strides` entries further.
-fn tunable_glaze_table_bilinear(corner_1: u32, strides_1: vec2<u32>, weights_1: vec2<f32>, scale_1: f32, offset_1: f32) -> f32 {
-    let code_ll = tunable_glaze_table_code(corner_1);
-    let code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
-    let code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
-    let code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
-    return ((((((code_ll * scale_1) + offset_1) * ((1f - weights_1.x) * (1f - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1f - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1f - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
-fn tunable_glaze_coat_extra_avg(roughness_1: f32, eta_2: f32) -> f32 {
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
     let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
-    let node_roughness_1 = (u_roughness_1 * 15f);
-    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
     let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
     let u_eta_1 = min(max((((eta_2 - 1f) * 2f) / (eta_2 + 1f)), 0f), 1f);
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let value = tunable_glaze_table_bilinear((u32((cell_roughness_1 + (cell_eta_1 * 16f))) + 2048u), vec2<u32>(1u, 16u), vec2<f32>(weight_roughness_1, weight_eta_1), 0.000000436632f, 0f);
-    return value;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn tunable_glaze_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) -> f32 {
-    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
-    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
-    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 31f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 30f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let u_eta_2 = min(max((((eta_3 - 1f) * 2f) / (eta_3 + 1f)), 0f), 1f);
-    let node_eta_2 = (u_eta_2 * 7f);
-    let cell_eta_2 = min(floor(node_eta_2), 6f);
-    let weight_eta_2 = (node_eta_2 - cell_eta_2);
-    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_1 + (cell_roughness_2 * 32f)) + (cell_eta_2 * 1024f))) + 2176u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_2, weight_eta_2), 0.000014786756f, -0.0058085914f);
+    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 2048u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 0.000014581692f, -0.009180314f);
     return value;
 }
 
@@ -188,8 +155,8 @@ fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_2: f32, eta_3: f32) ->
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
 // zero vector, whose cosine 0 makes every transmission factor 0.
-fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f32> {
-    return -(refract(-(w), n, (1f / eta_4)));
+fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f32> {
+    return -(refract(-(w), n, (1f / eta_3)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -197,20 +164,20 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_4: f32) -> vec3<f3
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_3: f32, eta_5: f32) -> f32 {
+fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
-    let node_roughness_3 = (u_roughness_3 * 11f);
-    let cell_roughness_3 = min(floor(node_roughness_3), 10f);
-    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
-    let node_eta_3 = (u_eta_3 * 7f);
-    let cell_eta_3 = min(floor(node_eta_3), 6f);
-    let weight_eta_3 = (node_eta_3 - cell_eta_3);
-    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_2 + (cell_roughness_3 * 12f)) + (cell_eta_3 * 144f))) + 10368u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_3, weight_eta_3), 0.000010802426f, 0.8801917f);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 11f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let u_eta_2 = min(max((((eta_4 - 1f) * 2f) / (eta_4 + 1f)), 0f), 1f);
+    let node_eta_2 = (u_eta_2 * 7f);
+    let cell_eta_2 = min(floor(node_eta_2), 6f);
+    let weight_eta_2 = (node_eta_2 - cell_eta_2);
+    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_2 + (cell_roughness_2 * 12f)) + (cell_eta_2 * 144f))) + 10240u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_2, weight_eta_2), 0.00001072428f, 0.88077754f);
     return value;
 }
 
@@ -232,9 +199,9 @@ fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
-    let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg_1));
-    return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
+    let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
+    let _e15 = (albedo * (1f - e_avg));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -247,18 +214,18 @@ fn tunable_glaze_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = tunable_glaze_e_fon(n_dot_v_2, r_2);
     let e_i = tunable_glaze_e_fon(n_dot_l_2, r_2);
-    let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
+    let e_avg_1 = (a_f * ((r_2 * 0.07248825f) + 1f));
     let rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
 fn tunable_glaze_albedo_avg_eon(albedo_2: vec3<f32>, r_3: f32) -> vec3<f32> {
-    let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
+    let e_avg_2 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
     let rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
-    return ((albedo_2 * e_avg_3) + (rho_ms * (1f - e_avg_3)));
+    return ((albedo_2 * e_avg_2) + (rho_ms * (1f - e_avg_2)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
@@ -273,37 +240,49 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
 // of their values, scale·code + offset, each weighted by the product over the axes of the
 // upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
 // is `strides` entries further.
-fn tunable_glaze_table_linear(corner_2: u32, strides_2: u32, weights_2: f32, scale_2: f32, offset_2: f32) -> f32 {
-    let code_l = tunable_glaze_table_code(corner_2);
-    let code_u = tunable_glaze_table_code((corner_2 + strides_2));
-    return ((((code_l * scale_2) + offset_2) * (1f - weights_2)) + (((code_u * scale_2) + offset_2) * weights_2));
+fn tunable_glaze_table_linear(corner_1: u32, strides_1: u32, weights_1: f32, scale_1: f32, offset_1: f32) -> f32 {
+    let code_l = tunable_glaze_table_code(corner_1);
+    let code_u = tunable_glaze_table_code((corner_1 + strides_1));
+    return ((((code_l * scale_1) + offset_1) * (1f - weights_1)) + (((code_u * scale_1) + offset_1) * weights_1));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
-fn tunable_glaze_fresnel_transmit_avg(eta_6: f32) -> f32 {
-    let u_eta_4 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
-    let node_eta_4 = (u_eta_4 * 63f);
-    let cell_eta_4 = min(floor(node_eta_4), 62f);
-    let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let value = tunable_glaze_table_linear((u32(cell_eta_4) + 11520u), 1u, weight_eta_4, 0.0000042145934f, 0.7237966f);
+fn tunable_glaze_fresnel_transmit_avg(eta_5: f32) -> f32 {
+    let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
+    let node_eta_3 = (u_eta_3 * 63f);
+    let cell_eta_3 = min(floor(node_eta_3), 62f);
+    let weight_eta_3 = (node_eta_3 - cell_eta_3);
+    let value = tunable_glaze_table_linear((u32(cell_eta_3) + 11392u), 1u, weight_eta_3, 0.0000042145934f, 0.7237966f);
     return value;
+}
+
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_bilinear(corner_2: u32, strides_2: vec2<u32>, weights_2: vec2<f32>, scale_2: f32, offset_2: f32) -> f32 {
+    let code_ll = tunable_glaze_table_code(corner_2);
+    let code_ul = tunable_glaze_table_code((corner_2 + strides_2.x));
+    let code_lu = tunable_glaze_table_code((corner_2 + strides_2.y));
+    let code_uu = tunable_glaze_table_code(((corner_2 + strides_2.x) + strides_2.y));
+    return ((((((code_ll * scale_2) + offset_2) * ((1f - weights_2.x) * (1f - weights_2.y))) + (((code_ul * scale_2) + offset_2) * (weights_2.x * (1f - weights_2.y)))) + (((code_lu * scale_2) + offset_2) * ((1f - weights_2.x) * weights_2.y))) + (((code_uu * scale_2) + offset_2) * (weights_2.x * weights_2.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
-fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_7: f32) -> f32 {
-    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
-    let node_roughness_4 = (u_roughness_4 * 31f);
-    let cell_roughness_4 = min(floor(node_roughness_4), 30f);
-    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let u_eta_5 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
-    let node_eta_5 = (u_eta_5 * 7f);
-    let cell_eta_5 = min(floor(node_eta_5), 6f);
-    let weight_eta_5 = (node_eta_5 - cell_eta_5);
-    let value = tunable_glaze_table_bilinear((u32((cell_roughness_4 + (cell_eta_5 * 32f))) + 11584u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_4, weight_eta_5), 0.000002646295f, -0.0021989432f);
+fn tunable_glaze_coat_deficit_avg(roughness_3: f32, eta_6: f32) -> f32 {
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 31f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 30f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let u_eta_4 = min(max((((eta_6 - 1f) * 2f) / (eta_6 + 1f)), 0f), 1f);
+    let node_eta_4 = (u_eta_4 * 7f);
+    let cell_eta_4 = min(floor(node_eta_4), 6f);
+    let weight_eta_4 = (node_eta_4 - cell_eta_4);
+    let value = tunable_glaze_table_bilinear((u32((cell_roughness_3 + (cell_eta_4 * 32f))) + 11456u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, weight_eta_4), 0.0000022024374f, -0.001829707f);
     return value;
 }
 
@@ -313,12 +292,34 @@ fn tunable_glaze_coat_deficit_avg(roughness_4: f32, eta_7: f32) -> f32 {
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
-fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_8: f32) -> f32 {
+fn tunable_glaze_coat_return(tau_1: f32, roughness_4: f32, eta_7: f32) -> f32 {
     let _e4 = max(tau_1, 0f);
     let u_tau = (_e4 / (_e4 + 1f));
     let node_tau = (u_tau * 15f);
     let cell_tau = min(floor(node_tau), 14f);
     let weight_tau = (node_tau - cell_tau);
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 15f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 14f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let u_eta_5 = min(max((((eta_7 - 1f) * 2f) / (eta_7 + 1f)), 0f), 1f);
+    let node_eta_5 = (u_eta_5 * 7f);
+    let cell_eta_5 = min(floor(node_eta_5), 6f);
+    let weight_eta_5 = (node_eta_5 - cell_eta_5);
+    let value = tunable_glaze_table_trilinear((u32(((cell_tau + (cell_roughness_4 * 16f)) + (cell_eta_5 * 256f))) + 11712u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_4, weight_eta_5), 0.00017667137f, 1f);
+    return value;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
+// leaving the body that escapes through the coat (normalised like coat_return).
+fn tunable_glaze_coat_escape(tau_2: f32, roughness_5: f32, eta_8: f32) -> f32 {
+    let _e4 = max(tau_2, 0f);
+    let u_tau_1 = (_e4 / (_e4 + 1f));
+    let node_tau_1 = (u_tau_1 * 15f);
+    let cell_tau_1 = min(floor(node_tau_1), 14f);
+    let weight_tau_1 = (node_tau_1 - cell_tau_1);
     let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
     let node_roughness_5 = (u_roughness_5 * 15f);
     let cell_roughness_5 = min(floor(node_roughness_5), 14f);
@@ -327,29 +328,7 @@ fn tunable_glaze_coat_return(tau_1: f32, roughness_5: f32, eta_8: f32) -> f32 {
     let node_eta_6 = (u_eta_6 * 7f);
     let cell_eta_6 = min(floor(node_eta_6), 6f);
     let weight_eta_6 = (node_eta_6 - cell_eta_6);
-    let value = tunable_glaze_table_trilinear((u32(((cell_tau + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 11840u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_5, weight_eta_6), 0.00017661336f, 1f);
-    return value;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
-// leaving the body that escapes through the coat (normalised like coat_return).
-fn tunable_glaze_coat_escape(tau_2: f32, roughness_6: f32, eta_9: f32) -> f32 {
-    let _e4 = max(tau_2, 0f);
-    let u_tau_1 = (_e4 / (_e4 + 1f));
-    let node_tau_1 = (u_tau_1 * 15f);
-    let cell_tau_1 = min(floor(node_tau_1), 14f);
-    let weight_tau_1 = (node_tau_1 - cell_tau_1);
-    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
-    let node_roughness_6 = (u_roughness_6 * 15f);
-    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
-    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    let u_eta_7 = min(max((((eta_9 - 1f) * 2f) / (eta_9 + 1f)), 0f), 1f);
-    let node_eta_7 = (u_eta_7 * 7f);
-    let cell_eta_7 = min(floor(node_eta_7), 6f);
-    let weight_eta_7 = (node_eta_7 - cell_eta_7);
-    let value = tunable_glaze_table_trilinear((u32(((cell_tau_1 + (cell_roughness_6 * 16f)) + (cell_eta_7 * 256f))) + 13888u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_6, weight_eta_7), 0.000015259022f, 0f);
+    let value = tunable_glaze_table_trilinear((u32(((cell_tau_1 + (cell_roughness_5 * 16f)) + (cell_eta_6 * 256f))) + 13760u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_5, weight_eta_6), 0.000015259022f, 0f);
     return value;
 }
 
@@ -374,9 +353,9 @@ fn tunable_glaze_slab_return_node(mu_c_1: f32, inv_eta: f32, tau_4: vec3<f32>, s
 // absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
 // Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
 // τ are literals.
-fn tunable_glaze_slab_return(eta_10: f32, tau_5: vec3<f32>) -> vec3<f32> {
-    let mu_c_3 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
-    let inv_eta_2 = (1f / eta_10);
+fn tunable_glaze_slab_return(eta_9: f32, tau_5: vec3<f32>) -> vec3<f32> {
+    let mu_c_3 = sqrt(max((1f - (1f / (eta_9 * eta_9))), 0f));
+    let inv_eta_2 = (1f / eta_9);
     let node = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.009219683f, 0.023587668f);
     let node_1 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.04794137f, 0.05346966f);
     let node_2 = tunable_glaze_slab_tir_node(mu_c_3, tau_5, 0.11504866f, 0.080039166f);
@@ -416,9 +395,9 @@ fn tunable_glaze_slab_escape_node(mu_c_2: f32, inv_eta_1: f32, tau_6: vec3<f32>,
 // diffuse light leaving the base that escapes through the coat (docs/derivations.md, "Smooth
 // coat over Lambert"). Gauss–Legendre quadrature; folded to a constant when η and τ are
 // literals.
-fn tunable_glaze_slab_escape(eta_11: f32, tau_7: vec3<f32>) -> vec3<f32> {
-    let mu_c_4 = sqrt(max((1f - (1f / (eta_11 * eta_11))), 0f));
-    let inv_eta_3 = (1f / eta_11);
+fn tunable_glaze_slab_escape(eta_10: f32, tau_7: vec3<f32>) -> vec3<f32> {
+    let mu_c_4 = sqrt(max((1f - (1f / (eta_10 * eta_10))), 0f));
+    let inv_eta_3 = (1f / eta_10);
     let node = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.009219683f, 0.023587668f);
     let node_1 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.04794137f, 0.05346966f);
     let node_2 = tunable_glaze_slab_escape_node(mu_c_4, inv_eta_3, tau_7, 0.11504866f, 0.080039166f);
@@ -438,12 +417,12 @@ fn tunable_glaze_slab_escape(eta_11: f32, tau_7: vec3<f32>) -> vec3<f32> {
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
 // smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
-fn tunable_glaze_eon_escape_shape(eta_12: f32) -> f32 {
-    let u_eta_8 = min(max((((eta_12 - 1f) * 2f) / (eta_12 + 1f)), 0f), 1f);
-    let node_eta_8 = (u_eta_8 * 31f);
-    let cell_eta_8 = min(floor(node_eta_8), 30f);
-    let weight_eta_8 = (node_eta_8 - cell_eta_8);
-    let value = tunable_glaze_table_linear((u32(cell_eta_8) + 15936u), 1u, weight_eta_8, 0.0000049967284f, 0.99966115f);
+fn tunable_glaze_eon_escape_shape(eta_11: f32) -> f32 {
+    let u_eta_7 = min(max((((eta_11 - 1f) * 2f) / (eta_11 + 1f)), 0f), 1f);
+    let node_eta_7 = (u_eta_7 * 31f);
+    let cell_eta_7 = min(floor(node_eta_7), 30f);
+    let weight_eta_7 = (node_eta_7 - cell_eta_7);
+    let value = tunable_glaze_table_linear((u32(cell_eta_7) + 15808u), 1u, weight_eta_7, 0.0000049967284f, 0.99966115f);
     return value;
 }
 
@@ -453,9 +432,9 @@ fn tunable_glaze_eon_escape_shape(eta_12: f32) -> f32 {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -463,8 +442,8 @@ fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, 
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
 // lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
 // (étendue). Symmetric in i and o, so reciprocal.
-fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_13: f32) -> vec3<f32> {
-    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_13 * eta_13))));
+fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_12: f32) -> vec3<f32> {
+    return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -483,29 +462,27 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e31 = tunable_glaze_fr_dielectric(dot(v_1, h), params.glaze_ior);
     let fresnel_2 = select(_e31, min(_e28, _e29), (params.glaze_ior < 1f));
     let _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_restored_v = tunable_glaze_coat_extra(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let _e37 = tunable_glaze_coat_extra_avg(params.glaze_roughness, params.glaze_ior);
-    let _e38 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e37);
-    let specular = (_e34 + vec3(_e38));
+    let layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let specular = select((_e34 * (layer1_scale_l * layer1_scale_v)), _e34, (params.glaze_ior < 1f));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
-    let _e43 = (1f - layer1_fresnel_l);
-    let _e44 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_l = select(min(max(((_e43 + _e44) - layer1_restored_l), 0f), 1f), _e43, (params.glaze_ior < 1f));
+    let _e44 = (1f - layer1_fresnel_l);
+    let _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_l = select(min(max((_e44 + _e45), 0f), 1f), _e44, (params.glaze_ior < 1f));
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
     let _e56 = (1f - layer1_fresnel_v);
     let _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_v = select(min(max(((_e56 + _e57) - layer1_restored_v), 0f), 1f), _e56, (params.glaze_ior < 1f));
+    let layer1_transmit_v = select(min(max((_e56 + _e57), 0f), 1f), _e56, (params.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e75 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_l = select((layer1_cos_l / _e75), layer1_cos_l, (params.glaze_ior < 1f));
-    let _e80 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_v = select((layer1_cos_v / _e80), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_l = select((layer1_cos_l / _e74), layer1_cos_l, (params.glaze_ior < 1f));
+    let _e79 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_v = select((layer1_cos_v / _e79), layer1_cos_v, (params.glaze_ior < 1f));
     let absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
@@ -513,46 +490,46 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e101 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
-    let _e102 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_avg = ((_e101 + _e102) - _e37);
-    let _e106 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    let _e108 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e110 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e112 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e114 = (vec3<f32>(_e108, _e110, _e112) * _e106);
-    let _e123 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e125 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e127 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e131 = (params.glaze_ior < 1f);
-    let _e132 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    let _e133 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    let layer1_r_return = select(max((vec3(1f) - _e114), vec3(0f)), _e132, _e131);
-    let layer1_transmit_avg_1 = ((_e101 + _e102) - _e37);
-    let _e139 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    let _e140 = vec3(_e139);
-    let _e150 = (params.glaze_ior < 1f);
-    let _e153 = tunable_glaze_slab_return(params.glaze_ior, vec3(0f));
-    let _e156 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0f));
-    let layer1_r_return_1 = select(max((vec3(1f) - _e140), vec3(0f)), _e153, _e150);
+    let _e100 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    let _e101 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_avg = (_e100 + _e101);
+    let _e104 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    let _e106 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e108 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e110 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e112 = (vec3<f32>(_e106, _e108, _e110) * _e104);
+    let _e121 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e123 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e125 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e129 = (params.glaze_ior < 1f);
+    let _e130 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    let _e131 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
+    let layer1_r_return = select(max((vec3(1f) - _e112), vec3(0f)), _e130, _e129);
+    let layer1_transmit_avg_1 = (_e100 + _e101);
+    let _e136 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    let _e137 = vec3(_e136);
+    let _e147 = (params.glaze_ior < 1f);
+    let _e150 = tunable_glaze_slab_return(params.glaze_ior, vec3(0f));
+    let _e153 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0f));
+    let layer1_r_return_1 = select(max((vec3(1f) - _e137), vec3(0f)), _e150, _e147);
     let layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    let layer1_path_cos_l_1 = select((layer1_cos_l / _e75), layer1_cos_l, (params.glaze_ior < 1f));
-    let layer1_path_cos_v_1 = select((layer1_cos_v / _e80), layer1_cos_v, (params.glaze_ior < 1f));
-    let _e171 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e172 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e172)) * (layer1_eon_escape_shape - 1f)) / max(_e171, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e200 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e201 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e201)) * (layer1_eon_escape_shape - 1f)) / max(_e200, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e236 = sqrt(max((1f - (1f / (params.glaze_ior * params.glaze_ior))), 0f));
-    let _e252 = min(max((((1f - ((_e236 * _e236) * _e236)) / max((1f - (_e236 * _e236)), 0.000001f)) * 0.6666667f), 0f), 1f);
-    let _e253 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e252);
-    let _e254 = tunable_glaze_e_fon(_e252, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e254)) * (layer1_eon_escape_shape - 1f)) / max(_e253, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e139), _e156, _e150).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = select((layer1_cos_l / _e74), layer1_cos_l, (params.glaze_ior < 1f));
+    let layer1_path_cos_v_1 = select((layer1_cos_v / _e79), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e168 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e169 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e169)) * (layer1_eon_escape_shape - 1f)) / max(_e168, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e197 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e198 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e198)) * (layer1_eon_escape_shape - 1f)) / max(_e197, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e233 = sqrt(max((1f - (1f / (params.glaze_ior * params.glaze_ior))), 0f));
+    let _e249 = min(max((((1f - ((_e233 * _e233) * _e233)) / max((1f - (_e233 * _e233)), 0.000001f)) * 0.6666667f), 0f), 1f);
+    let _e250 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e249);
+    let _e251 = tunable_glaze_e_fon(_e249, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e251)) * (layer1_eon_escape_shape - 1f)) / max(_e250, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
@@ -571,10 +548,10 @@ fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn tunable_glaze_environment(direction: vec3<f32>, roughness_7: f32) -> vec3<f32> {
+fn tunable_glaze_environment(direction: vec3<f32>, roughness_6: f32) -> vec3<f32> {
     let uv = tunable_glaze_equirect_uv(direction);
     let _e3 = textureNumLevels(tunable_glaze_radiance);
-    let lod = (roughness_7 * (f32(_e3) - 1f));
+    let lod = (roughness_6 * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -599,8 +576,8 @@ fn tunable_glaze_interfaced_albedo_dir(t_1: f32, a: vec3<f32>, e_below: vec3<f32
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-fn tunable_glaze_interfaced_albedo(eta_14: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
-    let eta_sq = (eta_14 * eta_14);
+fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
+    let eta_sq = (eta_13 * eta_13);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
     let _e12 = (rho_below_2 * r_return_2);
     return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e12)) + vec3(e_fresnel));
@@ -629,73 +606,71 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, params_2.glaze_ior);
     let _e15 = (1f - layer1_fresnel_l);
     let _e16 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_restored_l = tunable_glaze_coat_extra(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_transmit_l_1 = select(min(max(((_e15 + _e16) - layer1_restored_l), 0f), 1f), _e15, (params_2.glaze_ior < 1f));
-    let _e28 = (1f - layer1_fresnel_l);
-    let layer1_transmit_v_1 = select(min(max(((_e28 + _e16) - layer1_restored_l), 0f), 1f), _e28, (params_2.glaze_ior < 1f));
+    let layer1_transmit_l_1 = select(min(max((_e15 + _e16), 0f), 1f), _e15, (params_2.glaze_ior < 1f));
+    let _e26 = (1f - layer1_fresnel_l);
+    let layer1_transmit_v_1 = select(min(max((_e26 + _e16), 0f), 1f), _e26, (params_2.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e42 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_path_cos_l_2 = select((layer1_cos_v_1 / _e42), layer1_cos_v_1, (params_2.glaze_ior < 1f));
-    let layer1_path_cos_v_2 = select((layer1_cos_v_1 / _e42), layer1_cos_v_1, (params_2.glaze_ior < 1f));
+    let _e39 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    let layer1_path_cos_l_2 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
+    let layer1_path_cos_v_2 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
     let absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
     let absorb_v = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_v_2);
     let blur_1 = ((abs((1f - (1f / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e64 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
-    let _e65 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    let _e66 = tunable_glaze_coat_extra_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_transmit_avg_2 = ((_e64 + _e65) - _e66);
-    let _e70 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
-    let _e72 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e74 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e76 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e78 = (vec3<f32>(_e72, _e74, _e76) * _e70);
-    let _e87 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e89 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e91 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e95 = (params_2.glaze_ior < 1f);
-    let _e96 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
-    let _e97 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
-    let layer1_r_return_2 = select(max((vec3(1f) - _e78), vec3(0f)), _e96, _e95);
-    let _e99 = select((vec3<f32>(_e87, _e89, _e91) * _e70), _e97, _e95);
-    let layer1_transmit_avg_3 = ((_e64 + _e65) - _e66);
-    let _e103 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
-    let _e104 = vec3(_e103);
-    let _e114 = (params_2.glaze_ior < 1f);
-    let _e117 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0f));
-    let _e120 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0f));
-    let layer1_r_return_3 = select(max((vec3(1f) - _e104), vec3(0f)), _e117, _e114);
-    let _e122 = select(vec3(_e103), _e120, _e114);
+    let _e61 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
+    let _e62 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    let layer1_transmit_avg_2 = (_e61 + _e62);
+    let _e65 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
+    let _e67 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e69 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e71 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e73 = (vec3<f32>(_e67, _e69, _e71) * _e65);
+    let _e82 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e84 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e86 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e90 = (params_2.glaze_ior < 1f);
+    let _e91 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
+    let _e92 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
+    let layer1_r_return_2 = select(max((vec3(1f) - _e73), vec3(0f)), _e91, _e90);
+    let _e94 = select((vec3<f32>(_e82, _e84, _e86) * _e65), _e92, _e90);
+    let layer1_transmit_avg_3 = (_e61 + _e62);
+    let _e97 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
+    let _e98 = vec3(_e97);
+    let _e108 = (params_2.glaze_ior < 1f);
+    let _e111 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0f));
+    let _e114 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0f));
+    let layer1_r_return_3 = select(max((vec3(1f) - _e98), vec3(0f)), _e111, _e108);
+    let _e116 = select(vec3(_e97), _e114, _e108);
     let layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params_2.glaze_ior);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    let layer1_path_cos_l_3 = select((layer1_cos_v_1 / _e42), layer1_cos_v_1, (params_2.glaze_ior < 1f));
-    let layer1_path_cos_v_3 = select((layer1_cos_v_1 / _e42), layer1_cos_v_1, (params_2.glaze_ior < 1f));
-    let _e135 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e136 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e136)) * (layer1_eon_escape_shape - 1f)) / max(_e135, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e164 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e165 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e165)) * (layer1_eon_escape_shape - 1f)) / max(_e164, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e200 = sqrt(max((1f - (1f / (params_2.glaze_ior * params_2.glaze_ior))), 0f));
-    let _e216 = min(max((((1f - ((_e200 * _e200) * _e200)) / max((1f - (_e200 * _e200)), 0.000001f)) * 0.6666667f), 0f), 1f);
-    let _e217 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e216);
-    let _e218 = tunable_glaze_e_fon(_e216, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e218)) * (layer1_eon_escape_shape - 1f)) / max(_e217, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e122.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e99, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e122.x, _e99, layer1_r_return_2, layer1_rho);
+    let layer1_path_cos_l_3 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
+    let layer1_path_cos_v_3 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
+    let _e129 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    let _e130 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e130)) * (layer1_eon_escape_shape - 1f)) / max(_e129, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e158 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e159 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e159)) * (layer1_eon_escape_shape - 1f)) / max(_e158, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e194 = sqrt(max((1f - (1f / (params_2.glaze_ior * params_2.glaze_ior))), 0f));
+    let _e210 = min(max((((1f - ((_e194 * _e194) * _e194)) / max((1f - (_e194 * _e194)), 0.000001f)) * 0.6666667f), 0f), 1f);
+    let _e211 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e210);
+    let _e212 = tunable_glaze_e_fon(_e210, params_2.body_roughness);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e212)) * (layer1_eon_escape_shape - 1f)) / max(_e211, vec3(0.000001f))));
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e116.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e94, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e94, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e116.x, _e94, layer1_r_return_2, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let _e265 = (dot(n_4, v_4) > 0f);
+    let _e259 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e265) * light_a) + (select(vec3(0f), under_albedo, _e265) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e259) * light_a) + (select(vec3(0f), under_albedo, _e259) * light_b));
 }
 

@@ -6,9 +6,9 @@ const car_paint_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026943586f, 0.000000015088695f, 0.00000000018821267f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026940068f, 0.000000015091631f, 0.00000000018827935f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7406756f, 0.06705829f, 0.031262092f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067616f, 0.06705829f, 0.031262092f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -83,39 +83,43 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 26 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn car_paint_coat_deficit_curve(cos_theta: f32) -> f32 {
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 14 of the table's
+// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.5533126f) + -0.000012183096f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.31049478f, -0.09624367f, -0.88188595f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.9280916f, -0.113479316f, 0.4223049f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.32917854f, 0.22987321f, 0.09948889f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.040191602f, 0.016318684f, 0.006692493f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.0033920882f, 0.0030987046f, 0.0015035287f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0010818008f, 0.00073341554f, 0.0006600808f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.00056840753f, 0.00016501092f, 0.0004583981f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.0002016904f, 0.00031170354f, 0.00007334174f)));
-    return f_8;
+    let f = ((u * 0.8360856f) + 1.0000006f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.33166942f, -1.3342792f, 0.6242377f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.17057773f, 0.027964713f, 0.0043541198f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0022459035f, -0.00004827998f, 0.0003898144f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0004076958f, -0.0006884337f, 0.0004220009f)));
+    return f_4;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it): no table read.
-fn car_paint_coat_extra_curve(cos_theta_1: f32) -> f32 {
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 29 of the table's
+// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_9 = (0.011792603f + dot((min(max(vec3(u_1), vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)) - vec3<f32>(0f, 0.06666667f, 0.13333334f)), vec3<f32>(0.8190295f, 0.4284603f, -0.92731404f)));
-    let f_10 = (f_9 + dot((min(max(vec3(u_1), vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)) - vec3<f32>(0.2f, 0.26666668f, 0.33333334f)), vec3<f32>(-0.3916077f, -0.08196797f, -0.016644018f)));
-    let f_11 = (f_10 + dot((min(max(vec3(u_1), vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)) - vec3<f32>(0.4f, 0.46666667f, 0.53333336f)), vec3<f32>(-0.004698718f, -0.001614229f, -0.00043627838f)));
-    let f_12 = (f_11 + dot((min(max(vec3(u_1), vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)) - vec3<f32>(0.6f, 0.6666667f, 0.73333335f)), vec3<f32>(-0.00008289289f, 0.000039265044f, -0.0000523534f)));
-    let f_13 = (f_12 + dot((min(max(vec3(u_1), vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.8666667f, 0.93333334f, 1f)) - vec3<f32>(0.8f, 0.8666667f, 0.93333334f)), vec3<f32>(0.0000523534f, -0.0000523534f, 0f)));
-    return max(f_13, 0f);
+    let f_5 = ((u_1 * -0.23525593f) + -0.000008429401f);
+    let f_6 = (f_5 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.42355445f, 0.11186912f, -0.9008823f)));
+    let f_7 = (f_6 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.043015163f, 0.32627678f, 0.14866436f)));
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.06702751f, 0.062109314f, -0.038766224f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.017394189f, -0.03652423f, 0.011807078f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.006165725f, 0.0035800978f, -0.0011752645f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0018261934f, 0.00019889172f, 0.0007051798f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00018082031f, 0.0006690102f, -0.00014465104f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0002531391f, 0.00021697595f, -0.00014465071f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.00014465082f, -0.000054244127f, -0.00001808135f)));
+    return f_14;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -150,10 +154,10 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_14 = (1.020074f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45252323f, -0.36825275f, -0.2977066f)));
-    let f_15 = (f_14 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035661697f, 0.09215355f, 0.04754448f)));
-    let f_16 = (f_15 + (max(u_2, 0.875f) * 0.02336979f));
-    return f_16;
+    let f_15 = (1.0202647f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45261955f, -0.3683653f, -0.29751205f)));
+    let f_16 = (f_15 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035235405f, 0.092440605f, 0.047664642f)));
+    let f_17 = (f_16 + (max(u_2, 0.875f) * 0.023005486f));
+    return f_17;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -163,9 +167,9 @@ fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_17 = ((u_3 * 0.0019297004f) + 0.2134062f);
-    let f_18 = (f_17 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
-    return f_18;
+    let f_18 = ((u_3 * 0.0019297004f) + 0.2134062f);
+    let f_19 = (f_18 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
+    return f_19;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -178,11 +182,11 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_19 = ((u_4 * -11.370897f) + 1.1426286f);
-    let f_20 = (f_19 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.052953f, 1.1106987f, 0.25857544f)));
-    let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.078886986f, -0.16258144f, -0.008225441f)));
-    let f_22 = (f_21 + (max(u_4, 0.875f) * 0.07219601f));
-    return f_22;
+    let f_20 = ((u_4 * -11.364231f) + 1.1429214f);
+    let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047794f, 1.1094351f, 0.25702763f)));
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07725239f, -0.1627922f, -0.008248329f)));
+    let f_23 = (f_22 + (max(u_4, 0.875f) * 0.071787834f));
+    return f_23;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -192,14 +196,14 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_23 = ((u_5 * -0.02538353f) + 0.9516745f);
-    let f_24 = (f_23 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_25 = (f_24 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_28 = (f_27 + (max(u_5, 0.8666667f) * -0.056797568f));
-    let f_29 = (f_28 + (max(u_5, 0.93333334f) * -0.032047037f));
-    return f_29;
+    let f_24 = ((u_5 * -0.02538353f) + 0.9516745f);
+    let f_25 = (f_24 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_29 = (f_28 + (max(u_5, 0.8666667f) * -0.056797568f));
+    let f_30 = (f_29 + (max(u_5, 0.93333334f) * -0.032047037f));
+    return f_30;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -209,14 +213,14 @@ fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_30 = ((u_6 * -0.019831358f) + 0.8686472f);
-    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
-    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
-    let f_33 = (f_32 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
-    let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
-    let f_35 = (f_34 + (max(u_6, 0.8666667f) * -0.09392203f));
-    let f_36 = (f_35 + (max(u_6, 0.93333334f) * -0.06806106f));
-    return f_36;
+    let f_31 = ((u_6 * -0.019831358f) + 0.8686472f);
+    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
+    let f_33 = (f_32 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
+    let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
+    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
+    let f_36 = (f_35 + (max(u_6, 0.8666667f) * -0.09392203f));
+    let f_37 = (f_36 + (max(u_6, 0.93333334f) * -0.06806106f));
+    return f_37;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -262,9 +266,9 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_37 = ((u_7 * 0.0144017935f) + 0.2634757f);
-    let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
-    return f_38;
+    let f_38 = ((u_7 * 0.0144017935f) + 0.2634757f);
+    let f_39 = (f_38 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
+    return f_39;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -275,9 +279,9 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_39 = ((u_8 * 0.02468437f) + 0.24147323f);
-    let f_40 = (f_39 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
-    return f_40;
+    let f_40 = ((u_8 * 0.02468437f) + 0.24147323f);
+    let f_41 = (f_40 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
+    return f_41;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -314,6 +318,39 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
+// leaves after three or more conductor events: the mean cosine of its azimuth about the
+// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
+// internal reflection keeps the direction's horizontal part).
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
+// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
+    let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
+    let f_42 = ((u_9 * 0.008631557f) + 0.0920461f);
+    let f_43 = (f_42 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
+    return f_43;
+}
+
+// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
+// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
+// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
+// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
+// directions' components in the plane of `n`, so no azimuth is divided out and along the
+// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
+// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
+// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
+fn car_paint_forward_azimuth_weight(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, kappa: f32) -> f32 {
+    let l_t = (l_1 - (n_1 * dot(n_1, l_1)));
+    let v_t = (v_1 - (n_1 * dot(n_1, v_1)));
+    let sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
+    let k = min(kappa, ((1f / sines) * 0.95f));
+    let _e21 = (k * sines);
+    let rho2_ = (_e21 * _e21);
+    return ((1f - rho2_) / ((rho2_ + 1f) + ((k * dot(l_t, v_t)) * 2f)));
+}
+
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
 // events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
 // and reflected by the conductor (F, at the refracted direction), but not let out at once
@@ -323,8 +360,9 @@ fn car_paint_glossy_remainder(t: f32, a: vec3<f32>, fresnel_1: vec3<f32>, single
 }
 
 // Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
-// that leaves after several conductor events has forgotten where it entered, so
-// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+// that leaves after several conductor events has forgotten the angle at which it entered,
+// so f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ); the level
+// spreads it over the azimuth ([`forward_azimuth_weight`]).
 // Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
 fn car_paint_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f32>) -> vec3<f32> {
     return ((m_i * m_o) / (max(m_avg, vec3(0.000001f)) * vec3(3.1415927f)));
@@ -364,36 +402,52 @@ fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32
     return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
 }
 
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
+// κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
+// leaves after three or more conductor events: the mean cosine of its azimuth about the
+// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
+// internal reflection keeps the direction's horizontal part).
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
+// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
+    let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
+    let f_44 = ((u_10 * 0.0020885468f) + 0.8244415f);
+    let f_45 = (f_44 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
+    return f_45;
+}
+
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_1, v_1);
-    let n_dot_l_2 = dot(n_1, l_1);
+fn car_paint_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_2, v_2);
+    let n_dot_l_2 = dot(n_2, l_2);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let h = car_paint_half_vector(v_1, l_1);
-    let n_cross_h = cross(n_1, h);
-    let d = car_paint_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0016f);
+    let h = car_paint_half_vector(v_2, l_2);
+    let n_cross_h = cross(n_2, h);
+    let d = car_paint_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.0016f);
     let g = car_paint_g_smith_ggx_correlated(cos_v, cos_l, 0.0016f);
-    let fresnel = car_paint_fr_dielectric(dot(v_1, h), 1.5f);
-    let specular = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let fresnel = car_paint_fr_dielectric(dot(v_2, h), 1.5f);
+    let _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
+    let layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
+    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5f);
-    let _e26 = car_paint_coat_deficit_curve(n_dot_l_2);
-    let layer1_restored_l = car_paint_coat_extra_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e26) - layer1_restored_l), 0f), 1f);
+    let _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e38 = car_paint_coat_deficit_curve(n_dot_v_2);
-    let layer1_restored_v = car_paint_coat_extra_curve(n_dot_v_2);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e38) - layer1_restored_v), 0f), 1f);
-    let layer1_v = car_paint_refract_down(v_1, n_1, 1.5f);
-    let layer1_l = car_paint_refract_down(l_1, n_1, 1.5f);
-    let layer1_n_dot_v = dot(n_1, layer1_v);
-    let layer1_n_dot_l = dot(n_1, layer1_l);
+    let _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_v = car_paint_refract_down(v_2, n_2, 1.5f);
+    let layer1_l = car_paint_refract_down(l_2, n_2, 1.5f);
+    let layer1_n_dot_v = dot(n_2, layer1_v);
+    let layer1_n_dot_l = dot(n_2, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let layer2_v = car_paint_refract_down(layer1_v, n_1, 1.02f);
-    let layer2_l = car_paint_refract_down(layer1_l, n_1, 1.02f);
-    let layer2_n_dot_v = dot(n_1, layer2_v);
-    let layer2_n_dot_l = dot(n_1, layer2_l);
+    let layer2_v = car_paint_refract_down(layer1_v, n_2, 1.02f);
+    let layer2_l = car_paint_refract_down(layer1_l, n_2, 1.02f);
+    let layer2_n_dot_v = dot(n_2, layer2_v);
+    let layer2_n_dot_l = dot(n_2, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
     let layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_l, 1.02f);
@@ -439,34 +493,42 @@ fn car_paint_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
     let layer2_once_colour_v = (layer2_once_v / vec3(max(_e180.x, 0.000001f)));
     let layer2_h = car_paint_half_vector(layer2_v, layer2_l);
-    let layer2_n_cross_h = cross(n_1, layer2_h);
-    let layer2_d = car_paint_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
+    let layer2_n_cross_h = cross(n_2, layer2_h);
+    let layer2_d = car_paint_d_ggx(dot(n_2, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     let layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     let layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
     let _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
     let layer1_under = ((_e199 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
     let _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
-    let _e206 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    let _e207 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    let layer1_later = car_paint_glossy_remainder_lobe(_e206, _e207, car_paint_layer1_remainder_avg);
+    let layer1_spread_l = car_paint_glossy_spread_curve(layer1_n_dot_l);
+    let layer1_spread_v = car_paint_glossy_spread_curve(layer1_n_dot_v);
+    let layer1_spread = car_paint_forward_azimuth_weight(n_2, layer1_v, layer1_l, sqrt(max((layer1_spread_l * layer1_spread_v), 0f)));
+    let _e213 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    let _e214 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    let _e216 = car_paint_glossy_remainder_lobe(_e213, _e214, car_paint_layer1_remainder_avg);
+    let layer1_later = (_e216 * layer1_spread);
     let layer1_f = (_e205 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e223 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let _e231 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let trapped = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let under = (_e223 + trapped);
+    let _e243 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e244 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e245 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    let layer1_trapped_spread = car_paint_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((_e244 * _e245), 0f)));
+    let trapped = (_e243 * layer1_trapped_spread);
+    let under = (_e231 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
-fn car_paint_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
-    let f = car_paint_brdf(n_2, v_2, l_2);
-    return (f * max(dot(n_2, l_2), 0f));
+fn car_paint_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
+    let f = car_paint_brdf(n_3, v_3, l_3);
+    return (f * max(dot(n_3, l_3), 0f));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
@@ -494,8 +556,8 @@ fn car_paint_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
 // The directional albedo seen above a coat over a glossy body (same model as
 // `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
 fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
-    let k = ((a_2 * a_2) * (1f - t_2));
-    let _e11 = (e_below * k);
+    let k_1 = ((a_2 * a_2) * (1f - t_2));
+    let _e11 = (e_below * k_1);
     return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / (vec3(1f) - _e11)) + vec3((1f - t_2)));
 }
 
@@ -504,30 +566,29 @@ fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f3
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn car_paint_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+fn car_paint_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+    let r = ((n_4 * (max(dot(n_4, v_4), 0f) * 2f)) - v_4);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_3 * (1f - t_3)) + (r * t_3));
+    let d_2 = ((n_4 * (1f - t_3)) + (r * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
 // directional albedo times the environment prefiltered for it (car_paint_environment) or the irradiance
 // over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_4, v_4);
+fn car_paint_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_3 = dot(n_5, v_5);
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
     let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5f);
     let _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
-    let layer1_restored_l = car_paint_coat_extra_curve(n_dot_v_3);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e9) - layer1_restored_l), 0f), 1f);
-    let layer1_v = car_paint_refract_down(v_4, n_4, 1.5f);
-    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_v = car_paint_refract_down(v_5, n_5, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_5, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let layer2_v = car_paint_refract_down(layer1_v, n_4, 1.02f);
-    let layer2_n_dot_v_1 = dot(n_4, layer2_v);
+    let layer2_v = car_paint_refract_down(layer1_v, n_5, 1.02f);
+    let layer2_n_dot_v_1 = dot(n_5, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
     let layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02f);
     let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
@@ -535,31 +596,31 @@ fn car_paint_ibl(n_4: vec3<f32>, v_4: vec3<f32>) -> vec3<f32> {
     let layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
     let layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
     let layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_v_1);
-    let _e46 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
-    let _e51 = max(layer2_cos_v_1, 0.19711706f);
-    let _e52 = car_paint_ggx_albedo_curve(_e51);
-    let _e55 = car_paint_ggx_albedo_curve_b(_e51);
-    let _e61 = car_paint_glossy_trapped_share(_e51, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_l_1 = (1f - _e61);
-    let layer2_lobe_normaliser_l_1 = (((0.78416157f * _e52) + (0.21583843f * _e55)) * layer2_cone_share_l_1);
-    let layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e46) * layer2_lobe_normaliser_l_1), 0f), 1f);
+    let _e43 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
+    let _e48 = max(layer2_cos_v_1, 0.19711706f);
+    let _e49 = car_paint_ggx_albedo_curve(_e48);
+    let _e52 = car_paint_ggx_albedo_curve_b(_e48);
+    let _e58 = car_paint_glossy_trapped_share(_e48, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_l_1 = (1f - _e58);
+    let layer2_lobe_normaliser_l_1 = (((0.78416157f * _e49) + (0.21583843f * _e52)) * layer2_cone_share_l_1);
+    let layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e43) * layer2_lobe_normaliser_l_1), 0f), 1f);
     let layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
-    let _e80 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    let _e81 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e80, _e81, 0.43932146f, car_paint_layer2_survival);
+    let _e77 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    let _e78 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e77, _e78, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    let _e89 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
-    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e89.x, 0.000001f)));
+    let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
     let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l);
     let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
-    let reflected = car_paint_specular_dominant_direction(n_4, v_4, 0.0016f);
-    let reflected_1 = car_paint_specular_dominant_direction(n_4, v_4, 0.138277f);
-    let _e116 = (dot(n_4, v_4) > 0f);
+    let reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016f);
+    let reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277f);
+    let _e113 = (dot(n_5, v_5) > 0f);
     let light_a = car_paint_environment(reflected, 0.04f);
     let light_b = car_paint_environment(reflected_1, car_paint_base_roughness);
-    return ((select(vec3(0f), vec3(coat_albedo), _e116) * light_a) + (select(vec3(0f), under_albedo, _e116) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e113) * light_a) + (select(vec3(0f), under_albedo, _e113) * light_b));
 }
 

@@ -3,12 +3,12 @@ struct TunableGlazeParams {
     body_albedo: vec3<f32>,
 }
 
-const tunable_glaze_weight_roughness: f32 = 0.006248474f;
+const tunable_glaze_weight_roughness: f32 = 0.80947495f;
 const tunable_glaze_weight_eta: f32 = 0.88888884f;
-const tunable_glaze_weight_roughness_1: f32 = 0.80947495f;
+const tunable_glaze_weight_roughness_1: f32 = 0.006248474f;
 const tunable_glaze_weight_roughness_2: f32 = 0.26028156f;
 const tunable_glaze_tau: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
-const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.319615f, 0.4872604f, 0.545984f);
+const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.3195576f, 0.487208f, 0.54594934f);
 
 @group(0) @binding(4) 
 var<uniform> tunable_glaze_tables: array<vec4<u32>, 30>;
@@ -109,30 +109,33 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
+fn tunable_glaze_coat_scale_slice(cos_theta: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta = (u_cos_theta * 31f);
-    let cell_cos_theta = min(floor(node_cos_theta), 30f);
+    let node_cos_theta = (u_cos_theta * 15f);
+    let cell_cos_theta = min(floor(node_cos_theta), 14f);
     let weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    let value = tunable_glaze_table_trilinear(u32(cell_cos_theta), vec3<u32>(1u, 32u, 64u), vec3<f32>(weight_cos_theta, tunable_glaze_weight_roughness, tunable_glaze_weight_eta), 0.000014786756f, -0.0058085914f);
+    let value = tunable_glaze_table_trilinear(u32(cell_cos_theta), vec3<u32>(1u, 16u, 32u), vec3<f32>(weight_cos_theta, tunable_glaze_weight_roughness, tunable_glaze_weight_eta), 0.0000051992565f, 0.9212891f);
     return value;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_extra_slice(cos_theta_1: f32) -> f32 {
+fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_1 = (u_cos_theta_1 * 15f);
-    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 14f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_1) + 128u), vec3<u32>(1u, 16u, 32u), vec3<f32>(weight_cos_theta_1, tunable_glaze_weight_roughness_1, tunable_glaze_weight_eta), 0.0000014542611f, 0f);
+    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_1) + 64u), vec3<u32>(1u, 32u, 64u), vec3<f32>(weight_cos_theta_1, tunable_glaze_weight_roughness_1, tunable_glaze_weight_eta), 0.000014581692f, -0.009180314f);
     return value;
 }
 
@@ -155,7 +158,7 @@ fn tunable_glaze_coat_path_slice(cos_theta_2: f32) -> f32 {
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_2) + 192u), vec3<u32>(1u, 12u, 24u), vec3<f32>(weight_cos_theta_2, tunable_glaze_weight_roughness_2, tunable_glaze_weight_eta), 0.000010802426f, 0.8801917f);
+    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_2) + 192u), vec3<u32>(1u, 12u, 24u), vec3<f32>(weight_cos_theta_2, tunable_glaze_weight_roughness_2, tunable_glaze_weight_eta), 0.00001072428f, 0.88077754f);
     return value;
 }
 
@@ -245,15 +248,16 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let d = tunable_glaze_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0225f);
     let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, 0.0225f);
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
-    let specular = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let _e23 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let layer1_scale_l = tunable_glaze_coat_scale_slice(n_dot_l_3);
+    let layer1_scale_v = tunable_glaze_coat_scale_slice(n_dot_v_3);
+    let specular = (_e23 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e28 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
-    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e28) - layer1_restored_l), 0f), 1f);
+    let _e32 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e32), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
-    let _e40 = tunable_glaze_coat_deficit_slice(n_dot_v_3);
-    let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e40) - layer1_restored_v), 0f), 1f);
+    let _e42 = tunable_glaze_coat_deficit_slice(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e42), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -276,14 +280,14 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e80 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
     let _e82 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
     let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e82)) * vec3(0.27190268f)) / max(_e80, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
     let _e112 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
     let _e114 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e114)) * vec3(0.27190268f)) / max(_e112, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
     let _e145 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
     let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e145, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, tunable_glaze_layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
@@ -358,42 +362,41 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
     let _e11 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
-    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e11) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e11), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e11), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e32 = tunable_glaze_coat_path_slice(n_dot_v_4);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e32);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e32);
+    let _e29 = tunable_glaze_coat_path_slice(n_dot_v_4);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e29);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e29);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l_2);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v_2);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, 0.5f);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_cos_v_1);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, 0.5f);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e32);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e32);
-    let _e48 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
-    let _e50 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e50)) * vec3(0.27190268f)) / max(_e48, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e80 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
-    let _e82 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e82)) * vec3(0.27190268f)) / max(_e80, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let _e113 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e113, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.3923561f))) / vec3(0.6076439f)), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33075798f, 0.3704671f, 0.38114467f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33075798f, 0.3704671f, 0.38114467f), layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(1.52f, 0.3923561f, vec3<f32>(0.33075798f, 0.3704671f, 0.38114467f), tunable_glaze_layer1_r_return, layer1_rho);
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e29);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e29);
+    let _e45 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
+    let _e47 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e47)) * vec3(0.27190268f)) / max(_e45, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let _e77 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
+    let _e79 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e79)) * vec3(0.27190268f)) / max(_e77, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let _e110 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e110, vec3(0.000001f))));
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, 0.39237234f, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), tunable_glaze_layer1_r_return, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, 0.0225f);
-    let _e177 = (dot(n_4, v_4) > 0f);
+    let _e174 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, 0.15f);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e177) * light_a) + (select(vec3(0f), under_albedo, _e177) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e174) * light_a) + (select(vec3(0f), under_albedo, _e174) * light_b));
 }
 

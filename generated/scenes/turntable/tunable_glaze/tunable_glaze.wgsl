@@ -9,7 +9,7 @@ struct TunableGlazeParams {
 const tunable_glaze_weight_eta: f32 = 0.88888884f;
 
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 496>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 492>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -107,10 +107,12 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// E_ms(μ; r, η): the share reflected after two or more microfacet events, which the
-// single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.
+// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
+// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
+// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
+// symmetric scaling); 1 when smooth.
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_extra_slice(cos_theta: f32, roughness: f32) -> f32 {
+fn tunable_glaze_coat_scale_slice(cos_theta: f32, roughness: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
     let cell_cos_theta = min(floor(node_cos_theta), 14f);
@@ -119,59 +121,27 @@ fn tunable_glaze_coat_extra_slice(cos_theta: f32, roughness: f32) -> f32 {
     let node_roughness = (u_roughness * 15f);
     let cell_roughness = min(floor(node_roughness), 14f);
     let weight_roughness = (node_roughness - cell_roughness);
-    let value = tunable_glaze_table_trilinear(u32((cell_cos_theta + (cell_roughness * 16f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, tunable_glaze_weight_eta), 0.0000014542611f, 0f);
+    let value = tunable_glaze_table_trilinear(u32((cell_cos_theta + (cell_roughness * 16f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, tunable_glaze_weight_eta), 0.0000051992565f, 0.9212891f);
     return value;
-}
-
-// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
-// of their values, scale·code + offset, each weighted by the product over the axes of the
-// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
-// is `strides` entries further.
-fn tunable_glaze_table_bilinear(corner_1: u32, strides_1: vec2<u32>, weights_1: vec2<f32>, scale_1: f32, offset_1: f32) -> f32 {
-    let code_ll = tunable_glaze_table_code(corner_1);
-    let code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
-    let code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
-    let code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
-    return ((((((code_ll * scale_1) + offset_1) * ((1f - weights_1.x) * (1f - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1f - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1f - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// ⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.
+// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
+// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
+// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
+// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_extra_avg_slice(roughness_1: f32) -> f32 {
-    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
-    let node_roughness_1 = (u_roughness_1 * 15f);
-    let cell_roughness_1 = min(floor(node_roughness_1), 14f);
-    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let value = tunable_glaze_table_bilinear((u32(cell_roughness_1) + 512u), vec2<u32>(1u, 16u), vec2<f32>(weight_roughness_1, tunable_glaze_weight_eta), 0.000000436632f, 0f);
-    return value;
-}
-
-// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-fn tunable_glaze_multiple_scattering_lobe(e_i: f32, e_o: f32, e_avg: f32) -> f32 {
-    return ((e_i * e_o) / (max(e_avg, 0.000001f) * 3.1415927f));
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering
-// reflection lobe reflects than a smooth interface (masking, shadowing, light sent below
-// the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.
-// Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_2: f32) -> f32 {
+fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_1: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
     let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
     let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
-    let node_roughness_2 = (u_roughness_2 * 31f);
-    let cell_roughness_2 = min(floor(node_roughness_2), 30f);
-    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
-    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_1 + (cell_roughness_2 * 32f))) + 544u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_2, tunable_glaze_weight_eta), 0.000014786756f, -0.0058085914f);
+    let u_roughness_1 = sqrt(min(max(roughness_1, 0f), 1f));
+    let node_roughness_1 = (u_roughness_1 * 31f);
+    let cell_roughness_1 = min(floor(node_roughness_1), 30f);
+    let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
+    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 512u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, tunable_glaze_weight_eta), 0.000014581692f, -0.009180314f);
     return value;
 }
 
@@ -189,16 +159,16 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f3
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_path_slice(cos_theta_2: f32, roughness_3: f32) -> f32 {
+fn tunable_glaze_coat_path_slice(cos_theta_2: f32, roughness_2: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
     let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
     let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
-    let node_roughness_3 = (u_roughness_3 * 11f);
-    let cell_roughness_3 = min(floor(node_roughness_3), 10f);
-    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_2 + (cell_roughness_3 * 12f))) + 2592u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_3, tunable_glaze_weight_eta), 0.000010802426f, 0.8801917f);
+    let u_roughness_2 = sqrt(min(max(roughness_2, 0f), 1f));
+    let node_roughness_2 = (u_roughness_2 * 11f);
+    let cell_roughness_2 = min(floor(node_roughness_2), 10f);
+    let weight_roughness_2 = (node_roughness_2 - cell_roughness_2);
+    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_2 + (cell_roughness_2 * 12f))) + 2560u), vec3<u32>(1u, 12u, 144u), vec3<f32>(weight_cos_theta_2, weight_roughness_2, tunable_glaze_weight_eta), 0.00001072428f, 0.88077754f);
     return value;
 }
 
@@ -220,9 +190,9 @@ fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
 // Portsmouth, Kutz & Hill 2025, Listing 1: the albedo of EON's multiple-scattering lobe,
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
-    let e_avg_1 = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg_1));
-    return (((albedo * albedo) * e_avg_1) / (vec3(1f) - _e15));
+    let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
+    let _e15 = (albedo * (1f - e_avg));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -235,18 +205,18 @@ fn tunable_glaze_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
     let e_o = tunable_glaze_e_fon(n_dot_v_2, r_2);
     let e_i = tunable_glaze_e_fon(n_dot_l_2, r_2);
-    let e_avg_2 = (a_f * ((r_2 * 0.07248825f) + 1f));
+    let e_avg_1 = (a_f * ((r_2 * 0.07248825f) + 1f));
     let rho_ms = tunable_glaze_eon_rho_ms(albedo_1, r_2);
-    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_2), 0.0000001f) * 3.1415927f)));
+    let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
     return (f_ss + f_ms);
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `E_EON` averaged over the hemisphere:
 // ⟨E⟩ = ρ⟨E_F⟩ + ρ_ms (1 − ⟨E_F⟩) with ⟨E_F⟩ = A_F (1 + c2 r).
 fn tunable_glaze_albedo_avg_eon(albedo_2: vec3<f32>, r_3: f32) -> vec3<f32> {
-    let e_avg_3 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
+    let e_avg_2 = (((r_3 * 0.07248825f) + 1f) / ((r_3 * 0.2877934f) + 1f));
     let rho_ms = tunable_glaze_eon_rho_ms(albedo_2, r_3);
-    return ((albedo_2 * e_avg_3) + (rho_ms * (1f - e_avg_3)));
+    return ((albedo_2 * e_avg_2) + (rho_ms * (1f - e_avg_2)));
 }
 
 // The directional albedo of the energy-preserving Oren–Nayar lobe (Portsmouth, Kutz & Hill
@@ -257,16 +227,28 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
     return ((albedo_3 * e_f) + (rho_ms * (1f - e_f)));
 }
 
+// Multilinear interpolation in a table of the table buffer: the sum over the cell's corners
+// of their values, scale·code + offset, each weighted by the product over the axes of the
+// upper node's weight or one minus it. `corner` is the lowest corner's entry; one node up an axis
+// is `strides` entries further.
+fn tunable_glaze_table_bilinear(corner_1: u32, strides_1: vec2<u32>, weights_1: vec2<f32>, scale_1: f32, offset_1: f32) -> f32 {
+    let code_ll = tunable_glaze_table_code(corner_1);
+    let code_ul = tunable_glaze_table_code((corner_1 + strides_1.x));
+    let code_lu = tunable_glaze_table_code((corner_1 + strides_1.y));
+    let code_uu = tunable_glaze_table_code(((corner_1 + strides_1.x) + strides_1.y));
+    return ((((((code_ll * scale_1) + offset_1) * ((1f - weights_1.x) * (1f - weights_1.y))) + (((code_ul * scale_1) + offset_1) * (weights_1.x * (1f - weights_1.y)))) + (((code_lu * scale_1) + offset_1) * ((1f - weights_1.x) * weights_1.y))) + (((code_uu * scale_1) + offset_1) * (weights_1.x * weights_1.y)));
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_deficit_avg_slice(roughness_4: f32) -> f32 {
-    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
-    let node_roughness_4 = (u_roughness_4 * 31f);
-    let cell_roughness_4 = min(floor(node_roughness_4), 30f);
-    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
-    let value = tunable_glaze_table_bilinear((u32(cell_roughness_4) + 2880u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_4, tunable_glaze_weight_eta), 0.000002646295f, -0.0021989432f);
+fn tunable_glaze_coat_deficit_avg_slice(roughness_3: f32) -> f32 {
+    let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
+    let node_roughness_3 = (u_roughness_3 * 31f);
+    let cell_roughness_3 = min(floor(node_roughness_3), 30f);
+    let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
+    let value = tunable_glaze_table_bilinear((u32(cell_roughness_3) + 2848u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, tunable_glaze_weight_eta), 0.0000022024374f, -0.001829707f);
     return value;
 }
 
@@ -277,17 +259,17 @@ fn tunable_glaze_coat_deficit_avg_slice(roughness_4: f32) -> f32 {
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_5: f32) -> f32 {
+fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_4: f32) -> f32 {
     let _e3 = max(tau_1, 0f);
     let u_tau = (_e3 / (_e3 + 1f));
     let node_tau = (u_tau * 15f);
     let cell_tau = min(floor(node_tau), 14f);
     let weight_tau = (node_tau - cell_tau);
-    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
-    let node_roughness_5 = (u_roughness_5 * 15f);
-    let cell_roughness_5 = min(floor(node_roughness_5), 14f);
-    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
-    let value = tunable_glaze_table_trilinear((u32((cell_tau + (cell_roughness_5 * 16f))) + 2944u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_5, tunable_glaze_weight_eta), 0.00017661336f, 1f);
+    let u_roughness_4 = sqrt(min(max(roughness_4, 0f), 1f));
+    let node_roughness_4 = (u_roughness_4 * 15f);
+    let cell_roughness_4 = min(floor(node_roughness_4), 14f);
+    let weight_roughness_4 = (node_roughness_4 - cell_roughness_4);
+    let value = tunable_glaze_table_trilinear((u32((cell_tau + (cell_roughness_4 * 16f))) + 2912u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau, weight_roughness_4, tunable_glaze_weight_eta), 0.00017667137f, 1f);
     return value;
 }
 
@@ -296,17 +278,17 @@ fn tunable_glaze_coat_return_slice(tau_1: f32, roughness_5: f32) -> f32 {
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
 // Here eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_6: f32) -> f32 {
+fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_5: f32) -> f32 {
     let _e3 = max(tau_2, 0f);
     let u_tau_1 = (_e3 / (_e3 + 1f));
     let node_tau_1 = (u_tau_1 * 15f);
     let cell_tau_1 = min(floor(node_tau_1), 14f);
     let weight_tau_1 = (node_tau_1 - cell_tau_1);
-    let u_roughness_6 = sqrt(min(max(roughness_6, 0f), 1f));
-    let node_roughness_6 = (u_roughness_6 * 15f);
-    let cell_roughness_6 = min(floor(node_roughness_6), 14f);
-    let weight_roughness_6 = (node_roughness_6 - cell_roughness_6);
-    let value = tunable_glaze_table_trilinear((u32((cell_tau_1 + (cell_roughness_6 * 16f))) + 3456u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_6, tunable_glaze_weight_eta), 0.000015259022f, 0f);
+    let u_roughness_5 = sqrt(min(max(roughness_5, 0f), 1f));
+    let node_roughness_5 = (u_roughness_5 * 15f);
+    let cell_roughness_5 = min(floor(node_roughness_5), 14f);
+    let weight_roughness_5 = (node_roughness_5 - cell_roughness_5);
+    let value = tunable_glaze_table_trilinear((u32((cell_tau_1 + (cell_roughness_5 * 16f))) + 3424u), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_tau_1, weight_roughness_5, tunable_glaze_weight_eta), 0.000015259022f, 0f);
     return value;
 }
 
@@ -316,9 +298,9 @@ fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_6: f32) -> f32 {
 // and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
 // sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
 // Lambert").
-fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i_1: vec3<f32>, e_o_1: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i_1 * e_o_1) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -343,27 +325,25 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, (params.glaze_roughness * params.glaze_roughness));
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
     let _e29 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_l_3, params.glaze_roughness);
-    let layer1_restored_v = tunable_glaze_coat_extra_slice(n_dot_v_3, params.glaze_roughness);
-    let _e32 = tunable_glaze_coat_extra_avg_slice(params.glaze_roughness);
-    let _e33 = tunable_glaze_multiple_scattering_lobe(layer1_restored_l, layer1_restored_v, _e32);
-    let specular = (_e29 + vec3(_e33));
+    let layer1_scale_l = tunable_glaze_coat_scale_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_scale_v = tunable_glaze_coat_scale_slice(n_dot_v_3, params.glaze_roughness);
+    let specular = (_e29 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e40 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);
-    let layer1_transmit_l = min(max((((1f - layer1_fresnel_l) + _e40) - layer1_restored_l), 0f), 1f);
+    let _e38 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e38), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, 1.52f);
-    let _e51 = tunable_glaze_coat_deficit_slice(n_dot_v_3, params.glaze_roughness);
-    let layer1_transmit_v = min(max((((1f - layer1_fresnel_v) + _e51) - layer1_restored_v), 0f), 1f);
+    let _e48 = tunable_glaze_coat_deficit_slice(n_dot_v_3, params.glaze_roughness);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e48), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e68 = tunable_glaze_coat_path_slice(n_dot_l_3, params.glaze_roughness);
-    let layer1_path_cos_l = (layer1_cos_l / _e68);
-    let _e70 = tunable_glaze_coat_path_slice(n_dot_v_3, params.glaze_roughness);
-    let layer1_path_cos_v = (layer1_cos_v / _e70);
+    let _e64 = tunable_glaze_coat_path_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_path_cos_l = (layer1_cos_l / _e64);
+    let _e66 = tunable_glaze_coat_path_slice(n_dot_v_3, params.glaze_roughness);
+    let layer1_path_cos_v = (layer1_cos_v / _e66);
     let absorb_l = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_v);
     let blur = ((0.34210527f * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
@@ -371,36 +351,36 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e84 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
-    let layer1_transmit_avg = ((0.9052938f + _e84) - _e32);
-    let _e89 = (layer1_transmit_avg / 2.3104f);
-    let _e91 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
-    let _e93 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
-    let _e95 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
-    let _e97 = (vec3<f32>(_e91, _e93, _e95) * _e89);
-    let layer1_r_return = max((vec3(1f) - _e97), vec3(0f));
-    let _e106 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
-    let _e108 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
-    let _e110 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
-    let layer1_transmit_avg_1 = ((0.9052938f + _e84) - _e32);
-    let _e117 = (layer1_transmit_avg_1 / 2.3104f);
-    let _e118 = vec3(_e117);
-    let layer1_r_return_1 = max((vec3(1f) - _e118), vec3(0f));
+    let _e80 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
+    let layer1_transmit_avg = (0.9052938f + _e80);
+    let _e84 = (layer1_transmit_avg / 2.3104f);
+    let _e86 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
+    let _e88 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
+    let _e90 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
+    let _e92 = (vec3<f32>(_e86, _e88, _e90) * _e84);
+    let layer1_r_return = max((vec3(1f) - _e92), vec3(0f));
+    let _e101 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
+    let _e103 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
+    let _e105 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
+    let layer1_transmit_avg_1 = (0.9052938f + _e80);
+    let _e111 = (layer1_transmit_avg_1 / 2.3104f);
+    let _e112 = vec3(_e111);
+    let layer1_r_return_1 = max((vec3(1f) - _e112), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e68);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e70);
-    let _e132 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e133 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e133)) * vec3(0.27190268f)) / max(_e132, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e161 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e162 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e162)) * vec3(0.27190268f)) / max(_e161, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e191 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
-    let _e193 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e193)) * vec3(0.27190268f)) / max(_e191, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e117).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e64);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e66);
+    let _e126 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e127 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e127)) * vec3(0.27190268f)) / max(_e126, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e155 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e156 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e156)) * vec3(0.27190268f)) / max(_e155, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e185 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
+    let _e187 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e187)) * vec3(0.27190268f)) / max(_e185, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
@@ -419,10 +399,10 @@ fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
 
 // The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
 // trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn tunable_glaze_environment(direction: vec3<f32>, roughness_7: f32) -> vec3<f32> {
+fn tunable_glaze_environment(direction: vec3<f32>, roughness_6: f32) -> vec3<f32> {
     let uv = tunable_glaze_equirect_uv(direction);
     let _e3 = textureNumLevels(tunable_glaze_radiance);
-    let lod = (roughness_7 * (f32(_e3) - 1f));
+    let lod = (roughness_6 * (f32(_e3) - 1f));
     let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
     return _e11.xyz;
 }
@@ -476,62 +456,60 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let tau_4 = (params_2.glaze_absorption * vec3(0.5f));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
     let _e17 = tunable_glaze_coat_deficit_slice(n_dot_v_4, params_2.glaze_roughness);
-    let layer1_restored_l = tunable_glaze_coat_extra_slice(n_dot_v_4, params_2.glaze_roughness);
-    let layer1_transmit_l_1 = min(max((((1f - layer1_fresnel_l) + _e17) - layer1_restored_l), 0f), 1f);
-    let layer1_transmit_v_1 = min(max((((1f - layer1_fresnel_l) + _e17) - layer1_restored_l), 0f), 1f);
+    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e17), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e17), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e38 = tunable_glaze_coat_path_slice(n_dot_v_4, params_2.glaze_roughness);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e38);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e38);
+    let _e35 = tunable_glaze_coat_path_slice(n_dot_v_4, params_2.glaze_roughness);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e35);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e35);
     let absorb_l = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_l_2);
     let absorb_v = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_v_2);
     let blur_1 = ((0.34210527f * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e50 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
-    let _e51 = tunable_glaze_coat_extra_avg_slice(params_2.glaze_roughness);
-    let layer1_transmit_avg_2 = ((0.9052938f + _e50) - _e51);
-    let _e56 = (layer1_transmit_avg_2 / 2.3104f);
-    let _e58 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
-    let _e60 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
-    let _e62 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
-    let _e64 = (vec3<f32>(_e58, _e60, _e62) * _e56);
-    let layer1_r_return_2 = max((vec3(1f) - _e64), vec3(0f));
-    let _e73 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
-    let _e75 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
-    let _e77 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
-    let _e79 = (vec3<f32>(_e73, _e75, _e77) * _e56);
-    let layer1_transmit_avg_3 = ((0.9052938f + _e50) - _e51);
-    let _e84 = (layer1_transmit_avg_3 / 2.3104f);
-    let _e85 = vec3(_e84);
-    let layer1_r_return_3 = max((vec3(1f) - _e85), vec3(0f));
-    let _e93 = vec3(_e84);
+    let _e47 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
+    let layer1_transmit_avg_2 = (0.9052938f + _e47);
+    let _e51 = (layer1_transmit_avg_2 / 2.3104f);
+    let _e53 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
+    let _e55 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
+    let _e57 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
+    let _e59 = (vec3<f32>(_e53, _e55, _e57) * _e51);
+    let layer1_r_return_2 = max((vec3(1f) - _e59), vec3(0f));
+    let _e68 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
+    let _e70 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
+    let _e72 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
+    let _e74 = (vec3<f32>(_e68, _e70, _e72) * _e51);
+    let layer1_transmit_avg_3 = (0.9052938f + _e47);
+    let _e78 = (layer1_transmit_avg_3 / 2.3104f);
+    let _e79 = vec3(_e78);
+    let layer1_r_return_3 = max((vec3(1f) - _e79), vec3(0f));
+    let _e87 = vec3(_e78);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e38);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e38);
-    let _e99 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e100 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e100)) * vec3(0.27190268f)) / max(_e99, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e128 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e129 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e129)) * vec3(0.27190268f)) / max(_e128, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e158 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
-    let _e160 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e160)) * vec3(0.27190268f)) / max(_e158, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e93.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e79, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(1.52f, _e93.x, _e79, layer1_r_return_2, layer1_rho);
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e35);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e35);
+    let _e93 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
+    let _e94 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
+    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e94)) * vec3(0.27190268f)) / max(_e93, vec3(0.000001f))));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e122 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e123 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e123)) * vec3(0.27190268f)) / max(_e122, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e152 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
+    let _e154 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
+    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e154)) * vec3(0.27190268f)) / max(_e152, vec3(0.000001f))));
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e74, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e74, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, _e87.x, _e74, layer1_r_return_2, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let _e208 = (dot(n_4, v_4) > 0f);
+    let _e202 = (dot(n_4, v_4) > 0f);
     let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
     let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e208) * light_a) + (select(vec3(0f), under_albedo, _e208) * light_b));
+    return ((select(vec3(0f), vec3(coat_albedo), _e202) * light_a) + (select(vec3(0f), under_albedo, _e202) * light_b));
 }
 

@@ -32,7 +32,7 @@ use glazec::math::tables::{Axis, GLOSSY_SINGLE_GRID, TableId};
 /// coat by 0.0116 at 30°; and the lowering gives back the light that K's interpolation takes from
 /// the remainder between the r nodes (without it a white conductor under that coat reflects 0.993
 /// at 85°).
-pub(super) fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> f64 {
+pub(super) fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync)) -> (f64, f64) {
     let probes = energy_probes();
     let measured = crate::parallel_map(probes.len(), |k| probe_energy(probes[k]), |_| tick());
     let constraints: Vec<EnergyConstraint> = probes
@@ -46,7 +46,9 @@ pub(super) fn fit_lobe_albedo(tables: &mut [Vec<f32>], tick: &(dyn Fn() + Sync))
     for (value, delta) in lobe_albedo.iter_mut().zip(&change) {
         *value += *delta as f32;
     }
-    measured.iter().map(|&(excess, _)| excess).fold(0.0, f64::max)
+    // What the fit left over the ceiling at a probe, as the lookup's linear model predicts it.
+    let left = constraints.iter().map(|c| (c.lower - c.looked_up(&change)).max(0.0) * c.unit).fold(0.0, f64::max);
+    (measured.iter().map(|&(excess, _)| excess).fold(0.0, f64::max), PROBE_ENERGY_CEILING - 1.0 + left)
 }
 
 /// The most a white conductor under a clear coat may reflect at a probe once K is fitted:
@@ -85,7 +87,7 @@ pub(super) const OFF_FACE_WEIGHT: f64 = 0.01;
 
 /// Sweeps of [`least_change`] (it stops earlier once no constraint is violated by more than
 /// [`FIT_TOLERANCE`]; with the capped loss probes it usually runs them all).
-pub(super) const FIT_SWEEPS: usize = 1500;
+pub(super) const FIT_SWEEPS: usize = 20_000;
 
 pub(super) const FIT_TOLERANCE: f64 = 1e-6;
 
@@ -119,6 +121,8 @@ pub(super) struct EnergyConstraint {
     upper: f64,
     /// Σ w² m: how far the looked-up change moves per unit of the multiplier.
     norm: f64,
+    /// What a unit of the looked-up K takes from E (floored, as `lower` and `upper` use it).
+    unit: f64,
 }
 
 impl EnergyConstraint {
@@ -136,7 +140,7 @@ impl EnergyConstraint {
         }
         let corners = lookup_corners(at);
         let norm = corners.iter().map(|&(_, w, m)| w * w * m).sum();
-        Some(EnergyConstraint { at, corners, lower, upper, norm })
+        Some(EnergyConstraint { at, corners, lower, upper, norm, unit: unit_floor })
     }
 
     pub(super) fn looked_up(&self, change: &[f64]) -> f64 {

@@ -3,8 +3,7 @@
 use glazec::math::layering::GLOSSY_GRAZING;
 use glazec::math::tables::Axis;
 
-/// GGX α below which an interface or conductor is smooth (the reference's threshold).
-pub(super) const SMOOTH_ALPHA: f64 = 1e-3;
+pub(super) use crate::bake::interface::SMOOTH_ALPHA;
 
 /// Sinkhorn iterations of the scale.
 pub(super) const SCALE_ITERATIONS: usize = 30;

@@ -21,12 +21,24 @@ pub struct EventCounts {
     /// Σ and count of the incidence cosines of conductor events after the first.
     pub pool_cosine_sum: f64,
     pub pool_events: u64,
+    /// Over the walks that left after three or more conductor events (the level's remainder:
+    /// the first two events are its lobe): Σ cos φf, φf their azimuth about the forward
+    /// direction (where a mirror sends the light on), and Σ sin θᵢ sin θₒ.
+    pub forward_cosine_sum: f64,
+    pub forward_weight: f64,
 }
 
 impl EventCounts {
     /// The share of entering light leaving after exactly k + 1 events.
     pub(super) fn share(&self, k: usize) -> f64 {
         self.events.get(k).map_or(0.0, |&n| n as f64 / self.entered.max(1) as f64)
+    }
+
+    /// κ of the remainder's azimuth about the forward direction, E[cos φf] = κ sin θᵢ sin θₒ (the
+    /// wrapped Cauchy distribution's ρ is its mean resultant length E[cos φf]), by the moments:
+    /// Σ cos φf / Σ sin θᵢ sin θₒ; `None` without any remainder that has an azimuth.
+    pub(super) fn forward_spread(&self) -> Option<f64> {
+        (self.forward_weight > 0.0).then(|| (self.forward_cosine_sum / self.forward_weight).max(0.0))
     }
 
     /// Σ_{k ≥ 2} P_k c^(k−1): the trapped light's generating function, exactly.
@@ -70,10 +82,19 @@ pub(super) fn conductor_sample(alpha: f64, w: DVec3, rng: &mut Rng) -> DVec3 {
     RoughConductor { alpha }.sample_multiple(w, &|_| DVec3::ONE, rng).0
 }
 
+/// One white walk through the coat over the conductor ([`walk`]).
+pub(super) struct Walk {
+    /// The cosines of its slab crossings and of its conductor events, in order.
+    pub(super) crossings: Vec<f64>,
+    pub(super) events: Vec<f64>,
+    /// The direction it left the coat in (above it); `None` for a walk cut at `EVENT_CAP`.
+    pub(super) exit: Option<DVec3>,
+}
+
 /// One white walk from `wo` (above the coat) into a slab of thickness 1 over the conductor:
-/// `None` if the coat reflects it at once, else the cosines of its slab crossings and of its
-/// conductor events (in order) until it leaves or is cut.
-pub(super) fn walk(eta: f64, alpha: f64, alpha_c: f64, wo: DVec3, rng: &mut Rng) -> Option<(Vec<f64>, Vec<f64>)> {
+/// `None` if the coat reflects it at once, else its crossings and conductor events until it
+/// leaves or is cut.
+pub(super) fn walk(eta: f64, alpha: f64, alpha_c: f64, wo: DVec3, rng: &mut Rng) -> Option<Walk> {
     let (mut w, crossed) = coat_sample(eta, alpha, wo, rng);
     if !crossed {
         return None;
@@ -86,17 +107,26 @@ pub(super) fn walk(eta: f64, alpha: f64, alpha_c: f64, wo: DVec3, rng: &mut Rng)
             let up = conductor_sample(alpha_c, -w, rng);
             if up.z <= 0.0 || events.len() >= EVENT_CAP {
                 // (A conductor walk never leaves below; a cut walk counts as leaving now.)
-                return Some((crossings, events));
+                return Some(Walk { crossings, events, exit: None });
             }
             w = up;
         } else {
             let (next, crossed) = coat_sample(eta, alpha, -w, rng);
             if crossed {
-                return Some((crossings, events));
+                return Some(Walk { crossings, events, exit: Some(next) });
             }
             w = next;
         }
     }
+}
+
+/// (cos φf, sin θᵢ sin θₒ) of light that arrived from `wo` and left along `exit`: φf the
+/// azimuth of `exit` about the forward direction (the one a mirror sends the light on to, the
+/// tangential component reversed); cos φf = 0 for a direction along the normal.
+fn forward_cosine(wo: DVec3, exit: DVec3) -> (f64, f64) {
+    let (a, b) = (DVec3::new(wo.x, wo.y, 0.0), DVec3::new(exit.x, exit.y, 0.0));
+    let lengths = (a.length_squared() * b.length_squared()).sqrt();
+    (if lengths < 1e-12 { 0.0 } else { -a.dot(b) / lengths }, lengths)
 }
 
 /// Event counts of `walks` white walks from outside cosine `mu`.
@@ -105,12 +135,17 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
     let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
     let mut counts = EventCounts { events: vec![0; EVENT_CAP], ..Default::default() };
     for _ in 0..walks {
-        let Some((_, events)) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
+        let Some(Walk { events, exit, .. }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
         counts.entered += 1;
         counts.events[events.len().clamp(1, EVENT_CAP) - 1] += 1;
         for &cosine in events.iter().skip(1) {
             counts.pool_cosine_sum += cosine;
             counts.pool_events += 1;
+        }
+        if let (true, Some(exit)) = (events.len() >= 3, exit) {
+            let (cosine, weight) = forward_cosine(wo, exit);
+            counts.forward_cosine_sum += cosine;
+            counts.forward_weight += weight;
         }
     }
     counts
@@ -165,7 +200,7 @@ pub(super) fn mirror_path_lengths(mu: f64, r: f64, eta: f64, walks: u32, seed: u
     let mut rng = Rng::seeded(seed);
     (0..walks)
         .filter_map(|_| {
-            let (crossings, events) = walk(eta, r * r, 0.0, direction_at_cosine(mu), &mut rng)?;
+            let Walk { crossings, events, .. } = walk(eta, r * r, 0.0, direction_at_cosine(mu), &mut rng)?;
             (events.len() == 1).then(|| crossings.iter().map(|c| 1.0 / c.max(1e-6)).sum())
         })
         .collect()

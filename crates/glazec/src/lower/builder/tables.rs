@@ -210,7 +210,7 @@ impl ModuleBuilder {
     /// reading every slice's whole window from the lowest corner to the highest, contiguous in
     /// the table and merged with the others (the helper then stepping by the table's own
     /// strides), the buffer is laid out that way instead: it is then never more than the tables
-    /// themselves, all of which fit in [`MAX_UNIFORM_BYTES`].
+    /// the material's method reads, all of which fit in [`MAX_UNIFORM_BYTES`].
     pub fn finish_tables(&self) -> Vec<u16> {
         let mut state = self.state.borrow_mut();
         let mut fetches = std::mem::take(&mut state.table_fetches);
@@ -302,8 +302,9 @@ impl ModuleBuilder {
     }
 }
 
-/// The largest uniform binding WebGPU guarantees (`maxUniformBufferBindingSize`), in bytes.
-pub const MAX_UNIFORM_BYTES: usize = 65_536;
+/// The largest uniform binding WebGPU guarantees (`maxUniformBufferBindingSize`), in bytes: the
+/// tables' budget per method.
+pub use crate::math::tables::TABLE_BUDGET as MAX_UNIFORM_BYTES;
 
 /// The buffer's codes for `fetches` and each fetch's offset (see
 /// [`ModuleBuilder::finish_tables`]).

@@ -17,7 +17,7 @@
 //!
 //! * [`Method::Interfaced`]: the top coat's lobe (its single- and multiple-scattering
 //!   reflection) weighs 1 − T(μv), the coat's transmission from the tables `glazec tables`
-//!   generates (CoatDeficit, CoatExtra; for a smooth coat the exact Fresnel F(μv): the mirror
+//!   generates (CoatDeficit; for a smooth coat the exact Fresnel F(μv): the mirror
 //!   lobe). Everything under it weighs E(μv) − (1 − T(μv)), E the stack's directional albedo the
 //!   method itself computes for its inter-reflections; it leaves diffusely (irradiance) over a
 //!   diffusing body, and as a GGX lobe of the conductor's α widened by the rough coats above

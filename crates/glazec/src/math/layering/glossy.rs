@@ -18,7 +18,12 @@
 //!   F(μ′) for the first event, F(μ′)·c for the second) and attenuated along the paths that light
 //!   really takes (`glossy_path`: its Laplace transform, not e^(−τE[L]), as a factor on the
 //!   coat's mean path, `path_cosine`);
-//! * **the rest** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017) with
+//! * **the rest** — a separable lobe M(μᵢ) M(μₒ)/(π⟨M⟩) (Kulla & Conty 2017), spread over the
+//!   azimuth by a wrapped Cauchy weight about the forward direction (`forward_azimuth_weight`,
+//!   ρ = κ sin θᵢ sin θₒ, κ = √(κ(μᵢ) κ(μₒ)) from `glossy_spread`: a reflection off the
+//!   conductor and a total internal reflection both keep a direction's horizontal part, so the
+//!   trapped light leaves going on the way it came, not backwards; the weight's mean over the
+//!   azimuth is 1, so the lobe's albedo stays M(μₒ)), with
 //!   M = T a² F (1 − P₁) Ŷ(c), F the conductor's Fresnel factor at the coat's mean-path cosine
 //!   (`path_cosine`: under a rough coat the first event is flatter than Snell's cosine), Ŷ the
 //!   generating function of the later events (`glossy_trapped`,
@@ -471,7 +476,9 @@ pub(super) fn glossy_level<F: Real>(
     let f = if g.albedo_only {
         inputs.zero()
     } else {
-        let f_top = (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + glossy.interface.restored_lobe(g))
+        let f_top = glossy
+            .interface
+            .scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx), g)
             .named(&level_name("specular", k));
         // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
         // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).
@@ -491,8 +498,14 @@ pub(super) fn glossy_level<F: Real>(
             .next()
             .unwrap_or_else(|| unreachable!("the remainder's mean is summed"))
             .named(&level_name("remainder_avg", k));
-        let later =
-            glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average).named(&level_name("later", k));
+        // The trapped light keeps travelling on: its azimuth about the forward direction, spread
+        // with κ = √(κ(μl) κ(μv)) (symmetric, so reciprocal).
+        let kappa_l = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_l).named(&level_name("spread_l", k));
+        let kappa_v = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_v).named(&level_name("spread_v", k));
+        let spread = forward_azimuth_weight(g.n, g.v, g.l, (kappa_l * kappa_v).at_least(0.0).sqrt())
+            .named(&level_name("spread", k));
+        let later = (glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average) * spread)
+            .named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
     };
     let albedo = want_albedo.then(|| {
@@ -587,10 +600,14 @@ fn clear_coat(r: f64, eta: f64) -> Coat {
     Coat { lobe, ior: Scalar::Lit(eta as f32), absorption: Color::Lit([0.0; 3]), thickness: Scalar::Lit(0.0) }
 }
 
-/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`);
-/// `r_clear` is the clear slab's return R(0).
+/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`), spread
+/// over the azimuth about the forward direction like the glossy level's own remainder
+/// (`forward_azimuth_weight`, κ from `glossy_spread` at the body's α and the coat's roughness
+/// and IOR: total internal reflection and a glossy reflection both keep the light going on);
+/// `r_clear` is the clear slab's return R(0), `above` the directions above the coat.
 pub(super) fn trapped<F: Real>(
     interface: &CoatInterface<'_, F>,
+    above: &Geometry<F>,
     below: &Geometry<F>,
     albedo: &Albedo<F>,
     alpha: Option<F>,
@@ -607,6 +624,10 @@ pub(super) fn trapped<F: Real>(
     let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
     let q = trapped_escape(mu_c, alpha).named(&name("trapped_escape"));
     let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
+    let roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
+    let kappa = |mu: F| tables::lookup(TableId::GlossySpread, &[mu, alpha.sqrt(), roughness, eta]);
+    let kappa = (kappa(above.raw_n_dot_l) * kappa(above.raw_n_dot_v)).at_least(0.0).sqrt();
+    let lobe = lobe * forward_azimuth_weight(above.n, above.v, above.l, kappa).named(&name("trapped_spread"));
     // Without total internal reflection (η ≤ 1) nothing is trapped.
     F::Vec::select(mu_c.gt_lit(0.0), lobe, inputs.zero())
 }

@@ -63,7 +63,8 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     }
 
     /// T(μ): the share of light from above at cosine μ that enters the coat. Rough:
-    /// T = 1 − F + G − E_ms (single-scattering deficit and multiple-scattering share, tabulated).
+    /// T = 1 − F + G, G the tabulated deficit of the single- and multiple-scattering reflection
+    /// against a smooth interface's.
     pub(super) fn transmission(&self, mu: F, side: &str) -> F {
         let name = self.name(&format!("transmit_{side}"));
         let smooth =
@@ -72,16 +73,10 @@ impl<'i, F: Real> CoatInterface<'i, F> {
             None => smooth.named(&name),
             Some(r) => {
                 let deficit = tables::lookup(TableId::CoatDeficit, &[mu, r, self.eta]);
-                let extra = self.extra(mu, r).named(&self.name(&format!("restored_{side}")));
-                let rough = (smooth + deficit - extra).clamp(0.0, 1.0);
+                let rough = (smooth + deficit).clamp(0.0, 1.0);
                 self.unless_below_one(|| smooth, rough, F::select).named(&name)
             }
         }
-    }
-
-    /// E_ms(μ): the reflection the single-scattering lobe misses.
-    pub(super) fn extra(&self, mu: F, r: F) -> F {
-        tables::lookup(TableId::CoatExtra, &[mu, r, self.eta])
     }
 
     /// ⟨T⟩ for either kind of interface.
@@ -93,12 +88,11 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     }
 
     /// ⟨T⟩: the coat's hemispherical transmittance from above, consistent with
-    /// [`Self::transmission`] (the averages of the same interpolated curves).
+    /// [`Self::transmission`] (the average of the same interpolated curve).
     pub(super) fn transmission_avg(&self, r: F) -> F {
         let smooth = tables::lookup(TableId::FresnelTransmitAvg, &[self.eta]);
         let deficit = tables::lookup(TableId::CoatDeficitAvg, &[r, self.eta]);
-        let extra = tables::lookup(TableId::CoatExtraAvg, &[r, self.eta]);
-        (smooth + deficit - extra).named(&self.name("transmit_avg"))
+        (smooth + deficit).named(&self.name("transmit_avg"))
     }
 
     /// The cosine along which light entering at outer cosine `mu` (refracted cosine
@@ -115,14 +109,22 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         }
     }
 
-    /// The multiple-scattering reflection that the coat's single-scattering lobe misses, as a
-    /// Kulla–Conty lobe.
-    pub(super) fn restored_lobe(&self, g: &Geometry<F>) -> F::Vec {
-        let Some(r) = self.roughness.filter(|_| !self.approx.single_scattering) else { return self.inputs.zero() };
-        let e_l = self.extra(g.raw_n_dot_l, r).named(&self.name("restored_l"));
-        let e_v = self.extra(g.raw_n_dot_v, r).named(&self.name("restored_v"));
-        let e_avg = tables::lookup(TableId::CoatExtraAvg, &[r, self.eta]);
-        multiple_scattering_lobe(e_l, e_v, e_avg).splat()
+    /// The coat's reflection lobe with the light it reflects after more than one microfacet event:
+    /// the single-scattering lobe `single` scaled by c(μl)·c(μv) (Turquin 2019, "Practical
+    /// multiple scattering compensation for microfacet models", scales the single-scattering lobe
+    /// by 1 + E_ms/E_ss at the view; a symmetric product keeps f reciprocal, and `glazec tables`
+    /// solves c so that the scaled lobe reflects exactly what the coat does not transmit, F − G).
+    /// Multiply-scattered light stays where the single-scattering lobe puts it, near the mirror
+    /// direction for a smooth-ish coat, as the reference's microsurface walks show; a separable
+    /// Kulla–Conty lobe spread it over every direction, most towards grazing pairs (5× the
+    /// reference at 85°). Unscaled for a smooth coat, for an optically thinner one (η < 1: no
+    /// tables) and under [`Approximations::single_scattering`].
+    pub(super) fn scaled_lobe(&self, single: F::Vec, g: &Geometry<F>) -> F::Vec {
+        let Some(r) = self.roughness.filter(|_| !self.approx.single_scattering) else { return single };
+        let c_l = tables::lookup(TableId::CoatScale, &[g.raw_n_dot_l, r, self.eta]).named(&self.name("scale_l"));
+        let c_v = tables::lookup(TableId::CoatScale, &[g.raw_n_dot_v, r, self.eta]).named(&self.name("scale_v"));
+        let scaled = single * (c_l * c_v);
+        self.unless_below_one(|| single, scaled, F::Vec::select)
     }
 
     /// (R(τ), E_esc(τ)) of the coat's slab.

@@ -44,7 +44,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let f_top = if g.albedo_only {
         inputs.zero()
     } else {
-        (interfaced_lobe(&coat.lobe, eta, inputs, g, approx) + interface.restored_lobe(g)).named(&name("specular"))
+        interface.scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx), g).named(&name("specular"))
     };
     let t_l = interface.transmission(g.raw_n_dot_l, "l");
     let t_v = interface.transmission(g.raw_n_dot_v, "v");
@@ -80,7 +80,8 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         let glossy = interfaced_glossy_under::<F>(lower.f, albedo.e_l, k_l, albedo.e_v, k_v);
         glossy
-            + trapped(&interface, &below, &albedo, lower.alpha, (r_return, clear().0), inputs).named(&name("trapped"))
+            + trapped(&interface, g, &below, &albedo, lower.alpha, (r_return, clear().0), inputs)
+                .named(&name("trapped"))
     } else if let Some(first) = &first {
         // The series starts from what the first pass returns, E·c (c = 1 for a diffusing body),
         // and on the viewer's side is divided by the return factor of diffuse light through the

@@ -20,10 +20,13 @@
 //!   - no η² radiance compression and no inter-reflection (faithful; this is why it is measured).
 //! * [`Method::Interfaced`] (glazec's default), per coat, top down:
 //!   - the interface's own lobe (exact dielectric Fresnel at the microfacet normal,
-//!     height-correlated Smith GGX) plus a Kulla–Conty lobe for the light that scatters more
-//!     than once between microfacets (E_ms, tabulated), so a rough interface conserves energy;
-//!   - transmission T(μ) = 1 − F(μ) + G(μ) − E_ms(μ) (G: the single-scattering lobe's deficit
-//!     against a smooth interface; tabulated, `super::tables`); 1 − F(μ) for a smooth coat;
+//!     height-correlated Smith GGX) scaled by c(μi)·c(μo) for the light that scatters more than
+//!     once between microfacets (a reciprocal form of Turquin 2019's compensation, c tabulated
+//!     so that the lobe reflects exactly what the coat does not transmit), so a rough interface
+//!     conserves energy and its multiply-scattered light stays near the mirror direction;
+//!   - transmission T(μ) = 1 − F(μ) + G(μ) (G: the deficit of the rough interface's single- and
+//!     multiple-scattering reflection against a smooth interface's; tabulated,
+//!     `super::tables`); 1 − F(μ) for a smooth coat;
 //!   - absorption e^{−τ/μ′} along both refracted paths, μ′ Snell's cosine shortened by the
 //!     tabulated path factor of a rough interface; η² radiance compression;
 //!   - below the coat, a diffuse body gets f_b + E_b(μi)E_b(μo)R(τ)/(π(1 − ρ̄R(τ))): the series of

@@ -109,10 +109,9 @@ impl TableSpec {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TableId {
     CoatDeficit,
-    CoatExtra,
+    CoatScale,
     CoatPath,
     CoatDeficitAvg,
-    CoatExtraAvg,
     FresnelTransmitAvg,
     CoatReturn,
     CoatEscape,
@@ -132,16 +131,17 @@ pub enum TableId {
     GlossySlowRetention,
     GlossyPoolCosine,
     GlossyPath,
+    GlossySpread,
 }
 
-/// The single-scattering deficit decides the energy balance and switches on sharply near
-/// grazing incidence (where α ≈ μ): it gets 32 × 32 (μ, r) nodes, and its nodes are lowered
-/// until the lookup never overshoots the quadrature between them (unlowered, it overshoots by up
-/// to 7·10⁻³; `glazec_lab::bake`), so that a rough coat never transmits more than its lobe leaves.
-/// The smoother terms share a coarser grid.
+/// The deficit decides the energy balance and switches on sharply near grazing incidence (where
+/// α ≈ μ): it gets 32 × 32 (μ, r) nodes. The lobe's scale is solved against its interpolated
+/// values (`glazec_lab::bake`), so that what the coat transmits and what its lobe reflects add up
+/// to 1 between the nodes too. The smoother terms share coarser grids.
 const DEFICIT_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 32), (Axis::Roughness, 32), (Axis::Ior, 8)];
 
-const EXTRA_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 16), (Axis::Ior, 8)];
+/// The lobe's scale is smooth in μ except near grazing incidence, where the cosine axis is dense.
+const SCALE_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 16), (Axis::Ior, 8)];
 
 const PATH_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 12), (Axis::Roughness, 12), (Axis::Ior, 8)];
 
@@ -244,6 +244,11 @@ const fn rounded_down(spec: TableSpec) -> TableSpec {
     TableSpec { rounding: Rounding::Down, ..spec }
 }
 
+/// The most table bytes one material's method can read: WebGPU's guaranteed uniform binding
+/// size (`maxUniformBufferBindingSize`), so that a material's table uniform, which never holds
+/// more than the tables it reads, always fits.
+pub const TABLE_BUDGET: usize = 65_536;
+
 /// Every table's layout. Changing one invalidates `crates/glazec/data/tables.bin` (regenerate it
 /// with `glazec tables`).
 pub const SPECS: [TableSpec; 24] = [
@@ -253,19 +258,22 @@ pub const SPECS: [TableSpec; 24] = [
         "coat_deficit",
         COAT_PARAMS,
         table_doc![
-            "G(μ; r, η) = F(μ) − E_ss(μ): how much less the rough interface's single-scattering",
-            "reflection lobe reflects than a smooth interface (masking, shadowing, light sent below",
-            "the horizon; slightly negative where Fresnel's convexity wins); 0 when smooth.",
+            "G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A",
+            "the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet",
+            "scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;",
+            "negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.",
         ],
     )),
     table(
-        "coat_extra_table",
-        &EXTRA_GRID,
-        "coat_extra",
+        "coat_scale_table",
+        &SCALE_GRID,
+        "coat_scale",
         COAT_PARAMS,
         table_doc![
-            "E_ms(μ; r, η): the share reflected after two or more microfacet events, which the",
-            "single-scattering lobe misses. The transmittance is T = 1 − F + G − E_ms.",
+            "c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,",
+            "f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the",
+            "microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a",
+            "symmetric scaling); 1 when smooth.",
         ],
     ),
     table(
@@ -286,13 +294,6 @@ pub const SPECS: [TableSpec; 24] = [
         COAT_AVG_PARAMS,
         table_doc!["⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.",],
     )),
-    table(
-        "coat_extra_avg_table",
-        &[EXTRA_GRID[1], EXTRA_GRID[2]],
-        "coat_extra_avg",
-        COAT_AVG_PARAMS,
-        table_doc!["⟨E_ms⟩(r, η) = ∫ 2μ E_ms(μ) dμ.",],
-    ),
     table(
         "fresnel_transmit_avg_table",
         &[(Axis::Ior, 64)],
@@ -466,15 +467,26 @@ pub const SPECS: [TableSpec; 24] = [
             "light is absorbed, Snell's over `coat_path`; q = 1 for a smooth coat).",
         ],
     ),
+    table(
+        "glossy_spread_table",
+        &GLOSSY_TRAPPED_GRID,
+        "glossy_spread",
+        GLOSSY_PARAMS,
+        glossy_doc![
+            "κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it",
+            "leaves after three or more conductor events: the mean cosine of its azimuth about the",
+            "forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total",
+            "internal reflection keeps the direction's horizontal part).",
+        ],
+    ),
 ];
 
 impl TableId {
     pub const ALL: [TableId; 24] = [
         TableId::CoatDeficit,
-        TableId::CoatExtra,
+        TableId::CoatScale,
         TableId::CoatPath,
         TableId::CoatDeficitAvg,
-        TableId::CoatExtraAvg,
         TableId::FresnelTransmitAvg,
         TableId::CoatReturn,
         TableId::CoatEscape,
@@ -494,7 +506,18 @@ impl TableId {
         TableId::GlossySlowRetention,
         TableId::GlossyPoolCosine,
         TableId::GlossyPath,
+        TableId::GlossySpread,
     ];
+
+    /// Whether only the seed's methods (`Additive`, `WeidlichWilkie`) read the table: their coat
+    /// lobes' split-sum DFG. The default method never does, so a material's tables come from
+    /// one side of this split or the other, each within [`TABLE_BUDGET`].
+    pub fn is_seed_only(self) -> bool {
+        matches!(
+            self,
+            TableId::SeedGgxDfgScale | TableId::SeedGgxDfgBias | TableId::ClearcoatDfgScale | TableId::ClearcoatDfgBias
+        )
+    }
 
     /// Whether the table belongs to the glossy level (a conductor under a coat;
     /// `glazec_lab::bake::glossy`).

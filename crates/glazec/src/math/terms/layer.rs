@@ -7,6 +7,8 @@ use std::f32::consts::PI;
 use crate::math::Vector;
 use crate::math::shading_fn;
 
+use super::microfacet::TINY;
+
 shading_fn! {
     /// Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
     /// l = d (1/(n·l′) + 1/(n·v′)) through a layer of density `thickness`.
@@ -131,11 +133,31 @@ shading_fn! {
 
 shading_fn! {
     /// Kulla & Conty 2017's reciprocal separable lobe for the glossy level's remainder: the light
-    /// that leaves after several conductor events has forgotten where it entered, so
-    /// f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ).
+    /// that leaves after several conductor events has forgotten the angle at which it entered,
+    /// so f = M(μᵢ) M(μₒ)/(π ⟨M⟩), whose albedo is M(μₒ) exactly (⟨M⟩ = ∫ 2μ M(μ) dμ); the level
+    /// spreads it over the azimuth ([`forward_azimuth_weight`]).
     /// Guard: ⟨M⟩ ≥ 10⁻⁶ (M ≡ 0 gives 0).
     pub fn glossy_remainder_lobe(m_i: V, m_o: V, m_avg: V) -> V {
         m_i * m_o / (m_avg.max(m_avg.x().lit(1e-6).splat()) * PI)
+    }
+}
+
+shading_fn! {
+    /// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
+    /// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
+    /// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
+    /// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
+    /// directions' components in the plane of `n`, so no azimuth is divided out and along the
+    /// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
+    /// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
+    /// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
+    pub fn forward_azimuth_weight(n: V, v: V, l: V, kappa: S) -> S {
+        let l_t = l - n * n.dot(l);
+        let v_t = v - n * n.dot(v);
+        let sines = (l_t.dot(l_t) * v_t.dot(v_t)).at_least(TINY).sqrt();
+        let k = kappa.min(sines.recip() * 0.95);
+        let rho2 = (k * sines).sq();
+        rho2.one_minus() / (rho2 + 1.0 + k * l_t.dot(v_t) * 2.0)
     }
 }
 

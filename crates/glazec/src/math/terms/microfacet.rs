@@ -1,6 +1,6 @@
 //! Microfacet terms: normal distributions (GGX, GTR1), masking–shadowing (Smith, Schlick-GGX),
 //! Fresnel (dielectric, conductor, Schlick), the Cook–Torrance lobe, the half vector and
-//! refraction, and the multiple-scattering lobe of Kulla & Conty.
+//! refraction.
 
 use std::f32::consts::PI;
 
@@ -19,7 +19,7 @@ const GTR1_ALPHA_MAX: f32 = 0.9999;
 const F0_MAX: f32 = 0.9999;
 
 /// Smallest argument of a square root or reciprocal that would otherwise hit 0 at grazing angles.
-const TINY: f32 = 1e-12;
+pub(super) const TINY: f32 = 1e-12;
 
 /// The roughness α_g of the Disney clear-coat's Smith term: fixed at 0.25 (Burley 2012;
 /// Bowsher 2022, §3.0.2).
@@ -224,16 +224,6 @@ shading_fn! {
     pub fn half_vector(v: V, l: V) -> V {
         let sum = v + l;
         sum / sum.dot(sum).at_least(TINY).sqrt()
-    }
-}
-
-shading_fn! {
-    /// Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks": a reciprocal
-    /// lobe carrying energy E_ms(μ) lost by a single-scattering microfacet lobe,
-    /// E_ms(μᵢ) E_ms(μₒ) / (π ⟨E_ms⟩), so that its albedo at μₒ is exactly E_ms(μₒ).
-    /// Guard: ⟨E_ms⟩ ≥ 10⁻⁶ (a smooth interface has none to restore).
-    pub fn multiple_scattering_lobe(e_i: S, e_o: S, e_avg: S) -> S {
-        e_i * e_o / (e_avg.at_least(1e-6) * PI)
     }
 }
 
