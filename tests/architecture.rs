@@ -22,7 +22,14 @@ const LONG_FILES: &[(&str, &str)] = &[(
 )];
 
 /// The source roots checked: each crate's `src/`.
-const ROOTS: &[&str] = &["crates/glazec/src", "crates/glazec-gpu/src", "crates/glazec-lab/src", "src"];
+const ROOTS: &[&str] = &[
+    "crates/glazec/src",
+    "crates/glazec-gpu/src",
+    "crates/glazec-lab/src",
+    "crates/glazec_bevy/src",
+    "crates/glazec_bevy/scene/src",
+    "src",
+];
 
 type Module = Vec<String>;
 

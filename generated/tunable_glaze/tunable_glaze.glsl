@@ -7,6 +7,17 @@ struct TunableGlazeParams {
     vec3 body_albedo;
     float body_roughness;
 };
+struct TunableGlazeIblLobe {
+    vec3 direction;
+    float roughness;
+    vec3 weight;
+};
+struct TunableGlazeIblLobes {
+    TunableGlazeIblLobe specular[1];
+    TunableGlazeIblLobe irradiance;
+};
+const uint tunable_glaze_ibl_specular_lobes = 1u;
+
 layout(std140, binding = 4) uniform tunable_glaze_tables_block { uvec4 tunable_glaze_tables[1980]; };
 
 layout(binding = 33) uniform sampler2D tunable_glaze_radiance;
@@ -537,27 +548,6 @@ vec3 tunable_glaze_eval(vec3 n_2, vec3 v_2, vec3 l_2, TunableGlazeParams params_
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 tunable_glaze_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 tunable_glaze_environment(vec3 direction, float roughness_6) {
-    vec2 uv = tunable_glaze_equirect_uv(direction);
-    float lod = (roughness_6 * (float(uint(textureQueryLevels(tunable_glaze_radiance))) - 1.0));
-    vec4 _e11 = textureLod(tunable_glaze_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 tunable_glaze_irradiance_at(vec3 direction_1) {
-    vec2 uv = tunable_glaze_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(tunable_glaze_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
 // The directional albedo seen above a coat over a diffusing layer (same model as
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
@@ -591,10 +581,11 @@ vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
 
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 tunable_glaze_ibl(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
+// The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
+// the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
+// specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
+// irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
+TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
     float n_dot_v_4 = dot(n_4, v_4);
     float cos_v_1 = max(n_dot_v_4, 0.0001);
     vec3 tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
@@ -664,7 +655,36 @@ vec3 tunable_glaze_ibl(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     bool _e259 = (dot(n_4, v_4) > 0.0);
-    vec3 light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
-    vec3 light_b = tunable_glaze_irradiance_at(n_4);
-    return (((_e259 ? vec3(coat_albedo) : vec3(0.0)) * light_a) + ((_e259 ? under_albedo : vec3(0.0)) * light_b));
+    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, params_2.glaze_roughness, (_e259 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e259 ? under_albedo : vec3(0.0))));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+vec2 tunable_glaze_equirect_uv(vec3 d_1) {
+    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+vec3 tunable_glaze_environment(vec3 direction, float roughness_6) {
+    vec2 uv = tunable_glaze_equirect_uv(direction);
+    float lod = (roughness_6 * (float(uint(textureQueryLevels(tunable_glaze_radiance))) - 1.0));
+    vec4 _e11 = textureLod(tunable_glaze_radiance, vec2(uv), lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+vec3 tunable_glaze_irradiance_at(vec3 direction_1) {
+    vec2 uv = tunable_glaze_equirect_uv(direction_1);
+    vec4 _e5 = textureLod(tunable_glaze_irradiance, vec2(uv), 0.0);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
+// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+vec3 tunable_glaze_ibl(vec3 n_5, vec3 v_5, TunableGlazeParams params_3) {
+    TunableGlazeIblLobes lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
+    vec3 light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    vec3 light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

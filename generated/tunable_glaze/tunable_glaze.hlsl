@@ -50,6 +50,10 @@ float ZeroValuefloat() {
     return (float)0;
 }
 
+TunableGlazeIblLobes ZeroValueTunableGlazeIblLobes() {
+    return (TunableGlazeIblLobes)0;
+}
+
 float2 ZeroValuefloat2() {
     return (float2)0;
 }
@@ -94,12 +98,12 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
 {
     float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_5 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_6 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     TunableGlazeParams _e13 = tunable_glaze_params;
     float4 _e16 = light.direction;
     float3 l_3 = _e16.xyz;
     float4 _e19 = light.radiance;
-    const float3 reflected = tunable_glaze_eval(n_5, float3(0.0, 0.0, 1.0), l_3, _e13);
+    const float3 reflected = tunable_glaze_eval(n_6, float3(0.0, 0.0, 1.0), l_3, _e13);
     bool _e28 = (r2_ < 1.0);
     return float4((_e28 ? (reflected * _e19.xyz) : (0.0).xxx), (_e28 ? 1.0 : 0.0));
 }
@@ -108,9 +112,9 @@ float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs)
 {
     float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
     float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
-    float3 n_6 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    float3 n_7 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
     TunableGlazeParams _e13 = tunable_glaze_params;
-    const float3 reflected = tunable_glaze_ibl(n_6, float3(0.0, 0.0, 1.0), _e13);
+    const float3 reflected = tunable_glaze_ibl(n_7, float3(0.0, 0.0, 1.0), _e13);
     bool _e20 = (r2_1 < 1.0);
     return float4((_e20 ? reflected : (0.0).xxx), (_e20 ? 1.0 : 0.0));
 }

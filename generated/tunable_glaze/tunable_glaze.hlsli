@@ -10,6 +10,20 @@ struct TunableGlazeParams {
     float body_roughness;
 };
 
+struct TunableGlazeIblLobe {
+    float3 direction;
+    float roughness;
+    float3 weight;
+    int _end_pad_0;
+};
+
+struct TunableGlazeIblLobes {
+    TunableGlazeIblLobe specular[1];
+    TunableGlazeIblLobe irradiance;
+};
+
+static const uint tunable_glaze_ibl_specular_lobes = 1u;
+
 cbuffer tunable_glaze_tables : register(b4) { uint4 tunable_glaze_tables[1980]; }
 #ifndef GLAZEC_NAGASAMPLERHEAP
 #define GLAZEC_NAGASAMPLERHEAP
@@ -591,40 +605,6 @@ float3 tunable_glaze_eval(float3 n_2, float3 v_2, float3 l_2, TunableGlazeParams
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 tunable_glaze_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 tunable_glaze_environment(float3 direction, float roughness_6)
-{
-    const float2 uv = tunable_glaze_equirect_uv(direction);
-    float lod = (roughness_6 * (float(NagaNumLevels2D(tunable_glaze_radiance)) - 1.0));
-    float4 _e11 = tunable_glaze_radiance.SampleLevel(tunable_glaze_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 tunable_glaze_irradiance_at(float3 direction_1)
-{
-    const float2 uv = tunable_glaze_equirect_uv(direction_1);
-    float4 _e5 = tunable_glaze_irradiance.SampleLevel(tunable_glaze_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
 // The directional albedo seen above a coat over a diffusing layer (same model as
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
@@ -661,10 +641,44 @@ float3 tunable_glaze_specular_dominant_direction(float3 n_3, float3 v_3, float a
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 tunable_glaze_ibl(float3 n_4, float3 v_4, TunableGlazeParams params_2)
+#ifndef GLAZEC_CONSTRUCTTUNABLEGLAZEIBLLOBE
+#define GLAZEC_CONSTRUCTTUNABLEGLAZEIBLLOBE
+TunableGlazeIblLobe ConstructTunableGlazeIblLobe(float3 arg0, float arg1, float3 arg2) {
+    TunableGlazeIblLobe ret = (TunableGlazeIblLobe)0;
+    ret.direction = arg0;
+    ret.roughness = arg1;
+    ret.weight = arg2;
+    return ret;
+}
+#endif
+
+#ifndef GLAZEC_RET_CONSTRUCTARRAY1_TUNABLEGLAZEIBLLOBE_
+#define GLAZEC_RET_CONSTRUCTARRAY1_TUNABLEGLAZEIBLLOBE_
+typedef TunableGlazeIblLobe ret_Constructarray1_TunableGlazeIblLobe_[1];
+#endif
+#ifndef GLAZEC_CONSTRUCTARRAY1_TUNABLEGLAZEIBLLOBE_
+#define GLAZEC_CONSTRUCTARRAY1_TUNABLEGLAZEIBLLOBE_
+ret_Constructarray1_TunableGlazeIblLobe_ Constructarray1_TunableGlazeIblLobe_(TunableGlazeIblLobe arg0) {
+    TunableGlazeIblLobe ret[1] = { arg0 };
+    return ret;
+}
+#endif
+
+#ifndef GLAZEC_CONSTRUCTTUNABLEGLAZEIBLLOBES
+#define GLAZEC_CONSTRUCTTUNABLEGLAZEIBLLOBES
+TunableGlazeIblLobes ConstructTunableGlazeIblLobes(TunableGlazeIblLobe arg0[1], TunableGlazeIblLobe arg1) {
+    TunableGlazeIblLobes ret = (TunableGlazeIblLobes)0;
+    ret.specular = arg0;
+    ret.irradiance = arg1;
+    return ret;
+}
+#endif
+
+// The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
+// the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
+// specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
+// irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
+TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlazeParams params_2)
 {
     float n_dot_v_4 = dot(n_4, v_4);
     float cos_v_1 = max(n_dot_v_4, 0.0001);
@@ -735,7 +749,51 @@ float3 tunable_glaze_ibl(float3 n_4, float3 v_4, TunableGlazeParams params_2)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     bool _e259 = (dot(n_4, v_4) > 0.0);
-    const float3 light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
-    const float3 light_b = tunable_glaze_irradiance_at(n_4);
-    return (((_e259 ? (coat_albedo).xxx : (0.0).xxx) * light_a) + ((_e259 ? under_albedo : (0.0).xxx) * light_b));
+    const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, params_2.glaze_roughness, (_e259 ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (_e259 ? under_albedo : (0.0).xxx)));
+    return tunableglazeibllobes;
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 tunable_glaze_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+#ifndef GLAZEC_NAGANUMLEVELS2D
+#define GLAZEC_NAGANUMLEVELS2D
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+#endif
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 tunable_glaze_environment(float3 direction, float roughness_6)
+{
+    const float2 uv = tunable_glaze_equirect_uv(direction);
+    float lod = (roughness_6 * (float(NagaNumLevels2D(tunable_glaze_radiance)) - 1.0));
+    float4 _e11 = tunable_glaze_radiance.SampleLevel(tunable_glaze_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 tunable_glaze_irradiance_at(float3 direction_1)
+{
+    const float2 uv = tunable_glaze_equirect_uv(direction_1);
+    float4 _e5 = tunable_glaze_irradiance.SampleLevel(tunable_glaze_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
+// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 tunable_glaze_ibl(float3 n_5, float3 v_5, TunableGlazeParams params_3)
+{
+    const TunableGlazeIblLobes lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
+    const float3 light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    const float3 light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

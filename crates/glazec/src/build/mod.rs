@@ -32,6 +32,7 @@
 //! written unless every material compiles. [`Build::generate`] is the same without the cargo
 //! protocol, for tools and tests.
 
+mod bevy;
 #[allow(dead_code, clippy::all)]
 pub(crate) mod prelude;
 mod rust_module;
@@ -59,6 +60,8 @@ pub struct Build {
     bindings: Choice,
     /// Per material: choices that override `bindings`.
     material_bindings: Vec<(String, Resource, Slot)>,
+    /// Bevy materials instead of the plain module (`Build::bevy`).
+    bevy: bool,
 }
 
 /// What [`Build::generate`] wrote.
@@ -106,7 +109,21 @@ impl Build {
             bytemuck: true,
             bindings: Choice::default(),
             material_bindings: Vec::new(),
+            bevy: false,
         }
+    }
+
+    /// Bevy materials (Bevy 0.19): per material a type implementing Bevy's `Material` and a
+    /// fragment shader that lights it with Bevy's own lights, in `OUT_DIR/glazec_bevy_materials.rs`
+    /// (instead of `glazec_materials.rs`; see the `glazec_bevy` crate). The libraries' resources
+    /// go to Bevy's material bind group (parameters at 0, tables at 1, sampler at 2, textures from
+    /// 3) and only WGSL and its naga_oil flavour are generated.
+    #[must_use]
+    pub fn bevy(mut self) -> Self {
+        self.bevy = true;
+        self.bindings = bevy::choice();
+        self.targets = vec![Target::Wgsl, Target::NagaOil];
+        self
     }
 
     /// Binds `resource` of material `material`'s library at `slot`, over [`Build::bind`]: for a
@@ -224,6 +241,9 @@ impl Build {
             outputs.extend(planned);
             inputs.push((std::fs::canonicalize(&file.path)?, c, written));
         }
+        if self.bevy {
+            return self.write_bevy(&out_dir, &shader_dir, outputs, &inputs);
+        }
         let materials: Vec<rust_module::MaterialInput<'_>> = inputs
             .iter()
             .map(|(source, compiled, artifacts)| rust_module::MaterialInput {
@@ -239,6 +259,49 @@ impl Build {
         Ok(Generated {
             module: module_path,
             materials: compiled.iter().map(|c| c.material.name.clone()).collect(),
+            files: outputs.into_iter().map(|f| f.path).collect(),
+        })
+    }
+}
+
+type Written<'a> = (PathBuf, &'a crate::Compiled, Vec<(crate::emit::Artifact, PathBuf)>);
+
+impl Build {
+    /// The Bevy flavour's files: each material's fragment shader and the Bevy module.
+    fn write_bevy(
+        &self,
+        out_dir: &Path,
+        shader_dir: &Path,
+        mut outputs: Vec<OutputFile>,
+        inputs: &[Written<'_>],
+    ) -> Result<Generated, BuildError> {
+        let mut materials = Vec::new();
+        for (_, c, written) in inputs {
+            let name = &c.material.name;
+            let path_of = |suffix: &str| {
+                written
+                    .iter()
+                    .find(|(a, _)| a.file_name == format!("{name}{suffix}"))
+                    .map(|(_, p)| p.to_string_lossy().into_owned())
+            };
+            let library = path_of(".naga_oil.wgsl")
+                .ok_or_else(|| BuildError::Internal(format!("no naga_oil library for `{name}`")))?;
+            let fragment = shader_dir.join(name).join(bevy::fragment_file(name));
+            outputs.push(OutputFile { path: fragment.clone(), contents: bevy::fragment_shader(c).into_bytes() });
+            let tables = if c.uses_tables() { path_of(".tables.bin") } else { None };
+            materials.push(bevy::BevyMaterial {
+                compiled: c,
+                library,
+                fragment: fragment.to_string_lossy().into_owned(),
+                tables,
+            });
+        }
+        let module_path = out_dir.join(bevy::MODULE_FILE);
+        outputs.push(OutputFile { path: module_path.clone(), contents: bevy::module_text(&materials).into_bytes() });
+        output::write_all(&outputs)?;
+        Ok(Generated {
+            module: module_path,
+            materials: inputs.iter().map(|(_, c, _)| c.material.name.clone()).collect(),
             files: outputs.into_iter().map(|f| f.path).collect(),
         })
     }

@@ -12,20 +12,23 @@
 //!     hemisphere around each texel's direction, E(d)/π (1 under a white environment);
 //! * `glazec_environment(direction, roughness)` and `glazec_irradiance_at(direction)`, the two
 //!   lookups (trilinear between the prefiltered levels: lod = r·(N − 1));
+//! * `<material>_ibl_lobes(n, v[, params][, textures]) -> <Material>IblLobes`: the lobes of
+//!   [`crate::math::layering::environment`] as data (each lobe's direction, roughness and
+//!   weight), for a host that samples its own prefiltered environment (Bevy's
+//!   `EnvironmentMapLight`, an engine's probes); `<material>_ibl_specular_lobes` is their count;
 //! * `<material>_ibl(n, v[, params][, textures]) -> vec3<f32>`: the radiance the material
-//!   reflects towards `v` from the whole environment, Σ weight · lookup over the lobes of
-//!   [`crate::math::layering::environment`];
+//!   reflects towards `v` from the whole environment, Σ weight · lookup over those lobes;
 //! * the fragment entry point `preview_ibl_fs`, the preview sphere lit by it.
 //!
 //! `glazec_gpu::environment` prefilters images for these bindings (and documents the sampler:
 //! repeat in u, clamp in v, linear filtering between texels and levels).
 
 use naga::{
-    AddressSpace, Expression, FunctionResult, GlobalVariable, Handle, ImageQuery, ResourceBinding, SampleLevel,
-    ScalarKind, Statement, SwizzleComponent, Type, VectorSize,
+    AddressSpace, ArraySize, Expression, FunctionResult, GlobalVariable, Handle, ImageQuery, Literal, ResourceBinding,
+    SampleLevel, ScalarKind, Span, Statement, SwizzleComponent, Type, TypeInner, VectorSize,
 };
 
-use super::builder::{Expr, ExprVec, ModuleBuilder, argument, global_in};
+use super::builder::{Expr, ExprVec, ModuleBuilder, argument, global_in, struct_type};
 use crate::math::layering::Inputs;
 use crate::math::layering::environment::{Lookup, environment_lobes};
 use crate::math::{Named, Real, Vector};
@@ -143,23 +146,125 @@ fn global(b: &ModuleBuilder, name: &str, binding: u32, ty: Handle<Type>) -> Hand
     global_in(b, name, AddressSpace::Handle, ResourceBinding { group: bindings::GROUP, binding }, ty)
 }
 
-/// The radiance `material` reflects towards `v` from the environment: Σ weight · lookup.
-pub fn reflected<'a>(
+/// The structs `<material>_ibl_lobes` returns.
+#[derive(Clone, Copy)]
+pub struct LobeTypes {
+    /// `<Material>IblLobe { direction: vec3<f32>, roughness: f32, weight: vec3<f32> }`.
+    pub lobe: Handle<Type>,
+    /// `<Material>IblLobes { specular: array<<Material>IblLobe, K>, irradiance: <Material>IblLobe }`.
+    pub lobes: Handle<Type>,
+    /// K, the length of `specular` (at least 1; unused entries weigh 0).
+    pub specular: u32,
+    /// How many of them the material has (0 or K).
+    pub used_specular: u32,
+    /// Whether the material has an irradiance lobe (else `irradiance` weighs 0).
+    pub irradiance: bool,
+}
+
+/// The byte size of `<Material>IblLobe` (WGSL layout: direction at 0, roughness at 12, weight
+/// at 16).
+const LOBE_SPAN: u32 = 32;
+
+/// The lobes of `material` seen from `v` at normal `n` as one `<Material>IblLobes` value: its
+/// prefiltered lobes in `specular` (in the order of [`environment_lobes`], padded with lobes of
+/// weight 0 around `n`), its irradiance lobe in `irradiance` (weight 0 when the material has
+/// none; its roughness is 1, the irradiance being the cosine lobe's average).
+pub fn composed_lobes<'a>(
     b: &'a ModuleBuilder,
-    lookups: Lookups,
     material: &Material,
     inputs: &Inputs<Expr<'a>>,
     n: ExprVec<'a>,
     v: ExprVec<'a>,
+) -> (Handle<Expression>, LobeTypes) {
+    let lobes = environment_lobes(material, inputs, n, v);
+    let (specular, irradiance): (Vec<_>, Vec<_>) = lobes.into_iter().partition(|l| l.lookup == Lookup::Prefiltered);
+    debug_assert!(irradiance.len() <= 1, "the body is the only diffuse lobe");
+    let count = specular.len().max(1) as u32;
+    let mut types = lobe_types(b, material, count);
+    types.used_specular = specular.len() as u32;
+    types.irradiance = !irradiance.is_empty();
+    let zero = b.constant(0.0).splat();
+    let compose = |direction: ExprVec<'a>, roughness: Expr<'a>, weight: ExprVec<'a>| {
+        let components = vec![direction.handle(), roughness.handle(), weight.handle()];
+        b.append(Expression::Compose { ty: types.lobe, components })
+    };
+    let mut entries: Vec<_> = specular.into_iter().map(|l| compose(l.direction, l.roughness, l.weight)).collect();
+    while entries.len() < count as usize {
+        entries.push(compose(n, b.constant(0.0), zero));
+    }
+    let array_ty = b.with_module(|m| match m.types[types.lobes].inner {
+        TypeInner::Struct { ref members, .. } => members[0].ty,
+        _ => unreachable!("built as a struct"),
+    });
+    let specular = b.append(Expression::Compose { ty: array_ty, components: entries });
+    let irradiance = match irradiance.into_iter().next() {
+        Some(l) => compose(l.direction, b.constant(1.0), l.weight),
+        None => compose(n, b.constant(1.0), zero),
+    };
+    (b.append(Expression::Compose { ty: types.lobes, components: vec![specular, irradiance] }), types)
+}
+
+/// Declares `<Material>IblLobe` and `<Material>IblLobes` with `count` specular lobes.
+fn lobe_types(b: &ModuleBuilder, material: &Material, count: u32) -> LobeTypes {
+    let prefix = crate::model::camel_case(&material.name);
+    let lobe = struct_type(
+        b,
+        &format!("{prefix}IblLobe"),
+        &[
+            ("direction", b.types.vec3, 0, None),
+            ("roughness", b.types.f32, 12, None),
+            ("weight", b.types.vec3, 16, None),
+        ],
+        LOBE_SPAN,
+    );
+    let size = std::num::NonZeroU32::new(count).unwrap_or(std::num::NonZeroU32::MIN);
+    let array = b.with_module(|m| {
+        m.types.insert(
+            Type {
+                name: None,
+                inner: TypeInner::Array { base: lobe, size: ArraySize::Constant(size), stride: LOBE_SPAN },
+            },
+            Span::UNDEFINED,
+        )
+    });
+    let lobes = struct_type(
+        b,
+        &format!("{prefix}IblLobes"),
+        &[("specular", array, 0, None), ("irradiance", lobe, count * LOBE_SPAN, None)],
+        (count + 1) * LOBE_SPAN,
+    );
+    // `<material>_ibl_specular_lobes`: K, for a host's loop over `specular`.
+    b.with_module(|m| {
+        let init = m.global_expressions.append(Expression::Literal(Literal::U32(count)), Span::UNDEFINED);
+        let name = Some("glazec_ibl_specular_lobes".to_string());
+        m.constants.append(naga::Constant { name, ty: b.types.u32, init }, Span::UNDEFINED);
+    });
+    LobeTypes { lobe, lobes, specular: count, used_specular: count, irradiance: true }
+}
+
+/// The radiance reflected towards `v` from the environment: Σ weight · lookup over the lobes
+/// `lobes` (a `<Material>IblLobes` value), looked up in glazec's own environment images.
+pub fn reflected<'a>(
+    b: &'a ModuleBuilder,
+    lookups: Lookups,
+    lobes: Handle<Expression>,
+    types: LobeTypes,
 ) -> ExprVec<'a> {
+    let field = |base: Handle<Expression>, index: u32| b.append(Expression::AccessIndex { base, index });
+    let specular = field(lobes, 0);
     let mut total: Option<ExprVec<'a>> = None;
-    for (i, lobe) in environment_lobes(material, inputs, n, v).into_iter().enumerate() {
-        let light = match lobe.lookup {
-            Lookup::Prefiltered => b.call(lookups.prefiltered, vec![lobe.direction.handle(), lobe.roughness.handle()]),
-            Lookup::Irradiance => b.call(lookups.irradiance, vec![lobe.direction.handle()]),
+    // The lookups of lobes the material has: padding and a missing irradiance lobe weigh 0.
+    let used = (0..types.used_specular).chain(types.irradiance.then_some(types.specular));
+    for k in used {
+        let (lobe, light) = if k < types.specular {
+            let lobe = field(specular, k);
+            (lobe, b.call(lookups.prefiltered, vec![field(lobe, 0), field(lobe, 1)]))
+        } else {
+            let lobe = field(lobes, 1);
+            (lobe, b.call(lookups.irradiance, vec![field(lobe, 0)]))
         };
-        b.name(light, &format!("light{}", letter(i)));
-        let term = lobe.weight * b.vector(light);
+        b.name(light, &format!("light{}", letter(k as usize)));
+        let term = b.vector(field(lobe, 2)) * b.vector(light);
         total = Some(match total {
             Some(sum) => sum + term,
             None => term,

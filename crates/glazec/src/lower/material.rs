@@ -1,4 +1,5 @@
-//! The material's own functions: `<material>_brdf`, `<material>_eval`, `<material>_ibl` and the
+//! The material's own functions: `<material>_brdf`, `<material>_eval`, `<material>_ibl_lobes`,
+//! `<material>_ibl` and the
 //! runtime-parameter struct, built by running the shared math on the IR builder.
 
 use naga::{
@@ -126,28 +127,65 @@ fn function_inputs<'a>(b: &'a ModuleBuilder, material: &Material, inputs: InputT
     Inputs::new(b, params).with_normals(normals)
 }
 
+/// `<material>_ibl_lobes(n, v[, params][, textures]) -> <Material>IblLobes`: the material's
+/// lobes under image-based lighting (see [`environment`]), for hosts with their own environment.
+pub(super) fn ibl_lobes_function(b: &ModuleBuilder, material: &Material, inputs: InputTypes) -> IblLobes {
+    let mut arguments = direction_arguments(b, inputs);
+    arguments.remove(2);
+    let name = format!("{}_ibl_lobes", material.name);
+    // The result type exists only once the lobes are known: it is set after the body.
+    b.begin_function(&name, arguments, None);
+    let n = b.vector(b.argument(0));
+    let v = b.vector(b.argument(1));
+    let material_inputs = function_inputs(b, material, inputs, 2);
+    let (value, types) = environment::composed_lobes(b, material, &material_inputs, n, v);
+    b.statement(Statement::Return { value: Some(value) });
+    let mut function = b.end_function();
+    function.result = Some(FunctionResult { ty: types.lobes, binding: None });
+    let m = &material.name;
+    let doc = [
+        "The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:"
+            .to_string(),
+        "the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness".to_string(),
+        "specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around".to_string(),
+        format!(
+            "irradiance.direction, over π), k < {m}_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface."
+        ),
+    ];
+    let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
+    IblLobes { function: b.add_function(function, &doc), types }
+}
+
+/// `<material>_ibl_lobes` and the structs it returns.
+#[derive(Clone, Copy)]
+pub(super) struct IblLobes {
+    pub(super) function: Handle<Function>,
+    pub(super) types: environment::LobeTypes,
+}
+
 /// `<material>_ibl(n, v[, params][, textures])`: the radiance reflected towards `v` from the
-/// environment (see [`environment`]).
+/// environment (see [`environment`]): `<material>_ibl_lobes` looked up in glazec's images.
 pub(super) fn ibl_function(
     b: &ModuleBuilder,
     material: &Material,
     inputs: InputTypes,
     lookups: environment::Lookups,
+    lobes: IblLobes,
 ) -> Handle<Function> {
     let result = FunctionResult { ty: b.types.vec3, binding: None };
     let mut arguments = direction_arguments(b, inputs);
     arguments.remove(2);
+    let count = arguments.len() as u32;
     b.begin_function(&format!("{}_ibl", material.name), arguments, Some(result));
-    let n = b.vector(b.argument(0));
-    let v = b.vector(b.argument(1));
-    let material_inputs = function_inputs(b, material, inputs, 2);
-    let value = environment::reflected(b, lookups, material, &material_inputs, n, v).handle();
+    let found = b.call(lobes.function, (0..count).map(|i| b.argument(i)).collect());
+    b.name(found, "lobes");
+    let value = environment::reflected(b, lookups, found, lobes.types).handle();
     b.statement(Statement::Return { value: Some(value) });
     let m = &material.name;
     let doc = [
-        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's"
+        "The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of"
             .to_string(),
-        format!("directional albedo times the environment prefiltered for it ({m}_environment) or the irradiance"),
+        format!("{m}_ibl_lobes times the environment prefiltered for it ({m}_environment) or the irradiance"),
         format!("over π ({m}_irradiance_at). n, v: unit vectors, v pointing away from the surface."),
     ];
     let doc: Vec<&str> = doc.iter().map(String::as_str).collect();

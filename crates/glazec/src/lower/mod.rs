@@ -6,6 +6,8 @@
 //!   running [`crate::math`] on the [`builder`]), each carrying its citation as a doc comment;
 //! * `<material>_brdf(n, v, l[, params]) -> vec3<f32>`: f(l, v) **without** the cosine;
 //! * `<material>_eval(n, v, l[, params]) -> vec3<f32>`: f · max(n·l, 0), for users' light loops;
+//! * `<material>_ibl_lobes(n, v[, params]) -> <Material>IblLobes` and `<material>_ibl(n, v[, params])`:
+//!   image-based lighting as lobes for the host's environment, and through glazec's own;
 //! * a uniform struct `<Material>Params` with one member per runtime parameter (declaration
 //!   order, `f32` or `vec3<f32>`), when the material has any;
 //! * the resources they read, each at the binding the host chose ([`bindings::Choice`]): the
@@ -46,7 +48,9 @@ use crate::model::Material;
 use bindings::{Choice, Clash, Layout};
 use builder::ModuleBuilder;
 use harness::{eval_pairs_entry, preview_entries, preview_ibl_entry};
-use material::{InputTypes, Sampling, brdf_function, eval_function, global, ibl_function, params_type};
+use material::{
+    InputTypes, Sampling, brdf_function, eval_function, global, ibl_function, ibl_lobes_function, params_type,
+};
 use naga::{AddressSpace, Module};
 
 /// A lowered material.
@@ -81,11 +85,12 @@ pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash
     let inputs = InputTypes { params: params_ty, textures: reads.as_ref().map(|r| r.ty) };
     let brdf = brdf_function(&b, material, inputs);
     let eval = eval_function(&b, material, inputs, brdf);
+    let lobes = ibl_lobes_function(&b, material, inputs);
     let lookups = environment::build_lookups(&b);
-    let ibl = ibl_function(&b, material, inputs, lookups);
+    let ibl = ibl_function(&b, material, inputs, lookups, lobes);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     let tables = b.finish_tables();
-    let public = [Some(brdf), Some(eval), Some(ibl), reads.as_ref().map(|r| r.sample)];
+    let public = [Some(brdf), Some(eval), Some(lobes.function), Some(ibl), reads.as_ref().map(|r| r.sample)];
     let tables_var = b.tables_global();
     let mut layout = b.with_module(|m| {
         namespace::prefix(m, &material.name, &public);

@@ -41,6 +41,9 @@ impl Real for f32 {
     fn sqrt(self) -> f32 {
         f32::sqrt(self)
     }
+    fn acos(self) -> f32 {
+        f32::acos(self)
+    }
     fn exp(self) -> f32 {
         f32::exp(self)
     }

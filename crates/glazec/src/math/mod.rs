@@ -108,6 +108,8 @@ pub trait Real:
     fn constant(ctx: Self::Ctx, x: f32) -> Self;
 
     fn sqrt(self) -> Self;
+    /// The arc cosine, in radians (of an argument within [−1, 1]).
+    fn acos(self) -> Self;
     fn exp(self) -> Self;
     fn ln(self) -> Self;
     fn powf(self, exponent: Self) -> Self;

@@ -8,6 +8,19 @@ struct TunableGlazeParams {
     body_roughness: f32,
 }
 
+struct TunableGlazeIblLobe {
+    direction: vec3<f32>,
+    roughness: f32,
+    weight: vec3<f32>,
+}
+
+struct TunableGlazeIblLobes {
+    specular: array<TunableGlazeIblLobe, 1>,
+    irradiance: TunableGlazeIblLobe,
+}
+
+const tunable_glaze_ibl_specular_lobes: u32 = 1u;
+
 @group(0) @binding(4) 
 var<uniform> tunable_glaze_tables: array<vec4<u32>, 1980>;
 @group(2) @binding(0) 
@@ -541,28 +554,6 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
     return (f * max(dot(n_2, l_2), 0f));
 }
 
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn tunable_glaze_environment(direction: vec3<f32>, roughness_6: f32) -> vec3<f32> {
-    let uv = tunable_glaze_equirect_uv(direction);
-    let _e3 = textureNumLevels(tunable_glaze_radiance);
-    let lod = (roughness_6 * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn tunable_glaze_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = tunable_glaze_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(tunable_glaze_irradiance, tunable_glaze_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
 // The directional albedo seen above a coat over a diffusing layer (same model as
 // `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
@@ -596,10 +587,11 @@ fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alp
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe's
-// directional albedo times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> vec3<f32> {
+// The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
+// the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
+// specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
+// irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
+fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
     let n_dot_v_4 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
@@ -669,8 +661,38 @@ fn tunable_glaze_ibl(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParam
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     let _e259 = (dot(n_4, v_4) > 0f);
-    let light_a = tunable_glaze_environment(reflected, params_2.glaze_roughness);
-    let light_b = tunable_glaze_irradiance_at(n_4);
-    return ((select(vec3(0f), vec3(coat_albedo), _e259) * light_a) + (select(vec3(0f), under_albedo, _e259) * light_b));
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, params_2.glaze_roughness, select(vec3(0f), vec3(coat_albedo), _e259))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e259)));
+}
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn tunable_glaze_environment(direction: vec3<f32>, roughness_6: f32) -> vec3<f32> {
+    let uv = tunable_glaze_equirect_uv(direction);
+    let _e3 = textureNumLevels(tunable_glaze_radiance);
+    let lod = (roughness_6 * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn tunable_glaze_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = tunable_glaze_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(tunable_glaze_irradiance, tunable_glaze_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
+// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn tunable_glaze_ibl(n_5: vec3<f32>, v_5: vec3<f32>, params_3: TunableGlazeParams) -> vec3<f32> {
+    let lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
+    let light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    let light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

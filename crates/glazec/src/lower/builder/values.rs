@@ -458,6 +458,9 @@ impl<'a> Real for Expr<'a> {
     fn sqrt(self) -> Self {
         self.unary_math(MathFunction::Sqrt, f32::sqrt)
     }
+    fn acos(self) -> Self {
+        self.unary_math(MathFunction::Acos, f32::acos)
+    }
     fn exp(self) -> Self {
         self.unary_math(MathFunction::Exp, f32::exp)
     }

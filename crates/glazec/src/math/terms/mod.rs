@@ -101,6 +101,39 @@ mod tests {
         assert!((QON_AVG_B - 0.213_959_27).abs() < 1e-6);
     }
 
+    /// The closed-form directional albedo of the qualitative Oren–Nayar lobe against a midpoint
+    /// rule over the lobe itself, and its hemispherical average against the constant.
+    #[test]
+    fn qon_directional_albedo_matches_its_integral() {
+        // Largest difference from the 512 × 512 midpoint rule (its own error is ~1e-5).
+        const TOLERANCE: f32 = 2e-4;
+        let sigma = 0.6_f32;
+        let mut average = 0.0_f64;
+        for mu_o in [0.05_f32, 0.3, 0.6, 0.9, 1.0] {
+            let n = 512;
+            let mut e = 0.0_f64;
+            for a in 0..n {
+                let mu_i = (a as f32 + 0.5) / n as f32;
+                for b in 0..n {
+                    let phi = (b as f32 + 0.5) / n as f32 * std::f32::consts::TAU;
+                    let (s_i, s_o) = ((1.0 - mu_i * mu_i).sqrt(), (1.0 - mu_o * mu_o).sqrt());
+                    let v_dot_l = s_i * s_o * phi.cos() + mu_i * mu_o;
+                    let f = fd_oren_nayar(Vec3::ONE, sigma, mu_o, mu_i, v_dot_l).x as f64;
+                    e += f * mu_i as f64 / (n * n) as f64 * std::f64::consts::TAU;
+                }
+            }
+            let closed = albedo_oren_nayar(Vec3::ONE, sigma, mu_o).x;
+            assert!((closed - e as f32).abs() < TOLERANCE, "μ {mu_o}: {closed} against {e}");
+        }
+        let n = 4096;
+        for k in 0..n {
+            let mu = (k as f32 + 0.5) / n as f32;
+            average += 2.0 * f64::from(mu * albedo_oren_nayar(Vec3::ONE, sigma, mu).x) / n as f64;
+        }
+        let expected = albedo_avg_oren_nayar(Vec3::ONE, sigma).x;
+        assert!((average as f32 - expected).abs() < 1e-4, "{average} against {expected}");
+    }
+
     #[test]
     fn eon_white_furnace() {
         // EON conserves energy: E(μ) = 1 for ρ = 1 (to the accuracy of E_FON_approx).
