@@ -296,7 +296,7 @@ fn no_module_imports_one_that_imports_it_back() {
     let mut loops = Vec::new();
     for root in ROOTS {
         let graph = graph(&common::root().join(root));
-        assert!(graph.len() > 1, "{root}: no modules found");
+        assert!(!graph.is_empty(), "{root}: no modules found");
         for component in cycles(&graph) {
             let members: BTreeSet<&Module> = component.iter().collect();
             let edges: Vec<String> = component
