@@ -10,7 +10,7 @@
 //! * Under a uniform environment map alone, a pixel is the material's directional albedo (the
 //!   sum of its image-based-lighting lobes' weights, from the CPU) × the environment's radiance.
 //! * Under a point light alone (Bevy's clustered lights), a pixel is `eval` × the light's
-//!   intensity × Bevy's inverse-square falloff and range cut-off.
+//!   intensity × Bevy's inverse-square falloff and range cut-off; under a spot light, × its cone.
 //!
 //! Without an adapter the test fails when `GLAZEC_REQUIRE_GPU` is set (CI) and skips with a
 //! message otherwise.
@@ -46,6 +46,9 @@ const SPHERE_X: [f32; 2] = [-1.2, 1.2];
 /// The point light of the last step: its power (lm) and range (m).
 const POINT_LUMENS: f32 = 150_000.0;
 const POINT_RANGE: f32 = 20.0;
+/// The spot light of the last step, from the point light's place: its inner and outer angles
+/// (rad), so that the cone's edge crosses the sphere.
+const SPOT_ANGLES: (f32, f32) = (0.12, 0.32);
 
 fn adapter_or_skip() -> bool {
     // Vulkan is Bevy's only backend on Linux here; an ICD file says whether one can be had.
@@ -324,10 +327,12 @@ fn bevy_lights_glazec_materials_as_the_cpu_evaluates_them() {
     let world = s.headless.app.world_mut();
     world.entity_mut(s.camera).remove::<EnvironmentMapLight>();
     let position = Vec3::new(-0.2, 1.6, 2.4);
-    world.spawn((
-        PointLight { intensity: POINT_LUMENS, range: POINT_RANGE, ..default() },
-        Transform::from_translation(position),
-    ));
+    let point_light = world
+        .spawn((
+            PointLight { intensity: POINT_LUMENS, range: POINT_RANGE, ..default() },
+            Transform::from_translation(position),
+        ))
+        .id();
     let fifth = s.headless.capture_settled();
     keep(&fifth, "5-point");
     let point = |p: Vec3| {
@@ -339,4 +344,26 @@ fn bevy_lights_glazec_materials_as_the_cpu_evaluates_them() {
     let (count, worst) = compare_lit(&mut s, &fifth, left, &point, &cpu_eval(&glaze_cpu, &changed));
     println!("tunable_glaze under a point light: {count} pixels, worst relative error {worst:.4}");
     assert!(count >= MIN_PIXELS && worst <= RELATIVE_TOLERANCE, "point light: {count} pixels, worst {worst}");
+
+    // 6. A spot light alone, its cone's edge across the sphere: Bevy's smooth cone
+    //    saturate((cos θ − cos outer) / (cos inner − cos outer))² on top of the point light's falloff.
+    let world = s.headless.app.world_mut();
+    world.despawn(point_light);
+    let spot = Transform::from_translation(position).looking_at(left, Vec3::Y);
+    let (inner, outer) = SPOT_ANGLES;
+    world.spawn((
+        SpotLight { intensity: POINT_LUMENS, range: POINT_RANGE, inner_angle: inner, outer_angle: outer, ..default() },
+        spot,
+    ));
+    let sixth = s.headless.capture_settled();
+    keep(&sixth, "6-spot");
+    let axis = *spot.forward();
+    let cone = |p: Vec3| {
+        let (l, illuminance) = point(p);
+        let edge = ((-l).dot(axis) - outer.cos()) / (inner.cos() - outer.cos());
+        (l, illuminance * edge.clamp(0.0, 1.0).powi(2))
+    };
+    let (count, worst) = compare_lit(&mut s, &sixth, left, &cone, &cpu_eval(&glaze_cpu, &changed));
+    println!("tunable_glaze under a spot light: {count} pixels, worst relative error {worst:.4}");
+    assert!(count >= MIN_PIXELS / 2 && worst <= RELATIVE_TOLERANCE, "spot light: {count} pixels, worst {worst}");
 }
