@@ -26,6 +26,7 @@ const ROOTS: &[&str] = &[
     "crates/glazec/src",
     "crates/glazec-gpu/src",
     "crates/glazec-lab/src",
+    "crates/glazec-web/src",
     "crates/glazec_bevy/src",
     "crates/glazec_bevy/scene/src",
     "src",
