@@ -6,7 +6,8 @@
 //!   illuminance × the camera's exposure, with the normal and the view direction of that pixel
 //!   from the geometry (the camera's ray through the pixel centre hits the sphere).
 //! * A parameter changed on the Bevy material changes the next frame, to the CPU's new value.
-//! * The floor where the sphere's shadow falls is darker with the light's shadow maps on.
+//! * The floor where the sphere's shadow falls is darker with the light's shadow maps on, and
+//!   lit again when the floor is a `NotShadowReceiver`.
 //! * Under a uniform environment map alone, a pixel is the material's directional albedo (the
 //!   sum of its image-based-lighting lobes' weights, from the CPU) × the environment's radiance.
 //! * Under a point light alone (Bevy's clustered lights), a pixel is `eval` × the light's
@@ -95,6 +96,7 @@ struct Scene {
     camera: Entity,
     light: Entity,
     glaze: Handle<TunableGlaze>,
+    floor: Entity,
 }
 
 fn scene() -> Scene {
@@ -109,7 +111,7 @@ fn scene() -> Scene {
     let clay = world.resource_mut::<Assets<Clay>>().add(Clay::default());
     world.spawn((Mesh3d(sphere.clone()), MeshMaterial3d(glaze.clone()), Transform::from_xyz(SPHERE_X[0], 0.0, 0.0)));
     world.spawn((Mesh3d(sphere), MeshMaterial3d(gold), Transform::from_xyz(SPHERE_X[1], 0.0, 0.0)));
-    world.spawn((Mesh3d(floor), MeshMaterial3d(clay), Transform::from_xyz(0.0, -1.0, 0.0)));
+    let floor = world.spawn((Mesh3d(floor), MeshMaterial3d(clay), Transform::from_xyz(0.0, -1.0, 0.0))).id();
     let light = world
         .spawn((
             DirectionalLight { illuminance: ILLUMINANCE, shadow_maps_enabled: false, ..default() },
@@ -130,7 +132,7 @@ fn scene() -> Scene {
             Transform::from_xyz(0.0, 1.5, 7.0).looking_at(Vec3::new(0.0, -0.3, 0.0), Vec3::Y),
         ))
         .id();
-    Scene { headless, camera, light, glaze }
+    Scene { headless, camera, light, glaze, floor }
 }
 
 /// Unit vector towards the directional light.
@@ -302,6 +304,16 @@ fn bevy_lights_glazec_materials_as_the_cpu_evaluates_them() {
             && (after - before).abs().max_element() <= RELATIVE_TOLERANCE * before.max_element(),
         "{after} vs {before}"
     );
+    // `NotShadowReceiver` on the floor: its shadowed point is lit again.
+    s.headless.app.world_mut().entity_mut(s.floor).insert(bevy::light::NotShadowReceiver);
+    let receiver_off = s.headless.capture_settled();
+    let relit = pixel(&receiver_off, fx, fy);
+    println!("floor at ({fx}, {fy}) with NotShadowReceiver: {relit}");
+    assert!(
+        (relit - unshadowed).abs().max_element() <= RELATIVE_TOLERANCE * unshadowed.max_element(),
+        "{relit} vs {unshadowed}"
+    );
+    s.headless.app.world_mut().entity_mut(s.floor).remove::<bevy::light::NotShadowReceiver>();
 
     // 4. A uniform environment map alone: the directional albedo × its radiance.
     let world = s.headless.app.world_mut();
