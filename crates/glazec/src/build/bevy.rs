@@ -245,21 +245,14 @@ fn write_material(out: &mut String, bm: &BevyMaterial<'_>) {
     out.push_str("    }\n}\n\n");
 }
 
-/// A fixed UUID for a material's shader handle: FNV-1a of the name and `which`, as a version-8
-/// (custom) UUID, so that handles are stable across builds and distinct between materials.
+/// A fixed UUID for a material's shader handle: two FNV-1a hashes (the source hash of
+/// [`crate::origin`]) of the name and `which`, as a version-8 (custom) UUID, so that handles are
+/// stable across builds and distinct between materials.
 fn uuid(name: &str, which: u8) -> String {
-    let hash = |seed: u64| {
-        let mut h = 0xcbf2_9ce4_8422_2325_u64 ^ seed;
-        for byte in name.bytes().chain([which]) {
-            h ^= u64::from(byte);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        h
-    };
-    let (a, b) = (hash(0x676c_617a_6563), hash(0x6265_7679));
-    let bytes: Vec<u8> = a.to_be_bytes().into_iter().chain(b.to_be_bytes()).collect();
+    let hash = |salt: &str| crate::origin::source_hash(format!("{salt}/{name}/{which}").as_bytes());
     let mut u = [0u8; 16];
-    u.copy_from_slice(&bytes);
+    u[..8].copy_from_slice(&hash("glazec").to_be_bytes());
+    u[8..].copy_from_slice(&hash("bevy").to_be_bytes());
     u[6] = (u[6] & 0x0f) | 0x80; // version 8
     u[8] = (u[8] & 0x3f) | 0x80; // RFC 4122 variant
     let hex: String = u.iter().map(|b| format!("{b:02x}")).collect();

@@ -180,9 +180,14 @@ pub fn composed_lobes<'a>(
     let (specular, irradiance): (Vec<_>, Vec<_>) = lobes.into_iter().partition(|l| l.lookup == Lookup::Prefiltered);
     debug_assert!(irradiance.len() <= 1, "the body is the only diffuse lobe");
     let count = specular.len().max(1) as u32;
-    let mut types = lobe_types(b, material, count);
-    types.used_specular = specular.len() as u32;
-    types.irradiance = !irradiance.is_empty();
+    let (lobe, array, lobes) = lobe_types(b, material, count);
+    let types = LobeTypes {
+        lobe,
+        lobes,
+        specular: count,
+        used_specular: specular.len() as u32,
+        irradiance: !irradiance.is_empty(),
+    };
     let zero = b.constant(0.0).splat();
     let compose = |direction: ExprVec<'a>, roughness: Expr<'a>, weight: ExprVec<'a>| {
         let components = vec![direction.handle(), roughness.handle(), weight.handle()];
@@ -192,11 +197,7 @@ pub fn composed_lobes<'a>(
     while entries.len() < count as usize {
         entries.push(compose(n, b.constant(0.0), zero));
     }
-    let array_ty = b.with_module(|m| match m.types[types.lobes].inner {
-        TypeInner::Struct { ref members, .. } => members[0].ty,
-        _ => unreachable!("built as a struct"),
-    });
-    let specular = b.append(Expression::Compose { ty: array_ty, components: entries });
+    let specular = b.append(Expression::Compose { ty: array, components: entries });
     let irradiance = match irradiance.into_iter().next() {
         Some(l) => compose(l.direction, b.constant(1.0), l.weight),
         None => compose(n, b.constant(1.0), zero),
@@ -204,8 +205,9 @@ pub fn composed_lobes<'a>(
     (b.append(Expression::Compose { ty: types.lobes, components: vec![specular, irradiance] }), types)
 }
 
-/// Declares `<Material>IblLobe` and `<Material>IblLobes` with `count` specular lobes.
-fn lobe_types(b: &ModuleBuilder, material: &Material, count: u32) -> LobeTypes {
+/// Declares `<Material>IblLobe`, the array of `count` of them and `<Material>IblLobes`, and the
+/// constant `<material>_ibl_specular_lobes` = `count`.
+fn lobe_types(b: &ModuleBuilder, material: &Material, count: u32) -> (Handle<Type>, Handle<Type>, Handle<Type>) {
     let prefix = crate::model::camel_case(&material.name);
     let lobe = struct_type(
         b,
@@ -239,7 +241,7 @@ fn lobe_types(b: &ModuleBuilder, material: &Material, count: u32) -> LobeTypes {
         let name = Some("glazec_ibl_specular_lobes".to_string());
         m.constants.append(naga::Constant { name, ty: b.types.u32, init }, Span::UNDEFINED);
     });
-    LobeTypes { lobe, lobes, specular: count, used_specular: count, irradiance: true }
+    (lobe, array, lobes)
 }
 
 /// The radiance reflected towards `v` from the environment: Σ weight · lookup over the lobes

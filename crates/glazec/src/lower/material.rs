@@ -1,6 +1,6 @@
 //! The material's own functions: `<material>_brdf`, `<material>_eval`, `<material>_ibl_lobes`,
-//! `<material>_ibl` and the
-//! runtime-parameter struct, built by running the shared math on the IR builder.
+//! `<material>_ibl` and the runtime-parameter struct, built by running the shared math on the IR
+//! builder.
 
 use naga::{
     AddressSpace, Expression, Function, FunctionArgument, FunctionResult, GlobalVariable, Handle, ResourceBinding,
