@@ -44,6 +44,48 @@ struct Param {
     size: u32,
     /// Its default: one number, or three.
     default: Vec<f32>,
+    /// The values its slots accept (per component).
+    range: [f32; 2],
+}
+
+/// A resource of the library: `@group(group) @binding(binding)`.
+#[derive(Serialize)]
+struct Slot {
+    group: u32,
+    binding: u32,
+}
+
+impl From<glazec::lower::bindings::Slot> for Slot {
+    fn from(s: glazec::lower::bindings::Slot) -> Slot {
+        Slot { group: s.group, binding: s.binding }
+    }
+}
+
+/// A texture the library samples.
+#[derive(Serialize)]
+struct Texture {
+    /// Its name in the material (`clay_maps`).
+    name: String,
+    slot: Slot,
+    /// Whether a layer reads it as a normal map (a host without the image binds a flat normal,
+    /// (½, ½, 1); any other texture a mid-grey texel, as `glazec eval` assumes).
+    normal_map: bool,
+}
+
+/// What a host needs to call the library (docs/generated-files.md, "What a library contains"):
+/// `<m>_eval(n, v, l[, <m>_params][, textures])` with `textures = <m>_textures(uv[, n, t, b])`,
+/// and where its resources are bound.
+#[derive(Serialize)]
+struct Interface {
+    /// The uniform `<m>_params` exists (and is passed to `<m>_eval` and `<m>_ibl_lobes`).
+    params: Option<Slot>,
+    /// The table uniform, holding `tables`.
+    tables: Option<Slot>,
+    /// The texture sampler (`<m>_textures` exists when it does).
+    sampler: Option<Slot>,
+    textures: Vec<Texture>,
+    /// `<m>_textures` takes the tangent frame (n, t, b) after the uv: a layer has a normal map.
+    framed: bool,
 }
 
 #[derive(Serialize)]
@@ -60,6 +102,7 @@ struct Output {
     /// The runtime parameters' uniform block: its members and its size in bytes.
     params: Vec<Param>,
     params_size: u32,
+    interface: Interface,
 }
 
 #[derive(Serialize)]
@@ -98,21 +141,23 @@ pub fn compile(text: &str) -> String {
             .unwrap_or_default()
     };
     let (layout, params_size) = glazec::lower::params_layout(&compiled.material);
-    let defaults = compiled.material.uniform_params().map(|(_, p)| p.default);
+    let declared = compiled.material.uniform_params().map(|(_, p)| p);
     let params = layout
         .into_iter()
-        .zip(defaults)
-        .map(|(p, default)| Param {
+        .zip(declared)
+        .map(|(p, declared)| Param {
             name: p.name,
             wgsl_type: p.wgsl_type,
             offset: p.offset,
             size: p.size,
-            default: match default {
+            default: match declared.default {
                 ParamValue::Scalar(x) => vec![x],
                 ParamValue::Rgb(rgb) => rgb.to_vec(),
             },
+            range: declared.range,
         })
         .collect();
+    let interface = interface(&compiled);
     let output = Output {
         ok: true,
         wgsl: file(".wgsl"),
@@ -122,9 +167,33 @@ pub fn compile(text: &str) -> String {
         tables: compiled.tables_bytes(),
         params,
         params_size,
+        interface,
         name,
     };
     serde_json::to_string(&output).unwrap_or_default()
+}
+
+fn interface(compiled: &glazec::Compiled) -> Interface {
+    let (material, layout) = (&compiled.material, &compiled.layout);
+    let normal_maps: Vec<&str> = material.normals.iter().flat_map(|(_, map)| map.textures()).collect();
+    // `layout.textures` lists the sampler, then the textures in `Material::textures` order.
+    let textures = material
+        .textures()
+        .into_iter()
+        .zip(layout.textures.iter().skip(1))
+        .map(|(name, (_, slot))| Texture {
+            name: name.to_string(),
+            slot: (*slot).into(),
+            normal_map: normal_maps.contains(&name),
+        })
+        .collect();
+    Interface {
+        params: layout.params.map(Slot::from),
+        tables: layout.tables.map(Slot::from),
+        sampler: layout.textures.first().map(|(_, slot)| (*slot).into()),
+        textures,
+        framed: !material.normals.is_empty(),
+    }
 }
 
 /// The JavaScript bindings of the WebAssembly build.
@@ -184,8 +253,45 @@ mod tests {
         // WGSL's uniform layout: an f32 after a vec3 fills its last four bytes.
         assert_eq!(params[3]["offset"], 28);
         assert_eq!(out["params_size"], 48);
-        // A runtime roughness needs the tables at run time.
+        // The slots' ranges: a roughness in [0, 1], a coat's IOR in [0.1, 10].
+        assert_eq!(params[0]["range"], serde_json::json!([0.0, 1.0]));
+        let ior = params[1]["range"].as_array().cloned().unwrap_or_default();
+        assert_eq!((ior[0].as_f64().map(|x| (x * 10.0).round()), ior[1].as_f64()), (Some(1.0), Some(10.0)));
+        // A runtime roughness needs the tables at run time; where both uniforms are bound.
         assert!(!out["tables"].as_array().cloned().unwrap_or_default().is_empty());
+        let interface = &out["interface"];
+        assert_eq!(interface["params"], serde_json::json!({"group": 0, "binding": 3}));
+        assert_eq!(interface["tables"], serde_json::json!({"group": 0, "binding": 4}));
+        assert_eq!(interface["sampler"], serde_json::Value::Null);
+        assert_eq!(interface["framed"], false);
+    }
+
+    #[test]
+    fn a_textured_material_says_where_its_textures_go_and_which_are_normal_maps() {
+        let path = format!("{}/../../examples/textures/textured_clay.ron", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let out = json(&compile(&text));
+        let interface = &out["interface"];
+        assert_eq!(interface["sampler"], serde_json::json!({"group": 1, "binding": 0}));
+        assert_eq!(interface["framed"], true);
+        let textures: Vec<(String, u64, bool)> = interface["textures"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default()
+            .iter()
+            .map(|t| {
+                let name = t["name"].as_str().unwrap_or_default().to_string();
+                (name, t["slot"]["binding"].as_u64().unwrap_or(0), t["normal_map"] == true)
+            })
+            .collect();
+        let expected =
+            [("clay_maps", 1, false), ("clay_albedo", 2, false), ("clay_bumps", 3, true), ("clay_pores", 4, true)];
+        let expected: Vec<_> = expected.iter().map(|(n, b, m)| (n.to_string(), *b, *m)).collect();
+        assert_eq!(textures, expected);
+        // Every binding the library declares is in the interface.
+        for t in &textures {
+            assert!(out["wgsl"].as_str().unwrap_or_default().contains(&format!("@group(1) @binding({})", t.1)));
+        }
     }
 
     #[test]

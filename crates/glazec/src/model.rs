@@ -238,6 +238,11 @@ pub struct Param {
     /// mid-grey texel (0.5 in every channel): the middle of its range.
     pub default: ParamValue,
     pub source: ParamSource,
+    /// The values the slots it fills accept (language.md's table of fields: [0, 1] for a
+    /// roughness, [0.1, 10] for a coat's IOR, …; the intersection for a parameter used in
+    /// several slots). A host's value outside it is a value the checker would have refused as
+    /// a literal; hosts clamp user input to it (the playground's sliders span it).
+    pub range: [f32; 2],
 }
 
 /// Where a runtime parameter's value comes from.

@@ -138,4 +138,21 @@ mod tests {
         assert_eq!(errors[0].code, Code::ParamConflict);
         assert_eq!(errors[0].labels.len(), 2);
     }
+
+    #[test]
+    fn a_parameter_knows_the_range_of_every_slot_it_fills() {
+        let m = check_text(
+            r#"Material(name: "m", layers: [
+                Coat(lobe: Ggx(Param("r", 0.3)), ior: Param("eta", 1.5), absorption: Param("s", 0.2), thickness: Param("eta", 1.5)),
+                Lambert(Param("tint", (0.3, 0.3, 0.3))),
+            ])"#,
+        )
+        .expect("valid");
+        let range = |name: &str| m.params.iter().find(|p| p.name == name).map(|p| p.range);
+        assert_eq!(range("r"), Some([0.0, 1.0]));
+        assert_eq!(range("tint"), Some([0.0, 1.0]));
+        assert_eq!(range("s"), Some([0.0, 1e6]));
+        // An IOR that is also a thickness: [0.1, 10] ∩ [0, 10⁶].
+        assert_eq!(range("eta"), Some([0.1, 10.0]));
+    }
 }

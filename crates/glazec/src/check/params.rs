@@ -66,9 +66,14 @@ impl Checker {
                 );
                 return None;
             }
+            // The same parameter in another slot: it must suit both.
+            let [lo, hi] = rule.bounds();
+            let range = &mut self.params[id.0 as usize].range;
+            *range = [range[0].max(lo), range[1].min(hi)];
             return Some((id, first));
         }
-        let id = self.declare(Param { name, default, source: ParamSource::Uniform }, whole)?;
+        let range = rule.bounds();
+        let id = self.declare(Param { name, default, source: ParamSource::Uniform, range }, whole)?;
         Some((id, default))
     }
 
@@ -134,7 +139,7 @@ impl Checker {
             );
             return None;
         }
-        self.declare(Param { name, default, source }, whole)
+        self.declare(Param { name, default, source, range: rule.bounds() }, whole)
     }
 
     /// Adds a new parameter, unless there are [`MAX_PARAMS`] already (`E0219`).

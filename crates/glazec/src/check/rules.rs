@@ -55,6 +55,21 @@ const CONDUCTOR_ETA_MIN: f64 = 0.01;
 const MEDIUM_MAX: f64 = 1e6;
 
 impl Rule {
+    /// The closed range a material's slot accepts, for the [`Param`](crate::model::Param)s
+    /// that fill it (the scene's rules, never a parameter's, give their lower bound).
+    pub(super) fn bounds(self) -> [f32; 2] {
+        match self {
+            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => [0.0, 1.0],
+            Rule::Ior => [IOR_MIN as f32, IOR_MAX as f32],
+            Rule::ConductorEta => [CONDUCTOR_ETA_MIN as f32, IOR_MAX as f32],
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => [0.0, MEDIUM_MAX as f32],
+            Rule::Angle => [0.0, 90.0],
+            Rule::Tolerance => [0.0, 1.0],
+            Rule::DeltaE => [0.0, 100.0],
+            Rule::LightAmount | Rule::SceneValue | Rule::Distance | Rule::Exposure => [0.0, f32::MAX],
+        }
+    }
+
     pub(super) fn accepts(self, x: f64) -> bool {
         match self {
             Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => (0.0..=1.0).contains(&x),
