@@ -212,9 +212,10 @@ async function update() {
     }
     try {
         const pipelineStart = performance.now();
-        const code = await renderer.setMaterial(out);
+        const material = await renderer.prepare(out);
         if (mine !== generation) return; // a newer edit won the race
-        outputs.harness = code.slice(out.wgsl.length + 1);
+        renderer.material = material;
+        outputs.harness = material.code.slice(out.wgsl.length + 1);
         showOutput();
         buildParams(out);
         await renderer.render();

@@ -183,9 +183,10 @@ export class Renderer {
         this.pending = null;
     }
 
-    /// Builds the pipeline for `out` (a successful `compile` result). Throws with WebGPU's
-    /// messages when the browser rejects the shader.
-    async setMaterial(out) {
+    /// Builds the pipeline and resources for `out` (a successful `compile` result), to be drawn
+    /// once assigned to `material`. Throws with WebGPU's messages when the browser rejects the
+    /// shader.
+    async prepare(out) {
         const device = this.device;
         const code = out.wgsl + '\n' + harness(out.name, out.interface);
         device.pushErrorScope('validation');
@@ -246,8 +247,7 @@ export class Renderer {
         const groups = layouts.map((layout, i) => device.createBindGroup({ layout, entries: resources[i] }));
         const error = await device.popErrorScope();
         if (error) throw new Error(error.message);
-        this.material = { out, pipeline, groups, params, paramsBuffer, code };
-        return code;
+        return { out, pipeline, groups, params, paramsBuffer, code };
     }
 
     /// Sets runtime parameter `name` (one number or three) and writes the uniform.

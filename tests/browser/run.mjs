@@ -6,7 +6,9 @@
 // Usage: node tests/browser/run.mjs job.json, where the job gives
 //   chromium: the browser binary; preset: the material to show; lighting: the controls' values
 //   for the pixel check; centre: [x, y] of the pixel; outside: [x, y] off the sphere;
-//   break: { from, to }, a replacement that breaks the preset's text; slider: { param, component, value };
+//   break: { from, to }, a replacement that breaks the preset's text; slider: { param, component,
+//   value, reset };
+//   extra: more texts to type in, each must render; lit: [x, y] of a pixel each material lights;
 //   timing: the text whose compile time is measured in the page; screenshot: a PNG path or null.
 
 import { readFileSync } from 'node:fs';
@@ -19,10 +21,15 @@ const server = await serve(0);
 const browser = await chromium.launch({
     executablePath: job.chromium,
     headless: true,
-    // SwiftShader's WebGPU adapter; no calls to Google's services (this machine has no network).
+    // SwiftShader's WebGPU adapter, and SwiftShader's Vulkan under the compositor (with GL,
+    // headless Chromium 156 loses the WebGPU device at a canvas's first getCurrentTexture); no
+    // calls to Google's services (this machine has no network).
     args: [
         '--no-sandbox',
         '--enable-unsafe-webgpu',
+        '--use-angle=swiftshader',
+        '--enable-features=Vulkan',
+        '--use-vulkan=swiftshader',
         '--disable-background-networking',
         '--disable-component-update',
         '--disable-sync',
@@ -35,9 +42,8 @@ try {
     const page = await browser.newPage({ viewport: { width: 1320, height: 900 } });
     page.on('console', (m) => report.log.push(`${m.type()}: ${m.text()}`));
     page.on('pageerror', (e) => report.log.push(`page error: ${e.message}`));
-    // SwiftShader's WebGPU cannot present to a canvas here (the device is lost at the first
-    // getCurrentTexture): the page renders the same pipeline into a texture and shows it.
-    await page.goto(`http://127.0.0.1:${server.address().port}/?present=readback`);
+    const url = `http://127.0.0.1:${server.address().port}/`;
+    await page.goto(url);
     const settled = () =>
         page.waitForFunction(() => window.playground && window.playground.state !== 'loading', null, { timeout: 180_000 });
     const state = () => page.evaluate(() => ({ state: playground.state, renders: playground.renders, present: playground.present, last: playground.last, status: document.getElementById('status').textContent }));
@@ -88,10 +94,36 @@ try {
     await rendered(renders);
     report.fixed = { state: await state(), centre: await pixel(job.centre), marks: await page.$$eval('#backdrop mark', (m) => m.length) };
 
+    // Every preset, and each extra text typed in (a textured material), renders.
+    report.presets = {};
+    const presetNames = await page.$$eval('#preset option', (options) => options.map((o) => o.value));
+    const texts = [...presetNames.map((name) => ({ name })), ...job.extra.map((text, i) => ({ name: `extra ${i}`, text }))];
+    for (const { name, text } of texts) {
+        const n = (await state()).renders;
+        if (text === undefined) await page.selectOption('#preset', name);
+        else await page.fill('#source', text);
+        await page.waitForFunction((n) => playground.renders > n || ['invalid', 'error'].includes(playground.state), n, { timeout: 60_000 });
+        const s = await state();
+        report.presets[name] = { state: s.state, status: s.status, lit: await pixel(job.lit) };
+    }
+    await page.selectOption('#preset', job.preset);
+    await rendered((await state()).renders);
+
     // A slider changes the image.
     const s = job.slider;
     await setInput(`#params input[data-param="${s.param}"][data-component="${s.component}"]`, s.value);
     report.slider = { centre: await pixel(job.centre) };
+
+    // The other way of presenting (a texture copied into a 2D canvas) draws the same pixels.
+    const readback = await browser.newPage({ viewport: { width: 1320, height: 900 } });
+    readback.on('pageerror', (e) => report.log.push(`page error (readback): ${e.message}`));
+    await readback.goto(`${url}?present=readback`);
+    await readback.waitForFunction((name) => window.playground?.state === 'ready' && playground.last?.name === name, job.preset, { timeout: 180_000 });
+    report.readback = await readback.evaluate(async ([lighting, centre]) => {
+        Object.assign(playground.renderer.lighting, lighting);
+        return { present: playground.present, centre: await playground.pixel(...centre) };
+    }, [job.lighting, job.centre]);
+    await readback.close();
 
     // The compile time of a material in this browser: the median of repeated `compile` calls.
     report.timing = await page.evaluate((text) => {
@@ -107,6 +139,7 @@ try {
     }, job.timing);
 
     if (job.screenshot) {
+        await setInput(`#params input[data-param="${s.param}"][data-component="${s.component}"]`, s.reset);
         await setInput('#environment', 1);
         await setInput('#tonemap', true);
         await setInput('#intensity', 3);

@@ -114,7 +114,11 @@ fn the_playground_renders_checks_and_recompiles_in_headless_chromium() {
     let root = root();
     let preset = std::fs::read_to_string(root.join("materials/tunable_glaze.ron")).expect("reads the preset");
     let clay = std::fs::read_to_string(root.join("materials/clay.ron")).expect("reads clay");
+    let textured =
+        std::fs::read_to_string(root.join("examples/textures/textured_clay.ron")).expect("reads textured_clay");
     let centre = [CANVAS[0] / 2, CANVAS[1] / 2];
+    // Towards the light from the centre: every material reflects something there.
+    let lit = [CANVAS[0] / 2 + 40, CANVAS[1] / 2 - 40];
     let unlit = eval(&preset, normal_at(centre[0], centre[1]), light());
     // The light's intensity (its slider's step is 0.1) that lights the centre to the target.
     let intensity = (10.0 * CENTRE_TARGET / unlit.max_element()).round() / 10.0;
@@ -130,10 +134,12 @@ fn the_playground_renders_checks_and_recompiles_in_headless_chromium() {
         "centre": centre,
         "outside": [5, 5],
         "break": { "from": from, "to": to },
-        "slider": { "param": "body_albedo", "component": 0, "value": 0.2 },
+        "slider": { "param": "body_albedo", "component": 0, "value": 0.2, "reset": 0.8 },
+        "extra": [textured],
+        "lit": lit,
         "timing": clay,
         "screenshot": screenshot,
-        "screenshot_preset": "coated_gold",
+        "screenshot_preset": "tunable_glaze",
     });
     let dir = tempfile::tempdir().expect("a temporary directory");
     let path = dir.path().join("job.json");
@@ -183,6 +189,24 @@ fn the_playground_renders_checks_and_recompiles_in_headless_chromium() {
     assert_eq!(fixed["state"]["state"], "ready");
     assert_eq!(fixed["marks"], 0);
     assert_eq!(rgb(&report, "/fixed/centre"), pixel, "the fixed material draws what the preset drew");
+
+    // Every preset, and the textured clay typed in, renders and lights the sphere.
+    let presets = report["presets"].as_object().cloned().unwrap_or_default();
+    let shipped = std::fs::read_dir(root.join("materials")).expect("lists materials/");
+    let shipped =
+        shipped.filter(|e| e.as_ref().is_ok_and(|e| e.path().extension().is_some_and(|x| x == "ron"))).count();
+    assert_eq!(presets.len(), shipped + 1, "{:?}", presets.keys());
+    for (name, seen) in &presets {
+        assert_eq!(seen["state"], "ready", "{name}: {}", seen["status"]);
+        let lit = rgb(seen, "/lit");
+        assert!(lit.iter().any(|&c| c > 10), "{name}: the sphere is dark where the light falls: {lit:?}");
+    }
+    println!("{} materials rendered in the browser", presets.len());
+
+    // Presenting through a readback (`?present=readback`) draws the same pixels.
+    assert_eq!(report["readback"]["present"], "readback");
+    assert_eq!(rgb(&report, "/readback/centre"), pixel, "the readback path's centre pixel");
+    assert_eq!(report["preset"]["present"], "canvas", "the main checks draw into the WebGPU canvas");
 
     // A slider changes the image: less red in the body, the other channels as they were.
     let slid = rgb(&report, "/slider/centre");
