@@ -5,9 +5,9 @@
 //! * [`check`]: the diagnostics of a material, each with its code, severity, message, 1-based
 //!   line and column, and its labels' byte spans (the JSON lines of `glazec check
 //!   --message-format json`, as one array);
-//! * [`compile`]: on success the material's library and glazec's harness in WGSL, its GLSL and
-//!   HLSL libraries, the table uniform's bytes, and the runtime parameters' uniform layout with
-//!   their defaults; on failure the diagnostics.
+//! * [`compile`]: on success the material's library and glazec's harness in WGSL, GLSL and
+//!   HLSL, the table uniform's bytes, the runtime parameters' uniform layout with their defaults
+//!   and ranges, and where the library binds its resources; on failure the diagnostics.
 //!
 //! Built for `wasm32-unknown-unknown` both are exported to JavaScript by `wasm-bindgen`
 //! (`scripts/web`); natively they are ordinary functions, tested below.
@@ -95,8 +95,13 @@ struct Output {
     /// The library (`<m>.wgsl`) and glazec's harness after it (`<m>.harness.wgsl`).
     wgsl: String,
     wgsl_harness: String,
+    /// The GLSL library (`<m>.glsl`), and the harness's entry points, one shader each (GLSL
+    /// has one entry point a file), by file name (`<m>.eval_pairs.comp.glsl`, …).
     glsl: String,
+    glsl_harness: std::collections::BTreeMap<String, String>,
+    /// The HLSL library (`<m>.hlsli`) and the harness that includes it (`<m>.hlsl`).
     hlsl: String,
+    hlsl_harness: String,
     /// The table uniform's bytes (empty when the library reads no table).
     tables: Vec<u8>,
     /// The runtime parameters' uniform block: its members and its size in bytes.
@@ -133,13 +138,15 @@ pub fn compile(text: &str) -> String {
         Err(e) => return failure(serde_json::Value::Array(Vec::new()), e.to_string()),
     };
     let name = compiled.material.name.clone();
+    let text = |a: &glazec::Artifact| String::from_utf8_lossy(&a.contents).into_owned();
     let file = |suffix: &str| {
-        artifacts
-            .iter()
-            .find(|a| a.file_name == format!("{name}{suffix}"))
-            .map(|a| String::from_utf8_lossy(&a.contents).into_owned())
-            .unwrap_or_default()
+        artifacts.iter().find(|a| a.file_name == format!("{name}{suffix}")).map(text).unwrap_or_default()
     };
+    let glsl_harness = artifacts
+        .iter()
+        .filter(|a| a.harness && a.file_name.ends_with(".glsl"))
+        .map(|a| (a.file_name.clone(), text(a)))
+        .collect();
     let (layout, params_size) = glazec::lower::params_layout(&compiled.material);
     let declared = compiled.material.uniform_params().map(|(_, p)| p);
     let params = layout
@@ -163,7 +170,9 @@ pub fn compile(text: &str) -> String {
         wgsl: file(".wgsl"),
         wgsl_harness: file(".harness.wgsl"),
         glsl: file(".glsl"),
+        glsl_harness,
         hlsl: file(".hlsli"),
+        hlsl_harness: file(".hlsl"),
         tables: compiled.tables_bytes(),
         params,
         params_size,
@@ -240,6 +249,19 @@ mod tests {
         }
         assert!(out["wgsl"].as_str().unwrap_or_default().contains("fn tunable_glaze_eval("));
         assert!(out["wgsl_harness"].as_str().unwrap_or_default().contains("@fragment"));
+        // glazec's harness in GLSL (one file an entry point) and HLSL (including the library).
+        let glsl_harness = out["glsl_harness"].as_object().cloned().unwrap_or_default();
+        let files: Vec<&str> = glsl_harness.keys().map(String::as_str).collect();
+        assert_eq!(
+            files,
+            [
+                "tunable_glaze.eval_pairs.comp.glsl",
+                "tunable_glaze.preview_fs.frag.glsl",
+                "tunable_glaze.preview_ibl_fs.frag.glsl",
+                "tunable_glaze.preview_vs.vert.glsl"
+            ]
+        );
+        assert!(out["hlsl_harness"].as_str().unwrap_or_default().contains("#include \"tunable_glaze.hlsli\""));
         // Its uniform block, as the shader declares it.
         let params = out["params"].as_array().cloned().unwrap_or_default();
         let names: Vec<_> = params.iter().map(|p| p["name"].as_str().unwrap_or_default().to_string()).collect();
