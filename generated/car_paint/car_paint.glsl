@@ -19,6 +19,7 @@ const vec3 car_paint_layer1_remainder_avg = vec3(0.0026940068, 1.5091631e-8, 1.8
 const float car_paint_layer1_mu_c = 0.745356;
 const vec3 car_paint_layer1_rho = vec3(0.74067616, 0.06705829, 0.031262092);
 const float car_paint_layer1_trapped_escape = 0.15678635;
+const vec3 car_paint_trapped_out = vec3(0.29350564, 0.010574826, 0.0047770757);
 const uint car_paint_ibl_specular_lobes = 2u;
 const float car_paint_base_roughness = 0.37185615;
 
@@ -539,11 +540,15 @@ vec3 car_paint_eval(vec3 n_3, vec3 v_3, vec3 l_3) {
 }
 
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below) {
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E k) + p X),
+// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
+// except its share p outside the escape cone, trapped, of which X leaves
+// (`trapped_return`).
+vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below, float p, vec3 trapped_out) {
     vec3 k_1 = ((a_2 * a_2) * (1.0 - t_2));
-    vec3 _e11 = (e_below * k_1);
-    return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / (vec3(1.0) - _e11)) + vec3((1.0 - t_2)));
+    vec3 _e13 = (e_below * k_1);
+    vec3 direct = ((e_below * (t_2 * (1.0 - p))) / (vec3(1.0) - _e13));
+    return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + vec3((1.0 - t_2)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -598,14 +603,15 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_5, vec3 v_5) {
     vec3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
     vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 1e-6)));
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l);
-    vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1.0), layer1_albedo_l);
+    float layer1_trapped_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
+    vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1.0), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016);
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277);
-    bool _e113 = (dot(n_5, v_5) > 0.0);
-    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, 0.04, (_e113 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e113 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_5, 1.0, vec3(0.0)));
+    bool _e118 = (dot(n_5, v_5) > 0.0);
+    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, 0.04, (_e118 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e118 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_5, 1.0, vec3(0.0)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

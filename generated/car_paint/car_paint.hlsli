@@ -22,6 +22,7 @@ static const float3 car_paint_layer1_remainder_avg = float3(0.0026940068, 1.5091
 static const float car_paint_layer1_mu_c = 0.745356;
 static const float3 car_paint_layer1_rho = float3(0.74067616, 0.06705829, 0.031262092);
 static const float car_paint_layer1_trapped_escape = 0.15678635;
+static const float3 car_paint_trapped_out = float3(0.29350564, 0.010574826, 0.0047770757);
 static const uint car_paint_ibl_specular_lobes = 2u;
 static const float car_paint_base_roughness = 0.37185615;
 
@@ -587,12 +588,16 @@ float3 car_paint_eval(float3 n_3, float3 v_3, float3 l_3)
 }
 
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below)
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E k) + p X),
+// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
+// except its share p outside the escape cone, trapped, of which X leaves
+// (`trapped_return`).
+float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below, float p, float3 trapped_out)
 {
     float3 k_1 = ((a_2 * a_2) * (1.0 - t_2));
-    float3 _e11 = (e_below * k_1);
-    return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / ((1.0).xxx - _e11)) + ((1.0 - t_2)).xxx);
+    float3 _e13 = (e_below * k_1);
+    float3 direct = ((e_below * (t_2 * (1.0 - p))) / ((1.0).xxx - _e13));
+    return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + ((1.0 - t_2)).xxx);
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -682,14 +687,15 @@ CarPaintIblLobes car_paint_ibl_lobes(float3 n_5, float3 v_5)
     const float3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, (1.0).xxx);
     float3 layer2_once_colour_l_1 = (layer2_once_l / (max(_e86.x, 1e-6)).xxx);
     const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    const float3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l);
-    const float3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_l);
+    const float layer1_trapped_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    const float3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
+    const float3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016);
     const float3 reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277);
-    bool _e113 = (dot(n_5, v_5) > 0.0);
-    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, 0.04, (_e113 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e113 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_5, 1.0, (0.0).xxx));
+    bool _e118 = (dot(n_5, v_5) > 0.0);
+    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, 0.04, (_e118 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e118 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_5, 1.0, (0.0).xxx));
     return carpaintibllobes;
 }
 

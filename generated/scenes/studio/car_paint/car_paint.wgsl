@@ -21,6 +21,7 @@ const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026940068f, 0.000
 const car_paint_layer1_mu_c: f32 = 0.745356f;
 const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067616f, 0.06705829f, 0.031262092f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350564f, 0.010574826f, 0.0047770757f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -544,11 +545,15 @@ fn car_paint_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
 }
 
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>) -> vec3<f32> {
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E k) + p X),
+// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
+// except its share p outside the escape cone, trapped, of which X leaves
+// (`trapped_return`).
+fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>, p: f32, trapped_out: vec3<f32>) -> vec3<f32> {
     let k_1 = ((a_2 * a_2) * (1f - t_2));
-    let _e11 = (e_below * k_1);
-    return (((((a_2 * a_2) * e_below) * (t_2 * t_2)) / (vec3(1f) - _e11)) + vec3((1f - t_2)));
+    let _e13 = (e_below * k_1);
+    let direct = ((e_below * (t_2 * (1f - p))) / (vec3(1f) - _e13));
+    return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + vec3((1f - t_2)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -603,14 +608,15 @@ fn car_paint_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CarPaintIblLobes {
     let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
     let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l);
-    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l);
+    let layer1_trapped_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
+    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016f);
     let reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277f);
-    let _e113 = (dot(n_5, v_5) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, 0.04f, select(vec3(0f), vec3(coat_albedo), _e113)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e113))), CarPaintIblLobe(n_5, 1f, vec3(0f)));
+    let _e118 = (dot(n_5, v_5) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, 0.04f, select(vec3(0f), vec3(coat_albedo), _e118)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e118))), CarPaintIblLobe(n_5, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

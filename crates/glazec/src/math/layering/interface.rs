@@ -44,6 +44,14 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         ((mu_c * mu_c * mu_c).one_minus() / mu_c.sq().one_minus().at_least(1e-6) * (2.0 / 3.0)).clamp(0.0, 1.0)
     }
 
+    /// The coat's transmission T̄ out of its escape cone, at the cone's mean cosine inside
+    /// ([`Self::escape_cone_mean_cosine`]), i.e. at the outside cosine √(1 − η²(1 − μ̄c²)).
+    pub(super) fn transmission_from_cone(&self) -> F {
+        let mu_mean = self.escape_cone_mean_cosine();
+        let mu_outside = (self.eta.sq() * mu_mean.sq().one_minus()).one_minus().at_least(0.0).sqrt();
+        self.transmission(mu_outside, "cone")
+    }
+
     /// The tables cover η ∈ [1, 3]. A rough coat of lower relative IOR (optically thinner than
     /// the medium above it) uses the smooth interface's transmission, path and slab terms
     /// instead (its own lobe stays rough): outside their range the tables would give a

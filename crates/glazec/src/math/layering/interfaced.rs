@@ -6,7 +6,7 @@ use std::cell::OnceCell;
 
 use super::base::{base_brdf, body_albedo, conductor_alpha};
 use super::geometry::{Geometry, level_name};
-use super::glossy::{glossy_level, trapped};
+use super::glossy::{glossy_level, trapped, trapped_shares};
 use super::inputs::{Body, Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
 use super::level::{Albedo, Level, coat_blur};
@@ -97,19 +97,32 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"))
     };
     let albedo = want_albedo.then(|| {
-        let directional =
-            |t: F, a: F::Vec, e: F::Vec, escape: Option<F::Vec>, back: Option<F::Vec>| match (escape, back) {
-                (Some(escape), Some(back)) => {
-                    interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back)
-                }
-                _ => interfaced_albedo_glossy::<F>(t, a, e),
-            };
-        let e_l =
-            directional(t_l, a_l, albedo.e_l, first.as_ref().map(|p| p.escape_l), first.as_ref().map(|p| p.return_l))
-                .named(&name("albedo_l"));
-        let e_v =
-            directional(t_v, a_v, albedo.e_v, first.as_ref().map(|p| p.escape_v), first.as_ref().map(|p| p.return_v))
-                .named(&name("albedo_v"));
+        // Over a glossy body: the shares it sends outside the escape cone, and what of that leaves.
+        let trapped = match (lower.glossy, lower.alpha) {
+            (true, Some(alpha)) => {
+                let t = trapped_shares(&interface, &below, alpha, (r_return, clear().0), inputs);
+                let out = trapped_return(t.round_trip, albedo.mean, t.q, interface.transmission_from_cone())
+                    .named(&name("trapped_out"));
+                // Without total internal reflection (η ≤ 1) nothing is trapped.
+                let share = |p: F| F::select(t.mu_c.gt_lit(0.0), p, inputs.lit(0.0));
+                Some((share(t.p_l), share(t.p_v), out))
+            }
+            _ => None,
+        };
+        let directional = |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, p: Option<F>| match first {
+            Some((escape, back)) => interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back),
+            None => {
+                let (p, out) = match (p, &trapped) {
+                    (Some(p), Some((_, _, out))) => (p, *out),
+                    _ => (inputs.lit(0.0), inputs.zero()),
+                };
+                interfaced_albedo_glossy::<F>(t, a, e, p, out)
+            }
+        };
+        let (first_l, first_v) = first.as_ref().map(|p| ((p.escape_l, p.return_l), (p.escape_v, p.return_v))).unzip();
+        let (p_l, p_v) = trapped.as_ref().map(|t| (t.0, t.1)).unzip();
+        let e_l = directional(t_l, a_l, albedo.e_l, first_l, p_l).named(&name("albedo_l"));
+        let e_v = directional(t_v, a_v, albedo.e_v, first_v, p_v).named(&name("albedo_v"));
         let e_escape_clear = clear().1.x();
         let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
         Albedo { e_l, e_v, mean }
@@ -191,10 +204,8 @@ fn first_pass<F: Real>(
     };
     let (escape_l, return_l) = shares(albedo.e_l, t_below_l, t_l, "l");
     let (escape_v, return_v) = shares(albedo.e_v, t_below_v, t_v, "v");
-    // At the cone's mean cosine: the outside cosine √(1 − η²(1 − μ̄c²)) and coat k's
-    // transmission there.
-    let mu_outside = (interface.eta.sq() * mu_mean.sq().one_minus()).one_minus().at_least(0.0).sqrt();
-    let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission(mu_outside, "cone"), "cone");
+    // At the cone's mean cosine.
+    let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission_from_cone(), "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
     FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost }
 }

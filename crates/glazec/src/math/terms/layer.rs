@@ -186,10 +186,24 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a glossy body (same model as
-    /// `interfaced_glossy_under`): (1 − T) + T² a² E_below / (1 − E_below k), k = (1 − T) a².
-    pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V) -> V {
+    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E k) + p X),
+    /// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
+    /// except its share p outside the escape cone, trapped, of which X leaves
+    /// (`trapped_return`).
+    pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V, p: S, trapped_out: V) -> V {
         let k = a * a * t.one_minus();
-        a * a * e_below * (t * t) / (e_below * k).one_minus() + t.one_minus().splat()
+        let direct = e_below * (t * p.one_minus()) / (e_below * k).one_minus();
+        a * a * (direct + e_below * trapped_out * p) * t + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// glazec's interfaced layering, what leaves of the light a glossy body traps under a coat,
+    /// per unit trapped (`trapped_lobe`'s albedo over Eᵢpᵢ): g ρ̄ q T̄/(1 − ρ̄ g (1 − q)), the body
+    /// sending q of it into the cone at each bounce, and T̄ the coat's transmission out of the
+    /// cone (at its mean cosine).
+    pub fn trapped_return(round_trip: V, rho: V, q: S, t_cone: S) -> V {
+        round_trip * rho * (q * t_cone) / (rho * round_trip * q.one_minus()).one_minus()
     }
 }
 
