@@ -248,8 +248,9 @@ playground.pixel = async (x, y) => {
 };
 
 /// Starts the WebGPU view. If the device is lost while drawing into the canvas (headless
-/// Chromium's SwiftShader cannot present), the view starts again on a fresh canvas, presenting
-/// through a readback (render.js); `?present=readback` starts that way.
+/// Chromium's SwiftShader under its default GL compositor cannot present), the view starts
+/// again on a fresh canvas, presenting through a readback (render.js), where an adapter is
+/// left; `?present=readback` starts that way.
 async function startRenderer(present) {
     const old = playground.renderer;
     let canvas = $('view');

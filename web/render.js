@@ -137,7 +137,8 @@ export class Renderer {
     /// A renderer on `canvas`. `present`: 'canvas' draws into the canvas's WebGPU context;
     /// 'readback' renders into a texture and copies it into the canvas through a 2D context
     /// (for browsers whose WebGPU cannot present to a canvas: headless Chromium with
-    /// SwiftShader loses its device at the first `getCurrentTexture`).
+    /// SwiftShader under its default GL compositor loses its device at the first
+    /// `getCurrentTexture`).
     static async create(canvas, present = 'canvas') {
         if (!navigator.gpu) throw new Error('this browser has no WebGPU (navigator.gpu is missing)');
         const adapter = await navigator.gpu.requestAdapter();
