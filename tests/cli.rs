@@ -181,6 +181,16 @@ fn eval_prints_one_line_per_pair_and_honours_overrides() {
 
     assert_eq!(code(&glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", "nope=1"])), 2);
     assert_eq!(code(&glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", "glaze_ior=1,2"])), 2);
+    // Values the parameter's slots would refuse as literals: a roughness of 5, a negative albedo.
+    for set in ["glaze_roughness=5", "body_albedo=0.5,-0.1,0.5", "glaze_ior=0.05"] {
+        let out = glazec(&["eval", "materials/tunable_glaze.ron", "--pairs", pairs, "--set", set]);
+        assert_eq!(code(&out), 2, "{set}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("is outside ["),
+            "{set}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     let bad_pairs = dir.path().join("bad.csv");
     std::fs::write(&bad_pairs, "0,0,1,0,0\n").expect("writes");
     assert_eq!(code(&glazec(&["eval", "materials/clay.ron", "--pairs", bad_pairs.to_str().expect("utf-8")])), 2);

@@ -117,11 +117,12 @@ fn simplified_materials_are_within_tolerance_on_lavapipe() {
     assert!(checked > 0, "some material is simplified by some scene");
 }
 
-#[test]
-fn a_scene_parameter_no_material_has_is_an_error_against_the_scene() {
+/// `glazec compile materials/tunable_glaze.ron --scene <file>` for a scene file `name` holding
+/// `text`: the exit code and stderr, after checking that a failed compilation wrote nothing.
+fn compile_tunable_glaze_with_scene(name: &str, text: &str) -> (Option<i32>, String) {
     let dir = tempfile::tempdir().expect("tmp");
-    let scene = dir.path().join("typo.ron");
-    std::fs::write(&scene, "Scene(name: \"typo\", lights: [], params: {\"glaze_iro\": Pinned(1.5)})").expect("writes");
+    let scene = dir.path().join(name);
+    std::fs::write(&scene, text).expect("writes");
     let out = dir.path().join("out");
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_glazec"))
         .args(["compile", "materials/tunable_glaze.ron", "--scene"])
@@ -131,11 +132,30 @@ fn a_scene_parameter_no_material_has_is_an_error_against_the_scene() {
         .current_dir(common::root())
         .output()
         .expect("runs");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(output.status.success() || !out.exists(), "nothing is written: {stderr}");
+    (output.status.code(), stderr)
+}
+
+#[test]
+fn a_scene_parameter_no_material_has_is_an_error_against_the_scene() {
+    let (code, stderr) = compile_tunable_glaze_with_scene(
+        "typo.ron",
+        "Scene(name: \"typo\", lights: [], params: {\"glaze_iro\": Pinned(1.5)})",
+    );
+    assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("error[E0303]") && stderr.contains("did you mean `glaze_ior`?"), "{stderr}");
     assert!(stderr.contains("typo.ron:1:"), "the diagnostic points into the scene file: {stderr}");
-    assert!(!out.exists(), "nothing is written");
+}
+
+#[test]
+fn a_scene_value_the_material_would_refuse_is_an_error_against_the_scene() {
+    let text = "Scene(name: \"rough\", lights: [],\n  params: {\"glaze_roughness\": Pinned(5.0), \"glaze_ior\": Range(1.2, 1.6)})";
+    let (code, stderr) = compile_tunable_glaze_with_scene("rough.ron", text);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("error[E0305]") && stderr.contains("must lie in [0, 1]"), "{stderr}");
+    assert!(stderr.contains("rough.ron:2:"), "the diagnostic points at the scene's entry: {stderr}");
+    assert_eq!(stderr.matches("error[E0305]").count(), 1, "the IOR's range lies inside [0.1, 10]: {stderr}");
 }
 
 #[test]

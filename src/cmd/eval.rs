@@ -133,6 +133,11 @@ fn parameter_values(material: &Material, overrides: &[String]) -> anyhow::Result
             (ParamValue::Rgb(_), [r, g, b]) => ParamValue::Rgb([*r, *g, *b]),
             (default, _) => bail!("--set {name}: expected a {} value", default.type_name()),
         };
+        // What the material's slots accept (a literal outside it would not have compiled).
+        let [lo, hi] = material.params[index].range;
+        if let Some(x) = numbers.iter().find(|x| !(lo..=hi).contains(*x)) {
+            bail!("--set {name}: {x} is outside [{lo}, {hi}], the values its slots accept");
+        }
     }
     Ok(values)
 }

@@ -138,6 +138,8 @@ codes! {
     UnknownSceneParam = "E0303",
     /// A scene gives an RGB value for a scalar parameter, or the reverse.
     SceneParamType = "E0304",
+    /// A scene gives a parameter a value that the material's slots would refuse as a literal.
+    SceneParamRange = "E0305",
     /// `Measured` with one reflectance and nothing that fixes the second unknown.
     SingleReflectance = "E0401",
     /// `Measured` readings that no layer produces (white below black, out of range, …).

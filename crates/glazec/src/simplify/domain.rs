@@ -20,7 +20,8 @@ impl ParameterDomain {
     /// a name that no material of a set has).
     ///
     /// # Errors
-    /// `E0304` for a colour given to a scalar parameter.
+    /// `E0304` for a colour given to a scalar parameter; `E0305` for a value outside what the
+    /// parameter's slots accept ([`Param::range`](crate::model::Param::range)).
     pub fn new(material: &Material, scene: &Scene) -> Result<Self, Vec<Diagnostic>> {
         let mut errors = Vec::new();
         for p in &scene.params {
@@ -32,6 +33,29 @@ impl ParameterDomain {
                 ParamDomain::Pinned(v) => kinds_match(v),
                 ParamDomain::Range(lo, hi) => kinds_match(lo) && kinds_match(hi),
             };
+            let [lo, hi] = param.range;
+            let components = |v: ParamValue| match v {
+                ParamValue::Scalar(x) => vec![x],
+                ParamValue::Rgb(c) => c.to_vec(),
+            };
+            let values = match p.domain {
+                ParamDomain::Pinned(v) => components(v),
+                ParamDomain::Range(a, b) => [components(a), components(b)].concat(),
+            };
+            if let Some(x) = values.iter().find(|x| !(lo..=hi).contains(*x)) {
+                errors.push(
+                    Diagnostic::error(
+                        Code::SceneParamRange,
+                        format!(
+                            "the scene gives `{}` of `{}` the value {x}, which its slots refuse",
+                            p.name, material.name
+                        ),
+                        p.span,
+                        format!("must lie in [{lo}, {hi}]"),
+                    )
+                    .with_help("a scene's value must be one the material would accept as a literal in that slot"),
+                );
+            }
             if !ok {
                 errors.push(
                     Diagnostic::error(

@@ -380,6 +380,18 @@ mod tests {
     }
 
     #[test]
+    fn a_value_outside_the_slots_range_is_e0305() {
+        let m = glaze();
+        for params in [r#"{"rough": Pinned(1.5)}"#, r#"{"ior": Range(1.2, 12.0)}"#, r#"{"ior": Pinned(0.05)}"#] {
+            let s = scene(&format!(r#"Scene(name: "s", lights: [], params: {params})"#));
+            let errors = ParameterDomain::new(&m, &s).expect_err(params);
+            assert_eq!(errors.iter().map(|d| d.code).collect::<Vec<_>>(), [Code::SceneParamRange], "{params}");
+        }
+        let s = scene(r#"Scene(name: "s", lights: [], params: {"rough": Range(0.0, 1.0), "ior": Pinned(10.0)})"#);
+        assert!(ParameterDomain::new(&m, &s).is_ok(), "the ends of the accepted ranges are accepted");
+    }
+
+    #[test]
     fn a_colour_for_a_scalar_parameter_is_e0304_and_unknown_names_are_e0303() {
         let m = glaze();
         let s =
