@@ -197,6 +197,8 @@ fn write_material(out: &mut String, bm: &BevyMaterial<'_>) {
             ParamValue::Scalar(_) => "f32",
             ParamValue::Rgb(_) => "Vec3",
         };
+        let ([lo, hi], each) = (p.range, if rust == "Vec3" { " per component" } else { "" });
+        let _ = writeln!(out, "        /// Accepts [{lo}, {hi}]{each}.");
         let _ = writeln!(out, "        #[uniform(0)]\n        pub {}: {rust},", rust_ident(&p.name));
     }
     if bm.tables.is_some() {

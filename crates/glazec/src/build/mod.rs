@@ -369,6 +369,9 @@ mod tests {
             "pub mod glaze {",
             "pub struct GlazeParams {",
             "pub _pad0: [u32; 3],",
+            // Each member says what its slots accept.
+            "/// `f32` at byte 0; accepts [0, 1].",
+            "/// `vec3<f32>` at byte 16; accepts [0, 1000000] per component.",
             "assert!(core::mem::offset_of!(GlazeParams, tint) == 16",
             "assert!(core::mem::size_of::<GlazeParams>() == 32",
             "unsafe impl bytemuck::Pod for GlazeParams {}",

@@ -119,8 +119,9 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
     if let Some(ty) = params {
         let doc = "The runtime parameters: the shader's uniform struct, member for member (`Default` holds the \
                    material's defaults).";
-        let defaults: Vec<String> = c.material.uniform_params().map(|(_, p)| default_literal(p.default)).collect();
-        write_struct(out, &c.module, ty, &c.material.params_struct_name(), doc, Some(&defaults), bytemuck, "    ");
+        let params: Vec<(String, [f32; 2])> =
+            c.material.uniform_params().map(|(_, p)| (default_literal(p.default), p.range)).collect();
+        write_struct(out, &c.module, ty, &c.material.params_struct_name(), doc, Some(&params), bytemuck, "    ");
         let _ = writeln!(out, "    pub type Params = {};\n", c.material.params_struct_name());
         write_params_info(out, c, ty);
     }
@@ -240,7 +241,8 @@ fn write_struct(
     ty: Handle<Type>,
     name: &str,
     doc: &str,
-    defaults: Option<&[String]>,
+    // For a parameter struct: each member's default (a Rust literal) and accepted range.
+    params: Option<&[(String, [f32; 2])]>,
     bytemuck: bool,
     indent: &str,
 ) {
@@ -254,23 +256,28 @@ fn write_struct(
     let mut cursor = 0;
     let mut pads = 0;
     let mut fields = Vec::new();
-    for member in members {
+    for (k, member) in members.iter().enumerate() {
         let Some((rust_type, wgsl_type, size)) = member_type(&module.types[member.ty].inner) else { return };
         pad(out, indent, &mut cursor, member.offset, &mut pads, &mut fields);
         let member_name = member.name.clone().unwrap_or_default();
-        let _ = writeln!(out, "{indent}    /// `{wgsl_type}` at byte {}.", member.offset);
+        let accepts = match params.and_then(|p| p.get(k)) {
+            Some((_, [lo, hi])) if wgsl_type.starts_with("vec") => format!("; accepts [{lo}, {hi}] per component"),
+            Some((_, [lo, hi])) => format!("; accepts [{lo}, {hi}]"),
+            None => String::new(),
+        };
+        let _ = writeln!(out, "{indent}    /// `{wgsl_type}` at byte {}{accepts}.", member.offset);
         let _ = writeln!(out, "{indent}    pub {}: {rust_type},", rust_ident(&member_name));
         fields.push((rust_ident(&member_name), Some(member.offset), rust_type));
         cursor = member.offset + size;
     }
     pad(out, indent, &mut cursor, *span, &mut pads, &mut fields);
     let _ = writeln!(out, "{indent}}}\n");
-    if let Some(defaults) = defaults {
+    if let Some(params) = params {
         let _ = writeln!(
             out,
             "{indent}impl Default for {name} {{\n{indent}    fn default() -> Self {{\n{indent}        Self {{"
         );
-        let mut values = defaults.iter();
+        let mut values = params.iter().map(|(default, _)| default);
         for (field, offset, rust_type) in &fields {
             let value = if offset.is_some() { values.next().cloned().unwrap_or_default() } else { zero(rust_type) };
             let _ = writeln!(out, "{indent}            {field}: {value},");
