@@ -13,7 +13,7 @@
 //! (`scripts/web`); natively they are ordinary functions, tested below.
 
 use glazec::diag::{Diagnostic, Source};
-use glazec::model::ParamValue;
+use glazec::lower::bindings::Slot;
 use glazec::{CompileError, Target};
 use serde::Serialize;
 
@@ -46,19 +46,6 @@ struct Param {
     default: Vec<f32>,
     /// The values its slots accept (per component).
     range: [f32; 2],
-}
-
-/// A resource of the library: `@group(group) @binding(binding)`.
-#[derive(Serialize)]
-struct Slot {
-    group: u32,
-    binding: u32,
-}
-
-impl From<glazec::lower::bindings::Slot> for Slot {
-    fn from(s: glazec::lower::bindings::Slot) -> Slot {
-        Slot { group: s.group, binding: s.binding }
-    }
 }
 
 /// A texture the library samples.
@@ -157,10 +144,7 @@ pub fn compile(text: &str) -> String {
             wgsl_type: p.wgsl_type,
             offset: p.offset,
             size: p.size,
-            default: match declared.default {
-                ParamValue::Scalar(x) => vec![x],
-                ParamValue::Rgb(rgb) => rgb.to_vec(),
-            },
+            default: declared.default.components().to_vec(),
             range: declared.range,
         })
         .collect();
@@ -192,14 +176,14 @@ fn interface(compiled: &glazec::Compiled) -> Interface {
         .zip(layout.textures.iter().skip(1))
         .map(|(name, (_, slot))| Texture {
             name: name.to_string(),
-            slot: (*slot).into(),
+            slot: *slot,
             normal_map: normal_maps.contains(&name),
         })
         .collect();
     Interface {
-        params: layout.params.map(Slot::from),
-        tables: layout.tables.map(Slot::from),
-        sampler: layout.textures.first().map(|(_, slot)| (*slot).into()),
+        params: layout.params,
+        tables: layout.tables,
+        sampler: layout.textures.first().map(|(_, slot)| *slot),
         textures,
         framed: !material.normals.is_empty(),
     }

@@ -331,6 +331,14 @@ impl ParamValue {
             ParamValue::Rgb(_) => "rgb",
         }
     }
+
+    /// Its numbers: one, or r, g, b.
+    pub fn components(&self) -> &[f32] {
+        match self {
+            ParamValue::Scalar(x) => std::slice::from_ref(x),
+            ParamValue::Rgb(c) => c,
+        }
+    }
 }
 
 /// Byte spans of the material's parts in its source file, for diagnostics after `check`.

@@ -55,33 +55,35 @@ const CONDUCTOR_ETA_MIN: f64 = 0.01;
 const MEDIUM_MAX: f64 = 1e6;
 
 impl Rule {
-    /// The closed range a material's slot accepts, for the [`Param`](crate::model::Param)s
-    /// that fill it (the scene's rules, never a parameter's, give their lower bound).
-    pub(super) fn bounds(self) -> [f32; 2] {
+    /// The range a number must lie in: [lo, hi], or (lo, hi] where [`Self::excludes_lower`];
+    /// hi = ∞ where only the lower end is bounded.
+    fn range(self) -> (f64, f64) {
         match self {
-            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => [0.0, 1.0],
-            Rule::Ior => [IOR_MIN as f32, IOR_MAX as f32],
-            Rule::ConductorEta => [CONDUCTOR_ETA_MIN as f32, IOR_MAX as f32],
-            Rule::Absorption | Rule::Thickness | Rule::Extinction => [0.0, MEDIUM_MAX as f32],
-            Rule::Angle => [0.0, 90.0],
-            Rule::Tolerance => [0.0, 1.0],
-            Rule::DeltaE => [0.0, 100.0],
-            Rule::LightAmount | Rule::SceneValue | Rule::Distance | Rule::Exposure => [0.0, f32::MAX],
+            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance | Rule::Tolerance => (0.0, 1.0),
+            Rule::Ior => (IOR_MIN, IOR_MAX),
+            Rule::ConductorEta => (CONDUCTOR_ETA_MIN, IOR_MAX),
+            Rule::Absorption | Rule::Thickness | Rule::Extinction => (0.0, MEDIUM_MAX),
+            Rule::Angle => (0.0, 90.0),
+            Rule::DeltaE => (0.0, 100.0),
+            Rule::LightAmount | Rule::SceneValue | Rule::Distance | Rule::Exposure => (0.0, f64::INFINITY),
         }
     }
 
+    /// Whether the lower end itself is refused (a distance, exposure or tolerance of 0).
+    fn excludes_lower(self) -> bool {
+        matches!(self, Rule::Distance | Rule::Exposure | Rule::Tolerance | Rule::DeltaE)
+    }
+
+    /// The closed range a material's slot accepts, for the [`Param`](crate::model::Param)s
+    /// that fill it (every such rule includes its lower end).
+    pub(super) fn bounds(self) -> [f32; 2] {
+        let (lo, hi) = self.range();
+        [lo as f32, hi as f32]
+    }
+
     pub(super) fn accepts(self, x: f64) -> bool {
-        match self {
-            Rule::Roughness | Rule::Sigma | Rule::Albedo | Rule::Reflectance => (0.0..=1.0).contains(&x),
-            Rule::Ior => (IOR_MIN..=IOR_MAX).contains(&x),
-            Rule::ConductorEta => (CONDUCTOR_ETA_MIN..=IOR_MAX).contains(&x),
-            Rule::Absorption | Rule::Thickness | Rule::Extinction => (0.0..=MEDIUM_MAX).contains(&x),
-            Rule::Angle => (0.0..=90.0).contains(&x),
-            Rule::LightAmount | Rule::SceneValue => x >= 0.0,
-            Rule::Distance | Rule::Exposure => x > 0.0,
-            Rule::Tolerance => x > 0.0 && x <= 1.0,
-            Rule::DeltaE => x > 0.0 && x <= 100.0,
-        }
+        let (lo, hi) = self.range();
+        (if self.excludes_lower() { x > lo } else { x >= lo }) && x <= hi
     }
 
     pub(super) fn code(self) -> Code {

@@ -39,7 +39,7 @@ pub mod bindings {
 
     /// A resource's place in a pipeline layout: bind group and binding (`@group(g) @binding(b)`;
     /// `register(…, space g)` in HLSL; `layout(binding = 16·g + b)` in GLSL).
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
     pub struct Slot {
         pub group: u32,
         pub binding: u32,
@@ -216,11 +216,7 @@ pub fn params_bytes(material: &Material, values: &[ParamValue]) -> Vec<u8> {
     let mut bytes = vec![0u8; size as usize];
     let uniform_values = material.uniform_params().filter_map(|(i, _)| values.get(i));
     for (slot, value) in layout.iter().zip(uniform_values) {
-        let components: &[f32] = match value {
-            ParamValue::Scalar(x) => std::slice::from_ref(x),
-            ParamValue::Rgb(c) => c,
-        };
-        for (i, x) in components.iter().enumerate() {
+        for (i, x) in value.components().iter().enumerate() {
             let at = slot.offset as usize + 4 * i;
             bytes[at..at + 4].copy_from_slice(&x.to_le_bytes());
         }

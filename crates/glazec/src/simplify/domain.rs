@@ -34,13 +34,9 @@ impl ParameterDomain {
                 ParamDomain::Range(lo, hi) => kinds_match(lo) && kinds_match(hi),
             };
             let [lo, hi] = param.range;
-            let components = |v: ParamValue| match v {
-                ParamValue::Scalar(x) => vec![x],
-                ParamValue::Rgb(c) => c.to_vec(),
-            };
             let values = match p.domain {
-                ParamDomain::Pinned(v) => components(v),
-                ParamDomain::Range(a, b) => [components(a), components(b)].concat(),
+                ParamDomain::Pinned(v) => v.components().to_vec(),
+                ParamDomain::Range(a, b) => [a.components(), b.components()].concat(),
             };
             if let Some(x) = values.iter().find(|x| !(lo..=hi).contains(*x)) {
                 errors.push(

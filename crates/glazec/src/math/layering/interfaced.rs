@@ -97,32 +97,27 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"))
     };
     let albedo = want_albedo.then(|| {
-        // Over a glossy body: the shares it sends outside the escape cone, and what of that leaves.
-        let trapped = match (lower.glossy, lower.alpha) {
+        // Over a glossy body: the shares it sends outside the escape cone towards l and v, and
+        // what of trapped light leaves (none of either without a glossy body).
+        let (trapped_l, trapped_v) = match (lower.glossy, lower.alpha) {
             (true, Some(alpha)) => {
                 let t = trapped_shares(&interface, &below, alpha, (r_return, clear().0), inputs);
                 let out = trapped_return(t.round_trip, albedo.mean, t.q, interface.transmission_from_cone())
                     .named(&name("trapped_out"));
                 // Without total internal reflection (η ≤ 1) nothing is trapped.
                 let share = |p: F| F::select(t.mu_c.gt_lit(0.0), p, inputs.lit(0.0));
-                Some((share(t.p_l), share(t.p_v), out))
+                ((share(t.p_l), out), (share(t.p_v), out))
             }
-            _ => None,
+            _ => ((inputs.lit(0.0), inputs.zero()), (inputs.lit(0.0), inputs.zero())),
         };
-        let directional = |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, p: Option<F>| match first {
-            Some((escape, back)) => interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back),
-            None => {
-                let (p, out) = match (p, &trapped) {
-                    (Some(p), Some((_, _, out))) => (p, *out),
-                    _ => (inputs.lit(0.0), inputs.zero()),
-                };
-                interfaced_albedo_glossy::<F>(t, a, e, p, out)
-            }
-        };
+        let directional =
+            |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, (p, out): (F, F::Vec)| match first {
+                Some((escape, back)) => interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back),
+                None => interfaced_albedo_glossy::<F>(t, a, e, p, out),
+            };
         let (first_l, first_v) = first.as_ref().map(|p| ((p.escape_l, p.return_l), (p.escape_v, p.return_v))).unzip();
-        let (p_l, p_v) = trapped.as_ref().map(|t| (t.0, t.1)).unzip();
-        let e_l = directional(t_l, a_l, albedo.e_l, first_l, p_l).named(&name("albedo_l"));
-        let e_v = directional(t_v, a_v, albedo.e_v, first_v, p_v).named(&name("albedo_v"));
+        let e_l = directional(t_l, a_l, albedo.e_l, first_l, trapped_l).named(&name("albedo_l"));
+        let e_v = directional(t_v, a_v, albedo.e_v, first_v, trapped_v).named(&name("albedo_v"));
         let e_escape_clear = clear().1.x();
         let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
         Albedo { e_l, e_v, mean }
