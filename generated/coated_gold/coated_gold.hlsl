@@ -97,11 +97,11 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
 {
     float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    float3 n_7 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    float3 n_8 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
-    float3 l_4 = _e14.xyz;
+    float3 l_5 = _e14.xyz;
     float4 _e17 = light.radiance;
-    const float3 reflected = coated_gold_eval(n_7, float3(0.0, 0.0, 1.0), l_4);
+    const float3 reflected = coated_gold_eval(n_8, float3(0.0, 0.0, 1.0), l_5);
     bool _e26 = (r2_ < 1.0);
     return float4((_e26 ? (reflected * _e17.xyz) : (0.0).xxx), (_e26 ? 1.0 : 0.0));
 }
@@ -110,8 +110,8 @@ float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs)
 {
     float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
     float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
-    float3 n_8 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
-    const float3 reflected = coated_gold_ibl(n_8, float3(0.0, 0.0, 1.0));
+    float3 n_9 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
+    const float3 reflected = coated_gold_ibl(n_9, float3(0.0, 0.0, 1.0));
     bool _e18 = (r2_1 < 1.0);
     return float4((_e18 ? reflected : (0.0).xxx), (_e18 ? 1.0 : 0.0));
 }

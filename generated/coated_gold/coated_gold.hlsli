@@ -12,7 +12,7 @@ struct CoatedGoldIblLobes {
 };
 
 static const float3 coated_gold_one = float3(1.0, 1.0, 1.0);
-static const float3 coated_gold_layer1_survival = float3(0.9322251, 0.7678392, 0.3619415);
+static const float3 coated_gold_layer1_pool_fresnel = float3(0.9322251, 0.7678392, 0.3619415);
 static const float3 coated_gold_remainder_avg = float3(0.07577632, 0.03172815, 0.0034033447);
 static const uint coated_gold_ibl_specular_lobes = 2u;
 
@@ -413,23 +413,83 @@ float coated_gold_glossy_spread_curve(float cos_theta_11)
     return f_54;
 }
 
-// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
-// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
-// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
-// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
-// directions' components in the plane of `n`, so no azimuth is divided out and along the
-// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
-// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
-// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
-float coated_gold_forward_azimuth_weight(float3 n_1, float3 v_1, float3 l_1, float kappa)
+// sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
+// what the forward spread's mean resultant length ρ = κ sin θl sin θv scales with (0 along
+// the normal, where a direction has no azimuth). Guard: ≥ TINY (a direction along the
+// normal; [`forward_cosine`] divides by it).
+float coated_gold_forward_sines(float3 n_1, float3 v_1, float3 l_1)
 {
     float3 l_t = (l_1 - (n_1 * dot(n_1, l_1)));
     float3 v_t = (v_1 - (n_1 * dot(n_1, v_1)));
-    float sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 1e-12));
-    float k_1 = min(kappa, ((1.0 / sines) * 0.95));
-    float _e21 = (k_1 * sines);
-    float rho2_ = (_e21 * _e21);
-    return ((1.0 - rho2_) / ((rho2_ + 1.0) + ((k_1 * dot(l_t, v_t)) * 2.0)));
+    return sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 1e-12));
+}
+
+// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
+// every conductor event keeps a share c of it, given the white light's ρ (the walks').
+// Each event keeps a direction's horizontal part with some scatter, so light that has taken
+// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
+// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
+// going forward more than white light: under copper, light leaving backwards has taken the
+// most events and is the darkest. With the later events' generating function L
+// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
+// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
+// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
+// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
+// κ drops more slowly with the count than ρ₁ⁿ), but drives [`forward_azimuth_tilt`], whose
+// first-order tilt takes less light from behind than the walks' mixture of counts does;
+// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
+// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
+// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+float3 coated_gold_glossy_spread_colour(float rho, float next_2, float quick_1, float steady_1, float slow_1, float3 c_2)
+{
+    float rest_1 = max((1.0 - ((next_2 + quick_1) + steady_1)), 0.0);
+    float weight = max(((quick_1 + steady_1) + rest_1), 1e-6);
+    float events = ((((quick_1 * 2.0) + (steady_1 * 5.0)) + (rest_1 / max((1.0 - slow_1), 1e-6))) / weight);
+    float per_event = exp((log(max(rho, 1e-6)) / events));
+    const float3 _e34 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, (per_event).xxx);
+    float white = (_e34.x / weight);
+    const float3 _e38 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, (c_2 * per_event));
+    const float3 _e39 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, c_2);
+    float3 coloured = (_e38 / max(_e39, (1e-6).xxx));
+    return (coloured * (rho / max(white, 1e-6)));
+}
+
+// cos φf, φf the relative azimuth of `l` and `v` about the forward direction (φf = 0 where
+// the light travels on as a mirror sends it): −l_t·v_t / (sin θl sin θv), `sines` from
+// [`forward_sines`].
+float coated_gold_forward_cosine(float3 n_2, float3 v_2, float3 l_2, float sines)
+{
+    float3 l_t_1 = (l_2 - (n_2 * dot(n_2, l_2)));
+    float3 v_t_1 = (v_2 - (n_2 * dot(n_2, v_2)));
+    return (-(dot(l_t_1, v_t_1)) / sines);
+}
+
+// A distribution over the azimuth φf of mean resultant length ρ, reweighted per channel to
+// mean resultant lengths ρ_c ≥ ρ: the least change of it (Kullback–Leibler; an exponential
+// tilt e^(λ cos φf), Cover & Thomas 2006, "Elements of Information Theory", §12.1) to first
+// order, (1 + a cos φf)/(1 + aρ), whose mean over the distribution is 1 (albedo unchanged)
+// and whose mean resultant length is (ρ + a(1 + ρ₂)/2)/(1 + aρ) = ρ_c, ρ₂ = E[cos 2φf] = ρ²
+// for the wrapped Cauchy: a = (ρ_c − ρ)/((1 + ρ²)/2 − ρ_c ρ). It leaves a concentrated
+// forward peak nearly as it is (there (1 + a)/(1 + aρ) ≈ 1) and takes the light from behind.
+// Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
+// the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
+float3 coated_gold_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi)
+{
+    float r = min(rho_1, 0.95);
+    float3 r_c = min(rho_c, (0.95).xxx);
+    float3 a_4 = min(((r_c - (r).xxx) / max((((((r * r) + 1.0) * 0.5)).xxx - (r_c * r)), (1e-6).xxx)), coated_gold_one);
+    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r)));
+}
+
+// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
+// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
+// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
+// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
+// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+float coated_gold_forward_azimuth_weight(float rho_2, float cos_phi_1)
+{
+    float r_1 = min(rho_2, 0.95);
+    return ((1.0 - (r_1 * r_1)) / (((r_1 * r_1) + 1.0) - ((r_1 * cos_phi_1) * 2.0)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -452,16 +512,16 @@ float3 coated_gold_glossy_remainder_lobe(float3 m_i, float3 m_o, float3 m_avg)
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-float3 coated_gold_brdf(float3 n_2, float3 v_2, float3 l_2)
+float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
 {
-    float n_dot_v_2 = dot(n_2, v_2);
-    float n_dot_l_2 = dot(n_2, l_2);
+    float n_dot_v_2 = dot(n_3, v_3);
+    float n_dot_l_2 = dot(n_3, l_3);
     float cos_v = max(n_dot_v_2, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
-    const float3 layer1_v = coated_gold_refract_down(v_2, n_2, 1.5);
-    const float3 layer1_l = coated_gold_refract_down(l_2, n_2, 1.5);
-    float layer1_n_dot_v = dot(n_2, layer1_v);
-    float layer1_n_dot_l = dot(n_2, layer1_l);
+    const float3 layer1_v = coated_gold_refract_down(v_3, n_3, 1.5);
+    const float3 layer1_l = coated_gold_refract_down(l_3, n_3, 1.5);
+    float layer1_n_dot_v = dot(n_3, layer1_v);
+    float layer1_n_dot_l = dot(n_3, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     const float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_l_2, 1.5);
@@ -488,8 +548,8 @@ float3 coated_gold_brdf(float3 n_2, float3 v_2, float3 l_2)
     float layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
     const float _e107 = coated_gold_glossy_quick_curve(n_dot_l_2);
     const float _e108 = coated_gold_glossy_steady_curve(n_dot_l_2);
-    const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e107, _e108, 0.9170209, coated_gold_layer1_survival);
-    const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_survival);
+    const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e107, _e108, 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_pool_fresnel);
     const float3 _e116 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, (1.0).xxx);
     float3 layer1_once_colour_l = (layer1_once_l / (max(_e116.x, 1e-6)).xxx);
     const float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5);
@@ -516,8 +576,8 @@ float3 coated_gold_brdf(float3 n_2, float3 v_2, float3 l_2)
     float layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
     const float _e210 = coated_gold_glossy_quick_curve(n_dot_v_2);
     const float _e211 = coated_gold_glossy_steady_curve(n_dot_v_2);
-    const float3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209, coated_gold_layer1_survival);
-    const float3 layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_survival);
+    const float3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float3 layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_pool_fresnel);
     const float3 _e219 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, (1.0).xxx);
     float3 layer1_once_colour_v = (layer1_once_v / (max(_e219.x, 1e-6)).xxx);
     const float _e225 = coated_gold_glossy_blur_curve(n_dot_l_2);
@@ -525,18 +585,18 @@ float3 coated_gold_brdf(float3 n_2, float3 v_2, float3 l_2)
     const float _e228 = coated_gold_glossy_blur_curve(n_dot_v_2);
     float layer1_blur_v_2 = (_e228 * 0.010000001);
     float layer1_alpha_2 = sqrt(((0.00390625 + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
-    const float3 h = coated_gold_half_vector(v_2, l_2);
-    float3 n_cross_h = cross(n_2, h);
-    const float d = coated_gold_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.010000001);
+    const float3 h = coated_gold_half_vector(v_3, l_3);
+    float3 n_cross_h = cross(n_3, h);
+    const float d = coated_gold_d_ggx(dot(n_3, h), dot(n_cross_h, n_cross_h), 0.010000001);
     const float g = coated_gold_g_smith_ggx_correlated(cos_v, cos_l, 0.010000001);
-    const float fresnel = coated_gold_fr_dielectric(dot(v_2, h), 1.5);
+    const float fresnel = coated_gold_fr_dielectric(dot(v_3, h), 1.5);
     const float3 _e249 = coated_gold_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
     const float layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_2);
     float3 specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
     const float3 layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
-    float3 layer1_n_cross_h = cross(n_2, layer1_h);
-    const float layer1_d = coated_gold_d_ggx(dot(n_2, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    float3 layer1_n_cross_h = cross(n_3, layer1_h);
+    const float layer1_d = coated_gold_d_ggx(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     const float layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     const float3 layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
     const float3 _e272 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
@@ -544,20 +604,26 @@ float3 coated_gold_brdf(float3 n_2, float3 v_2, float3 l_2)
     const float3 _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     const float spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
     const float spread_v = coated_gold_glossy_spread_curve(n_dot_v_2);
-    const float spread = coated_gold_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((spread_l * spread_v), 0.0)));
-    const float3 _e291 = coated_gold_glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    const float3 _e294 = coated_gold_glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    const float3 _e296 = coated_gold_glossy_remainder_lobe(_e291, _e294, coated_gold_remainder_avg);
-    float3 later_2 = (_e296 * spread);
+    const float sines = coated_gold_forward_sines(n_3, v_3, l_3);
+    float spread_rho = min((sqrt(max((spread_l * spread_v), 0.0)) * sines), 0.95);
+    const float3 _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5), ((_e107 + _e210) * 0.5), ((_e108 + _e211) * 0.5), 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float _e304 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
+    const float3 _e305 = coated_gold_forward_azimuth_tilt(spread_rho, _e303, _e304);
+    const float _e306 = coated_gold_forward_azimuth_weight(spread_rho, _e304);
+    float3 spread = (_e305 * _e306);
+    const float3 _e310 = coated_gold_glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    const float3 _e313 = coated_gold_glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    const float3 _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
+    float3 later_2 = (_e315 * spread);
     float3 f_55 = (_e281 + later_2);
     return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
-float3 coated_gold_eval(float3 n_3, float3 v_3, float3 l_3)
+float3 coated_gold_eval(float3 n_4, float3 v_4, float3 l_4)
 {
-    const float3 f = coated_gold_brdf(n_3, v_3, l_3);
-    return (f * max(dot(n_3, l_3), 0.0));
+    const float3 f = coated_gold_brdf(n_4, v_4, l_4);
+    return (f * max(dot(n_4, l_4), 0.0));
 }
 
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
@@ -576,12 +642,12 @@ float3 coated_gold_glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, flo
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 coated_gold_specular_dominant_direction(float3 n_4, float3 v_4, float alpha_5)
+float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_5)
 {
-    float3 r = ((n_4 * (max(dot(n_4, v_4), 0.0) * 2.0)) - v_4);
+    float3 r_2 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    float3 d_2 = ((n_4 * (1.0 - t_2)) + (r * t_2));
+    float3 d_2 = ((n_5 * (1.0 - t_2)) + (r_2 * t_2));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
@@ -622,12 +688,12 @@ CoatedGoldIblLobes ConstructCoatedGoldIblLobes(CoatedGoldIblLobe arg0[2], Coated
 // the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
-CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_5, float3 v_5)
+CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
 {
-    float n_dot_v_3 = dot(n_5, v_5);
+    float n_dot_v_3 = dot(n_6, v_6);
     float cos_v_1 = max(n_dot_v_3, 0.0001);
-    const float3 layer1_v = coated_gold_refract_down(v_5, n_5, 1.5);
-    float layer1_n_dot_v_1 = dot(n_5, layer1_v);
+    const float3 layer1_v = coated_gold_refract_down(v_6, n_6, 1.5);
+    float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     const float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_3, 1.5);
     const float _e14 = coated_gold_coat_deficit_curve(n_dot_v_3);
@@ -653,8 +719,8 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_5, float3 v_5)
     float layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
     const float _e98 = coated_gold_glossy_quick_curve(n_dot_v_3);
     const float _e99 = coated_gold_glossy_steady_curve(n_dot_v_3);
-    const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209, coated_gold_layer1_survival);
-    const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_survival);
+    const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
     const float3 _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, (1.0).xxx);
     float3 layer1_once_colour_l_1 = (layer1_once_l / (max(_e107.x, 1e-6)).xxx);
     const float _e113 = coated_gold_glossy_blur_curve(n_dot_v_3);
@@ -664,11 +730,11 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_5, float3 v_5)
     const float3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, (1.0).xxx, (1.0).xxx, layer1_once_l, layer1_single_l_1, layer1_later_l);
     float coat_albedo = (1.0 - layer1_transmit_l_1);
     float3 under_albedo = max((albedo_l - (coat_albedo).xxx), (0.0).xxx);
-    const float3 reflected = coated_gold_specular_dominant_direction(n_5, v_5, 0.010000001);
+    const float3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
-    const float3 reflected_1 = coated_gold_specular_dominant_direction(n_5, v_5, (base_roughness * base_roughness));
-    bool _e148 = (dot(n_5, v_5) > 0.0);
-    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, 0.1, (_e148 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e148 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_5, 1.0, (0.0).xxx));
+    const float3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
+    bool _e148 = (dot(n_6, v_6) > 0.0);
+    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, 0.1, (_e148 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e148 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
     return coatedgoldibllobes;
 }
 
@@ -709,9 +775,9 @@ float3 coated_gold_irradiance_at(float3 direction_1)
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
 // coated_gold_ibl_lobes times the environment prefiltered for it (coated_gold_environment) or the irradiance
 // over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 coated_gold_ibl(float3 n_6, float3 v_6)
+float3 coated_gold_ibl(float3 n_7, float3 v_7)
 {
-    const CoatedGoldIblLobes lobes = coated_gold_ibl_lobes(n_6, v_6);
+    const CoatedGoldIblLobes lobes = coated_gold_ibl_lobes(n_7, v_7);
     const float3 light_a = coated_gold_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
     const float3 light_b = coated_gold_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
     return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));

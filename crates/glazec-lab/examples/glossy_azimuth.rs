@@ -22,19 +22,27 @@ fn main() -> Result<(), String> {
     let values = material.default_values();
     let stack = Stack::from_material(&material, &values);
     let options = reference::Options { mode: InterfaceMode::Multiple, samples: SAMPLES, seed: 1, ..Default::default() };
-    println!("| θi | θo | φ | glazec (red) | reference ± std. error | ratio |");
+    println!("| θi | θo | φ | glazec (R, G, B) | reference ± std. error (R, G, B) | ratio (R, G, B) |");
     println!("|---|---|---|---|---|---|");
     for theta_i in [30.0, 60.0, 80.0] {
         for theta_o in [30.0, 60.0, 80.0, 89.0] {
             for phi in [0.0, 45.0, 90.0, 135.0, 160.0, 180.0] {
                 let (wi, wo) = (direction_deg(theta_i, 0.0), direction_deg(theta_o, phi));
-                let f = glazec::eval::brdf(&material, &values, wi.as_vec3(), wo.as_vec3()).x;
+                let f = glazec::eval::brdf(&material, &values, wi.as_vec3(), wo.as_vec3()).as_dvec3();
                 let r = stack.f(wi, wo, &options);
+                let ratio = f / r.mean.max(glam::DVec3::splat(1e-12));
                 println!(
-                    "| {theta_i} | {theta_o} | {phi} | {f:.4e} | {:.4e} ± {:.1e} | {:.2} |",
+                    "| {theta_i} | {theta_o} | {phi} | {:.3e}, {:.3e}, {:.3e} | {:.3e}, {:.3e}, {:.3e} ± {:.0e} | {:.2}, {:.2}, {:.2} |",
+                    f.x,
+                    f.y,
+                    f.z,
                     r.mean.x,
-                    r.std_err.x,
-                    f64::from(f) / r.mean.x.max(1e-12)
+                    r.mean.y,
+                    r.mean.z,
+                    r.std_err.max_element(),
+                    ratio.x,
+                    ratio.y,
+                    ratio.z
                 );
             }
         }

@@ -11,7 +11,7 @@ struct CoatedGoldIblLobes {
 }
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
-const coated_gold_layer1_survival: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
+const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
 const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577632f, 0.03172815f, 0.0034033447f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
@@ -378,22 +378,78 @@ fn coated_gold_glossy_spread_curve(cos_theta_11: f32) -> f32 {
     return f_54;
 }
 
-// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
-// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
-// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
-// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
-// directions' components in the plane of `n`, so no azimuth is divided out and along the
-// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
-// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
-// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
-fn coated_gold_forward_azimuth_weight(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, kappa: f32) -> f32 {
+// sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
+// what the forward spread's mean resultant length ρ = κ sin θl sin θv scales with (0 along
+// the normal, where a direction has no azimuth). Guard: ≥ TINY (a direction along the
+// normal; [`forward_cosine`] divides by it).
+fn coated_gold_forward_sines(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> f32 {
     let l_t = (l_1 - (n_1 * dot(n_1, l_1)));
     let v_t = (v_1 - (n_1 * dot(n_1, v_1)));
-    let sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
-    let k_1 = min(kappa, ((1f / sines) * 0.95f));
-    let _e21 = (k_1 * sines);
-    let rho2_ = (_e21 * _e21);
-    return ((1f - rho2_) / ((rho2_ + 1f) + ((k_1 * dot(l_t, v_t)) * 2f)));
+    return sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
+}
+
+// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
+// every conductor event keeps a share c of it, given the white light's ρ (the walks').
+// Each event keeps a direction's horizontal part with some scatter, so light that has taken
+// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
+// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
+// going forward more than white light: under copper, light leaving backwards has taken the
+// most events and is the darkest. With the later events' generating function L
+// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
+// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
+// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
+// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
+// κ drops more slowly with the count than ρ₁ⁿ), but drives [`forward_azimuth_tilt`], whose
+// first-order tilt takes less light from behind than the walks' mixture of counts does;
+// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
+// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
+// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+fn coated_gold_glossy_spread_colour(rho: f32, next_2: f32, quick_1: f32, steady_1: f32, slow_1: f32, c_2: vec3<f32>) -> vec3<f32> {
+    let rest_1 = max((1f - ((next_2 + quick_1) + steady_1)), 0f);
+    let weight = max(((quick_1 + steady_1) + rest_1), 0.000001f);
+    let events = ((((quick_1 * 2f) + (steady_1 * 5f)) + (rest_1 / max((1f - slow_1), 0.000001f))) / weight);
+    let per_event = exp((log(max(rho, 0.000001f)) / events));
+    let _e34 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, vec3(per_event));
+    let white = (_e34.x / weight);
+    let _e38 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, (c_2 * per_event));
+    let _e39 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, c_2);
+    let coloured = (_e38 / max(_e39, vec3(0.000001f)));
+    return (coloured * (rho / max(white, 0.000001f)));
+}
+
+// cos φf, φf the relative azimuth of `l` and `v` about the forward direction (φf = 0 where
+// the light travels on as a mirror sends it): −l_t·v_t / (sin θl sin θv), `sines` from
+// [`forward_sines`].
+fn coated_gold_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, sines: f32) -> f32 {
+    let l_t_1 = (l_2 - (n_2 * dot(n_2, l_2)));
+    let v_t_1 = (v_2 - (n_2 * dot(n_2, v_2)));
+    return (-(dot(l_t_1, v_t_1)) / sines);
+}
+
+// A distribution over the azimuth φf of mean resultant length ρ, reweighted per channel to
+// mean resultant lengths ρ_c ≥ ρ: the least change of it (Kullback–Leibler; an exponential
+// tilt e^(λ cos φf), Cover & Thomas 2006, "Elements of Information Theory", §12.1) to first
+// order, (1 + a cos φf)/(1 + aρ), whose mean over the distribution is 1 (albedo unchanged)
+// and whose mean resultant length is (ρ + a(1 + ρ₂)/2)/(1 + aρ) = ρ_c, ρ₂ = E[cos 2φf] = ρ²
+// for the wrapped Cauchy: a = (ρ_c − ρ)/((1 + ρ²)/2 − ρ_c ρ). It leaves a concentrated
+// forward peak nearly as it is (there (1 + a)/(1 + aρ) ≈ 1) and takes the light from behind.
+// Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
+// the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
+fn coated_gold_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
+    let r = min(rho_1, 0.95f);
+    let r_c = min(rho_c, vec3(0.95f));
+    let a_4 = min(((r_c - vec3(r)) / max((vec3((((r * r) + 1f) * 0.5f)) - (r_c * r)), vec3(0.000001f))), coated_gold_one);
+    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r)));
+}
+
+// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
+// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
+// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
+// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
+// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+fn coated_gold_forward_azimuth_weight(rho_2: f32, cos_phi_1: f32) -> f32 {
+    let r_1 = min(rho_2, 0.95f);
+    return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi_1) * 2f)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -414,15 +470,15 @@ fn coated_gold_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3
 }
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_2, v_2);
-    let n_dot_l_2 = dot(n_2, l_2);
+fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_3, v_3);
+    let n_dot_l_2 = dot(n_3, l_3);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let layer1_v = coated_gold_refract_down(v_2, n_2, 1.5f);
-    let layer1_l = coated_gold_refract_down(l_2, n_2, 1.5f);
-    let layer1_n_dot_v = dot(n_2, layer1_v);
-    let layer1_n_dot_l = dot(n_2, layer1_l);
+    let layer1_v = coated_gold_refract_down(v_3, n_3, 1.5f);
+    let layer1_l = coated_gold_refract_down(l_3, n_3, 1.5f);
+    let layer1_n_dot_v = dot(n_3, layer1_v);
+    let layer1_n_dot_l = dot(n_3, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_l_2, 1.5f);
@@ -449,8 +505,8 @@ fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
     let layer1_single_l = min(max(((layer1_lobe_albedo_l - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
     let _e107 = coated_gold_glossy_quick_curve(n_dot_l_2);
     let _e108 = coated_gold_glossy_steady_curve(n_dot_l_2);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e107, _e108, 0.9170209f, coated_gold_layer1_survival);
-    let layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_survival);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e107, _e108, 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_pool_fresnel);
     let _e116 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
     let layer1_once_colour_l = (layer1_once_l / vec3(max(_e116.x, 0.000001f)));
     let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5f);
@@ -477,8 +533,8 @@ fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
     let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
     let _e210 = coated_gold_glossy_quick_curve(n_dot_v_2);
     let _e211 = coated_gold_glossy_steady_curve(n_dot_v_2);
-    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209f, coated_gold_layer1_survival);
-    let layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_survival);
+    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_pool_fresnel);
     let _e219 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
     let layer1_once_colour_v = (layer1_once_v / vec3(max(_e219.x, 0.000001f)));
     let _e225 = coated_gold_glossy_blur_curve(n_dot_l_2);
@@ -486,18 +542,18 @@ fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
     let _e228 = coated_gold_glossy_blur_curve(n_dot_v_2);
     let layer1_blur_v_2 = (_e228 * 0.010000001f);
     let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
-    let h = coated_gold_half_vector(v_2, l_2);
-    let n_cross_h = cross(n_2, h);
-    let d = coated_gold_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.010000001f);
+    let h = coated_gold_half_vector(v_3, l_3);
+    let n_cross_h = cross(n_3, h);
+    let d = coated_gold_d_ggx(dot(n_3, h), dot(n_cross_h, n_cross_h), 0.010000001f);
     let g = coated_gold_g_smith_ggx_correlated(cos_v, cos_l, 0.010000001f);
-    let fresnel = coated_gold_fr_dielectric(dot(v_2, h), 1.5f);
+    let fresnel = coated_gold_fr_dielectric(dot(v_3, h), 1.5f);
     let _e249 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_2);
     let specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
-    let layer1_n_cross_h = cross(n_2, layer1_h);
-    let layer1_d = coated_gold_d_ggx(dot(n_2, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    let layer1_n_cross_h = cross(n_3, layer1_h);
+    let layer1_d = coated_gold_d_ggx(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let _e272 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
@@ -505,19 +561,25 @@ fn coated_gold_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
     let _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     let spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
     let spread_v = coated_gold_glossy_spread_curve(n_dot_v_2);
-    let spread = coated_gold_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((spread_l * spread_v), 0f)));
-    let _e291 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e294 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let _e296 = coated_gold_glossy_remainder_lobe(_e291, _e294, coated_gold_remainder_avg);
-    let later_2 = (_e296 * spread);
+    let sines = coated_gold_forward_sines(n_3, v_3, l_3);
+    let spread_rho = min((sqrt(max((spread_l * spread_v), 0f)) * sines), 0.95f);
+    let _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let _e304 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
+    let _e305 = coated_gold_forward_azimuth_tilt(spread_rho, _e303, _e304);
+    let _e306 = coated_gold_forward_azimuth_weight(spread_rho, _e304);
+    let spread = (_e305 * _e306);
+    let _e310 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e313 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
+    let later_2 = (_e315 * spread);
     let f_55 = (_e281 + later_2);
     return select(vec3(0f), f_55, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
-fn coated_gold_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
-    let f = coated_gold_brdf(n_3, v_3, l_3);
-    return (f * max(dot(n_3, l_3), 0f));
+fn coated_gold_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
+    let f = coated_gold_brdf(n_4, v_4, l_4);
+    return (f * max(dot(n_4, l_4), 0f));
 }
 
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
@@ -535,11 +597,11 @@ fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn coated_gold_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r = ((n_4 * (max(dot(n_4, v_4), 0f) * 2f)) - v_4);
+fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+    let r_2 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_4 * (1f - t_2)) + (r * t_2));
+    let d_2 = ((n_5 * (1f - t_2)) + (r_2 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -547,11 +609,11 @@ fn coated_gold_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha
 // the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
-fn coated_gold_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CoatedGoldIblLobes {
-    let n_dot_v_3 = dot(n_5, v_5);
+fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
+    let n_dot_v_3 = dot(n_6, v_6);
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
-    let layer1_v = coated_gold_refract_down(v_5, n_5, 1.5f);
-    let layer1_n_dot_v_1 = dot(n_5, layer1_v);
+    let layer1_v = coated_gold_refract_down(v_6, n_6, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_6, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_3, 1.5f);
     let _e14 = coated_gold_coat_deficit_curve(n_dot_v_3);
@@ -577,8 +639,8 @@ fn coated_gold_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CoatedGoldIblLobes {
     let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
     let _e98 = coated_gold_glossy_quick_curve(n_dot_v_3);
     let _e99 = coated_gold_glossy_steady_curve(n_dot_v_3);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209f, coated_gold_layer1_survival);
-    let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_survival);
+    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
     let _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
     let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e107.x, 0.000001f)));
     let _e113 = coated_gold_glossy_blur_curve(n_dot_v_3);
@@ -588,11 +650,11 @@ fn coated_gold_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CoatedGoldIblLobes {
     let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
     let coat_albedo = (1f - layer1_transmit_l_1);
     let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
-    let reflected = coated_gold_specular_dominant_direction(n_5, v_5, 0.010000001f);
+    let reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001f);
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
-    let reflected_1 = coated_gold_specular_dominant_direction(n_5, v_5, (base_roughness * base_roughness));
-    let _e148 = (dot(n_5, v_5) > 0f);
-    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, 0.1f, select(vec3(0f), vec3(coat_albedo), _e148)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e148))), CoatedGoldIblLobe(n_5, 1f, vec3(0f)));
+    let reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
+    let _e148 = (dot(n_6, v_6) > 0f);
+    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, 0.1f, select(vec3(0f), vec3(coat_albedo), _e148)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e148))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
@@ -620,8 +682,8 @@ fn coated_gold_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
 // coated_gold_ibl_lobes times the environment prefiltered for it (coated_gold_environment) or the irradiance
 // over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn coated_gold_ibl(n_6: vec3<f32>, v_6: vec3<f32>) -> vec3<f32> {
-    let lobes = coated_gold_ibl_lobes(n_6, v_6);
+fn coated_gold_ibl(n_7: vec3<f32>, v_7: vec3<f32>) -> vec3<f32> {
+    let lobes = coated_gold_ibl_lobes(n_7, v_7);
     let light_a = coated_gold_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
     let light_b = coated_gold_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
     return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));

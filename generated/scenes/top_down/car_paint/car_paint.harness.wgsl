@@ -49,11 +49,11 @@ fn preview_vs(@location(0) corner: vec2<f32>) -> PreviewVarying {
 @fragment 
 fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_ = ((p.x * p.x) + (p.y * p.y));
-    let n_7 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
+    let n_8 = vec3<f32>(p.x, p.y, sqrt(max((1f - r2_), 0f)));
     let _e14 = light.direction;
-    let l_4 = _e14.xyz;
+    let l_5 = _e14.xyz;
     let _e17 = light.radiance;
-    let reflected = car_paint_eval(n_7, vec3<f32>(0f, 0f, 1f), l_4);
+    let reflected = car_paint_eval(n_8, vec3<f32>(0f, 0f, 1f), l_5);
     let _e26 = (r2_ < 1f);
     return vec4<f32>(select(vec3(0f), (reflected * _e17.xyz), _e26), select(0f, 1f, _e26));
 }
@@ -61,8 +61,8 @@ fn preview_fs(@location(0) p: vec2<f32>) -> @location(0) vec4<f32> {
 @fragment 
 fn preview_ibl_fs(@location(0) p_1: vec2<f32>) -> @location(0) vec4<f32> {
     let r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
-    let n_8 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
-    let reflected = car_paint_ibl(n_8, vec3<f32>(0f, 0f, 1f));
+    let n_9 = vec3<f32>(p_1.x, p_1.y, sqrt(max((1f - r2_1), 0f)));
+    let reflected = car_paint_ibl(n_9, vec3<f32>(0f, 0f, 1f));
     let _e18 = (r2_1 < 1f);
     return vec4<f32>(select(vec3(0f), reflected, _e18), select(0f, 1f, _e18));
 }

@@ -17,6 +17,7 @@ const car_paint_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f, 0.000535044f);
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
 const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026940068f, 0.000000015091631f, 0.00000000018827935f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
 const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067616f, 0.06705829f, 0.031262092f);
@@ -346,22 +347,78 @@ fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     return f_43;
 }
 
-// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
-// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
-// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
-// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
-// directions' components in the plane of `n`, so no azimuth is divided out and along the
-// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
-// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
-// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
-fn car_paint_forward_azimuth_weight(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, kappa: f32) -> f32 {
+// sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
+// what the forward spread's mean resultant length ρ = κ sin θl sin θv scales with (0 along
+// the normal, where a direction has no azimuth). Guard: ≥ TINY (a direction along the
+// normal; [`forward_cosine`] divides by it).
+fn car_paint_forward_sines(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> f32 {
     let l_t = (l_1 - (n_1 * dot(n_1, l_1)));
     let v_t = (v_1 - (n_1 * dot(n_1, v_1)));
-    let sines = sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
-    let k = min(kappa, ((1f / sines) * 0.95f));
-    let _e21 = (k * sines);
-    let rho2_ = (_e21 * _e21);
-    return ((1f - rho2_) / ((rho2_ + 1f) + ((k * dot(l_t, v_t)) * 2f)));
+    return sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
+}
+
+// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
+// every conductor event keeps a share c of it, given the white light's ρ (the walks').
+// Each event keeps a direction's horizontal part with some scatter, so light that has taken
+// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
+// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
+// going forward more than white light: under copper, light leaving backwards has taken the
+// most events and is the darkest. With the later events' generating function L
+// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
+// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
+// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
+// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
+// κ drops more slowly with the count than ρ₁ⁿ), but drives [`forward_azimuth_tilt`], whose
+// first-order tilt takes less light from behind than the walks' mixture of counts does;
+// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
+// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
+// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+fn car_paint_glossy_spread_colour(rho: f32, next_2: f32, quick_1: f32, steady_1: f32, slow_1: f32, c_2: vec3<f32>) -> vec3<f32> {
+    let rest_1 = max((1f - ((next_2 + quick_1) + steady_1)), 0f);
+    let weight = max(((quick_1 + steady_1) + rest_1), 0.000001f);
+    let events = ((((quick_1 * 2f) + (steady_1 * 5f)) + (rest_1 / max((1f - slow_1), 0.000001f))) / weight);
+    let per_event = exp((log(max(rho, 0.000001f)) / events));
+    let _e34 = car_paint_glossy_later(next_2, quick_1, steady_1, slow_1, vec3(per_event));
+    let white = (_e34.x / weight);
+    let _e38 = car_paint_glossy_later(next_2, quick_1, steady_1, slow_1, (c_2 * per_event));
+    let _e39 = car_paint_glossy_later(next_2, quick_1, steady_1, slow_1, c_2);
+    let coloured = (_e38 / max(_e39, vec3(0.000001f)));
+    return (coloured * (rho / max(white, 0.000001f)));
+}
+
+// cos φf, φf the relative azimuth of `l` and `v` about the forward direction (φf = 0 where
+// the light travels on as a mirror sends it): −l_t·v_t / (sin θl sin θv), `sines` from
+// [`forward_sines`].
+fn car_paint_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, sines: f32) -> f32 {
+    let l_t_1 = (l_2 - (n_2 * dot(n_2, l_2)));
+    let v_t_1 = (v_2 - (n_2 * dot(n_2, v_2)));
+    return (-(dot(l_t_1, v_t_1)) / sines);
+}
+
+// A distribution over the azimuth φf of mean resultant length ρ, reweighted per channel to
+// mean resultant lengths ρ_c ≥ ρ: the least change of it (Kullback–Leibler; an exponential
+// tilt e^(λ cos φf), Cover & Thomas 2006, "Elements of Information Theory", §12.1) to first
+// order, (1 + a cos φf)/(1 + aρ), whose mean over the distribution is 1 (albedo unchanged)
+// and whose mean resultant length is (ρ + a(1 + ρ₂)/2)/(1 + aρ) = ρ_c, ρ₂ = E[cos 2φf] = ρ²
+// for the wrapped Cauchy: a = (ρ_c − ρ)/((1 + ρ²)/2 − ρ_c ρ). It leaves a concentrated
+// forward peak nearly as it is (there (1 + a)/(1 + aρ) ≈ 1) and takes the light from behind.
+// Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
+// the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
+fn car_paint_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
+    let r = min(rho_1, 0.95f);
+    let r_c = min(rho_c, vec3(0.95f));
+    let a_4 = min(((r_c - vec3(r)) / max((vec3((((r * r) + 1f) * 0.5f)) - (r_c * r)), vec3(0.000001f))), car_paint_one);
+    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r)));
+}
+
+// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
+// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
+// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
+// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
+// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+fn car_paint_forward_azimuth_weight(rho_2: f32, cos_phi_1: f32) -> f32 {
+    let r_1 = min(rho_2, 0.95f);
+    return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi_1) * 2f)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -410,8 +467,8 @@ fn car_paint_interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: ve
 // albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
 // all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32, mu_c_2: f32, round_trip: vec3<f32>, rho: vec3<f32>, q: f32) -> vec3<f32> {
-    let _e21 = ((rho * round_trip) * (1f - q));
+fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32, mu_c_2: f32, round_trip: vec3<f32>, rho_3: vec3<f32>, q: f32) -> vec3<f32> {
+    let _e21 = ((rho_3 * round_trip) * (1f - q));
     return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
 }
 
@@ -431,16 +488,16 @@ fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
-fn car_paint_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_2, v_2);
-    let n_dot_l_2 = dot(n_2, l_2);
+fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
+    let n_dot_v_2 = dot(n_3, v_3);
+    let n_dot_l_2 = dot(n_3, l_3);
     let cos_v = max(n_dot_v_2, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
-    let h = car_paint_half_vector(v_2, l_2);
-    let n_cross_h = cross(n_2, h);
-    let d = car_paint_d_ggx(dot(n_2, h), dot(n_cross_h, n_cross_h), 0.0016f);
+    let h = car_paint_half_vector(v_3, l_3);
+    let n_cross_h = cross(n_3, h);
+    let d = car_paint_d_ggx(dot(n_3, h), dot(n_cross_h, n_cross_h), 0.0016f);
     let g = car_paint_g_smith_ggx_correlated(cos_v, cos_l, 0.0016f);
-    let fresnel = car_paint_fr_dielectric(dot(v_2, h), 1.5f);
+    let fresnel = car_paint_fr_dielectric(dot(v_3, h), 1.5f);
     let _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
@@ -451,16 +508,16 @@ fn car_paint_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
     let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5f);
     let _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
-    let layer1_v = car_paint_refract_down(v_2, n_2, 1.5f);
-    let layer1_l = car_paint_refract_down(l_2, n_2, 1.5f);
-    let layer1_n_dot_v = dot(n_2, layer1_v);
-    let layer1_n_dot_l = dot(n_2, layer1_l);
+    let layer1_v = car_paint_refract_down(v_3, n_3, 1.5f);
+    let layer1_l = car_paint_refract_down(l_3, n_3, 1.5f);
+    let layer1_n_dot_v = dot(n_3, layer1_v);
+    let layer1_n_dot_l = dot(n_3, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let layer2_v = car_paint_refract_down(layer1_v, n_2, 1.02f);
-    let layer2_l = car_paint_refract_down(layer1_l, n_2, 1.02f);
-    let layer2_n_dot_v = dot(n_2, layer2_v);
-    let layer2_n_dot_l = dot(n_2, layer2_l);
+    let layer2_v = car_paint_refract_down(layer1_v, n_3, 1.02f);
+    let layer2_l = car_paint_refract_down(layer1_l, n_3, 1.02f);
+    let layer2_n_dot_v = dot(n_3, layer2_v);
+    let layer2_n_dot_l = dot(n_3, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
     let layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_l, 1.02f);
@@ -506,8 +563,8 @@ fn car_paint_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
     let _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
     let layer2_once_colour_v = (layer2_once_v / vec3(max(_e180.x, 0.000001f)));
     let layer2_h = car_paint_half_vector(layer2_v, layer2_l);
-    let layer2_n_cross_h = cross(n_2, layer2_h);
-    let layer2_d = car_paint_d_ggx(dot(n_2, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
+    let layer2_n_cross_h = cross(n_3, layer2_h);
+    let layer2_d = car_paint_d_ggx(dot(n_3, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     let layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     let layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
     let _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
@@ -515,33 +572,41 @@ fn car_paint_brdf(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
     let _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
     let layer1_spread_l = car_paint_glossy_spread_curve(layer1_n_dot_l);
     let layer1_spread_v = car_paint_glossy_spread_curve(layer1_n_dot_v);
-    let layer1_spread = car_paint_forward_azimuth_weight(n_2, layer1_v, layer1_l, sqrt(max((layer1_spread_l * layer1_spread_v), 0f)));
-    let _e213 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    let _e214 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    let _e216 = car_paint_glossy_remainder_lobe(_e213, _e214, car_paint_layer1_remainder_avg);
-    let layer1_later = (_e216 * layer1_spread);
+    let layer1_sines = car_paint_forward_sines(n_3, layer1_v, layer1_l);
+    let layer1_spread_rho = min((sqrt(max((layer1_spread_l * layer1_spread_v), 0f)) * layer1_sines), 0.95f);
+    let _e227 = car_paint_glossy_spread_colour(layer1_spread_rho, ((layer2_next_l + layer2_next_v) * 0.5f), ((_e111 + _e171) * 0.5f), ((_e112 + _e172) * 0.5f), 0.43932146f, car_paint_layer2_pool_fresnel);
+    let _e228 = car_paint_forward_cosine(n_3, layer1_v, layer1_l, layer1_sines);
+    let _e229 = car_paint_forward_azimuth_tilt(layer1_spread_rho, _e227, _e228);
+    let _e230 = car_paint_forward_azimuth_weight(layer1_spread_rho, _e228);
+    let layer1_spread = (_e229 * _e230);
+    let _e232 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    let _e233 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    let _e235 = car_paint_glossy_remainder_lobe(_e232, _e233, car_paint_layer1_remainder_avg);
+    let layer1_later = (_e235 * layer1_spread);
     let layer1_f = (_e205 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e231 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let _e250 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let _e243 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let _e244 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e245 = car_paint_glossy_spread_curve_b(n_dot_v_2);
-    let layer1_trapped_spread = car_paint_forward_azimuth_weight(n_2, v_2, l_2, sqrt(max((_e244 * _e245), 0f)));
-    let trapped = (_e243 * layer1_trapped_spread);
-    let under = (_e231 + trapped);
+    let _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e264 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
+    let _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    let layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0f)) * layer1_trapped_sines), 0.95f), _e273);
+    let trapped = (_e262 * layer1_trapped_spread);
+    let under = (_e250 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
-fn car_paint_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
-    let f = car_paint_brdf(n_3, v_3, l_3);
-    return (f * max(dot(n_3, l_3), 0f));
+fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
+    let f = car_paint_brdf(n_4, v_4, l_4);
+    return (f * max(dot(n_4, l_4), 0f));
 }
 
 // The directional albedo seen above a coat over a glossy body (same model as
@@ -550,8 +615,8 @@ fn car_paint_eval(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
 // except its share p outside the escape cone, trapped, of which X leaves
 // (`trapped_return`).
 fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>, p: f32, trapped_out: vec3<f32>) -> vec3<f32> {
-    let k_1 = ((a_2 * a_2) * (1f - t_2));
-    let _e13 = (e_below * k_1);
+    let k = ((a_2 * a_2) * (1f - t_2));
+    let _e13 = (e_below * k);
     let direct = ((e_below * (t_2 * (1f - p))) / (vec3(1f) - _e13));
     return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + vec3((1f - t_2)));
 }
@@ -561,11 +626,11 @@ fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f3
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn car_paint_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r = ((n_4 * (max(dot(n_4, v_4), 0f) * 2f)) - v_4);
+fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+    let r_2 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_4 * (1f - t_3)) + (r * t_3));
+    let d_2 = ((n_5 * (1f - t_3)) + (r_2 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -573,18 +638,18 @@ fn car_paint_specular_dominant_direction(n_4: vec3<f32>, v_4: vec3<f32>, alpha_5
 // the reflected radiance is Σ_k specular[k].weight · (environment prefiltered by GGX of roughness
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
-fn car_paint_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CarPaintIblLobes {
-    let n_dot_v_3 = dot(n_5, v_5);
+fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
+    let n_dot_v_3 = dot(n_6, v_6);
     let cos_v_1 = max(n_dot_v_3, 0.0001f);
     let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5f);
     let _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_v = car_paint_refract_down(v_5, n_5, 1.5f);
-    let layer1_n_dot_v_1 = dot(n_5, layer1_v);
+    let layer1_v = car_paint_refract_down(v_6, n_6, 1.5f);
+    let layer1_n_dot_v_1 = dot(n_6, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let layer2_v = car_paint_refract_down(layer1_v, n_5, 1.02f);
-    let layer2_n_dot_v_1 = dot(n_5, layer2_v);
+    let layer2_v = car_paint_refract_down(layer1_v, n_6, 1.02f);
+    let layer2_n_dot_v_1 = dot(n_6, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
     let layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02f);
     let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
@@ -613,10 +678,10 @@ fn car_paint_ibl_lobes(n_5: vec3<f32>, v_5: vec3<f32>) -> CarPaintIblLobes {
     let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
-    let reflected = car_paint_specular_dominant_direction(n_5, v_5, 0.0016f);
-    let reflected_1 = car_paint_specular_dominant_direction(n_5, v_5, 0.138277f);
-    let _e118 = (dot(n_5, v_5) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, 0.04f, select(vec3(0f), vec3(coat_albedo), _e118)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e118))), CarPaintIblLobe(n_5, 1f, vec3(0f)));
+    let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
+    let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
+    let _e118 = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, 0.04f, select(vec3(0f), vec3(coat_albedo), _e118)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e118))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
@@ -644,8 +709,8 @@ fn car_paint_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
 // The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
 // car_paint_ibl_lobes times the environment prefiltered for it (car_paint_environment) or the irradiance
 // over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn car_paint_ibl(n_6: vec3<f32>, v_6: vec3<f32>) -> vec3<f32> {
-    let lobes = car_paint_ibl_lobes(n_6, v_6);
+fn car_paint_ibl(n_7: vec3<f32>, v_7: vec3<f32>) -> vec3<f32> {
+    let lobes = car_paint_ibl_lobes(n_7, v_7);
     let light_a = car_paint_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
     let light_b = car_paint_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
     return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));

@@ -26,11 +26,14 @@ pub struct EventCounts {
     /// direction (where a mirror sends the light on), and Σ sin θᵢ sin θₒ.
     pub forward_cosine_sum: f64,
     pub forward_weight: f64,
+    /// The same two sums split by the walk's event count (index k: k + 1 events), for research
+    /// into how the spread depends on the count (`examples/glossy_colour_spread.rs`).
+    pub forward_by_events: Vec<(f64, f64)>,
 }
 
 impl EventCounts {
     /// The share of entering light leaving after exactly k + 1 events.
-    pub(super) fn share(&self, k: usize) -> f64 {
+    pub fn share(&self, k: usize) -> f64 {
         self.events.get(k).map_or(0.0, |&n| n as f64 / self.entered.max(1) as f64)
     }
 
@@ -133,7 +136,11 @@ fn forward_cosine(wo: DVec3, exit: DVec3) -> (f64, f64) {
 pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> EventCounts {
     let mut rng = Rng::seeded(seed);
     let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    let mut counts = EventCounts { events: vec![0; EVENT_CAP], ..Default::default() };
+    let mut counts = EventCounts {
+        events: vec![0; EVENT_CAP],
+        forward_by_events: vec![(0.0, 0.0); EVENT_CAP],
+        ..Default::default()
+    };
     for _ in 0..walks {
         let Some(Walk { events, exit, .. }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
         counts.entered += 1;
@@ -146,6 +153,9 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
             let (cosine, weight) = forward_cosine(wo, exit);
             counts.forward_cosine_sum += cosine;
             counts.forward_weight += weight;
+            let by = &mut counts.forward_by_events[events.len().clamp(1, EVENT_CAP) - 1];
+            by.0 += cosine;
+            by.1 += weight;
         }
     }
     counts

@@ -143,21 +143,85 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// The wrapped Cauchy distribution over the relative azimuth φ of `l` and `v` about the
-    /// forward direction (Mardia & Jupp 2000, "Directional Statistics", §3.5.7):
-    /// (1 − ρ²)/(1 + ρ² − 2ρ cos φf), φf = 0 where the light travels on as a mirror sends it, with
-    /// ρ = κ sin θl sin θv: then ρ cos φf = −κ l_t·v_t and ρ² = κ²|l_t|²|v_t|², l_t and v_t the
-    /// directions' components in the plane of `n`, so no azimuth is divided out and along the
-    /// normal ρ = 0. Its mean over φ is 1 for every ρ ∈ [0, 1), so it moves a lobe's light between
-    /// azimuths without changing its albedo; symmetric in l and v. Guard: ρ ≤ 0.95 (κ lowered
-    /// to 0.95/(sin θl sin θv) beyond; sin θl sin θv ≥ TINY).
-    pub fn forward_azimuth_weight(n: V, v: V, l: V, kappa: S) -> S {
+    /// sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
+    /// what the forward spread's mean resultant length ρ = κ sin θl sin θv scales with (0 along
+    /// the normal, where a direction has no azimuth). Guard: ≥ TINY (a direction along the
+    /// normal; [`forward_cosine`] divides by it).
+    pub fn forward_sines(n: V, v: V, l: V) -> S {
         let l_t = l - n * n.dot(l);
         let v_t = v - n * n.dot(v);
-        let sines = (l_t.dot(l_t) * v_t.dot(v_t)).at_least(TINY).sqrt();
-        let k = kappa.min(sines.recip() * 0.95);
-        let rho2 = (k * sines).sq();
-        rho2.one_minus() / (rho2 + 1.0 + k * l_t.dot(v_t) * 2.0)
+        (l_t.dot(l_t) * v_t.dot(v_t)).at_least(TINY).sqrt()
+    }
+}
+
+shading_fn! {
+    /// cos φf, φf the relative azimuth of `l` and `v` about the forward direction (φf = 0 where
+    /// the light travels on as a mirror sends it): −l_t·v_t / (sin θl sin θv), `sines` from
+    /// [`forward_sines`].
+    pub fn forward_cosine(n: V, v: V, l: V, sines: S) -> S {
+        let l_t = l - n * n.dot(l);
+        let v_t = v - n * n.dot(v);
+        -l_t.dot(v_t) / sines
+    }
+}
+
+shading_fn! {
+    /// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
+    /// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
+    /// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
+    /// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
+    /// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+    pub fn forward_azimuth_weight(rho: S, cos_phi: S) -> S {
+        let r = rho.min(rho.lit(0.95));
+        r.sq().one_minus() / (r.sq() + 1.0 - r * cos_phi * 2.0)
+    }
+}
+
+shading_fn! {
+    /// A distribution over the azimuth φf of mean resultant length ρ, reweighted per channel to
+    /// mean resultant lengths ρ_c ≥ ρ: the least change of it (Kullback–Leibler; an exponential
+    /// tilt e^(λ cos φf), Cover & Thomas 2006, "Elements of Information Theory", §12.1) to first
+    /// order, (1 + a cos φf)/(1 + aρ), whose mean over the distribution is 1 (albedo unchanged)
+    /// and whose mean resultant length is (ρ + a(1 + ρ₂)/2)/(1 + aρ) = ρ_c, ρ₂ = E[cos 2φf] = ρ²
+    /// for the wrapped Cauchy: a = (ρ_c − ρ)/((1 + ρ²)/2 − ρ_c ρ). It leaves a concentrated
+    /// forward peak nearly as it is (there (1 + a)/(1 + aρ) ≈ 1) and takes the light from behind.
+    /// Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
+    /// the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
+    pub fn forward_azimuth_tilt(rho: S, rho_c: V, cos_phi: S) -> V {
+        let r = rho.min(rho.lit(0.95));
+        let r_c = rho_c.min(rho.lit(0.95).splat());
+        let one = rho.lit(1.0).splat();
+        let a = ((r_c - r.splat()) / (((r.sq() + 1.0) * 0.5).splat() - r_c * r).max(rho.lit(1e-6).splat())).min(one);
+        (one + a * cos_phi) / (one + a * r)
+    }
+}
+
+shading_fn! {
+    /// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
+    /// every conductor event keeps a share c of it, given the white light's ρ (the walks').
+    /// Each event keeps a direction's horizontal part with some scatter, so light that has taken
+    /// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
+    /// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
+    /// going forward more than white light: under copper, light leaving backwards has taken the
+    /// most events and is the darkest. With the later events' generating function L
+    /// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
+    /// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
+    /// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
+    /// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
+    /// κ drops more slowly with the count than ρ₁ⁿ), but drives [`forward_azimuth_tilt`], whose
+    /// first-order tilt takes less light from behind than the walks' mixture of counts does;
+    /// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
+    /// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
+    /// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+    pub fn glossy_spread_colour(rho: S, next: S, quick: S, steady: S, slow: S, c: V) -> V {
+        let rest = (next + quick + steady).one_minus().at_least(0.0);
+        let weight = (quick + steady + rest).at_least(1e-6);
+        let events = (quick * 2.0 + steady * 5.0 + rest / slow.one_minus().at_least(1e-6)) / weight;
+        let per_event = (rho.at_least(1e-6).ln() / events).exp();
+        let white = glossy_later(next, quick, steady, slow, per_event.splat()).x() / weight;
+        let coloured = glossy_later(next, quick, steady, slow, c * per_event)
+            / glossy_later(next, quick, steady, slow, c).max(rho.lit(1e-6).splat());
+        coloured * (rho / white.at_least(1e-6))
     }
 }
 
