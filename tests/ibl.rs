@@ -36,6 +36,11 @@ const BRUTE_FORCE_SAMPLES: u32 = 4096;
 /// brute force"; measured 0.014–0.052 on the seven materials below, largest for clay; issue 31's
 /// target).
 const SPLIT_SUM_RMS: f32 = 0.06;
+/// Largest luminance error of the split sum against the brute-force integral at one point,
+/// relative to the same mean: issue 31's target (measured 0.037–0.093 on the seven materials,
+/// largest for wet_clay, since a coat's own reflection is looked up at its lobe's width across the
+/// plane of incidence; 0.046–0.276 before).
+const SPLIT_SUM_WORST: f32 = 0.15;
 
 fn material(name: &str) -> Compiled {
     let path = common::root().join("materials").join(format!("{name}.ron"));
@@ -180,6 +185,9 @@ fn image_based_lighting_matches_the_cpu_split_sum_and_a_brute_force_integral() {
         }
         if rms > SPLIT_SUM_RMS {
             failures.push(format!("{name}: split sum RMS error {rms} against the brute force"));
+        }
+        if worst > SPLIT_SUM_WORST {
+            failures.push(format!("{name}: split sum error {worst} at one point against the brute force"));
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

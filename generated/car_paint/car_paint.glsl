@@ -400,10 +400,10 @@ float car_paint_forward_cosine(vec3 n_2, vec3 v_2, vec3 l_2, float sines) {
 // Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
 // the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
 vec3 car_paint_forward_azimuth_tilt(float rho_1, vec3 rho_c, float cos_phi) {
-    float r = min(rho_1, 0.95);
+    float r_1 = min(rho_1, 0.95);
     vec3 r_c = min(rho_c, vec3(0.95));
-    vec3 a_4 = min(((r_c - vec3(r)) / max((vec3((((r * r) + 1.0) * 0.5)) - (r_c * r)), vec3(1e-6))), car_paint_one);
-    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r)));
+    vec3 a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1.0) * 0.5)) - (r_c * r_1)), vec3(1e-6))), car_paint_one);
+    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -412,8 +412,8 @@ vec3 car_paint_forward_azimuth_tilt(float rho_1, vec3 rho_c, float cos_phi) {
 // light between azimuths without changing its albedo; symmetric in l and v when ρ is.
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
 float car_paint_forward_azimuth_weight(float rho_2, float cos_phi_1) {
-    float r_1 = min(rho_2, 0.95);
-    return ((1.0 - (r_1 * r_1)) / (((r_1 * r_1) + 1.0) - ((r_1 * cos_phi_1) * 2.0)));
+    float r_2 = min(rho_2, 0.95);
+    return ((1.0 - (r_2 * r_2)) / (((r_2 * r_2) + 1.0) - ((r_2 * cos_phi_1) * 2.0)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -484,9 +484,9 @@ float car_paint_glossy_spread_curve_b(float cos_theta_11) {
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
-    float n_dot_v_2 = dot(n_3, v_3);
+    float n_dot_v_3 = dot(n_3, v_3);
     float n_dot_l_2 = dot(n_3, l_3);
-    float cos_v = max(n_dot_v_2, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     vec3 h = car_paint_half_vector(v_3, l_3);
     vec3 n_cross_h = cross(n_3, h);
@@ -495,13 +495,13 @@ vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     float fresnel = car_paint_fr_dielectric(dot(v_3, h), 1.5);
     vec3 _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
-    float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
+    float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_3);
     vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
     float _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5);
-    float _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
+    float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_3, 1.5);
+    float _e40 = car_paint_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     vec3 layer1_v = car_paint_refract_down(v_3, n_3, 1.5);
     vec3 layer1_l = car_paint_refract_down(l_3, n_3, 1.5);
@@ -588,14 +588,14 @@ vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     vec3 _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
     float _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    float _e264 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    float _e264 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
     float _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
     float layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0.0)) * layer1_trapped_sines), 0.95), _e273);
     vec3 trapped = (_e262 * layer1_trapped_spread);
     vec3 under = (_e250 + trapped);
     vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
-    return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
@@ -622,11 +622,24 @@ vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below, float
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 vec3 car_paint_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_5) {
-    vec3 r_2 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
+    vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
     float t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    vec3 d_2 = ((n_5 * (1.0 - t_3)) + (r_2 * t_3));
+    vec3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float car_paint_grazing_lookup_roughness(float r, float n_dot_v_2) {
+    return (r * sqrt(max(n_dot_v_2, 0.0001)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -634,10 +647,10 @@ vec3 car_paint_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_5) {
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
-    float n_dot_v_3 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_3, 0.0001);
-    float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5);
-    float _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
+    float n_dot_v_4 = dot(n_6, v_6);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5);
+    float _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     vec3 layer1_v = car_paint_refract_down(v_6, n_6, 1.5);
@@ -674,9 +687,10 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
+    float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e118 = (dot(n_6, v_6) > 0.0);
-    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, 0.04, (_e118 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e118 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
+    bool _e121 = (dot(n_6, v_6) > 0.0);
+    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e121 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e121 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

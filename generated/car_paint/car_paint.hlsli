@@ -443,10 +443,10 @@ float car_paint_forward_cosine(float3 n_2, float3 v_2, float3 l_2, float sines)
 // the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
 float3 car_paint_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi)
 {
-    float r = min(rho_1, 0.95);
+    float r_1 = min(rho_1, 0.95);
     float3 r_c = min(rho_c, (0.95).xxx);
-    float3 a_4 = min(((r_c - (r).xxx) / max((((((r * r) + 1.0) * 0.5)).xxx - (r_c * r)), (1e-6).xxx)), car_paint_one);
-    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r)));
+    float3 a_4 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), car_paint_one);
+    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -456,8 +456,8 @@ float3 car_paint_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi)
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
 float car_paint_forward_azimuth_weight(float rho_2, float cos_phi_1)
 {
-    float r_1 = min(rho_2, 0.95);
-    return ((1.0 - (r_1 * r_1)) / (((r_1 * r_1) + 1.0) - ((r_1 * cos_phi_1) * 2.0)));
+    float r_2 = min(rho_2, 0.95);
+    return ((1.0 - (r_2 * r_2)) / (((r_2 * r_2) + 1.0) - ((r_2 * cos_phi_1) * 2.0)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -535,9 +535,9 @@ float car_paint_glossy_spread_curve_b(float cos_theta_11)
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
 {
-    float n_dot_v_2 = dot(n_3, v_3);
+    float n_dot_v_3 = dot(n_3, v_3);
     float n_dot_l_2 = dot(n_3, l_3);
-    float cos_v = max(n_dot_v_2, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     const float3 h = car_paint_half_vector(v_3, l_3);
     float3 n_cross_h = cross(n_3, h);
@@ -546,13 +546,13 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float fresnel = car_paint_fr_dielectric(dot(v_3, h), 1.5);
     const float3 _e21 = car_paint_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
-    const float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
+    const float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_3);
     float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
     const float _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    const float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5);
-    const float _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
+    const float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_3, 1.5);
+    const float _e40 = car_paint_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     const float3 layer1_v = car_paint_refract_down(v_3, n_3, 1.5);
     const float3 layer1_l = car_paint_refract_down(l_3, n_3, 1.5);
@@ -639,14 +639,14 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     const float3 _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, (1.0).xxx, car_paint_layer1_rho, car_paint_layer1_trapped_escape);
     const float _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    const float _e264 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    const float _e264 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     const float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
     const float _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
     const float layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0.0)) * layer1_trapped_sines), 0.95), _e273);
     float3 trapped = (_e262 * layer1_trapped_spread);
     float3 under = (_e250 + trapped);
     const float3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
-    return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
@@ -676,11 +676,25 @@ float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below,
 // and |mix| ≥ TINY.
 float3 car_paint_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_5)
 {
-    float3 r_2 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
+    float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
     float t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    float3 d_2 = ((n_5 * (1.0 - t_3)) + (r_2 * t_3));
+    float3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float car_paint_grazing_lookup_roughness(float r, float n_dot_v_2)
+{
+    return (r * sqrt(max(n_dot_v_2, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTCARPAINTIBLLOBE
@@ -722,10 +736,10 @@ CarPaintIblLobes ConstructCarPaintIblLobes(CarPaintIblLobe arg0[2], CarPaintIblL
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
 {
-    float n_dot_v_3 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_3, 0.0001);
-    const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5);
-    const float _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
+    float n_dot_v_4 = dot(n_6, v_6);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5);
+    const float _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     const float3 layer1_v = car_paint_refract_down(v_6, n_6, 1.5);
@@ -762,9 +776,10 @@ CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
+    const float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     const float3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e118 = (dot(n_6, v_6) > 0.0);
-    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, 0.04, (_e118 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e118 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
+    bool _e121 = (dot(n_6, v_6) > 0.0);
+    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e121 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e121 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
     return carpaintibllobes;
 }
 

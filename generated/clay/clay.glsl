@@ -111,9 +111,9 @@ vec3 clay_ww_layer(vec3 f_top, vec3 t12_, vec3 absorption, vec3 inner, vec3 f_be
 
 // The BRDF f(l, v) of material `clay` (WeidlichWilkie layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 h = clay_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
@@ -133,7 +133,7 @@ vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 inner = clay_ww_inner_reflection(g, transmission);
     vec3 layer1_f_base = clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
@@ -191,11 +191,24 @@ float clay_seed_ggx_dfg_bias_curve(float cos_theta_2) {
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 vec3 clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_1) {
-    vec3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    vec3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
-    vec3 d_2 = ((n_3 * (1.0 - t)) + (r * t));
+    vec3 d_2 = ((n_3 * (1.0 - t)) + (r_1 * t));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float clay_grazing_lookup_roughness(float r, float n_dot_v_3) {
+    return (r * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 // Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
@@ -228,19 +241,20 @@ vec3 clay_albedo_oren_nayar(vec3 albedo_1, float sigma_1, float mu) {
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 ClayIblLobes clay_ibl_lobes(vec3 n_4, vec3 v_4) {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
     float _e5 = clay_seed_ggx_dfg_scale_curve(cos_v_1);
     float _e6 = clay_seed_ggx_dfg_bias_curve(cos_v_1);
     vec3 coat_albedo = ((vec3(0.040000003) * _e5) + vec3(_e6));
     vec3 reflected = clay_specular_dominant_direction(n_4, v_4, 0.122499995);
+    float lookup_roughness = clay_grazing_lookup_roughness(0.35, dot(n_4, v_4));
     vec3 layer1_v = clay_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    vec3 _e22 = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
+    vec3 _e25 = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
     vec3 base_albedo = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
-    bool _e37 = (dot(n_4, v_4) > 0.0);
-    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, 0.35, (_e37 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e37 ? (((vec3(1.0) - coat_albedo) * _e22) * base_albedo) : vec3(0.0))));
+    bool _e40 = (dot(n_4, v_4) > 0.0);
+    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * _e25) * base_albedo) : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

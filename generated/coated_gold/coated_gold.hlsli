@@ -475,10 +475,10 @@ float coated_gold_forward_cosine(float3 n_2, float3 v_2, float3 l_2, float sines
 // the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
 float3 coated_gold_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi)
 {
-    float r = min(rho_1, 0.95);
+    float r_1 = min(rho_1, 0.95);
     float3 r_c = min(rho_c, (0.95).xxx);
-    float3 a_4 = min(((r_c - (r).xxx) / max((((((r * r) + 1.0) * 0.5)).xxx - (r_c * r)), (1e-6).xxx)), coated_gold_one);
-    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r)));
+    float3 a_4 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), coated_gold_one);
+    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -488,8 +488,8 @@ float3 coated_gold_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
 float coated_gold_forward_azimuth_weight(float rho_2, float cos_phi_1)
 {
-    float r_1 = min(rho_2, 0.95);
-    return ((1.0 - (r_1 * r_1)) / (((r_1 * r_1) + 1.0) - ((r_1 * cos_phi_1) * 2.0)));
+    float r_2 = min(rho_2, 0.95);
+    return ((1.0 - (r_2 * r_2)) / (((r_2 * r_2) + 1.0) - ((r_2 * cos_phi_1) * 2.0)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -514,9 +514,9 @@ float3 coated_gold_glossy_remainder_lobe(float3 m_i, float3 m_o, float3 m_avg)
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
 {
-    float n_dot_v_2 = dot(n_3, v_3);
+    float n_dot_v_3 = dot(n_3, v_3);
     float n_dot_l_2 = dot(n_3, l_3);
-    float cos_v = max(n_dot_v_2, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     const float3 layer1_v = coated_gold_refract_down(v_3, n_3, 1.5);
     const float3 layer1_l = coated_gold_refract_down(l_3, n_3, 1.5);
@@ -552,17 +552,17 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_pool_fresnel);
     const float3 _e116 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, (1.0).xxx);
     float3 layer1_once_colour_l = (layer1_once_l / (max(_e116.x, 1e-6)).xxx);
-    const float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5);
-    const float _e126 = coated_gold_coat_deficit_curve(n_dot_v_2);
+    const float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_3, 1.5);
+    const float _e126 = coated_gold_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e126), 0.0), 1.0);
-    const float _e132 = coated_gold_coat_path_curve(n_dot_v_2);
+    const float _e132 = coated_gold_coat_path_curve(n_dot_v_3);
     float layer1_path_cos_v = (layer1_cos_v / _e132);
     const float3 layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_2);
-    const float layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_2);
-    const float _e146 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
+    const float layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_3);
+    const float layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_3);
+    const float _e146 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
     float _e151 = max(layer1_cos_v, 0.7453635);
-    const float _e152 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005));
+    const float _e152 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005));
     float layer1_blur_l_1 = (_e152 * 0.010000001);
     float layer1_blur_v_1 = (_e152 * 0.010000001);
     float layer1_alpha_1 = sqrt(((0.00390625 + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
@@ -574,15 +574,15 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     float layer1_lobe_normaliser_v = (((max((1.0 - abs((_e170 - 7.0))), 0.0) * _e178) + (max((1.0 - abs((_e170 - 8.0))), 0.0) * _e187)) * layer1_cone_share_v);
     float layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e146) * layer1_lobe_normaliser_v), 0.0), 1.0);
     float layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
-    const float _e210 = coated_gold_glossy_quick_curve(n_dot_v_2);
-    const float _e211 = coated_gold_glossy_steady_curve(n_dot_v_2);
+    const float _e210 = coated_gold_glossy_quick_curve(n_dot_v_3);
+    const float _e211 = coated_gold_glossy_steady_curve(n_dot_v_3);
     const float3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209, coated_gold_layer1_pool_fresnel);
     const float3 layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_pool_fresnel);
     const float3 _e219 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, (1.0).xxx);
     float3 layer1_once_colour_v = (layer1_once_v / (max(_e219.x, 1e-6)).xxx);
     const float _e225 = coated_gold_glossy_blur_curve(n_dot_l_2);
     float layer1_blur_l_2 = (_e225 * 0.010000001);
-    const float _e228 = coated_gold_glossy_blur_curve(n_dot_v_2);
+    const float _e228 = coated_gold_glossy_blur_curve(n_dot_v_3);
     float layer1_blur_v_2 = (_e228 * 0.010000001);
     float layer1_alpha_2 = sqrt(((0.00390625 + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
     const float3 h = coated_gold_half_vector(v_3, l_3);
@@ -592,7 +592,7 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float fresnel = coated_gold_fr_dielectric(dot(v_3, h), 1.5);
     const float3 _e249 = coated_gold_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
-    const float layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_2);
+    const float layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_3);
     float3 specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
     const float3 layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     float3 layer1_n_cross_h = cross(n_3, layer1_h);
@@ -603,7 +603,7 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     float3 under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
     const float3 _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     const float spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
-    const float spread_v = coated_gold_glossy_spread_curve(n_dot_v_2);
+    const float spread_v = coated_gold_glossy_spread_curve(n_dot_v_3);
     const float sines = coated_gold_forward_sines(n_3, v_3, l_3);
     float spread_rho = min((sqrt(max((spread_l * spread_v), 0.0)) * sines), 0.95);
     const float3 _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5), ((_e107 + _e210) * 0.5), ((_e108 + _e211) * 0.5), 0.9170209, coated_gold_layer1_pool_fresnel);
@@ -616,7 +616,7 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
     float3 later_2 = (_e315 * spread);
     float3 f_55 = (_e281 + later_2);
-    return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : (0.0).xxx);
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
@@ -644,11 +644,25 @@ float3 coated_gold_glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, flo
 // and |mix| ≥ TINY.
 float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_5)
 {
-    float3 r_2 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
+    float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    float3 d_2 = ((n_5 * (1.0 - t_2)) + (r_2 * t_2));
+    float3 d_2 = ((n_5 * (1.0 - t_2)) + (r_3 * t_2));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float coated_gold_grazing_lookup_roughness(float r, float n_dot_v_2)
+{
+    return (r * sqrt(max(n_dot_v_2, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTCOATEDGOLDIBLLOBE
@@ -690,22 +704,22 @@ CoatedGoldIblLobes ConstructCoatedGoldIblLobes(CoatedGoldIblLobe arg0[2], Coated
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
 {
-    float n_dot_v_3 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_3, 0.0001);
+    float n_dot_v_4 = dot(n_6, v_6);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
     const float3 layer1_v = coated_gold_refract_down(v_6, n_6, 1.5);
     float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_3, 1.5);
-    const float _e14 = coated_gold_coat_deficit_curve(n_dot_v_3);
+    const float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_4, 1.5);
+    const float _e14 = coated_gold_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e14), 0.0), 1.0);
-    const float _e20 = coated_gold_coat_path_curve(n_dot_v_3);
+    const float _e20 = coated_gold_coat_path_curve(n_dot_v_4);
     float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
     const float3 layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_3);
-    const float layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_3);
-    const float _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
+    const float layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_4);
+    const float layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_4);
+    const float _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_4);
     float _e39 = max(layer1_cos_v_1, 0.7453635);
-    const float _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005));
+    const float _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_4, 0.005));
     float layer1_blur_l_3 = (_e40 * 0.010000001);
     float layer1_blur_v_3 = (_e40 * 0.010000001);
     float layer1_alpha_3 = sqrt(((0.00390625 + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
@@ -717,13 +731,13 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     float layer1_lobe_normaliser_l_1 = (((max((1.0 - abs((_e58 - 7.0))), 0.0) * _e66) + (max((1.0 - abs((_e58 - 8.0))), 0.0) * _e75)) * layer1_cone_share_l_1);
     float layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0.0), 1.0);
     float layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
-    const float _e98 = coated_gold_glossy_quick_curve(n_dot_v_3);
-    const float _e99 = coated_gold_glossy_steady_curve(n_dot_v_3);
+    const float _e98 = coated_gold_glossy_quick_curve(n_dot_v_4);
+    const float _e99 = coated_gold_glossy_steady_curve(n_dot_v_4);
     const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
     const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
     const float3 _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, (1.0).xxx);
     float3 layer1_once_colour_l_1 = (layer1_once_l / (max(_e107.x, 1e-6)).xxx);
-    const float _e113 = coated_gold_glossy_blur_curve(n_dot_v_3);
+    const float _e113 = coated_gold_glossy_blur_curve(n_dot_v_4);
     float layer1_blur_l_4 = (_e113 * 0.010000001);
     float layer1_blur_v_4 = (_e113 * 0.010000001);
     float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
@@ -731,10 +745,11 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     float coat_albedo = (1.0 - layer1_transmit_l_1);
     float3 under_albedo = max((albedo_l - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
+    const float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
     const float3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    bool _e148 = (dot(n_6, v_6) > 0.0);
-    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, 0.1, (_e148 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e148 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
+    bool _e151 = (dot(n_6, v_6) > 0.0);
+    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (_e151 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e151 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
     return coatedgoldibllobes;
 }
 

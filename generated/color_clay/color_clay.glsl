@@ -218,9 +218,9 @@ vec3 color_clay_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec
 
 // The BRDF f(l, v) of material `color_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 h = color_clay_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
@@ -229,13 +229,13 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float fresnel = color_clay_fr_dielectric(dot(v_1, h), 1.33);
     vec3 _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = color_clay_coat_scale_curve(n_dot_l_3);
-    float layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_3);
+    float layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_4);
     vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33);
     float _e30 = color_clay_coat_deficit_curve(n_dot_l_3);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_3, 1.33);
-    float _e40 = color_clay_coat_deficit_curve(n_dot_v_3);
+    float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_4, 1.33);
+    float _e40 = color_clay_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     vec3 layer1_v = color_clay_refract_down(v_1, n_1, 1.33);
     vec3 layer1_l = color_clay_refract_down(l_1, n_1, 1.33);
@@ -245,7 +245,7 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     float _e56 = color_clay_coat_path_curve(n_dot_l_3);
     float layer1_path_cos_l = (layer1_cos_l / _e56);
-    float _e58 = color_clay_coat_path_curve(n_dot_v_3);
+    float _e58 = color_clay_coat_path_curve(n_dot_v_4);
     float layer1_path_cos_v = (layer1_cos_v / _e58);
     float _e61 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l);
     vec3 absorb_l = vec3(_e61);
@@ -266,7 +266,7 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5333499))) / vec3(0.46665013)), vec3(0.0)), vec3(1.0));
     vec3 under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825418, 0.99614143, 0.99679464), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     vec3 f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `color_clay`: multiply by a light's radiance.
@@ -291,11 +291,24 @@ vec3 color_clay_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 vec3 color_clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
-    vec3 r_4 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    vec3 d_2 = ((n_3 * (1.0 - t_1)) + (r_4 * t_1));
+    vec3 d_2 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float color_clay_grazing_lookup_roughness(float r_4, float n_dot_v_3) {
+    return (r_4 * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -303,16 +316,16 @@ vec3 color_clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < color_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 ColorClayIblLobes color_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_4, 1.33);
-    float _e9 = color_clay_coat_deficit_curve(n_dot_v_4);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
+    float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_5, 1.33);
+    float _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     vec3 layer1_v = color_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e27 = color_clay_coat_path_curve(n_dot_v_4);
+    float _e27 = color_clay_coat_path_curve(n_dot_v_5);
     float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
     float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
     float _e31 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l_2);
@@ -335,8 +348,9 @@ ColorClayIblLobes color_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);
-    bool _e140 = (dot(n_4, v_4) > 0.0);
-    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, 0.3, (_e140 ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (_e140 ? under_albedo : vec3(0.0))));
+    float lookup_roughness = color_clay_grazing_lookup_roughness(0.3, dot(n_4, v_4));
+    bool _e143 = (dot(n_4, v_4) > 0.0);
+    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, lookup_roughness, (_e143 ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (_e143 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

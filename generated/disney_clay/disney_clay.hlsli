@@ -99,9 +99,9 @@ float3 disney_clay_f_cook_torrance(float d, float g, float3 fresnel, float n_dot
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n, v_1);
+    float n_dot_v_4 = dot(n, v_1);
     float n_dot_l_3 = dot(n, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 f_base = disney_clay_fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v, cos_l, dot(v_1, l_1));
     const float3 h = disney_clay_half_vector(v_1, l_1);
@@ -111,7 +111,7 @@ float3 disney_clay_brdf(float3 n, float3 v_1, float3 l_1)
     const float3 fresnel = disney_clay_f_schlick((0.040000003).xxx, dot(v_1, h));
     const float3 specular = disney_clay_f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     float3 f = (f_base + specular);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
@@ -173,11 +173,25 @@ float disney_clay_clearcoat_dfg_bias_curve(float cos_theta_2)
 // and |mix| ≥ TINY.
 float3 disney_clay_specular_dominant_direction(float3 n_2, float3 v_3, float alpha_1)
 {
-    float3 r = ((n_2 * (max(dot(n_2, v_3), 0.0) * 2.0)) - v_3);
+    float3 r_1 = ((n_2 * (max(dot(n_2, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
-    float3 d_3 = ((n_2 * (1.0 - t)) + (r * t));
+    float3 d_3 = ((n_2 * (1.0 - t)) + (r_1 * t));
     return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float disney_clay_grazing_lookup_roughness(float r, float n_dot_v_3)
+{
+    return (r * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 // Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
@@ -238,15 +252,16 @@ DisneyClayIblLobes ConstructDisneyClayIblLobes(DisneyClayIblLobe arg0[1], Disney
 // irradiance.direction, over π), k < disney_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 DisneyClayIblLobes disney_clay_ibl_lobes(float3 n_3, float3 v_4)
 {
-    float n_dot_v_4 = dot(n_3, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float n_dot_v_5 = dot(n_3, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
     const float _e5 = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
     const float _e6 = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
     float3 coat_albedo = (((0.040000003).xxx * _e5) + (_e6).xxx);
     const float3 reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196);
+    const float lookup_roughness = disney_clay_grazing_lookup_roughness(0.14, dot(n_3, v_4));
     const float3 base_albedo = disney_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v_1);
-    bool _e22 = (dot(n_3, v_4) > 0.0);
-    const DisneyClayIblLobes disneyclayibllobes = ConstructDisneyClayIblLobes(Constructarray1_DisneyClayIblLobe_(ConstructDisneyClayIblLobe(reflected, 0.14, (_e22 ? coat_albedo : (0.0).xxx))), ConstructDisneyClayIblLobe(n_3, 1.0, (_e22 ? base_albedo : (0.0).xxx)));
+    bool _e25 = (dot(n_3, v_4) > 0.0);
+    const DisneyClayIblLobes disneyclayibllobes = ConstructDisneyClayIblLobes(Constructarray1_DisneyClayIblLobe_(ConstructDisneyClayIblLobe(reflected, lookup_roughness, (_e25 ? coat_albedo : (0.0).xxx))), ConstructDisneyClayIblLobe(n_3, 1.0, (_e25 ? base_albedo : (0.0).xxx)));
     return disneyclayibllobes;
 }
 

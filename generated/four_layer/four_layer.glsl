@@ -354,9 +354,9 @@ vec3 four_layer_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 h = four_layer_half_vector(v_1, l_1);
     vec3 n_cross_h = cross(n_1, h);
@@ -365,13 +365,13 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
     vec3 _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_3);
+    float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
     vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
     float _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5);
-    float _e40 = four_layer_coat_deficit_curve(n_dot_v_3);
+    float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5);
+    float _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     vec3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
@@ -494,7 +494,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 first_return_v = min(max(((vec3(1.0) - _e568) / vec3(0.5949445)), vec3(0.0)), vec3(1.0));
     vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807674), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
@@ -509,11 +509,24 @@ vec3 four_layer_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4) {
-    vec3 r_4 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    vec3 d_3 = ((n_3 * (1.0 - t_1)) + (r_4 * t_1));
+    vec3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 1e-12))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float four_layer_grazing_lookup_roughness(float r_4, float n_dot_v_3) {
+    return (r_4 * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -521,10 +534,10 @@ vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4) {
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_4, 1.5);
-    float _e9 = four_layer_coat_deficit_curve(n_dot_v_4);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
+    float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_5, 1.5);
+    float _e9 = four_layer_coat_deficit_curve(n_dot_v_5);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     vec3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
@@ -605,8 +618,9 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
-    bool _e462 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, 0.2, (_e462 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e462 ? under_albedo : vec3(0.0))));
+    float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
+    bool _e465 = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e465 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e465 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

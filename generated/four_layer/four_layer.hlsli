@@ -395,9 +395,9 @@ float3 four_layer_interfaced_albedo_dir(float t, float3 a, float3 e_below, float
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 h = four_layer_half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
@@ -406,13 +406,13 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
     const float3 _e21 = four_layer_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    const float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_3);
+    const float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
     float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
     const float _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5);
-    const float _e40 = four_layer_coat_deficit_curve(n_dot_v_3);
+    const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5);
+    const float _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
@@ -535,7 +535,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 first_return_v = min(max((((1.0).xxx - _e568) / (0.5949445).xxx), (0.0).xxx), (1.0).xxx);
     const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807674).xxx, min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
@@ -552,11 +552,25 @@ float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
 // and |mix| ≥ TINY.
 float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
 {
-    float3 r_4 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_4 * t_1));
+    float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float four_layer_grazing_lookup_roughness(float r_4, float n_dot_v_3)
+{
+    return (r_4 * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTFOURLAYERIBLLOBE
@@ -598,10 +612,10 @@ FourLayerIblLobes ConstructFourLayerIblLobes(FourLayerIblLobe arg0[1], FourLayer
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
 {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_4, 1.5);
-    const float _e9 = four_layer_coat_deficit_curve(n_dot_v_4);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
+    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_5, 1.5);
+    const float _e9 = four_layer_coat_deficit_curve(n_dot_v_5);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
@@ -682,8 +696,9 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
-    bool _e462 = (dot(n_4, v_4) > 0.0);
-    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, 0.2, (_e462 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e462 ? under_albedo : (0.0).xxx)));
+    const float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
+    bool _e465 = (dot(n_4, v_4) > 0.0);
+    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e465 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e465 ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
 }
 

@@ -175,9 +175,9 @@ fn lacquered_wood_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: ve
 
 // The BRDF f(l, v) of material `lacquered_wood` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_1, v_1);
+    let n_dot_v_3 = dot(n_1, v_1);
     let n_dot_l_2 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_2, 0.0001f);
+    let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
     let h = lacquered_wood_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
@@ -186,13 +186,13 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let fresnel = lacquered_wood_fr_dielectric(dot(v_1, h), 1.5f);
     let _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
-    let layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_2);
+    let layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_3);
     let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_l_2, 1.5f);
     let _e30 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
-    let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e40 = lacquered_wood_coat_deficit_curve(n_dot_v_2);
+    let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5f);
+    let _e40 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5f);
     let layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5f);
@@ -202,12 +202,12 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let _e56 = lacquered_wood_coat_path_curve(n_dot_l_2);
     let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = lacquered_wood_coat_path_curve(n_dot_v_2);
+    let _e58 = lacquered_wood_coat_path_curve(n_dot_v_3);
     let layer1_path_cos_v = (layer1_cos_v / _e58);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     let f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5f);
-    return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `lacquered_wood`: multiply by a light's radiance.
@@ -232,11 +232,24 @@ fn lacquered_wood_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn lacquered_wood_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
-    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    let d_2 = ((n_3 * (1f - t_1)) + (r * t_1));
+    let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn lacquered_wood_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -244,16 +257,16 @@ fn lacquered_wood_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, al
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < lacquered_wood_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblLobes {
-    let n_dot_v_3 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_3, 0.0001f);
-    let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
+    let n_dot_v_4 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5f);
+    let _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = lacquered_wood_coat_path_curve(n_dot_v_3);
+    let _e27 = lacquered_wood_coat_path_curve(n_dot_v_4);
     let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
     let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
@@ -263,8 +276,9 @@ fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblL
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);
-    let _e70 = (dot(n_4, v_4) > 0f);
-    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, 0.08f, select(vec3(0f), vec3(coat_albedo), _e70))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e70)));
+    let lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08f, dot(n_4, v_4));
+    let _e73 = (dot(n_4, v_4) > 0f);
+    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e73))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e73)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

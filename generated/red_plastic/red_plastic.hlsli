@@ -170,9 +170,9 @@ float3 red_plastic_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a
 // The BRDF f(l, v) of material `red_plastic` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_2 = dot(n_1, v_1);
+    float n_dot_v_3 = dot(n_1, v_1);
     float n_dot_l_2 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_2, 0.0001);
+    float cos_v = max(n_dot_v_3, 0.0001);
     float cos_l = max(n_dot_l_2, 0.0001);
     const float3 h = red_plastic_half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
@@ -181,13 +181,13 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float fresnel = red_plastic_fr_dielectric(dot(v_1, h), 1.49);
     const float3 _e21 = red_plastic_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = red_plastic_coat_scale_curve(n_dot_l_2);
-    const float layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_2);
+    const float layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_3);
     float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     const float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_l_2, 1.49);
     const float _e30 = red_plastic_coat_deficit_curve(n_dot_l_2);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    const float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_2, 1.49);
-    const float _e40 = red_plastic_coat_deficit_curve(n_dot_v_2);
+    const float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_3, 1.49);
+    const float _e40 = red_plastic_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     const float3 layer1_v = red_plastic_refract_down(v_1, n_1, 1.49);
     const float3 layer1_l = red_plastic_refract_down(l_1, n_1, 1.49);
@@ -196,7 +196,7 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     const float3 f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, red_plastic_under, 1.49);
-    return (((n_dot_v_2 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `red_plastic`: multiply by a light's radiance.
@@ -224,11 +224,25 @@ float3 red_plastic_interfaced_albedo_dir(float t, float3 a, float3 e_below, floa
 // and |mix| ≥ TINY.
 float3 red_plastic_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
 {
-    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r * t_1));
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float red_plastic_grazing_lookup_roughness(float r, float n_dot_v_2)
+{
+    return (r * sqrt(max(n_dot_v_2, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTREDPLASTICIBLLOBE
@@ -270,10 +284,10 @@ RedPlasticIblLobes ConstructRedPlasticIblLobes(RedPlasticIblLobe arg0[1], RedPla
 // irradiance.direction, over π), k < red_plastic_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 RedPlasticIblLobes red_plastic_ibl_lobes(float3 n_4, float3 v_4)
 {
-    float n_dot_v_3 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_3, 0.0001);
-    const float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_v_3, 1.49);
-    const float _e9 = red_plastic_coat_deficit_curve(n_dot_v_3);
+    float n_dot_v_4 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    const float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
+    const float _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     const float3 layer1_v = red_plastic_refract_down(v_4, n_4, 1.49);
@@ -284,8 +298,9 @@ RedPlasticIblLobes red_plastic_ibl_lobes(float3 n_4, float3 v_4)
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);
-    bool _e63 = (dot(n_4, v_4) > 0.0);
-    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, 0.35, (_e63 ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (_e63 ? under_albedo : (0.0).xxx)));
+    const float lookup_roughness = red_plastic_grazing_lookup_roughness(0.35, dot(n_4, v_4));
+    bool _e66 = (dot(n_4, v_4) > 0.0);
+    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, lookup_roughness, (_e66 ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (_e66 ? under_albedo : (0.0).xxx)));
     return redplasticibllobes;
 }
 

@@ -455,9 +455,9 @@ vec3 tunable_glaze_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, 
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params) {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     vec3 tau_8 = (params.glaze_absorption * params.glaze_thickness);
     vec3 h = tunable_glaze_half_vector(v_1, l_1);
@@ -470,15 +470,15 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float fresnel_2 = ((params.glaze_ior < 1.0) ? min(_e28, _e29) : _e31);
     vec3 _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
     float layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     vec3 specular = ((params.glaze_ior < 1.0) ? _e34 : (_e34 * (layer1_scale_l * layer1_scale_v)));
     float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
     float _e44 = (1.0 - layer1_fresnel_l);
     float _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e44 : min(max((_e44 + _e45), 0.0), 1.0));
-    float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
+    float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, params.glaze_ior);
     float _e56 = (1.0 - layer1_fresnel_v);
-    float _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float _e57 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max((_e56 + _e57), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     vec3 layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
@@ -488,7 +488,7 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     float _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
-    float _e79 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    float _e79 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
@@ -539,7 +539,7 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
     vec3 under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `tunable_glaze`: multiply by a light's radiance.
@@ -574,11 +574,24 @@ vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
-    vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    vec3 r_6 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
-    vec3 d_2 = ((n_3 * (1.0 - t_2)) + (r_5 * t_2));
+    vec3 d_2 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float tunable_glaze_grazing_lookup_roughness(float r_5, float n_dot_v_3) {
+    return (r_5 * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -586,19 +599,19 @@ vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
     vec3 tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
-    float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, params_2.glaze_ior);
+    float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
     float _e15 = (1.0 - layer1_fresnel_l);
-    float _e16 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e16 = tunable_glaze_coat_deficit(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max((_e15 + _e16), 0.0), 1.0));
     float _e26 = (1.0 - layer1_fresnel_l);
     float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e26 : min(max((_e26 + _e16), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e39 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e39 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     float layer1_path_cos_l_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
     float layer1_path_cos_v_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
@@ -654,8 +667,9 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazePar
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    bool _e259 = (dot(n_4, v_4) > 0.0);
-    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, params_2.glaze_roughness, (_e259 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e259 ? under_albedo : vec3(0.0))));
+    float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
+    bool _e261 = (dot(n_4, v_4) > 0.0);
+    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (_e261 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e261 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -511,9 +511,9 @@ float3 tunable_glaze_interfaced_layer(float3 f_top, float t_i, float t_o, float3
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams params)
 {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     float3 tau_8 = (params.glaze_absorption * params.glaze_thickness);
     const float3 h = tunable_glaze_half_vector(v_1, l_1);
@@ -526,15 +526,15 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float fresnel_2 = ((params.glaze_ior < 1.0) ? min(_e28, _e29) : _e31);
     const float3 _e34 = tunable_glaze_f_cook_torrance(d, g, (fresnel_2).xxx, cos_v, cos_l);
     const float layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    const float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    const float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     float3 specular = ((params.glaze_ior < 1.0) ? _e34 : (_e34 * (layer1_scale_l * layer1_scale_v)));
     const float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
     float _e44 = (1.0 - layer1_fresnel_l);
     const float _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e44 : min(max((_e44 + _e45), 0.0), 1.0));
-    const float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
+    const float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, params.glaze_ior);
     float _e56 = (1.0 - layer1_fresnel_v);
-    const float _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    const float _e57 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max((_e56 + _e57), 0.0), 1.0));
     const float3 layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     const float3 layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
@@ -544,7 +544,7 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     const float _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
-    const float _e79 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    const float _e79 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
     const float3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     const float3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
@@ -595,7 +595,7 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     float3 layer1_first_return_cone = min(max((((1.0).xxx - (layer1_first_escape_cone * (_e147 ? _e153 : (_e136).xxx).x)) / (max(layer1_r_return_1.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
     const float3 under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, (0.001).xxx), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     const float3 f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `tunable_glaze`: multiply by a light's radiance.
@@ -634,11 +634,25 @@ float3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, float
 // and |mix| ≥ TINY.
 float3 tunable_glaze_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
 {
-    float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float3 r_6 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
-    float3 d_2 = ((n_3 * (1.0 - t_2)) + (r_5 * t_2));
+    float3 d_2 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float tunable_glaze_grazing_lookup_roughness(float r_5, float n_dot_v_3)
+{
+    return (r_5 * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTTUNABLEGLAZEIBLLOBE
@@ -680,19 +694,19 @@ TunableGlazeIblLobes ConstructTunableGlazeIblLobes(TunableGlazeIblLobe arg0[1], 
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlazeParams params_2)
 {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
     float3 tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
-    const float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, params_2.glaze_ior);
+    const float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
     float _e15 = (1.0 - layer1_fresnel_l);
-    const float _e16 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e16 = tunable_glaze_coat_deficit(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max((_e15 + _e16), 0.0), 1.0));
     float _e26 = (1.0 - layer1_fresnel_l);
     float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e26 : min(max((_e26 + _e16), 0.0), 1.0));
     const float3 layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e39 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    const float _e39 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     float layer1_path_cos_l_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
     float layer1_path_cos_v_2 = ((params_2.glaze_ior < 1.0) ? layer1_cos_v_1 : (layer1_cos_v_1 / _e39));
     const float3 absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
@@ -748,8 +762,9 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlaz
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    bool _e259 = (dot(n_4, v_4) > 0.0);
-    const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, params_2.glaze_roughness, (_e259 ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (_e259 ? under_albedo : (0.0).xxx)));
+    const float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
+    bool _e261 = (dot(n_4, v_4) > 0.0);
+    const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, lookup_roughness, (_e261 ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (_e261 ? under_albedo : (0.0).xxx)));
     return tunableglazeibllobes;
 }
 

@@ -461,9 +461,9 @@ fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec
 
 // The BRDF f(l, v) of material `tunable_glaze` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: TunableGlazeParams) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_v_4 = dot(n_1, v_1);
     let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let tau_8 = (params.glaze_absorption * params.glaze_thickness);
     let h = tunable_glaze_half_vector(v_1, l_1);
@@ -476,15 +476,15 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let fresnel_2 = select(_e31, min(_e28, _e29), (params.glaze_ior < 1f));
     let _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
     let layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     let specular = select((_e34 * (layer1_scale_l * layer1_scale_v)), _e34, (params.glaze_ior < 1f));
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
     let _e44 = (1f - layer1_fresnel_l);
     let _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     let layer1_transmit_l = select(min(max((_e44 + _e45), 0f), 1f), _e44, (params.glaze_ior < 1f));
-    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_3, params.glaze_ior);
+    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, params.glaze_ior);
     let _e56 = (1f - layer1_fresnel_v);
-    let _e57 = tunable_glaze_coat_deficit(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let _e57 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     let layer1_transmit_v = select(min(max((_e56 + _e57), 0f), 1f), _e56, (params.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
@@ -494,7 +494,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     let layer1_path_cos_l = select((layer1_cos_l / _e74), layer1_cos_l, (params.glaze_ior < 1f));
-    let _e79 = tunable_glaze_coat_path(n_dot_v_3, params.glaze_roughness, params.glaze_ior);
+    let _e79 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
     let layer1_path_cos_v = select((layer1_cos_v / _e79), layer1_cos_v, (params.glaze_ior < 1f));
     let absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
@@ -545,7 +545,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `tunable_glaze`: multiply by a light's radiance.
@@ -580,11 +580,24 @@ fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1:
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
-    let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_6 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
-    let d_2 = ((n_3 * (1f - t_2)) + (r_5 * t_2));
+    let d_2 = ((n_3 * (1f - t_2)) + (r_6 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
+    return (r_5 * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -592,19 +605,19 @@ fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alp
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
-    let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let n_dot_v_5 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
     let tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
-    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_4, params_2.glaze_ior);
+    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
     let _e15 = (1f - layer1_fresnel_l);
-    let _e16 = tunable_glaze_coat_deficit(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e16 = tunable_glaze_coat_deficit(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     let layer1_transmit_l_1 = select(min(max((_e15 + _e16), 0f), 1f), _e15, (params_2.glaze_ior < 1f));
     let _e26 = (1f - layer1_fresnel_l);
     let layer1_transmit_v_1 = select(min(max((_e26 + _e16), 0f), 1f), _e26, (params_2.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e39 = tunable_glaze_coat_path(n_dot_v_4, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e39 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
     let layer1_path_cos_l_2 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
     let layer1_path_cos_v_2 = select((layer1_cos_v_1 / _e39), layer1_cos_v_1, (params_2.glaze_ior < 1f));
     let absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
@@ -660,8 +673,9 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
-    let _e259 = (dot(n_4, v_4) > 0f);
-    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, params_2.glaze_roughness, select(vec3(0f), vec3(coat_albedo), _e259))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e259)));
+    let lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
+    let _e261 = (dot(n_4, v_4) > 0f);
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e261))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e261)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

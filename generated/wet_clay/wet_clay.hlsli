@@ -222,9 +222,9 @@ float3 wet_clay_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i,
 // The BRDF f(l, v) of material `wet_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_3 = dot(n_1, v_1);
+    float n_dot_v_4 = dot(n_1, v_1);
     float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_3, 0.0001);
+    float cos_v = max(n_dot_v_4, 0.0001);
     float cos_l = max(n_dot_l_3, 0.0001);
     const float3 h = wet_clay_half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
@@ -233,13 +233,13 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float fresnel = wet_clay_fr_dielectric(dot(v_1, h), 1.33);
     const float3 _e21 = wet_clay_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
-    const float layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_3);
+    const float layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
     float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     const float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_l_3, 1.33);
     const float _e30 = wet_clay_coat_deficit_curve(n_dot_l_3);
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
-    const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_3, 1.33);
-    const float _e40 = wet_clay_coat_deficit_curve(n_dot_v_3);
+    const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33);
+    const float _e40 = wet_clay_coat_deficit_curve(n_dot_v_4);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_1, n_1, 1.33);
     const float3 layer1_l = wet_clay_refract_down(l_1, n_1, 1.33);
@@ -249,7 +249,7 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     const float _e56 = wet_clay_coat_path_curve(n_dot_l_3);
     float layer1_path_cos_l = (layer1_cos_l / _e56);
-    const float _e58 = wet_clay_coat_path_curve(n_dot_v_3);
+    const float _e58 = wet_clay_coat_path_curve(n_dot_v_4);
     float layer1_path_cos_v = (layer1_cos_v / _e58);
     const float _e61 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l);
     float3 absorb_l = (_e61).xxx;
@@ -258,7 +258,7 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_f_base = wet_clay_fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, float3(0.5876322, 0.34278542, 0.24484675), float3(0.5876322, 0.34278542, 0.24484675), wet_clay_layer1_rho, wet_clay_layer1_r_return);
     const float3 f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
-    return (((n_dot_v_3 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `wet_clay`: multiply by a light's radiance.
@@ -286,11 +286,25 @@ float3 wet_clay_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 
 // and |mix| ≥ TINY.
 float3 wet_clay_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
 {
-    float3 r = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
+    float3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r * t_1));
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+float wet_clay_grazing_lookup_roughness(float r, float n_dot_v_3)
+{
+    return (r * sqrt(max(n_dot_v_3, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTWETCLAYIBLLOBE
@@ -332,16 +346,16 @@ WetClayIblLobes ConstructWetClayIblLobes(WetClayIblLobe arg0[1], WetClayIblLobe 
 // irradiance.direction, over π), k < wet_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
 {
-    float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    const float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_4, 1.33);
-    const float _e9 = wet_clay_coat_deficit_curve(n_dot_v_4);
+    float n_dot_v_5 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_5, 0.0001);
+    const float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
+    const float _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e27 = wet_clay_coat_path_curve(n_dot_v_4);
+    const float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
     float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
     float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     const float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
@@ -353,8 +367,9 @@ WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
-    bool _e68 = (dot(n_4, v_4) > 0.0);
-    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, 0.12, (_e68 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e68 ? under_albedo : (0.0).xxx)));
+    const float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
+    bool _e71 = (dot(n_4, v_4) > 0.0);
+    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e71 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e71 ? under_albedo : (0.0).xxx)));
     return wetclayibllobes;
 }
 

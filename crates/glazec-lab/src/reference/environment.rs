@@ -39,9 +39,9 @@ pub fn environment_integral(
     // GGX strategies: the α of every prefiltered lobe that is not a mirror.
     let alphas: Vec<f32> = glazec::eval::environment_lobes(material, values, n, v)
         .iter()
-        .filter(|lobe| lobe.lookup == Lookup::Prefiltered && lobe.roughness > 0.0)
+        .filter(|lobe| lobe.lookup == Lookup::Prefiltered && lobe.lobe_roughness > 0.0)
         // (No sharper than `d_ggx`'s own floor, so that samples and density agree.)
-        .map(|lobe| (lobe.roughness * lobe.roughness).max(glazec::math::terms::ALPHA_MIN))
+        .map(|lobe| (lobe.lobe_roughness * lobe.lobe_roughness).max(glazec::math::terms::ALPHA_MIN))
         .collect();
     let strategies = 1 + alphas.len();
     let per_batch = (samples / BATCHES).max(1);

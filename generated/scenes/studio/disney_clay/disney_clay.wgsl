@@ -81,9 +81,9 @@ fn disney_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_2: f3
 
 // The BRDF f(l, v) of material `disney_clay` (Additive layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n, v_1);
+    let n_dot_v_4 = dot(n, v_1);
     let n_dot_l_3 = dot(n, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let f_base = disney_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v, cos_l, dot(v_1, l_1));
     let h = disney_clay_half_vector(v_1, l_1);
@@ -93,7 +93,7 @@ fn disney_clay_brdf(n: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let fresnel = disney_clay_f_schlick(vec3(0.040000003f), dot(v_1, h));
     let specular = disney_clay_f_cook_torrance(d, g, fresnel, cos_v, cos_l);
     let f = (f_base + specular);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `disney_clay`: multiply by a light's radiance.
@@ -151,11 +151,24 @@ fn disney_clay_clearcoat_dfg_bias_curve(cos_theta_2: f32) -> f32 {
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn disney_clay_specular_dominant_direction(n_2: vec3<f32>, v_3: vec3<f32>, alpha_1: f32) -> vec3<f32> {
-    let r = ((n_2 * (max(dot(n_2, v_3), 0f) * 2f)) - v_3);
+    let r_1 = ((n_2 * (max(dot(n_2, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_1), 0f), 1f);
     let t = (smoothness * (sqrt(smoothness) + alpha_1));
-    let d_3 = ((n_2 * (1f - t)) + (r * t));
+    let d_3 = ((n_2 * (1f - t)) + (r_1 * t));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn disney_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
@@ -181,15 +194,16 @@ fn disney_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> 
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < disney_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn disney_clay_ibl_lobes(n_3: vec3<f32>, v_4: vec3<f32>) -> DisneyClayIblLobes {
-    let n_dot_v_4 = dot(n_3, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let n_dot_v_5 = dot(n_3, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
     let _e5 = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
     let _e6 = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
     let coat_albedo = ((vec3(0.040000003f) * _e5) + vec3(_e6));
     let reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196f);
+    let lookup_roughness = disney_clay_grazing_lookup_roughness(0.14f, dot(n_3, v_4));
     let base_albedo = disney_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v_1);
-    let _e22 = (dot(n_3, v_4) > 0f);
-    return DisneyClayIblLobes(array<DisneyClayIblLobe, 1>(DisneyClayIblLobe(reflected, 0.14f, select(vec3(0f), coat_albedo, _e22))), DisneyClayIblLobe(n_3, 1f, select(vec3(0f), base_albedo, _e22)));
+    let _e25 = (dot(n_3, v_4) > 0f);
+    return DisneyClayIblLobes(array<DisneyClayIblLobe, 1>(DisneyClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e25))), DisneyClayIblLobe(n_3, 1f, select(vec3(0f), base_albedo, _e25)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

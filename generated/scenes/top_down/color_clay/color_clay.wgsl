@@ -223,9 +223,9 @@ fn color_clay_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f
 
 // The BRDF f(l, v) of material `color_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_v_4 = dot(n_1, v_1);
     let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let h = color_clay_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
@@ -234,13 +234,13 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let fresnel = color_clay_fr_dielectric(dot(v_1, h), 1.33f);
     let _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = color_clay_coat_scale_curve(n_dot_l_3);
-    let layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_3);
+    let layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_4);
     let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33f);
     let _e30 = color_clay_coat_deficit_curve(n_dot_l_3);
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
-    let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_3, 1.33f);
-    let _e40 = color_clay_coat_deficit_curve(n_dot_v_3);
+    let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_4, 1.33f);
+    let _e40 = color_clay_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = color_clay_refract_down(l_1, n_1, 1.33f);
@@ -250,7 +250,7 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let _e56 = color_clay_coat_path_curve(n_dot_l_3);
     let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = color_clay_coat_path_curve(n_dot_v_3);
+    let _e58 = color_clay_coat_path_curve(n_dot_v_4);
     let layer1_path_cos_v = (layer1_cos_v / _e58);
     let _e61 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
     let absorb_l = vec3(_e61);
@@ -271,7 +271,7 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
     let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825418f, 0.99614143f, 0.99679464f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     let f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `color_clay`: multiply by a light's radiance.
@@ -296,11 +296,24 @@ fn color_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn color_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
-    let r_4 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    let d_2 = ((n_3 * (1f - t_1)) + (r_4 * t_1));
+    let d_2 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn color_clay_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
+    return (r_4 * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -308,16 +321,16 @@ fn color_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < color_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
-    let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_4, 1.33f);
-    let _e9 = color_clay_coat_deficit_curve(n_dot_v_4);
+    let n_dot_v_5 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
+    let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_5, 1.33f);
+    let _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = color_clay_coat_path_curve(n_dot_v_4);
+    let _e27 = color_clay_coat_path_curve(n_dot_v_5);
     let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
     let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
     let _e31 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l_2);
@@ -340,8 +353,9 @@ fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09f);
-    let _e140 = (dot(n_4, v_4) > 0f);
-    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, 0.3f, select(vec3(0f), vec3(coat_albedo), _e140))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e140)));
+    let lookup_roughness = color_clay_grazing_lookup_roughness(0.3f, dot(n_4, v_4));
+    let _e143 = (dot(n_4, v_4) > 0f);
+    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e143))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e143)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

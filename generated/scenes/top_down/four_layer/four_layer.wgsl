@@ -359,9 +359,9 @@ fn four_layer_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_v_4 = dot(n_1, v_1);
     let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let h = four_layer_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
@@ -370,13 +370,13 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5f);
     let _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    let layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_3);
+    let layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
     let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5f);
     let _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
-    let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e40 = four_layer_coat_deficit_curve(n_dot_v_3);
+    let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5f);
+    let _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_1, n_1, 1.5f);
     let layer1_l = four_layer_refract_down(l_1, n_1, 1.5f);
@@ -499,7 +499,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let first_return_v = min(max(((vec3(1f) - _e568) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807674f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
@@ -514,11 +514,24 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
-    let r_4 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_4), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    let d_3 = ((n_3 * (1f - t_1)) + (r_4 * t_1));
+    let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn four_layer_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
+    return (r_4 * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -526,10 +539,10 @@ fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
-    let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_4, 1.5f);
-    let _e9 = four_layer_coat_deficit_curve(n_dot_v_4);
+    let n_dot_v_5 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
+    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_5, 1.5f);
+    let _e9 = four_layer_coat_deficit_curve(n_dot_v_5);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_4, n_4, 1.5f);
@@ -610,8 +623,9 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
-    let _e462 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, 0.2f, select(vec3(0f), vec3(coat_albedo), _e462))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e462)));
+    let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
+    let _e465 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e465))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e465)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

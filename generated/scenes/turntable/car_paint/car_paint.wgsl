@@ -405,10 +405,10 @@ fn car_paint_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, sine
 // Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
 // the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
 fn car_paint_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
-    let r = min(rho_1, 0.95f);
+    let r_1 = min(rho_1, 0.95f);
     let r_c = min(rho_c, vec3(0.95f));
-    let a_4 = min(((r_c - vec3(r)) / max((vec3((((r * r) + 1f) * 0.5f)) - (r_c * r)), vec3(0.000001f))), car_paint_one);
-    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r)));
+    let a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), car_paint_one);
+    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -417,8 +417,8 @@ fn car_paint_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) ->
 // light between azimuths without changing its albedo; symmetric in l and v when ρ is.
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
 fn car_paint_forward_azimuth_weight(rho_2: f32, cos_phi_1: f32) -> f32 {
-    let r_1 = min(rho_2, 0.95f);
-    return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi_1) * 2f)));
+    let r_2 = min(rho_2, 0.95f);
+    return ((1f - (r_2 * r_2)) / (((r_2 * r_2) + 1f) - ((r_2 * cos_phi_1) * 2f)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -489,9 +489,9 @@ fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_3, v_3);
+    let n_dot_v_3 = dot(n_3, v_3);
     let n_dot_l_2 = dot(n_3, l_3);
-    let cos_v = max(n_dot_v_2, 0.0001f);
+    let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
     let h = car_paint_half_vector(v_3, l_3);
     let n_cross_h = cross(n_3, h);
@@ -500,13 +500,13 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let fresnel = car_paint_fr_dielectric(dot(v_3, h), 1.5f);
     let _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
-    let layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_2);
+    let layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_3);
     let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5f);
     let _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
-    let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e40 = car_paint_coat_deficit_curve(n_dot_v_2);
+    let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_3, 1.5f);
+    let _e40 = car_paint_coat_deficit_curve(n_dot_v_3);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = car_paint_refract_down(v_3, n_3, 1.5f);
     let layer1_l = car_paint_refract_down(l_3, n_3, 1.5f);
@@ -593,14 +593,14 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
     let _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e264 = car_paint_glossy_spread_curve_b(n_dot_v_2);
+    let _e264 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
     let _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
     let layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0f)) * layer1_trapped_sines), 0.95f), _e273);
     let trapped = (_e262 * layer1_trapped_spread);
     let under = (_e250 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    return select(vec3(0f), f, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `car_paint`: multiply by a light's radiance.
@@ -627,11 +627,24 @@ fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f3
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r_2 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
+    let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_5 * (1f - t_3)) + (r_2 * t_3));
+    let d_2 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn car_paint_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -639,10 +652,10 @@ fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
-    let n_dot_v_3 = dot(n_6, v_6);
-    let cos_v_1 = max(n_dot_v_3, 0.0001f);
-    let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e9 = car_paint_coat_deficit_curve(n_dot_v_3);
+    let n_dot_v_4 = dot(n_6, v_6);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5f);
+    let _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = car_paint_refract_down(v_6, n_6, 1.5f);
@@ -679,9 +692,10 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
+    let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
     let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
-    let _e118 = (dot(n_6, v_6) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, 0.04f, select(vec3(0f), vec3(coat_albedo), _e118)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e118))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
+    let _e121 = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e121)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e121))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

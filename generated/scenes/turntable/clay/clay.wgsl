@@ -116,9 +116,9 @@ fn clay_ww_layer(f_top: vec3<f32>, t12_: vec3<f32>, absorption: vec3<f32>, inner
 
 // The BRDF f(l, v) of material `clay` (WeidlichWilkie layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_v_4 = dot(n_1, v_1);
     let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let h = clay_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
@@ -138,7 +138,7 @@ fn clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let inner = clay_ww_inner_reflection(g, transmission);
     let layer1_f_base = clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `clay`: multiply by a light's radiance.
@@ -196,11 +196,24 @@ fn clay_seed_ggx_dfg_bias_curve(cos_theta_2: f32) -> f32 {
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_1: f32) -> vec3<f32> {
-    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_1), 0f), 1f);
     let t = (smoothness * (sqrt(smoothness) + alpha_1));
-    let d_2 = ((n_3 * (1f - t)) + (r * t));
+    let d_2 = ((n_3 * (1f - t)) + (r_1 * t));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // Weidlich & Wilkie 2007 (Bowsher 2022, eq. 14–15): the absorption a = e^{−α l} along the path
@@ -233,19 +246,20 @@ fn clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> vec3<f3
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ClayIblLobes {
-    let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
+    let n_dot_v_5 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
     let _e5 = clay_seed_ggx_dfg_scale_curve(cos_v_1);
     let _e6 = clay_seed_ggx_dfg_bias_curve(cos_v_1);
     let coat_albedo = ((vec3(0.040000003f) * _e5) + vec3(_e6));
     let reflected = clay_specular_dominant_direction(n_4, v_4, 0.122499995f);
+    let lookup_roughness = clay_grazing_lookup_roughness(0.35f, dot(n_4, v_4));
     let layer1_v = clay_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e22 = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_v_1, layer1_cos_v_1);
+    let _e25 = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_v_1, layer1_cos_v_1);
     let base_albedo = clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v_1);
-    let _e37 = (dot(n_4, v_4) > 0f);
-    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, 0.35f, select(vec3(0f), coat_albedo, _e37))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * _e22) * base_albedo), _e37)));
+    let _e40 = (dot(n_4, v_4) > 0f);
+    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e40))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * _e25) * base_albedo), _e40)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -436,10 +436,10 @@ fn coated_gold_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, si
 // Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
 // the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
 fn coated_gold_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
-    let r = min(rho_1, 0.95f);
+    let r_1 = min(rho_1, 0.95f);
     let r_c = min(rho_c, vec3(0.95f));
-    let a_4 = min(((r_c - vec3(r)) / max((vec3((((r * r) + 1f) * 0.5f)) - (r_c * r)), vec3(0.000001f))), coated_gold_one);
-    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r)));
+    let a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), coated_gold_one);
+    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -448,8 +448,8 @@ fn coated_gold_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) 
 // light between azimuths without changing its albedo; symmetric in l and v when ρ is.
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
 fn coated_gold_forward_azimuth_weight(rho_2: f32, cos_phi_1: f32) -> f32 {
-    let r_1 = min(rho_2, 0.95f);
-    return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi_1) * 2f)));
+    let r_2 = min(rho_2, 0.95f);
+    return ((1f - (r_2 * r_2)) / (((r_2 * r_2) + 1f) - ((r_2 * cos_phi_1) * 2f)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -471,9 +471,9 @@ fn coated_gold_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3
 
 // The BRDF f(l, v) of material `coated_gold` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_2 = dot(n_3, v_3);
+    let n_dot_v_3 = dot(n_3, v_3);
     let n_dot_l_2 = dot(n_3, l_3);
-    let cos_v = max(n_dot_v_2, 0.0001f);
+    let cos_v = max(n_dot_v_3, 0.0001f);
     let cos_l = max(n_dot_l_2, 0.0001f);
     let layer1_v = coated_gold_refract_down(v_3, n_3, 1.5f);
     let layer1_l = coated_gold_refract_down(l_3, n_3, 1.5f);
@@ -509,17 +509,17 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l, layer1_next_l, coated_gold_layer1_pool_fresnel);
     let _e116 = coated_gold_glossy_once(layer1_single_l, layer1_next_l, vec3(1f));
     let layer1_once_colour_l = (layer1_once_l / vec3(max(_e116.x, 0.000001f)));
-    let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_2, 1.5f);
-    let _e126 = coated_gold_coat_deficit_curve(n_dot_v_2);
+    let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_3, 1.5f);
+    let _e126 = coated_gold_coat_deficit_curve(n_dot_v_3);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e126), 0f), 1f);
-    let _e132 = coated_gold_coat_path_curve(n_dot_v_2);
+    let _e132 = coated_gold_coat_path_curve(n_dot_v_3);
     let layer1_path_cos_v = (layer1_cos_v / _e132);
     let layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_2);
-    let layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_2);
-    let _e146 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_2);
+    let layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_3);
+    let layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_3);
+    let _e146 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
     let _e151 = max(layer1_cos_v, 0.7453635f);
-    let _e152 = coated_gold_glossy_blur_curve(max(n_dot_v_2, 0.005f));
+    let _e152 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005f));
     let layer1_blur_l_1 = (_e152 * 0.010000001f);
     let layer1_blur_v_1 = (_e152 * 0.010000001f);
     let layer1_alpha_1 = sqrt(((0.00390625f + (layer1_blur_l_1 * layer1_blur_l_1)) + (layer1_blur_v_1 * layer1_blur_v_1)));
@@ -531,15 +531,15 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let layer1_lobe_normaliser_v = (((max((1f - abs((_e170 - 7f))), 0f) * _e178) + (max((1f - abs((_e170 - 8f))), 0f) * _e187)) * layer1_cone_share_v);
     let layer1_lobe_albedo_v = min(max((((layer1_scale_v * layer1_scale_v) * _e146) * layer1_lobe_normaliser_v), 0f), 1f);
     let layer1_single_v = min(max(((layer1_lobe_albedo_v - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
-    let _e210 = coated_gold_glossy_quick_curve(n_dot_v_2);
-    let _e211 = coated_gold_glossy_steady_curve(n_dot_v_2);
+    let _e210 = coated_gold_glossy_quick_curve(n_dot_v_3);
+    let _e211 = coated_gold_glossy_steady_curve(n_dot_v_3);
     let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e210, _e211, 0.9170209f, coated_gold_layer1_pool_fresnel);
     let layer1_once_v = coated_gold_glossy_once(layer1_single_v, layer1_next_v, coated_gold_layer1_pool_fresnel);
     let _e219 = coated_gold_glossy_once(layer1_single_v, layer1_next_v, vec3(1f));
     let layer1_once_colour_v = (layer1_once_v / vec3(max(_e219.x, 0.000001f)));
     let _e225 = coated_gold_glossy_blur_curve(n_dot_l_2);
     let layer1_blur_l_2 = (_e225 * 0.010000001f);
-    let _e228 = coated_gold_glossy_blur_curve(n_dot_v_2);
+    let _e228 = coated_gold_glossy_blur_curve(n_dot_v_3);
     let layer1_blur_v_2 = (_e228 * 0.010000001f);
     let layer1_alpha_2 = sqrt(((0.00390625f + (layer1_blur_l_2 * layer1_blur_l_2)) + (layer1_blur_v_2 * layer1_blur_v_2)));
     let h = coated_gold_half_vector(v_3, l_3);
@@ -549,7 +549,7 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let fresnel = coated_gold_fr_dielectric(dot(v_3, h), 1.5f);
     let _e249 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
-    let layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_2);
+    let layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_3);
     let specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_3, layer1_h);
@@ -560,7 +560,7 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
     let _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     let spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
-    let spread_v = coated_gold_glossy_spread_curve(n_dot_v_2);
+    let spread_v = coated_gold_glossy_spread_curve(n_dot_v_3);
     let sines = coated_gold_forward_sines(n_3, v_3, l_3);
     let spread_rho = min((sqrt(max((spread_l * spread_v), 0f)) * sines), 0.95f);
     let _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
@@ -573,7 +573,7 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
     let later_2 = (_e315 * spread);
     let f_55 = (_e281 + later_2);
-    return select(vec3(0f), f_55, ((n_dot_v_2 > 0f) && (n_dot_l_2 > 0f)));
+    return select(vec3(0f), f_55, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `coated_gold`: multiply by a light's radiance.
@@ -598,11 +598,24 @@ fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, 
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
-    let r_2 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
+    let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
     let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_5 * (1f - t_2)) + (r_2 * t_2));
+    let d_2 = ((n_5 * (1f - t_2)) + (r_3 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn coated_gold_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -610,22 +623,22 @@ fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
-    let n_dot_v_3 = dot(n_6, v_6);
-    let cos_v_1 = max(n_dot_v_3, 0.0001f);
+    let n_dot_v_4 = dot(n_6, v_6);
+    let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_v = coated_gold_refract_down(v_6, n_6, 1.5f);
     let layer1_n_dot_v_1 = dot(n_6, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e14 = coated_gold_coat_deficit_curve(n_dot_v_3);
+    let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_4, 1.5f);
+    let _e14 = coated_gold_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e14), 0f), 1f);
-    let _e20 = coated_gold_coat_path_curve(n_dot_v_3);
+    let _e20 = coated_gold_coat_path_curve(n_dot_v_4);
     let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
     let layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_3);
-    let layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_3);
-    let _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_3);
+    let layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_4);
+    let layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_4);
+    let _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_4);
     let _e39 = max(layer1_cos_v_1, 0.7453635f);
-    let _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_3, 0.005f));
+    let _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_4, 0.005f));
     let layer1_blur_l_3 = (_e40 * 0.010000001f);
     let layer1_blur_v_3 = (_e40 * 0.010000001f);
     let layer1_alpha_3 = sqrt(((0.00390625f + (layer1_blur_l_3 * layer1_blur_l_3)) + (layer1_blur_v_3 * layer1_blur_v_3)));
@@ -637,13 +650,13 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let layer1_lobe_normaliser_l_1 = (((max((1f - abs((_e58 - 7f))), 0f) * _e66) + (max((1f - abs((_e58 - 8f))), 0f) * _e75)) * layer1_cone_share_l_1);
     let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0f), 1f);
     let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
-    let _e98 = coated_gold_glossy_quick_curve(n_dot_v_3);
-    let _e99 = coated_gold_glossy_steady_curve(n_dot_v_3);
+    let _e98 = coated_gold_glossy_quick_curve(n_dot_v_4);
+    let _e99 = coated_gold_glossy_steady_curve(n_dot_v_4);
     let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209f, coated_gold_layer1_pool_fresnel);
     let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
     let _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
     let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e107.x, 0.000001f)));
-    let _e113 = coated_gold_glossy_blur_curve(n_dot_v_3);
+    let _e113 = coated_gold_glossy_blur_curve(n_dot_v_4);
     let layer1_blur_l_4 = (_e113 * 0.010000001f);
     let layer1_blur_v_4 = (_e113 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
@@ -651,10 +664,11 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let coat_albedo = (1f - layer1_transmit_l_1);
     let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
     let reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001f);
+    let lookup_roughness = coated_gold_grazing_lookup_roughness(0.1f, dot(n_6, v_6));
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
     let reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    let _e148 = (dot(n_6, v_6) > 0f);
-    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, 0.1f, select(vec3(0f), vec3(coat_albedo), _e148)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e148))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
+    let _e151 = (dot(n_6, v_6) > 0f);
+    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e151)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e151))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -197,9 +197,9 @@ fn wet_clay_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32
 
 // The BRDF f(l, v) of material `wet_clay` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_3 = dot(n_1, v_1);
+    let n_dot_v_4 = dot(n_1, v_1);
     let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_3, 0.0001f);
+    let cos_v = max(n_dot_v_4, 0.0001f);
     let cos_l = max(n_dot_l_3, 0.0001f);
     let h = wet_clay_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
@@ -208,13 +208,13 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let fresnel = wet_clay_fr_dielectric(dot(v_1, h), 1.33f);
     let _e21 = wet_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
-    let layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_3);
+    let layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
     let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
     let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_l_3, 1.33f);
     let _e30 = wet_clay_coat_deficit_curve(n_dot_l_3);
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
-    let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_3, 1.33f);
-    let _e40 = wet_clay_coat_deficit_curve(n_dot_v_3);
+    let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33f);
+    let _e40 = wet_clay_coat_deficit_curve(n_dot_v_4);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = wet_clay_refract_down(l_1, n_1, 1.33f);
@@ -224,7 +224,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let _e56 = wet_clay_coat_path_curve(n_dot_l_3);
     let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = wet_clay_coat_path_curve(n_dot_v_3);
+    let _e58 = wet_clay_coat_path_curve(n_dot_v_4);
     let layer1_path_cos_v = (layer1_cos_v / _e58);
     let _e61 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
     let absorb_l = vec3(_e61);
@@ -233,7 +233,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let under = wet_clay_interfaced_diffuse_under(layer1_f_base, vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), wet_clay_layer1_rho, wet_clay_layer1_r_return);
     let f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
-    return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `wet_clay`: multiply by a light's radiance.
@@ -258,11 +258,24 @@ fn wet_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
 fn wet_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
-    let r = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
+    let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    let d_2 = ((n_3 * (1f - t_1)) + (r * t_1));
+    let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+}
+
+// The roughness at which an isotropic prefiltered environment is looked up for the
+// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+fn wet_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
+    return (r * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -270,16 +283,16 @@ fn wet_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3:
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < wet_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
-    let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_4, 1.33f);
-    let _e9 = wet_clay_coat_deficit_curve(n_dot_v_4);
+    let n_dot_v_5 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_5, 0.0001f);
+    let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_5, 1.33f);
+    let _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = wet_clay_coat_path_curve(n_dot_v_4);
+    let _e27 = wet_clay_coat_path_curve(n_dot_v_5);
     let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
     let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
@@ -291,8 +304,9 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
-    let _e68 = (dot(n_4, v_4) > 0f);
-    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, 0.12f, select(vec3(0f), vec3(coat_albedo), _e68))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e68)));
+    let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
+    let _e71 = (dot(n_4, v_4) > 0f);
+    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e71))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e71)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

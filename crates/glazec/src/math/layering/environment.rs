@@ -31,8 +31,10 @@
 //!   (WeidlichWilkie, absorption along the refracted view path both ways).
 //!
 //! Specular lobes look up their reflection direction pulled towards the normal as roughness
-//! grows (the lobe's dominant direction, Lagarde & de Rousiers 2014); normal maps bend the coat's
-//! lobe by the top layer's normal and the irradiance by the base's.
+//! grows (the lobe's dominant direction, Lagarde & de Rousiers 2014), and a coat's own
+//! reflection at the width its lobe has across the plane of incidence, which narrows as the view
+//! grazes (`grazing_lookup_roughness`); normal maps bend the coat's lobe by the top layer's normal
+//! and the irradiance by the base's.
 
 use super::base::{body_albedo, conductor_alpha};
 use super::geometry::{Geometry, facing, level_name};
@@ -60,6 +62,10 @@ pub struct EnvironmentLobe<F: Real> {
     pub direction: F::Vec,
     /// The GGX roughness r (α = r²) of the prefiltering; 0 for irradiance lobes.
     pub roughness: F,
+    /// The GGX roughness of the lobe itself, what a brute-force integral samples by: `roughness`
+    /// except for a coat's reflection, whose lookup is narrower at grazing views
+    /// (`grazing_lookup_roughness`). Not part of the generated `<Material>IblLobe`.
+    pub lobe_roughness: F,
     pub lookup: Lookup,
 }
 
@@ -114,7 +120,7 @@ fn interfaced_lobes<F: Real>(
     let coat_weight = t_v.one_minus().named("coat_albedo");
     let coat_roughness = lobe_roughness(&coat.lobe, inputs);
     let under = (total - coat_weight.splat()).max(inputs.zero()).named("under_albedo");
-    let coat_lobe = specular_lobe(coat_weight.splat(), coat_roughness, top_normal, v);
+    let coat_lobe = coat_lobe(coat_weight.splat(), coat_roughness, top_normal, v);
     // The stack's relative IOR over the body. (A conductor's α, widened by every rough coat as
     // the method widens it, comes with the level.)
     let eta_body = coats.iter().fold(inputs.lit(1.0), |eta, coat| eta * inputs.scalar(coat.ior));
@@ -138,7 +144,7 @@ fn seed_lobes<F: Real>(
         let f0 = f0_dielectric(eta).splat();
         let r = lobe_roughness(&coat.lobe, inputs);
         let albedo = seed_coat_albedo(&coat.lobe, f0, r, g.n_dot_v).named(&level_name("coat_albedo", g.level));
-        lobes.push(specular_lobe(through * albedo, r, g.n, g.v));
+        lobes.push(coat_lobe(through * albedo, r, g.n, g.v));
         if attenuated {
             let below = g.refracted(eta);
             let absorption = absorption_ww(
@@ -206,14 +212,29 @@ fn body_lobe<F: Real>(
             let outside = (alpha * eta).min(inputs.lit(1.0));
             specular_lobe(weight, outside.sqrt().named("base_roughness"), n, v)
         }
-        _ => EnvironmentLobe { weight, direction: n, roughness: inputs.lit(0.0), lookup: Lookup::Irradiance },
+        _ => {
+            let zero = inputs.lit(0.0);
+            EnvironmentLobe { weight, direction: n, roughness: zero, lobe_roughness: zero, lookup: Lookup::Irradiance }
+        }
     }
 }
 
-/// A prefiltered lobe around the dominant direction of a GGX lobe of roughness `r`.
+/// A prefiltered lobe around the dominant direction of a GGX lobe of roughness `r` (a body
+/// seen through the coats: looked up at `r`).
 fn specular_lobe<F: Real>(weight: F::Vec, r: F, n: F::Vec, v: F::Vec) -> EnvironmentLobe<F> {
     let direction = specular_dominant_direction(n, v, r * r).named("reflected");
-    EnvironmentLobe { weight, direction, roughness: r, lookup: Lookup::Prefiltered }
+    EnvironmentLobe { weight, direction, roughness: r, lobe_roughness: r, lookup: Lookup::Prefiltered }
+}
+
+/// A coat's own reflection: [`specular_lobe`] looked up at the width its lobe has across the
+/// plane of incidence (`grazing_lookup_roughness`). Measured against brute force under the sky
+/// (`examples/ibl_worst.rs`), the largest error of `red_plastic` fell from 28% to 4% of the mean
+/// luminance; the conductor's lobe seen through a coat, looked up the same way, got worse
+/// (`coated_gold` 4.6% → 17%), so the body keeps its own width.
+fn coat_lobe<F: Real>(weight: F::Vec, r: F, n: F::Vec, v: F::Vec) -> EnvironmentLobe<F> {
+    let lobe = specular_lobe(weight, r, n, v);
+    let roughness = grazing_lookup_roughness(r, n.dot(v)).named("lookup_roughness");
+    EnvironmentLobe { roughness, ..lobe }
 }
 
 /// A coat lobe's roughness r (0 for a smooth coat).

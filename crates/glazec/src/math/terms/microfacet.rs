@@ -228,6 +228,21 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// The roughness at which an isotropic prefiltered environment is looked up for the
+    /// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
+    /// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
+    /// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
+    /// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
+    /// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
+    /// One isotropic lookup must choose one width; the narrower keeps what the reflection really
+    /// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
+    /// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+    pub fn grazing_lookup_roughness(r: S, n_dot_v: S) -> S {
+        r * n_dot_v.at_least(1e-4).sqrt()
+    }
+}
+
+shading_fn! {
     /// Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
     /// the direction a GGX lobe of roughness α around the mirror direction r = 2(n·v)n − v
     /// reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
