@@ -120,10 +120,12 @@ struct Side<F: Real> {
     /// What the trapped light's events after the second return (`glossy_later`).
     later: F::Vec,
     /// The weights of `glossy_later`'s event counts from this side: the share that leaves at the
-    /// second event (w₀) and the quick and steady geometric counts'.
+    /// second event (w₀) and the quick and steady geometric counts'; and the slow count's
+    /// retention B_s, the pool's (the same from either side).
     next: F,
     quick: F,
     steady: F,
+    slow: F,
 }
 
 /// A per-direction quantity of the level, as [`Glossy::hemispherical`] averages it.
@@ -231,6 +233,7 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
             next,
             quick,
             steady,
+            slow,
         }
     }
 
@@ -535,8 +538,8 @@ pub(super) fn glossy_level<F: Real>(
             .min(inputs.lit(0.95))
             .named(&level_name("spread_rho", k));
         let mean = |of: fn(&Side<F>) -> F| (of(&l) + of(v_side)) * 0.5;
-        let slow = glossy.pool_lookup(TableId::GlossySlowRetention);
-        let rho_c = glossy_spread_colour(rho, mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), slow, c_fresnel);
+        let rho_c =
+            glossy_spread_colour(rho, mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), l.slow, c_fresnel);
         let cos_phi = forward_cosine(g.n, g.v, g.l, sines);
         let spread = (forward_azimuth_tilt(rho, rho_c, cos_phi) * forward_azimuth_weight(rho, cos_phi))
             .named(&level_name("spread", k));
