@@ -524,13 +524,10 @@ pub(super) fn glossy_level<F: Real>(
             .next()
             .unwrap_or_else(|| unreachable!("the remainder's mean is summed"))
             .named(&level_name("remainder_avg", k));
-        // The trapped light keeps travelling on: its azimuth about the forward direction, spread
-        // with κ = √(κ(μl) κ(μv)) for white light, and tilted per channel towards the event
-        // counts the colour favours (`glossy_spread_colour`, with both sides' count weights
-        // averaged: symmetric, so reciprocal). The colour there is the conductor's Fresnel
-        // factor alone: with the slab's round trip in it too, the absorbing copper cases of the
-        // standard set lose more light from behind than the reference (body p90 up to 1.7 points
-        // higher, docs/accuracy.md).
+        // The trapped light keeps travelling on: spread about the forward direction with
+        // κ = √(κ(μl) κ(μv)), tilted per channel by the conductor's Fresnel colour
+        // (`glossy_spread_colour`, both sides' weights averaged: reciprocal; with the slab's
+        // round trip in c too, absorbing copper fits the reference worse, docs/accuracy.md).
         let kappa_l = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_l).named(&level_name("spread_l", k));
         let kappa_v = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_v).named(&level_name("spread_v", k));
         let sines = forward_sines::<F>(g.n, g.v, g.l).named(&level_name("sines", k));
