@@ -127,6 +127,27 @@ pub struct Interface {
 /// `EffectivelySmooth`).
 const SMOOTH_ALPHA: f64 = 1e-3;
 
+/// f(wo, wi) of a microsurface's reflection from `eval(start, toward)`, an estimate of
+/// f·cos θ_toward by next-event estimation along walks that start at `start`: started at the
+/// more grazing of the two directions. f is reciprocal, so either start estimates it without
+/// bias, but not with the same variance. A ray that arrives at a grazing angle and is reflected
+/// near the mirror direction meets the microsurface again with probability about Λ, where it
+/// can only see facets steeper than its elevation: their visible-normal density is divided by
+/// a projected area of about Λ·μ. Walks from the grazing direction see that second event with
+/// a weight of order one; walks from the other direction reach it only through rare samples of
+/// weight 1/Λ. For a sharp coat (α 0.0025, η 1.5) at 75°/89° in the mirror plane, walks from
+/// 89° give f = 0.382 ± 0.003, of which 0.152 from the second event; 400,000 walks from 75°
+/// gave 0.232 ± 0.0015, the second event not sampled at all (α 0.01: 5.13 ± 0.01 against
+/// 4.5 ± 1.0).
+fn walk_from_the_more_grazing<T: std::ops::Div<f64, Output = T>>(
+    wo: DVec3,
+    wi: DVec3,
+    eval: impl FnOnce(DVec3, DVec3) -> T,
+) -> T {
+    let (start, toward) = if wi.z < wo.z { (wi, wo) } else { (wo, wi) };
+    eval(start, toward) / toward.z
+}
+
 impl Interface {
     fn smooth(&self) -> bool {
         self.alpha < SMOOTH_ALPHA
@@ -149,9 +170,9 @@ impl Interface {
                     * fresnel_dielectric(c, self.eta)
                     / (4.0 * wo.z * wi.z)
             }
-            InterfaceMode::Multiple => {
-                RoughDielectric { eta: self.eta, alpha: self.alpha }.eval_multiple(wo, wi, rng) / wi.z
-            }
+            InterfaceMode::Multiple => walk_from_the_more_grazing(wo, wi, |start, toward| {
+                RoughDielectric { eta: self.eta, alpha: self.alpha }.eval_multiple(start, toward, rng)
+            }),
         }
     }
 
@@ -278,9 +299,9 @@ impl BaseBsdf {
                         fresnel(wo.dot(m))
                             * (microsurface::ggx_d(m, *alpha) * microsurface::g2(wo, wi, *alpha) / (4.0 * wo.z * wi.z))
                     }
-                    InterfaceMode::Multiple => {
-                        RoughConductor { alpha: *alpha }.eval_multiple(wo, wi, &fresnel, rng) / wi.z
-                    }
+                    InterfaceMode::Multiple => walk_from_the_more_grazing(wo, wi, |start, toward| {
+                        RoughConductor { alpha: *alpha }.eval_multiple(start, toward, &fresnel, rng)
+                    }),
                 }
             }
         }
