@@ -19,11 +19,11 @@ static const float3 car_paint_layer2_survival = float3(0.67227614, 0.004048639, 
 static const float car_paint_layer2_alpha_1 = 0.09037713;
 static const float3 car_paint_layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 car_paint_layer2_pool_fresnel = float3(0.88051546, 0.8935001, 0.8935001);
-static const float3 car_paint_layer1_remainder_avg = float3(0.0026940068, 1.5091631e-8, 1.8827935e-10);
+static const float3 car_paint_layer1_remainder_avg = float3(0.0026933323, 1.5083438e-8, 1.8815233e-10);
 static const float car_paint_layer1_mu_c = 0.745356;
-static const float3 car_paint_layer1_rho = float3(0.74067616, 0.06705829, 0.031262092);
+static const float3 car_paint_layer1_rho = float3(0.7406771, 0.067058295, 0.031262092);
 static const float car_paint_layer1_trapped_escape = 0.15678635;
-static const float3 car_paint_trapped_out = float3(0.29350564, 0.010574826, 0.0047770757);
+static const float3 car_paint_trapped_out = float3(0.29350638, 0.010574817, 0.0047770706);
 static const uint car_paint_ibl_specular_lobes = 2u;
 static const float car_paint_base_roughness = 0.37185615;
 
@@ -83,9 +83,9 @@ float car_paint_lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float car_paint_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_6 = max(alpha_2, 0.001);
-    const float _e5 = car_paint_lambda_ggx(n_dot_v, alpha_6);
-    const float _e6 = car_paint_lambda_ggx(n_dot_l, alpha_6);
+    float alpha_7 = max(alpha_2, 0.001);
+    const float _e5 = car_paint_lambda_ggx(n_dot_v, alpha_7);
+    const float _e6 = car_paint_lambda_ggx(n_dot_l, alpha_7);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -117,17 +117,57 @@ float3 car_paint_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 14 of the table's
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float car_paint_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.8360856) + 1.0000006);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.33166942, -1.3342792, 0.6242377)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.17057773, 0.027964713, 0.0043541198)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.0022459035, -4.827998e-5, 0.0003898144)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.0004076958, -0.0006884337, 0.0004220009)));
-    return f_4;
+    float f = ((u * -0.1727557) + 1.0000006);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.70080215, -0.7268715, 0.075482756)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.10977743, 0.012890697, 5.8114532e-5)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.00086009497, -0.00038713208, 2.7716162e-5)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.0005024672, -0.0007742644, 0.0003871322)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 7.241965e-5));
+    float f_6 = (f_5 + (max(u, 0.93333334) * -7.241965e-5));
+    return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float car_paint_d_ggx_mirrored_tail(float z, float across, float alpha_3)
+{
+    float a_4 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_4 * a_4);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float car_paint_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -136,22 +176,23 @@ float car_paint_coat_scale_curve(float cos_theta)
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 29 of the table's
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 28 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float car_paint_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_5 = ((u_1 * -0.23525593) + -8.429401e-6);
-    float f_6 = (f_5 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(0.42355445, 0.11186912, -0.9008823)));
-    float f_7 = (f_6 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(0.043015163, 0.32627678, 0.14866436)));
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(0.06702751, 0.062109314, -0.038766224)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.017394189, -0.03652423, 0.011807078)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.006165725, 0.0035800978, -0.0011752645)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.0018261934, 0.00019889172, 0.0007051798)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(-0.00018082031, 0.0006690102, -0.00014465104)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.0002531391, 0.00021697595, -0.00014465071)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.00014465082, -5.4244127e-5, -1.808135e-5)));
-    return f_14;
+    float f_7 = ((u_1 * 0.018868122) + -9.304378e-6);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.41898763, 0.14115073, 0.25619617)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.04369545, -0.28174376, 0.094916634)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(0.16662645, 0.056496438, 0.018922206)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.0033847406, -0.025781661, 0.009866177)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.0031867106, 0.0033487321, 0.00019804694)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.0012062758, 0.00075615157, 0.0004861098)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(-3.600769e-5, 0.00075616484, -0.00021604773)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.00030606767, 0.00023405152, -7.20159e-5)));
+    float f_16 = (f_15 + (max(u_1, 0.83870965) * 1.8003984e-5));
+    float f_17 = (f_16 + (max(u_1, 0.87096775) * -1.8003984e-5));
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -190,10 +231,10 @@ float3 car_paint_f_schlick(float3 f0_, float cos_theta_2)
 float car_paint_glossy_scale_curve(float cos_theta_3)
 {
     float u_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
-    float f_15 = (1.0202647 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(0.45261955, -0.3683653, -0.29751205)));
-    float f_16 = (f_15 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(0.035235405, 0.092440605, 0.047664642)));
-    float f_17 = (f_16 + (max(u_2, 0.875) * 0.023005486));
-    return f_17;
+    float f_18 = (1.0200783 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(0.45256233, -0.368289, -0.29771614)));
+    float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(0.035452843, 0.092573166, 0.04733944)));
+    float f_20 = (f_19 + (max(u_2, 0.875) * 0.023370743));
+    return f_20;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -204,9 +245,9 @@ float car_paint_glossy_scale_curve(float cos_theta_3)
 float car_paint_glossy_next_curve(float cos_theta_4)
 {
     float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_18 = ((u_3 * 0.0019297004) + 0.2134062);
-    float f_19 = (f_18 + dot(max((u_3).xxx, float3(0.25, 0.5, 0.75)), float3(0.009461105, 0.028464973, 0.00029283762)));
-    return f_19;
+    float f_21 = ((u_3 * 0.0019297004) + 0.2134062);
+    float f_22 = (f_21 + dot(max((u_3).xxx, float3(0.25, 0.5, 0.75)), float3(0.009461105, 0.028464973, 0.00029283762)));
+    return f_22;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -220,11 +261,11 @@ float car_paint_glossy_next_curve(float cos_theta_4)
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_20 = ((u_4 * -11.364231) + 1.1429214);
-    float f_21 = (f_20 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.047794, 1.1094351, 0.25702763)));
-    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.07725239, -0.1627922, -0.008248329)));
-    float f_23 = (f_22 + (max(u_4, 0.875) * 0.071787834));
-    return f_23;
+    float f_23 = ((u_4 * -11.364125) + 1.1430384);
+    float f_24 = (f_23 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.047745, 1.1096478, 0.25697708)));
+    float f_25 = (f_24 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.07753658, -0.16301155, -0.008024216)));
+    float f_26 = (f_25 + (max(u_4, 0.875) * 0.07171154));
+    return f_26;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -235,14 +276,14 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 float car_paint_ggx_albedo_curve(float cos_theta_6)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_24 = ((u_5 * -0.02538353) + 0.9516745);
-    float f_25 = (f_24 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.04854798, -0.083768085, -0.11518026)));
-    float f_26 = (f_25 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.12120999, -0.047754053, 0.1340604)));
-    float f_27 = (f_26 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.3204757, 0.30429307, 0.10328204)));
-    float f_28 = (f_27 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.07329763, -0.12263686, -0.09455592)));
-    float f_29 = (f_28 + (max(u_5, 0.8666667) * -0.056797568));
-    float f_30 = (f_29 + (max(u_5, 0.93333334) * -0.032047037));
-    return f_30;
+    float f_27 = ((u_5 * -0.02538353) + 0.9516745);
+    float f_28 = (f_27 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.04854798, -0.083768085, -0.11518026)));
+    float f_29 = (f_28 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.12120999, -0.047754053, 0.1340604)));
+    float f_30 = (f_29 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.3204757, 0.30429307, 0.10328204)));
+    float f_31 = (f_30 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.07329763, -0.12263686, -0.09455592)));
+    float f_32 = (f_31 + (max(u_5, 0.8666667) * -0.056797568));
+    float f_33 = (f_32 + (max(u_5, 0.93333334) * -0.032047037));
+    return f_33;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -253,14 +294,14 @@ float car_paint_ggx_albedo_curve(float cos_theta_6)
 float car_paint_ggx_albedo_curve_b(float cos_theta_7)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_31 = ((u_6 * -0.019831358) + 0.8686472);
-    float f_32 = (f_31 + dot(max((u_6).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.035854872, -0.060288023, -0.08456107)));
-    float f_33 = (f_32 + dot(max((u_6).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.10058468, -0.08979679, -0.019196572)));
-    float f_34 = (f_33 + dot(max((u_6).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.11597439, 0.2546345, 0.2678034)));
-    float f_35 = (f_34 + dot(max((u_6).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.14310391, -0.009678305, -0.08868546)));
-    float f_36 = (f_35 + (max(u_6, 0.8666667) * -0.09392203));
-    float f_37 = (f_36 + (max(u_6, 0.93333334) * -0.06806106));
-    return f_37;
+    float f_34 = ((u_6 * -0.019831358) + 0.8686472);
+    float f_35 = (f_34 + dot(max((u_6).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.035854872, -0.060288023, -0.08456107)));
+    float f_36 = (f_35 + dot(max((u_6).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.10058468, -0.08979679, -0.019196572)));
+    float f_37 = (f_36 + dot(max((u_6).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.11597439, 0.2546345, 0.2678034)));
+    float f_38 = (f_37 + dot(max((u_6).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.14310391, -0.009678305, -0.08868546)));
+    float f_39 = (f_38 + (max(u_6, 0.8666667) * -0.09392203));
+    float f_40 = (f_39 + (max(u_6, 0.93333334) * -0.06806106));
+    return f_40;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -276,13 +317,13 @@ float car_paint_ggx_albedo_curve_b(float cos_theta_7)
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-float car_paint_trapped_share(float mu_1, float mu_c, float alpha_3)
+float car_paint_trapped_share(float mu_1, float mu_c, float alpha_4)
 {
     float sin_t = sqrt(max((1.0 - (mu_1 * mu_1)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
     float near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1.0));
     float far = (((sin_t * mu_c) + (mu_1 * sin_c)) / max((((mu_1 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
-    float a2_ = (alpha_3 * alpha_3);
+    float a2_ = (alpha_4 * alpha_4);
     float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
     return ((cos_beta + 1.0) * 0.5);
 }
@@ -294,10 +335,10 @@ float car_paint_trapped_share(float mu_1, float mu_c, float alpha_3)
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
 // would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
-float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4)
+float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_5)
 {
-    const float beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_4);
-    const float below_horizon = car_paint_trapped_share(mu_2, 0.0, alpha_4);
+    const float beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_5);
+    const float below_horizon = car_paint_trapped_share(mu_2, 0.0, alpha_5);
     return max((beyond_cone - below_horizon), 0.0);
 }
 
@@ -309,9 +350,9 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_4)
 float car_paint_glossy_quick_curve(float cos_theta_8)
 {
     float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
-    float f_38 = ((u_7 * 0.0144017935) + 0.2634757);
-    float f_39 = (f_38 + dot(max((u_7).xxx, float3(0.25, 0.5, 0.75)), float3(-0.029078186, -0.006097257, -0.009634793)));
-    return f_39;
+    float f_41 = ((u_7 * 0.0144017935) + 0.2634757);
+    float f_42 = (f_41 + dot(max((u_7).xxx, float3(0.25, 0.5, 0.75)), float3(-0.029078186, -0.006097257, -0.009634793)));
+    return f_42;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -323,9 +364,9 @@ float car_paint_glossy_quick_curve(float cos_theta_8)
 float car_paint_glossy_steady_curve(float cos_theta_9)
 {
     float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
-    float f_40 = ((u_8 * 0.02468437) + 0.24147323);
-    float f_41 = (f_40 + dot(max((u_8).xxx, float3(0.25, 0.5, 0.75)), float3(-0.067401886, 0.055904448, -0.029418409)));
-    return f_41;
+    float f_43 = ((u_8 * 0.02468437) + 0.24147323);
+    float f_44 = (f_43 + dot(max((u_8).xxx, float3(0.25, 0.5, 0.75)), float3(-0.067401886, 0.055904448, -0.029418409)));
+    return f_44;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -376,9 +417,9 @@ float3 car_paint_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i
 float car_paint_glossy_spread_curve(float cos_theta_10)
 {
     float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
-    float f_42 = ((u_9 * 0.008631557) + 0.0920461);
-    float f_43 = (f_42 + dot(max((u_9).xxx, float3(0.25, 0.5, 0.75)), float3(0.001826942, 0.013103694, -0.023562193)));
-    return f_43;
+    float f_45 = ((u_9 * 0.008631557) + 0.0920461);
+    float f_46 = (f_45 + dot(max((u_9).xxx, float3(0.25, 0.5, 0.75)), float3(0.001826942, 0.013103694, -0.023562193)));
+    return f_46;
 }
 
 // sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
@@ -445,8 +486,8 @@ float3 car_paint_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi)
 {
     float r_1 = min(rho_1, 0.95);
     float3 r_c = min(rho_c, (0.95).xxx);
-    float3 a_4 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), car_paint_one);
-    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r_1)));
+    float3 a_5 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), car_paint_one);
+    return ((car_paint_one + (a_5 * cos_phi)) / (car_paint_one + (a_5 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -527,9 +568,9 @@ float3 car_paint_trapped_lobe(float3 e_i_1, float p_i, float3 e_o_1, float p_o, 
 float car_paint_glossy_spread_curve_b(float cos_theta_11)
 {
     float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_44 = ((u_10 * 0.0020885468) + 0.8244415);
-    float f_45 = (f_44 + dot(max((u_10).xxx, float3(0.25, 0.5, 0.75)), float3(0.12044048, 0.21109223, -0.33362126)));
-    return f_45;
+    float f_47 = ((u_10 * 0.0020885468) + 0.8244415);
+    float f_48 = (f_47 + dot(max((u_10).xxx, float3(0.25, 0.5, 0.75)), float3(0.12044048, 0.21109223, -0.33362126)));
+    return f_48;
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -547,13 +588,24 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 _e21 = car_paint_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
     const float layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_3);
-    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    float3 layer1_mirrored_along = cross(n_3, (v_3 + l_3));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    const float layer1_mirrored_d = car_paint_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0016);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    const float layer1_mirrored_fresnel = car_paint_fr_dielectric(layer1_mirrored_cos, 1.5);
     const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5);
-    const float _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     const float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_3, 1.5);
-    const float _e40 = car_paint_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    const float layer1_lambda_l = car_paint_lambda_ggx(cos_l, 0.0016);
+    const float layer1_lambda_v = car_paint_lambda_ggx(cos_v, 0.0016);
+    const float _e47 = car_paint_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
+    const float _e62 = car_paint_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
+    const float _e70 = car_paint_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
     const float3 layer1_v = car_paint_refract_down(v_3, n_3, 1.5);
     const float3 layer1_l = car_paint_refract_down(l_3, n_3, 1.5);
     float layer1_n_dot_v = dot(n_3, layer1_v);
@@ -572,79 +624,79 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_l);
     const float layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_l);
     const float layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_l);
-    const float _e77 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
-    float _e82 = max(layer2_cos_l, 0.19711706);
-    const float _e83 = car_paint_ggx_albedo_curve(_e82);
-    const float _e86 = car_paint_ggx_albedo_curve_b(_e82);
-    const float _e92 = car_paint_glossy_trapped_share(_e82, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l = (1.0 - _e92);
-    float layer2_lobe_normaliser_l = (((0.78416157 * _e83) + (0.21583843 * _e86)) * layer2_cone_share_l);
-    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e77) * layer2_lobe_normaliser_l), 0.0), 1.0);
+    const float _e107 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
+    float _e112 = max(layer2_cos_l, 0.19711706);
+    const float _e113 = car_paint_ggx_albedo_curve(_e112);
+    const float _e116 = car_paint_ggx_albedo_curve_b(_e112);
+    const float _e122 = car_paint_glossy_trapped_share(_e112, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_l = (1.0 - _e122);
+    float layer2_lobe_normaliser_l = (((0.78416157 * _e113) + (0.21583843 * _e116)) * layer2_cone_share_l);
+    float layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e107) * layer2_lobe_normaliser_l), 0.0), 1.0);
     float layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    const float _e111 = car_paint_glossy_quick_curve(layer1_n_dot_l);
-    const float _e112 = car_paint_glossy_steady_curve(layer1_n_dot_l);
-    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e111, _e112, 0.43932146, car_paint_layer2_survival);
+    const float _e141 = car_paint_glossy_quick_curve(layer1_n_dot_l);
+    const float _e142 = car_paint_glossy_steady_curve(layer1_n_dot_l);
+    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e141, _e142, 0.43932146, car_paint_layer2_survival);
     const float3 layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    const float3 _e120 = car_paint_glossy_once(layer2_single_l, layer2_next_l, (1.0).xxx);
-    float3 layer2_once_colour_l = (layer2_once_l / (max(_e120.x, 1e-6)).xxx);
+    const float3 _e150 = car_paint_glossy_once(layer2_single_l, layer2_next_l, (1.0).xxx);
+    float3 layer2_once_colour_l = (layer2_once_l / (max(_e150.x, 1e-6)).xxx);
     const float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02);
     float layer2_transmit_v = (1.0 - layer2_fresnel_v);
     const float3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     const float3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
     const float layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v);
     const float layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v);
-    const float _e137 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
-    float _e142 = max(layer2_cos_v, 0.19711706);
-    const float _e143 = car_paint_ggx_albedo_curve(_e142);
-    const float _e146 = car_paint_ggx_albedo_curve_b(_e142);
-    const float _e152 = car_paint_glossy_trapped_share(_e142, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_v = (1.0 - _e152);
-    float layer2_lobe_normaliser_v = (((0.78416157 * _e143) + (0.21583843 * _e146)) * layer2_cone_share_v);
-    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e137) * layer2_lobe_normaliser_v), 0.0), 1.0);
+    const float _e167 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
+    float _e172 = max(layer2_cos_v, 0.19711706);
+    const float _e173 = car_paint_ggx_albedo_curve(_e172);
+    const float _e176 = car_paint_ggx_albedo_curve_b(_e172);
+    const float _e182 = car_paint_glossy_trapped_share(_e172, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v = (1.0 - _e182);
+    float layer2_lobe_normaliser_v = (((0.78416157 * _e173) + (0.21583843 * _e176)) * layer2_cone_share_v);
+    float layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e167) * layer2_lobe_normaliser_v), 0.0), 1.0);
     float layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
-    const float _e171 = car_paint_glossy_quick_curve(layer1_n_dot_v);
-    const float _e172 = car_paint_glossy_steady_curve(layer1_n_dot_v);
-    const float3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e171, _e172, 0.43932146, car_paint_layer2_survival);
+    const float _e201 = car_paint_glossy_quick_curve(layer1_n_dot_v);
+    const float _e202 = car_paint_glossy_steady_curve(layer1_n_dot_v);
+    const float3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e201, _e202, 0.43932146, car_paint_layer2_survival);
     const float3 layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    const float3 _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, (1.0).xxx);
-    float3 layer2_once_colour_v = (layer2_once_v / (max(_e180.x, 1e-6)).xxx);
+    const float3 _e210 = car_paint_glossy_once(layer2_single_v, layer2_next_v, (1.0).xxx);
+    float3 layer2_once_colour_v = (layer2_once_v / (max(_e210.x, 1e-6)).xxx);
     const float3 layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     float3 layer2_n_cross_h = cross(n_3, layer2_h);
     const float layer2_d = car_paint_d_ggx(dot(n_3, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     const float layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     const float3 layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    const float3 _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    float3 layer1_under = ((_e199 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    const float3 _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
+    const float3 _e229 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    float3 layer1_under = ((_e229 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    const float3 _e235 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02);
     const float layer1_spread_l = car_paint_glossy_spread_curve(layer1_n_dot_l);
     const float layer1_spread_v = car_paint_glossy_spread_curve(layer1_n_dot_v);
     const float layer1_sines = car_paint_forward_sines(n_3, layer1_v, layer1_l);
     float layer1_spread_rho = min((sqrt(max((layer1_spread_l * layer1_spread_v), 0.0)) * layer1_sines), 0.95);
-    const float3 _e227 = car_paint_glossy_spread_colour(layer1_spread_rho, ((layer2_next_l + layer2_next_v) * 0.5), ((_e111 + _e171) * 0.5), ((_e112 + _e172) * 0.5), 0.43932146, car_paint_layer2_pool_fresnel);
-    const float _e228 = car_paint_forward_cosine(n_3, layer1_v, layer1_l, layer1_sines);
-    const float3 _e229 = car_paint_forward_azimuth_tilt(layer1_spread_rho, _e227, _e228);
-    const float _e230 = car_paint_forward_azimuth_weight(layer1_spread_rho, _e228);
-    float3 layer1_spread = (_e229 * _e230);
-    const float3 _e232 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    const float3 _e233 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    const float3 _e235 = car_paint_glossy_remainder_lobe(_e232, _e233, car_paint_layer1_remainder_avg);
-    float3 layer1_later = (_e235 * layer1_spread);
-    float3 layer1_f = (_e205 + layer1_later);
+    const float3 _e257 = car_paint_glossy_spread_colour(layer1_spread_rho, ((layer2_next_l + layer2_next_v) * 0.5), ((_e141 + _e201) * 0.5), ((_e142 + _e202) * 0.5), 0.43932146, car_paint_layer2_pool_fresnel);
+    const float _e258 = car_paint_forward_cosine(n_3, layer1_v, layer1_l, layer1_sines);
+    const float3 _e259 = car_paint_forward_azimuth_tilt(layer1_spread_rho, _e257, _e258);
+    const float _e260 = car_paint_forward_azimuth_weight(layer1_spread_rho, _e258);
+    float3 layer1_spread = (_e259 * _e260);
+    const float3 _e262 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    const float3 _e263 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    const float3 _e265 = car_paint_glossy_remainder_lobe(_e262, _e263, car_paint_layer1_remainder_avg);
+    float3 layer1_later = (_e265 * layer1_spread);
+    float3 layer1_f = (_e235 + layer1_later);
     const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     const float3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     float3 inner_l = ((1.0).xxx * (1.0 - layer1_transmit_l));
     float3 inner_v = ((1.0).xxx * (1.0 - layer1_transmit_v));
-    const float3 _e250 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    const float3 _e280 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     const float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     const float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    const float3 _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, (1.0).xxx, car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    const float _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    const float _e264 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    const float3 _e292 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, (1.0).xxx, car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    const float _e293 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    const float _e294 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     const float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    const float _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    const float layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0.0)) * layer1_trapped_sines), 0.95), _e273);
-    float3 trapped = (_e262 * layer1_trapped_spread);
-    float3 under = (_e250 + trapped);
+    const float _e303 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    const float layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e293 * _e294), 0.0)) * layer1_trapped_sines), 0.95), _e303);
+    float3 trapped = (_e292 * layer1_trapped_spread);
+    float3 under = (_e280 + trapped);
     const float3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
@@ -674,11 +726,11 @@ float3 car_paint_interfaced_albedo_glossy(float t_2, float3 a_2, float3 e_below,
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 car_paint_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_5)
+float3 car_paint_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_6)
 {
     float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
-    float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
-    float t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
+    float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
+    float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
     float3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }

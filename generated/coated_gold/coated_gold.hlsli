@@ -13,7 +13,7 @@ struct CoatedGoldIblLobes {
 
 static const float3 coated_gold_one = float3(1.0, 1.0, 1.0);
 static const float3 coated_gold_layer1_pool_fresnel = float3(0.9322251, 0.7678392, 0.3619415);
-static const float3 coated_gold_remainder_avg = float3(0.07577632, 0.03172815, 0.0034033447);
+static const float3 coated_gold_remainder_avg = float3(0.07576165, 0.031722005, 0.0034027132);
 static const uint coated_gold_ibl_specular_lobes = 2u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -67,17 +67,17 @@ float coated_gold_fr_dielectric(float cos_i, float eta_1)
 float coated_gold_coat_deficit_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * -0.09193404) + -0.00044265765);
-    float f_1 = (f + dot(max((u).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(0.041281834, -0.17662261, 0.046880037)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.039753288, -0.13207489, 0.055374578)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.3457993, -0.025617354, 0.03628184)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.026981566, 0.22346427, 0.15814403)));
-    float f_5 = (f_4 + dot(max((u).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.046465307, 0.068501875, 0.0008675591)));
-    float f_6 = (f_5 + dot(max((u).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.037316743, 0.014992681, 0.019915992)));
-    float f_7 = (f_6 + dot(max((u).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.009369533, 0.00963811, 0.005380646)));
-    float f_8 = (f_7 + dot(max((u).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.0050012525, 0.002772499, 0.0019204987)));
-    float f_9 = (f_8 + dot(max((u).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0011232548, 0.00058081566, 7.1219794e-5)));
-    float f_10 = (f_9 + dot(max((u).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.00029040664, -0.00014381928, -0.00023699505)));
+    float f = ((u * -0.032026023) + -0.00037076068);
+    float f_1 = (f + dot(max((u).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.033704236, -0.020881355, -0.18295114)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.22080079, 0.11075193, 0.015634686)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.049557418, -0.08091132, -0.1859818)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.08017361, 0.2061308, 0.11820417)));
+    float f_5 = (f_4 + dot(max((u).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.095714614, 0.05991873, 0.010449743)));
+    float f_6 = (f_5 + dot(max((u).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.03737664, 0.0165298, 0.019110624)));
+    float f_7 = (f_6 + dot(max((u).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.011165314, 0.008715778, 0.006094121)));
+    float f_8 = (f_7 + dot(max((u).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.00478209, 0.0025969543, 0.0022205522)));
+    float f_9 = (f_8 + dot(max((u).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0010447791, 0.00065062195, 0.00036008007)));
+    float f_10 = (f_9 + dot(max((u).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-0.0002891664, 0.00021687511, -0.0003778086)));
     return f_10;
 }
 
@@ -132,9 +132,9 @@ float3 coated_gold_fr_conductor(float cos_i_1, float3 eta_2, float3 k)
 float coated_gold_glossy_scale_curve(float cos_theta_2)
 {
     float u_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
-    float f_16 = (1.061315 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(1.6039219, -1.0439978, -0.45039368)));
-    float f_17 = (f_16 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(-0.056563377, -0.1368208, 0.033548355)));
-    float f_18 = (f_17 + (max(u_2, 0.875) * 0.007332802));
+    float f_16 = (1.0610694 + dot(max((u_2).xxx, float3(0.125, 0.25, 0.375)), float3(1.6038918, -1.0441265, -0.4499774)));
+    float f_17 = (f_16 + dot(max((u_2).xxx, float3(0.5, 0.625, 0.75)), float3(-0.056713104, -0.13678741, 0.033270836)));
+    float f_18 = (f_17 + (max(u_2, 0.875) * 0.007733345));
     return f_18;
 }
 
@@ -162,10 +162,10 @@ float coated_gold_glossy_next_curve(float cos_theta_3)
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4)
 {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_4 * 0.24190712) + 0.89434123);
-    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-2.965723, 2.2643862, 0.4501238)));
-    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.20816708, 0.1467824, -0.08180857)));
-    float f_24 = (f_23 + (max(u_4, 0.875) * -0.19411612));
+    float f_21 = ((u_4 * 0.27659512) + 0.8937276);
+    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-2.711802, 1.9402537, 0.50745153)));
+    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.16362429, 0.18548012, -0.10374451)));
+    float f_24 = (f_23 + (max(u_4, 0.875) * -0.18750334));
     return f_24;
 }
 
@@ -353,9 +353,9 @@ float coated_gold_lambda_ggx(float n_dot_x, float alpha_3)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float coated_gold_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_4)
 {
-    float alpha_6 = max(alpha_4, 0.001);
-    const float _e5 = coated_gold_lambda_ggx(n_dot_v, alpha_6);
-    const float _e6 = coated_gold_lambda_ggx(n_dot_l, alpha_6);
+    float alpha_7 = max(alpha_4, 0.001);
+    const float _e5 = coated_gold_lambda_ggx(n_dot_v, alpha_7);
+    const float _e6 = coated_gold_lambda_ggx(n_dot_l, alpha_7);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -377,14 +377,52 @@ float3 coated_gold_f_cook_torrance(float d, float g, float3 fresnel, float n_dot
 float coated_gold_coat_scale_curve(float cos_theta_10)
 {
     float u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_46 = ((u_10 * 0.15601157) + 1.0003927);
-    float f_47 = (f_46 + dot(max((u_10).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.28042316, 0.11270111, -0.4168833)));
-    float f_48 = (f_47 + dot(max((u_10).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.49425244, 0.031675104, 0.1990074)));
-    float f_49 = (f_48 + dot(max((u_10).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.09816172, 0.01991986, 0.006784201)));
-    float f_50 = (f_49 + dot(max((u_10).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.0038820507, 0.0013017656, -5.0067905e-5)));
-    float f_51 = (f_50 + (max(u_10, 0.8666667) * 0.00051856047));
-    float f_52 = (f_51 + (max(u_10, 0.93333334) * 0.00043809417));
+    float f_46 = ((u_10 * 0.060539242) + 0.99981815);
+    float f_47 = (f_46 + dot(max((u_10).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.12546837, 0.09257913, 0.26737326)));
+    float f_48 = (f_47 + dot(max((u_10).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.23175533, -0.22550048, 0.07317067)));
+    float f_49 = (f_48 + dot(max((u_10).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.07269861, 0.011095398, 0.002680421)));
+    float f_50 = (f_49 + dot(max((u_10).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.0020688775, 0.00042915347, -0.0003343821)));
+    float f_51 = (f_50 + (max(u_10, 0.8666667) * 0.0004640222));
+    float f_52 = (f_51 + (max(u_10, 0.93333334) * 0.00015020372));
     return f_52;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float coated_gold_d_ggx_mirrored_tail(float z, float across, float alpha_5)
+{
+    float a_4 = max(alpha_5, 0.001);
+    float a_sq_1 = (a_4 * a_4);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float coated_gold_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -477,8 +515,8 @@ float3 coated_gold_forward_azimuth_tilt(float rho_1, float3 rho_c, float cos_phi
 {
     float r_1 = min(rho_1, 0.95);
     float3 r_c = min(rho_c, (0.95).xxx);
-    float3 a_4 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), coated_gold_one);
-    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r_1)));
+    float3 a_5 = min(((r_c - (r_1).xxx) / max((((((r_1 * r_1) + 1.0) * 0.5)).xxx - (r_c * r_1)), (1e-6).xxx)), coated_gold_one);
+    return ((coated_gold_one + (a_5 * cos_phi)) / (coated_gold_one + (a_5 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -593,29 +631,40 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 _e249 = coated_gold_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
     const float layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_3);
-    float3 specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
+    float3 layer1_mirrored_along = cross(n_3, (v_3 + l_3));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    const float layer1_mirrored_d = coated_gold_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.010000001);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    const float layer1_mirrored_fresnel = coated_gold_fr_dielectric(layer1_mirrored_cos, 1.5);
+    const float layer1_lambda_l = coated_gold_lambda_ggx(cos_l, 0.010000001);
+    const float layer1_lambda_v = coated_gold_lambda_ggx(cos_v, 0.010000001);
+    const float _e271 = coated_gold_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e271);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    float3 specular = ((_e249 + (layer1_second_event).xxx) * (layer1_scale_l_1 * layer1_scale_v_1));
     const float3 layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     float3 layer1_n_cross_h = cross(n_3, layer1_h);
     const float layer1_d = coated_gold_d_ggx(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     const float layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     const float3 layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float3 _e272 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    float3 under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    const float3 _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
+    const float3 _e302 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    float3 under = ((_e302 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    const float3 _e311 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     const float spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
     const float spread_v = coated_gold_glossy_spread_curve(n_dot_v_3);
     const float sines = coated_gold_forward_sines(n_3, v_3, l_3);
     float spread_rho = min((sqrt(max((spread_l * spread_v), 0.0)) * sines), 0.95);
-    const float3 _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5), ((_e107 + _e210) * 0.5), ((_e108 + _e211) * 0.5), 0.9170209, coated_gold_layer1_pool_fresnel);
-    const float _e304 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
-    const float3 _e305 = coated_gold_forward_azimuth_tilt(spread_rho, _e303, _e304);
-    const float _e306 = coated_gold_forward_azimuth_weight(spread_rho, _e304);
-    float3 spread = (_e305 * _e306);
-    const float3 _e310 = coated_gold_glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    const float3 _e313 = coated_gold_glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    const float3 _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
-    float3 later_2 = (_e315 * spread);
-    float3 f_55 = (_e281 + later_2);
+    const float3 _e333 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5), ((_e107 + _e210) * 0.5), ((_e108 + _e211) * 0.5), 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float _e334 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
+    const float3 _e335 = coated_gold_forward_azimuth_tilt(spread_rho, _e333, _e334);
+    const float _e336 = coated_gold_forward_azimuth_weight(spread_rho, _e334);
+    float3 spread = (_e335 * _e336);
+    const float3 _e340 = coated_gold_glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    const float3 _e343 = coated_gold_glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    const float3 _e345 = coated_gold_glossy_remainder_lobe(_e340, _e343, coated_gold_remainder_avg);
+    float3 later_2 = (_e345 * spread);
+    float3 f_55 = (_e311 + later_2);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : (0.0).xxx);
 }
 
@@ -642,11 +691,11 @@ float3 coated_gold_glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, flo
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_5)
+float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alpha_6)
 {
     float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
-    float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
-    float t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
+    float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
+    float t_2 = (smoothness * (sqrt(smoothness) + alpha_6));
     float3 d_2 = ((n_5 * (1.0 - t_2)) + (r_3 * t_2));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }

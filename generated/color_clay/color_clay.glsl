@@ -10,7 +10,7 @@ struct ColorClayIblLobes {
 };
 const vec3 color_clay_layer1_rho_ms = vec3(0.28973147, 0.0132765025, 0.009134458);
 const vec3 color_clay_layer1_rho = vec3(0.5261278, 0.110294394, 0.09139683);
-const vec3 color_clay_layer1_r_return = vec3(0.41528052, 0.41528052, 0.41528052);
+const vec3 color_clay_layer1_r_return = vec3(0.41527808, 0.41527808, 0.41527808);
 const uint color_clay_ibl_specular_lobes = 1u;
 
 layout(binding = 33) uniform sampler2D color_clay_radiance;
@@ -53,9 +53,9 @@ float color_clay_lambda_ggx(float n_dot_x, float alpha_1) {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float color_clay_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
-    float alpha_4 = max(alpha_2, 0.001);
-    float _e5 = color_clay_lambda_ggx(n_dot_v, alpha_4);
-    float _e6 = color_clay_lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    float _e5 = color_clay_lambda_ggx(n_dot_v, alpha_5);
+    float _e6 = color_clay_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -89,14 +89,50 @@ vec3 color_clay_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1,
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float color_clay_coat_scale_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.0066840644) + 1.0335633);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.027347801, 0.050522096, 0.060009032)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.09167079, 0.060683195, -0.07042051)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.23869874, -0.11694433, -0.088319786)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.09728552, 0.0638938, -0.0010460616)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.019074084));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0055056815));
+    float f = ((u * 0.005922317) + 1.0087713);
+    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.01734227, 0.0017148283, -0.05776405)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.030920515, 0.11055172, 0.1851091)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.048217263, -0.14456205, -0.18024625)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.045053963, 0.049760345, 0.0019973519)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 0.030219557));
+    float f_6 = (f_5 + (max(u, 0.93333334) * 0.005128384));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float color_clay_d_ggx_mirrored_tail(float z, float across, float alpha_3) {
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float color_clay_second_event_share(float lambda) {
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -109,17 +145,17 @@ float color_clay_coat_scale_curve(float cos_theta) {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float color_clay_coat_deficit_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.030750155) + -0.011522229);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.02365297, -0.047795594, -0.054541707)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.08313739, -0.09450841, -0.11672199)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.13406676, -0.14922196, -0.16781303)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.15469405, -0.1628463, -0.14584705)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.12886629, -0.003839612, -0.004864186)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.071727514, 0.12463196, 0.18078484)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.22248222, 0.20501284, 0.19273302)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.16905336, 0.12979442, 0.097409144)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.061896898, 0.034557488, 0.018205743)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.007468045, 0.0012405238, -0.002260481)));
+    float f_7 = ((u_1 * -0.030617118) + -0.011473834);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.023994803, -0.04531777, -0.05747962)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.076836586, -0.10043597, -0.111827314)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.13610113, -0.1583646, -0.16133761)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.17006266, -0.15926537, -0.14674506)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.09393099, -0.01871857, -0.020302087)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.09390551, 0.110736944, 0.18043146)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.22835112, 0.19595866, 0.19650386)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.16709071, 0.13145925, 0.09694148)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.062109426, 0.03485953, 0.01808921)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.007428864, 0.0012501882, -0.0022583888)));
     return f_17;
 }
 
@@ -230,41 +266,52 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = color_clay_coat_scale_curve(n_dot_l_3);
     float layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_4);
-    vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    vec3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    float layer1_mirrored_d = color_clay_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.09);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    float layer1_mirrored_fresnel = color_clay_fr_dielectric(layer1_mirrored_cos, 1.33);
     float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33);
-    float _e30 = color_clay_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_4, 1.33);
-    float _e40 = color_clay_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    float layer1_lambda_l = color_clay_lambda_ggx(cos_l, 0.09);
+    float layer1_lambda_v = color_clay_lambda_ggx(cos_v, 0.09);
+    float _e47 = color_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    vec3 specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    float _e62 = color_clay_coat_deficit_curve(n_dot_l_3);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
+    float _e70 = color_clay_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
     vec3 layer1_v = color_clay_refract_down(v_1, n_1, 1.33);
     vec3 layer1_l = color_clay_refract_down(l_1, n_1, 1.33);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e56 = color_clay_coat_path_curve(n_dot_l_3);
-    float layer1_path_cos_l = (layer1_cos_l / _e56);
-    float _e58 = color_clay_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_v = (layer1_cos_v / _e58);
-    float _e61 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l);
-    vec3 absorb_l = vec3(_e61);
-    float _e64 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v);
-    vec3 absorb_v = vec3(_e64);
+    float _e86 = color_clay_coat_path_curve(n_dot_l_3);
+    float layer1_path_cos_l = (layer1_cos_l / _e86);
+    float _e88 = color_clay_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v = (layer1_cos_v / _e88);
+    float _e91 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l);
+    vec3 absorb_l = vec3(_e91);
+    float _e94 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v);
+    vec3 absorb_v = vec3(_e94);
     vec3 layer1_f_base = color_clay_fd_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 layer1_albedo_l = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_l);
     vec3 layer1_albedo_v = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v);
-    float layer1_path_cos_l_1 = (layer1_cos_l / _e56);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e58);
-    vec3 _e92 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
-    float _e94 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e94)) * vec3(0.23442733)) / max(_e92, vec3(1e-6))));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5333499))) / vec3(0.46665013)), vec3(0.0)), vec3(1.0));
-    vec3 _e129 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
-    float _e131 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
-    vec3 layer1_first_escape_v = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e131)) * vec3(0.23442733)) / max(_e129, vec3(1e-6))));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5333499))) / vec3(0.46665013)), vec3(0.0)), vec3(1.0));
-    vec3 under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825418, 0.99614143, 0.99679464), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
+    float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
+    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
+    vec3 _e122 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
+    float _e124 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e124)) * vec3(0.23442733)) / max(_e122, vec3(1e-6))));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
+    vec3 _e159 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
+    float _e161 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
+    vec3 layer1_first_escape_v = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e161)) * vec3(0.23442733)) / max(_e159, vec3(1e-6))));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
+    vec3 under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3(0.9825417, 0.99614143, 0.99679464), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     vec3 f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
@@ -290,10 +337,10 @@ vec3 color_clay_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 color_clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
+vec3 color_clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4) {
     vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     vec3 d_2 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
@@ -338,13 +385,13 @@ ColorClayIblLobes color_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 _e49 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_3);
     float _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5);
     vec3 layer1_first_escape_l_1 = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e51)) * vec3(0.23442733)) / max(_e49, vec3(1e-6))));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * vec3(0.5333499))) / vec3(0.46665013)), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
     vec3 _e86 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
     float _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5);
     vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e88)) * vec3(0.23442733)) / max(_e86, vec3(1e-6))));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * vec3(0.5333499))) / vec3(0.46665013)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958), layer1_first_escape_l_1, layer1_first_return_l_1);
-    vec3 albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958), layer1_first_escape_v_1, layer1_first_return_v_1);
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
+    vec3 albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786), layer1_first_escape_l_1, layer1_first_return_l_1);
+    vec3 albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786), layer1_first_escape_v_1, layer1_first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);

@@ -14,7 +14,7 @@ struct ColorClayIblLobes {
 
 const color_clay_layer1_rho_ms: vec3<f32> = vec3<f32>(0.28973147f, 0.0132765025f, 0.009134458f);
 const color_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5261278f, 0.110294394f, 0.09139683f);
-const color_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.41528052f, 0.41528052f, 0.41528052f);
+const color_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.41527808f, 0.41527808f, 0.41527808f);
 const color_clay_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -60,9 +60,9 @@ fn color_clay_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn color_clay_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = color_clay_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = color_clay_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = color_clay_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = color_clay_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -96,14 +96,50 @@ fn color_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn color_clay_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.0066840644f) + 1.0335633f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.027347801f, 0.050522096f, 0.060009032f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.09167079f, 0.060683195f, -0.07042051f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.23869874f, -0.11694433f, -0.088319786f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.09728552f, 0.0638938f, -0.0010460616f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.019074084f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0055056815f));
+    let f = ((u * 0.005922317f) + 1.0087713f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.01734227f, 0.0017148283f, -0.05776405f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.030920515f, 0.11055172f, 0.1851091f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.048217263f, -0.14456205f, -0.18024625f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.045053963f, 0.049760345f, 0.0019973519f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.030219557f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.005128384f));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn color_clay_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn color_clay_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -116,17 +152,17 @@ fn color_clay_coat_scale_curve(cos_theta: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn color_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.030750155f) + -0.011522229f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02365297f, -0.047795594f, -0.054541707f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.08313739f, -0.09450841f, -0.11672199f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13406676f, -0.14922196f, -0.16781303f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.15469405f, -0.1628463f, -0.14584705f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.12886629f, -0.003839612f, -0.004864186f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.071727514f, 0.12463196f, 0.18078484f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.22248222f, 0.20501284f, 0.19273302f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.16905336f, 0.12979442f, 0.097409144f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.061896898f, 0.034557488f, 0.018205743f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.007468045f, 0.0012405238f, -0.002260481f)));
+    let f_7 = ((u_1 * -0.030617118f) + -0.011473834f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.023994803f, -0.04531777f, -0.05747962f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.076836586f, -0.10043597f, -0.111827314f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13610113f, -0.1583646f, -0.16133761f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.17006266f, -0.15926537f, -0.14674506f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.09393099f, -0.01871857f, -0.020302087f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.09390551f, 0.110736944f, 0.18043146f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.22835112f, 0.19595866f, 0.19650386f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.16709071f, 0.13145925f, 0.09694148f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.062109426f, 0.03485953f, 0.01808921f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.007428864f, 0.0012501882f, -0.0022583888f)));
     return f_17;
 }
 
@@ -237,41 +273,52 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e21 = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = color_clay_coat_scale_curve(n_dot_l_3);
     let layer1_scale_v = color_clay_coat_scale_curve(n_dot_v_4);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = color_clay_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.09f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = color_clay_fr_dielectric(layer1_mirrored_cos, 1.33f);
     let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33f);
-    let _e30 = color_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_4, 1.33f);
-    let _e40 = color_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = color_clay_lambda_ggx(cos_l, 0.09f);
+    let layer1_lambda_v = color_clay_lambda_ggx(cos_v, 0.09f);
+    let _e47 = color_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e62 = color_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
+    let _e70 = color_clay_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = color_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e56 = color_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = color_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e58);
-    let _e61 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
-    let absorb_l = vec3(_e61);
-    let _e64 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
-    let absorb_v = vec3(_e64);
+    let _e86 = color_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e86);
+    let _e88 = color_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / _e88);
+    let _e91 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
+    let absorb_l = vec3(_e91);
+    let _e94 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
+    let absorb_v = vec3(_e94);
     let layer1_f_base = color_clay_fd_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_l);
     let layer1_albedo_v = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e56);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e58);
-    let _e92 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
-    let _e94 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e94)) * vec3(0.23442733f)) / max(_e92, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
-    let _e129 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
-    let _e131 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e131)) * vec3(0.23442733f)) / max(_e129, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
-    let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825418f, 0.99614143f, 0.99679464f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e86);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e88);
+    let _e122 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
+    let _e124 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e124)) * vec3(0.23442733f)) / max(_e122, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
+    let _e159 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
+    let _e161 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e161)) * vec3(0.23442733f)) / max(_e159, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
+    let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825417f, 0.99614143f, 0.99679464f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
     let f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -297,10 +344,10 @@ fn color_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn color_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn color_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
@@ -345,13 +392,13 @@ fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
     let _e49 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_3);
     let _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5f);
     let layer1_first_escape_l_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e51)) * vec3(0.23442733f)) / max(_e49, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
     let _e86 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
     let _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
     let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e88)) * vec3(0.23442733f)) / max(_e86, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333499f))) / vec3(0.46665013f)), vec3(0f)), vec3(1f));
-    let albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.5168958f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
+    let albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09f);

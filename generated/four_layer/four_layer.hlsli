@@ -14,14 +14,14 @@ struct FourLayerIblLobes {
 static const float3 four_layer_layer2_tau = float3(0.35999998, 0.2, 0.040000003);
 static const float3 four_layer_layer4_rho_ms = float3(0.8032769, 0.8032769, 0.713542);
 static const float3 four_layer_layer4_rho = float3(0.89252996, 0.89252996, 0.8394612);
-static const float3 four_layer_layer4_r_return = float3(0.3223219, 0.3223219, 0.3223219);
-static const float3 four_layer_layer3_rho = float3(0.8527689, 0.8527689, 0.78522366);
-static const float3 four_layer_layer3_r_return = float3(0.02070725, 0.056239247, 0.14843833);
-static const float3 four_layer_layer2_rho = float3(0.26342994, 0.4134114, 0.64397824);
+static const float3 four_layer_layer4_r_return = float3(0.32233894, 0.32233894, 0.32233894);
+static const float3 four_layer_layer3_rho = float3(0.85276955, 0.85276955, 0.7852249);
+static const float3 four_layer_layer3_r_return = float3(0.020748317, 0.056278825, 0.1484741);
+static const float3 four_layer_layer2_rho = float3(0.26345956, 0.4134338, 0.6439879);
 static const float3 four_layer_layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 four_layer_layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 four_layer_layer1_rho = float3(0.24375734, 0.3825383, 0.5958865);
-static const float3 four_layer_layer1_r_return = float3(0.5949445, 0.5949445, 0.5949445);
+static const float3 four_layer_layer1_rho = float3(0.24378474, 0.382559, 0.59589547);
+static const float3 four_layer_layer1_r_return = float3(0.5949359, 0.5949359, 0.5949359);
 static const uint four_layer_ibl_specular_lobes = 1u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -72,9 +72,9 @@ float four_layer_lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float four_layer_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_5 = max(alpha_2, 0.001);
-    const float _e5 = four_layer_lambda_ggx(n_dot_v, alpha_5);
-    const float _e6 = four_layer_lambda_ggx(n_dot_l, alpha_5);
+    float alpha_6 = max(alpha_2, 0.001);
+    const float _e5 = four_layer_lambda_ggx(n_dot_v, alpha_6);
+    const float _e6 = four_layer_lambda_ggx(n_dot_l, alpha_6);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -111,14 +111,52 @@ float3 four_layer_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_
 float four_layer_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.031875372) + 1.0102208);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.07371246, 0.11994841, 0.13061099)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.0065534515, -0.21846236, -0.30766907)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.093548186, 0.087488174, 0.10498703)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.031732325, 0.04088402, -0.012624265)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.009346605));
-    float f_6 = (f_5 + (max(u, 0.93333334) * -0.0017470123));
+    float f = ((u * 0.02668619) + 1.0041823);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.019555984, -0.0630337, -0.05337595)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.16555935, 0.18235894, -0.16423078)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.21464106, -0.023104595, 0.06720186)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.022619965, 0.037275556, -0.01356125)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 0.0097346315));
+    float f_6 = (f_5 + (max(u, 0.93333334) * -0.0033295157));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_3)
+{
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float four_layer_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -132,17 +170,17 @@ float four_layer_coat_scale_curve(float cos_theta)
 float four_layer_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.03834161) + -0.004981162);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.014694184, -0.064813316, -0.04077694)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.10648364, -0.07544339, -0.12260336)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.1165871, -0.099422485, -0.13716912)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.08694744, -0.1522116, -0.028819263)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.0040012896, 0.048852503, 0.15331748)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.14091185, 0.16513813, 0.16581412)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.10528529, 0.1050934, 0.06659178)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.05249732, 0.033154104, 0.025457583)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.01801131, 0.007955713, 0.0040271506)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.0018491934, -0.00016434962, -0.0004808017)));
+    float f_7 = ((u_1 * -0.035696566) + -0.0048993737);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.018605858, -0.04643011, -0.063839555)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.06355408, -0.120908976, -0.12705919)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.11604294, -0.18015781, -0.061962247)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.07012004, -0.09002024, -0.02657564)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.08082771, 0.07607439, 0.13548814)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.13201948, 0.18176389, 0.15296035)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.11392689, 0.10243415, 0.070194066)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.051978104, 0.033135038, 0.02559825)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.017701015, 0.008244933, 0.0041204076)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.0017185223, -4.08896e-5, -0.00060151203)));
     return f_17;
 }
 
@@ -171,12 +209,12 @@ float four_layer_slab_transmittance_grey(float tau, float mu)
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
+float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_4)
 {
-    float a_2 = max(alpha_3, 0.001);
-    float a_sq_1 = (a_2 * a_2);
-    float denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 1e-12);
-    return (a_sq_1 / ((denom * denom) * 3.1415927));
+    float a_3 = max(alpha_4, 0.001);
+    float a_sq_2 = (a_3 * a_3);
+    float denom_1 = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 1e-12);
+    return (a_sq_2 / ((denom_1 * denom_1) * 3.1415927));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -190,13 +228,13 @@ float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
 float four_layer_coat_scale_curve_b(float cos_theta_2)
 {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * -0.015060603) + 1.0256641);
-    float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.021902023, 0.029723348, 0.045953378)));
-    float f_20 = (f_19 + dot(max((u_2).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.06363901, 0.032585267, -0.047657494)));
-    float f_21 = (f_20 + dot(max((u_2).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.11613251, -0.12729764, 0.02443135)));
-    float f_22 = (f_21 + dot(max((u_2).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.012624265, 0.059487823, 0.020468833)));
-    float f_23 = (f_22 + (max(u_2, 0.8666667) * -0.008962155));
-    float f_24 = (f_23 + (max(u_2, 0.93333334) * 0.0051319604));
+    float f_18 = ((u_2 * -0.01585722) + 1.0037742);
+    float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.015521049, -0.0011971594, -0.027303094)));
+    float f_20 = (f_19 + dot(max((u_2).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.009397574, 0.07106871, 0.11350215)));
+    float f_21 = (f_20 + dot(max((u_2).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.011117818, -0.15492256, -0.032958988)));
+    float f_22 = (f_21 + dot(max((u_2).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.039440993, 0.054325465, 0.025520327)));
+    float f_23 = (f_22 + (max(u_2, 0.8666667) * 0.004279018));
+    float f_24 = (f_23 + (max(u_2, 0.93333334) * 0.0050067906));
     return f_24;
 }
 
@@ -211,17 +249,17 @@ float four_layer_coat_scale_curve_b(float cos_theta_2)
 float four_layer_coat_deficit_curve_b(float cos_theta_3)
 {
     float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_25 = ((u_3 * -0.019963026) + -0.0036066887);
-    float f_26 = (f_25 + dot(max((u_3).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.02197522, -0.040990353, -0.048499584)));
-    float f_27 = (f_26 + dot(max((u_3).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.06875825, -0.081968695, -0.0997366)));
-    float f_28 = (f_27 + dot(max((u_3).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.11511722, -0.122522056, -0.13581657)));
-    float f_29 = (f_28 + dot(max((u_3).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.120381445, -0.11980495, -0.10119216)));
-    float f_30 = (f_29 + dot(max((u_3).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.06555103, -0.0024274737, 0.024272427)));
-    float f_31 = (f_30 + dot(max((u_3).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.10645688, 0.13926408, 0.1540812)));
-    float f_32 = (f_31 + dot(max((u_3).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.15939546, 0.16005497, 0.1593905)));
-    float f_33 = (f_32 + dot(max((u_3).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.105802804, 0.08690234, 0.04736138)));
-    float f_34 = (f_33 + dot(max((u_3).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.022433989, 0.00457169, 0.0023984252)));
-    float f_35 = (f_34 + dot(max((u_3).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-0.0007751087, -0.0018081414, -0.0015191835)));
+    float f_25 = ((u_3 * -0.020166278) + -0.003592166);
+    float f_26 = (f_25 + dot(max((u_3).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.021597356, -0.040179193, -0.049817026)));
+    float f_27 = (f_26 + dot(max((u_3).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.06540829, -0.08492416, -0.09904)));
+    float f_28 = (f_27 + dot(max((u_3).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.113132745, -0.13081473, -0.12935963)));
+    float f_29 = (f_28 + dot(max((u_3).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.12845609, -0.11919704, -0.09944743)));
+    float f_30 = (f_29 + dot(max((u_3).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.052427426, -0.007245466, 0.02059634)));
+    float f_31 = (f_30 + dot(max((u_3).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.112209596, 0.13448581, 0.15254664)));
+    float f_32 = (f_31 + dot(max((u_3).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.15822935, 0.15778777, 0.16349415)));
+    float f_33 = (f_32 + dot(max((u_3).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.10673136, 0.088544466, 0.04380997)));
+    float f_34 = (f_33 + dot(max((u_3).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.025283044, 0.0045521106, 0.0008847585)));
+    float f_35 = (f_34 + dot(max((u_3).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-0.001206447, -0.0013657487, -0.0018065764)));
     return f_35;
 }
 
@@ -261,13 +299,13 @@ float3 four_layer_slab_transmittance(float3 tau_1, float mu_1)
 float four_layer_coat_scale_curve_c(float cos_theta_5)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_41 = ((u_5 * -0.09693145) + 1.1485513);
-    float f_42 = (f_41 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.016946197, 0.047528736, -0.032536972)));
-    float f_43 = (f_42 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.07585465, 0.005950928, 0.049590472)));
-    float f_44 = (f_43 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.008364883, 0.03277305, 0.00065803534)));
-    float f_45 = (f_44 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.1937771, -0.0123006115, -0.15396775)));
-    float f_46 = (f_45 + (max(u_5, 0.8666667) * 0.15924813));
-    float f_47 = (f_46 + (max(u_5, 0.93333334) * -0.049645904));
+    float f_41 = ((u_5 * -0.09836375) + 1.0570874);
+    float f_42 = (f_41 + dot(max((u_5).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.016100407, 0.041386478, -0.055650454)));
+    float f_43 = (f_42 + dot(max((u_5).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.028942803, -0.056181554, 0.017554166)));
+    float f_44 = (f_43 + dot(max((u_5).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.0526804, 0.13846634, 0.08054138)));
+    float f_45 = (f_44 + dot(max((u_5).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.1908213, -0.0485462, -0.15670718)));
+    float f_46 = (f_45 + (max(u_5, 0.8666667) * 0.20178081));
+    float f_47 = (f_46 + (max(u_5, 0.93333334) * -0.023973586));
     return f_47;
 }
 
@@ -282,17 +320,17 @@ float four_layer_coat_scale_curve_c(float cos_theta_5)
 float four_layer_coat_deficit_curve_c(float cos_theta_6)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_48 = ((u_6 * -0.023300052) + -0.01609135);
-    float f_49 = (f_48 + dot(max((u_6).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.031880975, -0.054331064, -0.073233485)));
-    float f_50 = (f_49 + dot(max((u_6).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.100670636, -0.12005901, -0.1382981)));
-    float f_51 = (f_50 + dot(max((u_6).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.1669991, -0.1905911, -0.23060215)));
-    float f_52 = (f_51 + dot(max((u_6).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.21502751, -0.19809479, -0.1784274)));
-    float f_53 = (f_52 + dot(max((u_6).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.1412397, -0.08890697, -0.03257388)));
-    float f_54 = (f_53 + dot(max((u_6).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.03142177, 0.10445408, 0.1682191)));
-    float f_55 = (f_54 + dot(max((u_6).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.2139603, 0.20863476, 0.28863242)));
-    float f_56 = (f_55 + dot(max((u_6).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.2500063, 0.2236042, 0.18725146)));
-    float f_57 = (f_56 + dot(max((u_6).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.13397235, 0.08653011, 0.05199398)));
-    float f_58 = (f_57 + dot(max((u_6).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.030348241, 0.016953703, 0.0046103266)));
+    float f_48 = ((u_6 * -0.02334994) + -0.016049497);
+    float f_49 = (f_48 + dot(max((u_6).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.03191054, -0.05409825, -0.073503256)));
+    float f_50 = (f_49 + dot(max((u_6).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.09984654, -0.120689094, -0.13824081)));
+    float f_51 = (f_50 + dot(max((u_6).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.16592556, -0.1920268, -0.22958589)));
+    float f_52 = (f_51 + dot(max((u_6).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.21488523, -0.19938082, -0.17912954)));
+    float f_53 = (f_52 + dot(max((u_6).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.14108264, -0.09059119, -0.029674768)));
+    float f_54 = (f_53 + dot(max((u_6).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.027411243, 0.10859025, 0.16891617)));
+    float f_55 = (f_54 + dot(max((u_6).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.21400557, 0.2071494, 0.2902663)));
+    float f_56 = (f_55 + dot(max((u_6).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.24877523, 0.22388436, 0.18702175)));
+    float f_57 = (f_56 + dot(max((u_6).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.13321595, 0.08762789, 0.052062992)));
+    float f_58 = (f_57 + dot(max((u_6).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.029958058, 0.017007504, 0.004341509)));
     return f_58;
 }
 
@@ -407,13 +445,25 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = four_layer_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
     const float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
-    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    float3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    const float layer1_mirrored_d = four_layer_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.040000003);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    const float layer1_mirrored_fresnel = four_layer_fr_dielectric(layer1_mirrored_cos, 1.5);
     const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
-    const float _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5);
-    const float _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    const float layer1_lambda_l = four_layer_lambda_ggx(cos_l, 0.040000003);
+    const float layer1_lambda_v = four_layer_lambda_ggx(cos_v, 0.040000003);
+    const float _e47 = four_layer_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    const float _e50 = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.040000003);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e50) / ((cos_v * cos_l) * 4.0));
+    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
+    const float _e64 = four_layer_coat_deficit_curve(n_dot_l_3);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e64), 0.0), 1.0);
+    const float _e72 = four_layer_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e72), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -430,35 +480,46 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    const float _e75 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
-    float3 layer1_absorb_l = (_e75).xxx;
-    const float _e78 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
-    float3 layer1_absorb_v = (_e78).xxx;
+    const float _e107 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
+    float3 layer1_absorb_l = (_e107).xxx;
+    const float _e110 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
+    float3 layer1_absorb_v = (_e110).xxx;
     const float3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     float3 layer2_n_cross_h = cross(n_1, layer2_h);
     const float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     const float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    const float3 _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
+    const float3 _e124 = four_layer_f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
     const float layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
     const float layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
-    float3 layer2_specular = (_e92 * (layer3_scale_l * layer3_scale_v));
+    float3 layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
+    float layer3_mirrored_across = dot(layer3_mirrored_along, layer3_mirrored_along);
+    float layer3_mirrored_z = (layer2_cos_l - layer2_cos_v);
+    const float layer3_mirrored_d = four_layer_d_ggx_mirrored_tail(layer3_mirrored_z, layer3_mirrored_across, 0.09);
+    float layer3_mirrored_cos = (sqrt(((layer3_mirrored_z * layer3_mirrored_z) + layer3_mirrored_across)) * 0.5);
+    const float layer3_mirrored_fresnel = four_layer_fr_dielectric(layer3_mirrored_cos, 1.1);
     const float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1);
-    const float _e101 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e101), 0.0), 1.0);
     const float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
-    const float _e111 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e111), 0.0), 1.0);
+    const float layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09);
+    const float layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09);
+    const float _e150 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e150);
+    float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * layer2_g) / ((layer2_cos_v * layer2_cos_l) * 4.0));
+    float3 layer2_specular = ((_e124 + (layer3_second_event).xxx) * (layer3_scale_l * layer3_scale_v));
+    const float _e165 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
+    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e165), 0.0), 1.0);
+    const float _e173 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
+    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e173), 0.0), 1.0);
     const float3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     const float3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    const float _e127 = four_layer_coat_path_curve(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / _e127);
-    const float _e129 = four_layer_coat_path_curve(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / _e129);
+    const float _e189 = four_layer_coat_path_curve(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / _e189);
+    const float _e191 = four_layer_coat_path_curve(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / _e191);
     const float3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     const float3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -466,16 +527,27 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     const float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     const float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    const float3 _e147 = four_layer_f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
+    const float3 _e209 = four_layer_f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
     const float layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
     const float layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
-    float3 layer3_specular = (_e147 * (layer4_scale_l * layer4_scale_v));
+    float3 layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
+    float layer4_mirrored_across = dot(layer4_mirrored_along, layer4_mirrored_along);
+    float layer4_mirrored_z = (layer3_cos_l - layer3_cos_v);
+    const float layer4_mirrored_d = four_layer_d_ggx_mirrored_tail(layer4_mirrored_z, layer4_mirrored_across, 0.25);
+    float layer4_mirrored_cos = (sqrt(((layer4_mirrored_z * layer4_mirrored_z) + layer4_mirrored_across)) * 0.5);
+    const float layer4_mirrored_fresnel = four_layer_fr_dielectric(layer4_mirrored_cos, 1.2);
     const float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2);
-    const float _e156 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e156), 0.0), 1.0);
     const float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
-    const float _e166 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e166), 0.0), 1.0);
+    const float layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25);
+    const float layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25);
+    const float _e235 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e235);
+    float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * layer3_g) / ((layer3_cos_v * layer3_cos_l) * 4.0));
+    float3 layer3_specular = ((_e209 + (layer4_second_event).xxx) * (layer4_scale_l * layer4_scale_v));
+    const float _e250 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
+    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e250), 0.0), 1.0);
+    const float _e258 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
+    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e258), 0.0), 1.0);
     const float3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     const float3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -485,55 +557,55 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer4_f_base = four_layer_fd_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     const float3 layer4_albedo_l = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     const float3 layer4_albedo_v = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    const float _e201 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    float layer4_path_cos_l = (layer4_cos_l / _e201);
-    const float _e203 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e203);
-    const float3 _e210 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    const float _e212 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e212)) * (0.18698311).xxx) / max(_e210, (1e-6).xxx)));
-    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.6776781).xxx)) / (0.3223219).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 _e247 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    const float _e249 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    float3 layer4_first_escape_v = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e249)) * (0.18698311).xxx) / max(_e247, (1e-6).xxx)));
-    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.6776781).xxx)) / (0.3223219).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9671017, 0.9671017, 0.968903), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
+    const float _e293 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e293);
+    const float _e295 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e295);
+    const float3 _e302 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    const float _e304 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e304)) * (0.18698311).xxx) / max(_e302, (1e-6).xxx)));
+    float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 _e339 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    const float _e341 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    float3 layer4_first_escape_v = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e341)) * (0.18698311).xxx) / max(_e339, (1e-6).xxx)));
+    float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9671044, 0.9671044, 0.9689054), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     const float3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
-    const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.6776781).xxx, layer4_first_escape_l, layer4_first_return_l);
-    const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, (0.6776781).xxx, layer4_first_escape_v, layer4_first_return_v);
-    float _e312 = (1.0 - layer4_transmit_l);
-    float3 _e333 = min(max(((((_e312 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e312).xxx), (0.0).xxx) * (0.820149).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l = (_e333 / (0.8097652).xxx);
-    float3 layer2_first_return_l = min(max((((1.0).xxx - _e333) / (0.19023478).xxx), (0.0).xxx), (1.0).xxx);
-    float _e350 = (1.0 - layer4_transmit_v);
-    float3 _e371 = min(max(((((_e350 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e350).xxx), (0.0).xxx) * (0.820149).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v = (_e371 / (0.8097652).xxx);
-    float3 layer2_first_return_v = min(max((((1.0).xxx - _e371) / (0.19023478).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.9328693, 0.9328693, 0.93179023), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l, layer4_first_return_l);
+    const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v, layer4_first_return_v);
+    float _e404 = (1.0 - layer4_transmit_l);
+    float3 _e425 = min(max(((((_e404 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e404).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e425 / (0.80973125).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e425) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    float _e442 = (1.0 - layer4_transmit_v);
+    float3 _e463 = min(max(((((_e442 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e442).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e463 / (0.80973125).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e463) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
     const float3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_l, layer2_first_return_l);
-    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_v, layer2_first_return_v);
-    float _e416 = (1.0 - layer3_transmit_l);
-    float3 _e434 = min(max(((((_e416 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e416).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_l = (_e434 / (0.9999998).xxx);
-    float3 layer1_first_return_l = min(max((((1.0).xxx - _e434) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    float _e451 = (1.0 - layer3_transmit_v);
-    float3 _e469 = min(max(((((_e451 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e451).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_v = (_e469 / (0.9999998).xxx);
-    float3 layer1_first_return_v = min(max((((1.0).xxx - _e469) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
+    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
+    float _e508 = (1.0 - layer3_transmit_l);
+    float3 _e526 = min(max(((((_e508 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e508).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l = (_e526 / (0.9999998).xxx);
+    float3 layer1_first_return_l = min(max((((1.0).xxx - _e526) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e543 = (1.0 - layer3_transmit_v);
+    float3 _e561 = min(max(((((_e543 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e543).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v = (_e561 / (0.9999998).xxx);
+    float3 layer1_first_return_v = min(max((((1.0).xxx - _e561) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
     const float3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
-    float _e509 = (1.0 - layer2_transmit_l);
-    float3 _e530 = min(max(((((_e509 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e509).xxx), (0.0).xxx) * (0.41649783).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e530 / (0.4050555).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e530) / (0.5949445).xxx), (0.0).xxx), (1.0).xxx);
-    float _e547 = (1.0 - layer2_transmit_v);
-    float3 _e568 = min(max(((((_e547 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e547).xxx), (0.0).xxx) * (0.41649783).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e568 / (0.4050555).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e568) / (0.5949445).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807674).xxx, min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    float _e601 = (1.0 - layer2_transmit_l);
+    float3 _e622 = min(max(((((_e601 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e601).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e622 / (0.4050641).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e622) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
+    float _e639 = (1.0 - layer2_transmit_v);
+    float3 _e660 = min(max(((((_e639 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e639).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e660 / (0.4050641).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e660) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807313).xxx, min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
@@ -550,11 +622,11 @@ float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
+float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_5)
 {
     float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_5));
     float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
 }
@@ -656,23 +728,23 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     const float3 _e107 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
     const float _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
     float3 layer4_first_escape_l_1 = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e109)) * (0.18698311).xxx) / max(_e107, (1e-6).xxx)));
-    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.6776781).xxx)) / (0.3223219).xxx), (0.0).xxx), (1.0).xxx);
+    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
     const float3 _e144 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
     const float _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
     float3 layer4_first_escape_v_1 = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e146)) * (0.18698311).xxx) / max(_e144, (1e-6).xxx)));
-    float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.6776781).xxx)) / (0.3223219).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.6776781).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
-    const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.6776781).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
+    float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
+    const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
     float _e191 = (1.0 - layer4_transmit_l_1);
-    float3 _e212 = min(max(((((_e191 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e191).xxx), (0.0).xxx) * (0.820149).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l_1 = (_e212 / (0.8097652).xxx);
-    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e212) / (0.19023478).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e212 = min(max(((((_e191 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e191).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l_1 = (_e212 / (0.80973125).xxx);
+    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e212) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
     float _e229 = (1.0 - layer4_transmit_v_1);
-    float3 _e250 = min(max(((((_e229 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e229).xxx), (0.0).xxx) * (0.820149).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v_1 = (_e250 / (0.8097652).xxx);
-    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e250) / (0.19023478).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_l_1, layer2_first_return_l_1);
-    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.4812222, 0.60233945, 0.76158863), layer2_first_escape_v_1, layer2_first_return_v_1);
+    float3 _e250 = min(max(((((_e229 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e229).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v_1 = (_e250 / (0.80973125).xxx);
+    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e250) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
+    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
     float _e281 = (1.0 - layer3_transmit_l_1);
     float3 _e299 = min(max(((((_e281 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e281).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l_1 = (_e299 / (0.9999998).xxx);
@@ -684,15 +756,15 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
     float _e361 = (1.0 - layer2_transmit_l_1);
-    float3 _e382 = min(max(((((_e361 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e361).xxx), (0.0).xxx) * (0.41649783).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e382 / (0.4050555).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e382) / (0.5949445).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e382 = min(max(((((_e361 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e361).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e382 / (0.4050641).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e382) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
     float _e399 = (1.0 - layer2_transmit_v_1);
-    float3 _e420 = min(max(((((_e399 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e399).xxx), (0.0).xxx) * (0.41649783).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e420 / (0.4050555).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e420) / (0.5949445).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050555).xxx, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050555).xxx, first_escape_v_1, first_return_v_1);
+    float3 _e420 = min(max(((((_e399 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e399).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e420 / (0.4050641).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e420) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);

@@ -9,10 +9,10 @@ struct LacqueredWoodIblLobes {
     LacqueredWoodIblLobe irradiance;
 };
 const vec3 lacquered_wood_tau = vec3(0.04, 0.12, 0.35);
-const vec3 lacquered_wood_under = vec3(0.19010004, 0.091129504, 0.03887021);
+const vec3 lacquered_wood_under = vec3(0.19009909, 0.09112922, 0.03887014);
 const vec3 lacquered_wood_layer1_albedo_l = vec3(0.46, 0.26, 0.12);
 const vec3 lacquered_wood_layer1_rho = vec3(0.46, 0.26, 0.12);
-const vec3 lacquered_wood_layer1_r_return = vec3(0.49947953, 0.3532142, 0.14428955);
+const vec3 lacquered_wood_layer1_r_return = vec3(0.49947113, 0.35320336, 0.14427519);
 const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 const uint lacquered_wood_ibl_specular_lobes = 1u;
 
@@ -56,9 +56,9 @@ float lacquered_wood_lambda_ggx(float n_dot_x, float alpha_1) {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float lacquered_wood_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
-    float alpha_4 = max(alpha_2, 0.001);
-    float _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_4);
-    float _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    float _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
+    float _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -92,14 +92,50 @@ vec3 lacquered_wood_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float lacquered_wood_coat_scale_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.24101077) + 1.0001287);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.39785382, -0.16063029, -0.8319354)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.023287019, 0.21459104, 0.10371388)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.042618524, 0.009201759, 0.004202128)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.001012087, 0.0011301042, -0.00014305116)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.00040054324));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.00014305116));
+    float f = ((u * 0.051895376) + 0.99983186);
+    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.1786208, 0.4314673, -0.18818562)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.24814187, 0.049195293, 0.047053102)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.02862454, 0.004068014, 0.0020009282)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(4.112721e-5, 0.0006982685, -0.00031113627)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 0.0003343821));
+    float f_6 = (f_5 + (max(u, 0.93333334) * 4.9173836e-5));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float lacquered_wood_d_ggx_mirrored_tail(float z, float across, float alpha_3) {
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float lacquered_wood_second_event_share(float lambda) {
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -112,17 +148,17 @@ float lacquered_wood_coat_scale_curve(float cos_theta) {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float lacquered_wood_coat_deficit_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.1377045) + -0.00028620308);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(0.09349053, -0.20126668, 0.06605962)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(0.105583094, -0.39272207, 0.13863808)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.12506987, -0.18841746, 0.17495908)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.16499546, 0.13213691, 0.10692)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.0030397265, 0.033235718, -0.010187234)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.017132793, 0.004275262, 0.007178875)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.0032035308, 0.0041351416, 0.0024121667)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.0018972224, 0.00092372514, 0.0007992522)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.0005005133, 2.0962905e-5, 0.00025681124)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.00010481509, -0.0003825893, 0.00020833011)));
+    float f_7 = ((u_1 * -0.0044140294) + -9.304378e-6);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.07599794, -0.09372843, -0.16153325)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.16409607, 0.22801462, 0.120679624)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.26423988, -0.11185803, 0.083679885)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.10134033, 0.14106882, 0.09795896)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.035050724, 0.027807033, -0.004147478)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.016485425, 0.006001293, 0.006490611)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.004815411, 0.0032185505, 0.0033007297)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.0016816934, 0.0011272022, 0.00058839354)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.0007958298, -2.0873655e-5, 0.0002765857)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.000104366576, -0.000104366576, -0.0003457319)));
     return f_17;
 }
 
@@ -180,23 +216,34 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
     float layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_3);
-    vec3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    vec3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    float layer1_mirrored_d = lacquered_wood_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0064);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    float layer1_mirrored_fresnel = lacquered_wood_fr_dielectric(layer1_mirrored_cos, 1.5);
     float layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_l_2, 1.5);
-    float _e30 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5);
-    float _e40 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    float layer1_lambda_l = lacquered_wood_lambda_ggx(cos_l, 0.0064);
+    float layer1_lambda_v = lacquered_wood_lambda_ggx(cos_v, 0.0064);
+    float _e47 = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    vec3 specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    float _e62 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
+    float _e70 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
     vec3 layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e56 = lacquered_wood_coat_path_curve(n_dot_l_2);
-    float layer1_path_cos_l = (layer1_cos_l / _e56);
-    float _e58 = lacquered_wood_coat_path_curve(n_dot_v_3);
-    float layer1_path_cos_v = (layer1_cos_v / _e58);
+    float _e86 = lacquered_wood_coat_path_curve(n_dot_l_2);
+    float layer1_path_cos_l = (layer1_cos_l / _e86);
+    float _e88 = lacquered_wood_coat_path_curve(n_dot_v_3);
+    float layer1_path_cos_v = (layer1_cos_v / _e88);
     vec3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     vec3 f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5);
@@ -224,10 +271,10 @@ vec3 lacquered_wood_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rh
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 lacquered_wood_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
+vec3 lacquered_wood_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4) {
     vec3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     vec3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
@@ -264,8 +311,8 @@ LacqueredWoodIblLobes lacquered_wood_ibl_lobes(vec3 n_4, vec3 v_4) {
     float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     vec3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
     vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    vec3 albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548177, 0.35186347, 0.27089304), vec3(1.0), vec3(1.0));
-    vec3 albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548177, 0.35186347, 0.27089304), vec3(1.0), vec3(1.0));
+    vec3 albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548824, 0.35186937, 0.27089757), vec3(1.0), vec3(1.0));
+    vec3 albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548824, 0.35186937, 0.27089757), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064);

@@ -11,10 +11,10 @@ struct RedPlasticIblLobes {
     RedPlasticIblLobe irradiance;
 };
 
-static const float3 red_plastic_under = float3(0.2939544, 0.016394047, 0.013036838);
+static const float3 red_plastic_under = float3(0.29395396, 0.016394045, 0.013036837);
 static const float3 red_plastic_layer1_albedo_l = float3(0.6, 0.05, 0.04);
 static const float3 red_plastic_layer1_rho = float3(0.6, 0.05, 0.04);
-static const float3 red_plastic_layer1_r_return = float3(0.583812, 0.583812, 0.583812);
+static const float3 red_plastic_layer1_r_return = float3(0.5838103, 0.5838103, 0.5838103);
 static const float3 red_plastic_layer1_albedo_v = float3(0.6, 0.05, 0.04);
 static const uint red_plastic_ibl_specular_lobes = 1u;
 
@@ -74,9 +74,9 @@ float red_plastic_lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float red_plastic_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_4 = max(alpha_2, 0.001);
-    const float _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_4);
-    const float _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    const float _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_5);
+    const float _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -113,14 +113,52 @@ float3 red_plastic_f_cook_torrance(float d, float g, float3 fresnel, float n_dot
 float red_plastic_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.0024211404) + 1.0385976);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.024621783, 0.01910806, 0.06902573)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.06873253, 0.06609053, 0.007295609)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.11211105, -0.16923124, -0.11425675)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.043185357, 0.05677164, 0.02913952)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.05709708));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.002202988));
+    float f = ((u * 0.001976788) + 1.0098102);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.01942545, -0.00931531, -0.008625985)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.046350364, 0.016642215, 0.13165624)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.1115056, -0.058360305, -0.16252758)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.1208818, 0.019832255, 0.026702287)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * 0.06753982));
+    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0017380716));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float red_plastic_d_ggx_mirrored_tail(float z, float across, float alpha_3)
+{
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float red_plastic_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -134,17 +172,17 @@ float red_plastic_coat_scale_curve(float cos_theta)
 float red_plastic_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.027590513) + -0.019456018);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.02343309, -0.044606388, -0.05279374)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.07248145, -0.08859748, -0.1172874)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.1312896, -0.14177, -0.15869904)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.15990654, -0.16416651, -0.13534632)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.11409357, -0.06441051, -0.040749222)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.033368874, 0.06583101, 0.13297173)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.17183702, 0.20094453, 0.20832145)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.19469967, 0.1659654, 0.1367362)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.10221393, 0.06749955, 0.04009072)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.024380289, 0.009734539, 0.0023299882)));
+    float f_7 = ((u_1 * -0.027474105) + -0.019108152);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.023405373, -0.04362893, -0.054295957)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.068392396, -0.09155202, -0.11342007)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.13207489, -0.14736867, -0.15377295)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.17376554, -0.15963492, -0.14641985)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.10081938, -0.061563134, -0.03442532)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.040477596, 0.05824327, 0.13688295)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.16309465, 0.19886005, 0.212673)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.1885691, 0.17051768, 0.13557301)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.10260548, 0.06777491, 0.039659534)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.024948267, 0.009848009, 0.0016434321)));
     return f_17;
 }
 
@@ -182,13 +220,24 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = red_plastic_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = red_plastic_coat_scale_curve(n_dot_l_2);
     const float layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_3);
-    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    float3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    const float layer1_mirrored_d = red_plastic_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.122499995);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    const float layer1_mirrored_fresnel = red_plastic_fr_dielectric(layer1_mirrored_cos, 1.49);
     const float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_l_2, 1.49);
-    const float _e30 = red_plastic_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     const float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_3, 1.49);
-    const float _e40 = red_plastic_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    const float layer1_lambda_l = red_plastic_lambda_ggx(cos_l, 0.122499995);
+    const float layer1_lambda_v = red_plastic_lambda_ggx(cos_v, 0.122499995);
+    const float _e47 = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
+    const float _e62 = red_plastic_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
+    const float _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
     const float3 layer1_v = red_plastic_refract_down(v_1, n_1, 1.49);
     const float3 layer1_l = red_plastic_refract_down(l_1, n_1, 1.49);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -222,11 +271,11 @@ float3 red_plastic_interfaced_albedo_dir(float t, float3 a, float3 e_below, floa
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 red_plastic_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
+float3 red_plastic_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
 {
     float3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
@@ -293,8 +342,8 @@ RedPlasticIblLobes red_plastic_ibl_lobes(float3 n_4, float3 v_4)
     const float3 layer1_v = red_plastic_refract_down(v_4, n_4, 1.49);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float3 albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.41618803).xxx, (1.0).xxx, (1.0).xxx);
-    const float3 albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.41618803).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.4161897).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.4161897).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);

@@ -12,10 +12,10 @@ struct RedPlasticIblLobes {
     irradiance: RedPlasticIblLobe,
 }
 
-const red_plastic_under: vec3<f32> = vec3<f32>(0.2939544f, 0.016394047f, 0.013036838f);
+const red_plastic_under: vec3<f32> = vec3<f32>(0.29395396f, 0.016394045f, 0.013036837f);
 const red_plastic_layer1_albedo_l: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 const red_plastic_layer1_rho: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
-const red_plastic_layer1_r_return: vec3<f32> = vec3<f32>(0.583812f, 0.583812f, 0.583812f);
+const red_plastic_layer1_r_return: vec3<f32> = vec3<f32>(0.5838103f, 0.5838103f, 0.5838103f);
 const red_plastic_layer1_albedo_v: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 const red_plastic_ibl_specular_lobes: u32 = 1u;
 
@@ -62,9 +62,9 @@ fn red_plastic_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn red_plastic_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -98,14 +98,50 @@ fn red_plastic_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn red_plastic_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.0024211404f) + 1.0385976f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.024621783f, 0.01910806f, 0.06902573f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.06873253f, 0.06609053f, 0.007295609f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.11211105f, -0.16923124f, -0.11425675f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.043185357f, 0.05677164f, 0.02913952f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.05709708f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.002202988f));
+    let f = ((u * 0.001976788f) + 1.0098102f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.01942545f, -0.00931531f, -0.008625985f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.046350364f, 0.016642215f, 0.13165624f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.1115056f, -0.058360305f, -0.16252758f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1208818f, 0.019832255f, 0.026702287f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.06753982f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0017380716f));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn red_plastic_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn red_plastic_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -118,17 +154,17 @@ fn red_plastic_coat_scale_curve(cos_theta: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn red_plastic_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.027590513f) + -0.019456018f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02343309f, -0.044606388f, -0.05279374f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.07248145f, -0.08859748f, -0.1172874f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.1312896f, -0.14177f, -0.15869904f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.15990654f, -0.16416651f, -0.13534632f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.11409357f, -0.06441051f, -0.040749222f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.033368874f, 0.06583101f, 0.13297173f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.17183702f, 0.20094453f, 0.20832145f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.19469967f, 0.1659654f, 0.1367362f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.10221393f, 0.06749955f, 0.04009072f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.024380289f, 0.009734539f, 0.0023299882f)));
+    let f_7 = ((u_1 * -0.027474105f) + -0.019108152f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.023405373f, -0.04362893f, -0.054295957f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.068392396f, -0.09155202f, -0.11342007f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13207489f, -0.14736867f, -0.15377295f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.17376554f, -0.15963492f, -0.14641985f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.10081938f, -0.061563134f, -0.03442532f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.040477596f, 0.05824327f, 0.13688295f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.16309465f, 0.19886005f, 0.212673f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.1885691f, 0.17051768f, 0.13557301f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.10260548f, 0.06777491f, 0.039659534f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.024948267f, 0.009848009f, 0.0016434321f)));
     return f_17;
 }
 
@@ -163,13 +199,24 @@ fn red_plastic_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let _e21 = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = red_plastic_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_3);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = red_plastic_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.122499995f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = red_plastic_fr_dielectric(layer1_mirrored_cos, 1.49f);
     let layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_l_2, 1.49f);
-    let _e30 = red_plastic_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_3, 1.49f);
-    let _e40 = red_plastic_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = red_plastic_lambda_ggx(cos_l, 0.122499995f);
+    let layer1_lambda_v = red_plastic_lambda_ggx(cos_v, 0.122499995f);
+    let _e47 = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e62 = red_plastic_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
+    let _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
     let layer1_v = red_plastic_refract_down(v_1, n_1, 1.49f);
     let layer1_l = red_plastic_refract_down(l_1, n_1, 1.49f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -201,10 +248,10 @@ fn red_plastic_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, r
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn red_plastic_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn red_plastic_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
@@ -236,8 +283,8 @@ fn red_plastic_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> RedPlasticIblLobes {
     let layer1_v = red_plastic_refract_down(v_4, n_4, 1.49f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.41618803f), vec3(1f), vec3(1f));
-    let albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.41618803f), vec3(1f), vec3(1f));
+    let albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897f), vec3(1f), vec3(1f));
+    let albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995f);

@@ -62,9 +62,9 @@ float tunable_glaze_lambda_ggx(float n_dot_x, float alpha_1) {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float tunable_glaze_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
-    float alpha_4 = max(alpha_2, 0.001);
-    float _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
-    float _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    float _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_5);
+    float _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -131,8 +131,44 @@ float tunable_glaze_coat_scale(float cos_theta, float roughness, float eta_1) {
     float node_eta = (u_eta * 7.0);
     float cell_eta = min(floor(node_eta), 6.0);
     float weight_eta = (node_eta - cell_eta);
-    float value = tunable_glaze_table_trilinear(uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))), uvec3(1u, 16u, 256u), vec3(weight_cos_theta, weight_roughness, weight_eta), 5.1992565e-6, 0.9212891);
+    float value = tunable_glaze_table_trilinear(uint(((cell_cos_theta + (cell_roughness * 16.0)) + (cell_eta * 256.0))), uvec3(1u, 16u, 256u), vec3(weight_cos_theta, weight_roughness, weight_eta), 4.7796493e-6, 0.94853806);
     return value;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float tunable_glaze_d_ggx_mirrored_tail(float z, float across, float alpha_3) {
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float tunable_glaze_second_event_share(float lambda) {
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -154,7 +190,7 @@ float tunable_glaze_coat_deficit(float cos_theta_1, float roughness_1, float eta
     float node_eta_1 = (u_eta_1 * 7.0);
     float cell_eta_1 = min(floor(node_eta_1), 6.0);
     float weight_eta_1 = (node_eta_1 - cell_eta_1);
-    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u), uvec3(1u, 32u, 1024u), vec3(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 1.4581692e-5, -0.009180314);
+    float value = tunable_glaze_table_trilinear((uint(((cell_cos_theta_1 + (cell_roughness_1 * 32.0)) + (cell_eta_1 * 1024.0))) + 2048u), uvec3(1u, 32u, 1024u), vec3(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 1.4519305e-5, -0.0050910613);
     return value;
 }
 
@@ -289,7 +325,7 @@ float tunable_glaze_coat_deficit_avg(float roughness_3, float eta_6) {
     float node_eta_4 = (u_eta_4 * 7.0);
     float cell_eta_4 = min(floor(node_eta_4), 6.0);
     float weight_eta_4 = (node_eta_4 - cell_eta_4);
-    float value = tunable_glaze_table_bilinear((uint((cell_roughness_3 + (cell_eta_4 * 32.0))) + 11456u), uvec2(1u, 32u), vec2(weight_roughness_3, weight_eta_4), 2.2024374e-6, -0.001829707);
+    float value = tunable_glaze_table_bilinear((uint((cell_roughness_3 + (cell_eta_4 * 32.0))) + 11456u), uvec2(1u, 32u), vec2(weight_roughness_3, weight_eta_4), 2.2032705e-6, -0.0018360103);
     return value;
 }
 
@@ -471,25 +507,39 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     vec3 _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
     float layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     float layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    vec3 specular = ((params.glaze_ior < 1.0) ? _e34 : (_e34 * (layer1_scale_l * layer1_scale_v)));
+    float _e37 = (params.glaze_roughness * params.glaze_roughness);
+    vec3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    float layer1_mirrored_d = tunable_glaze_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, _e37);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    float layer1_mirrored_fresnel = tunable_glaze_fr_dielectric(layer1_mirrored_cos, params.glaze_ior);
     float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
-    float _e44 = (1.0 - layer1_fresnel_l);
-    float _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e44 : min(max((_e44 + _e45), 0.0), 1.0));
     float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, params.glaze_ior);
-    float _e56 = (1.0 - layer1_fresnel_v);
-    float _e57 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e56 : min(max((_e56 + _e57), 0.0), 1.0));
+    float _e53 = max(_e37, 0.001);
+    float layer1_lambda_l = tunable_glaze_lambda_ggx(cos_l, _e53);
+    float layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e53);
+    float _e57 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e57);
+    float _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e53);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e59) / ((cos_v * cos_l) * 4.0));
+    vec3 specular = ((params.glaze_ior < 1.0) ? _e34 : ((_e34 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v)));
+    float _e75 = (1.0 - layer1_fresnel_l);
+    float _e76 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_l = ((params.glaze_ior < 1.0) ? _e75 : min(max((_e75 + _e76), 0.0), 1.0));
+    float _e86 = (1.0 - layer1_fresnel_v);
+    float _e87 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_v = ((params.glaze_ior < 1.0) ? _e86 : min(max((_e86 + _e87), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     vec3 layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
-    float _e79 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
+    float _e104 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_l = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e104));
+    float _e109 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
+    float layer1_path_cos_v = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e109));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
@@ -497,46 +547,46 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     vec3 layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    float _e100 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
-    float _e101 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    float layer1_transmit_avg = (_e100 + _e101);
-    float _e104 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    float _e106 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e108 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e110 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    vec3 _e112 = (vec3(_e106, _e108, _e110) * _e104);
-    float _e121 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e123 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e125 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    bool _e129 = (params.glaze_ior < 1.0);
-    vec3 _e130 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    vec3 _e131 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    vec3 layer1_r_return = (_e129 ? _e130 : max((vec3(1.0) - _e112), vec3(0.0)));
-    float layer1_transmit_avg_1 = (_e100 + _e101);
-    float _e136 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    vec3 _e137 = vec3(_e136);
-    bool _e147 = (params.glaze_ior < 1.0);
-    vec3 _e150 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
-    vec3 _e153 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
-    vec3 layer1_r_return_1 = (_e147 ? _e150 : max((vec3(1.0) - _e137), vec3(0.0)));
+    float _e130 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    float _e131 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    float layer1_transmit_avg = (_e130 + _e131);
+    float _e134 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    float _e136 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e138 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e140 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    vec3 _e142 = (vec3(_e136, _e138, _e140) * _e134);
+    float _e151 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    float _e153 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    float _e155 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    bool _e159 = (params.glaze_ior < 1.0);
+    vec3 _e160 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    vec3 _e161 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
+    vec3 layer1_r_return = (_e159 ? _e160 : max((vec3(1.0) - _e142), vec3(0.0)));
+    float layer1_transmit_avg_1 = (_e130 + _e131);
+    float _e166 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    vec3 _e167 = vec3(_e166);
+    bool _e177 = (params.glaze_ior < 1.0);
+    vec3 _e180 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
+    vec3 _e183 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
+    vec3 layer1_r_return_1 = (_e177 ? _e180 : max((vec3(1.0) - _e167), vec3(0.0)));
     float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e74));
-    float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e79));
-    vec3 _e168 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    float _e169 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e169)) * (layer1_eon_escape_shape - 1.0)) / max(_e168, vec3(1e-6))));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e197 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    float _e198 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e198)) * (layer1_eon_escape_shape - 1.0)) / max(_e197, vec3(1e-6))));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    float _e233 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
-    float _e249 = min(max((((1.0 - ((_e233 * _e233) * _e233)) / max((1.0 - (_e233 * _e233)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e250 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e249);
-    float _e251 = tunable_glaze_e_fon(_e249, params.body_roughness);
-    vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e251)) * (layer1_eon_escape_shape - 1.0)) / max(_e250, vec3(1e-6))));
-    vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e147 ? _e153 : vec3(_e136)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float layer1_path_cos_l_1 = ((params.glaze_ior < 1.0) ? layer1_cos_l : (layer1_cos_l / _e104));
+    float layer1_path_cos_v_1 = ((params.glaze_ior < 1.0) ? layer1_cos_v : (layer1_cos_v / _e109));
+    vec3 _e198 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    float _e199 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e199)) * (layer1_eon_escape_shape - 1.0)) / max(_e198, vec3(1e-6))));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e177 ? _e183 : vec3(_e166)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    vec3 _e227 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    float _e228 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e228)) * (layer1_eon_escape_shape - 1.0)) / max(_e227, vec3(1e-6))));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - (layer1_first_escape_v * (_e177 ? _e183 : vec3(_e166)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float _e263 = sqrt(max((1.0 - (1.0 / (params.glaze_ior * params.glaze_ior))), 0.0));
+    float _e279 = min(max((((1.0 - ((_e263 * _e263) * _e263)) / max((1.0 - (_e263 * _e263)), 1e-6)) * 0.6666667), 0.0), 1.0);
+    vec3 _e280 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e279);
+    float _e281 = tunable_glaze_e_fon(_e279, params.body_roughness);
+    vec3 layer1_first_escape_cone = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e281)) * (layer1_eon_escape_shape - 1.0)) / max(_e280, vec3(1e-6))));
+    vec3 layer1_first_return_cone = min(max(((vec3(1.0) - (layer1_first_escape_cone * (_e177 ? _e183 : vec3(_e166)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
     vec3 under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     vec3 f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
@@ -573,10 +623,10 @@ vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_3) {
+vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4) {
     vec3 r_6 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
-    float t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_2 = (smoothness * (sqrt(smoothness) + alpha_4));
     vec3 d_2 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }

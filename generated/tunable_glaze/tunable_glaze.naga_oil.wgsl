@@ -70,9 +70,9 @@ fn tunable_glaze_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn tunable_glaze_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -139,8 +139,44 @@ fn tunable_glaze_coat_scale(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let node_eta = (u_eta * 7f);
     let cell_eta = min(floor(node_eta), 6f);
     let weight_eta = (node_eta - cell_eta);
-    let value = tunable_glaze_table_trilinear(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, weight_eta), 0.0000051992565f, 0.9212891f);
+    let value = tunable_glaze_table_trilinear(u32(((cell_cos_theta + (cell_roughness * 16f)) + (cell_eta * 256f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, weight_eta), 0.0000047796493f, 0.94853806f);
     return value;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn tunable_glaze_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn tunable_glaze_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -162,7 +198,7 @@ fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) ->
     let node_eta_1 = (u_eta_1 * 7f);
     let cell_eta_1 = min(floor(node_eta_1), 6f);
     let weight_eta_1 = (node_eta_1 - cell_eta_1);
-    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 2048u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 0.000014581692f, -0.009180314f);
+    let value = tunable_glaze_table_trilinear((u32(((cell_cos_theta_1 + (cell_roughness_1 * 32f)) + (cell_eta_1 * 1024f))) + 2048u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, weight_eta_1), 0.000014519305f, -0.0050910613f);
     return value;
 }
 
@@ -297,7 +333,7 @@ fn tunable_glaze_coat_deficit_avg(roughness_3: f32, eta_6: f32) -> f32 {
     let node_eta_4 = (u_eta_4 * 7f);
     let cell_eta_4 = min(floor(node_eta_4), 6f);
     let weight_eta_4 = (node_eta_4 - cell_eta_4);
-    let value = tunable_glaze_table_bilinear((u32((cell_roughness_3 + (cell_eta_4 * 32f))) + 11456u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, weight_eta_4), 0.0000022024374f, -0.001829707f);
+    let value = tunable_glaze_table_bilinear((u32((cell_roughness_3 + (cell_eta_4 * 32f))) + 11456u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, weight_eta_4), 0.0000022032705f, -0.0018360103f);
     return value;
 }
 
@@ -479,25 +515,39 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e34 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel_2), cos_v, cos_l);
     let layer1_scale_l = tunable_glaze_coat_scale(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
     let layer1_scale_v = tunable_glaze_coat_scale(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    let specular = select((_e34 * (layer1_scale_l * layer1_scale_v)), _e34, (params.glaze_ior < 1f));
+    let _e37 = (params.glaze_roughness * params.glaze_roughness);
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = tunable_glaze_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, _e37);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = tunable_glaze_fr_dielectric(layer1_mirrored_cos, params.glaze_ior);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, params.glaze_ior);
-    let _e44 = (1f - layer1_fresnel_l);
-    let _e45 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_l = select(min(max((_e44 + _e45), 0f), 1f), _e44, (params.glaze_ior < 1f));
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, params.glaze_ior);
-    let _e56 = (1f - layer1_fresnel_v);
-    let _e57 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_v = select(min(max((_e56 + _e57), 0f), 1f), _e56, (params.glaze_ior < 1f));
+    let _e53 = max(_e37, 0.001f);
+    let layer1_lambda_l = tunable_glaze_lambda_ggx(cos_l, _e53);
+    let layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e53);
+    let _e57 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e57);
+    let _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e53);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e59) / ((cos_v * cos_l) * 4f));
+    let specular = select(((_e34 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v)), _e34, (params.glaze_ior < 1f));
+    let _e75 = (1f - layer1_fresnel_l);
+    let _e76 = tunable_glaze_coat_deficit(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_l = select(min(max((_e75 + _e76), 0f), 1f), _e75, (params.glaze_ior < 1f));
+    let _e86 = (1f - layer1_fresnel_v);
+    let _e87 = tunable_glaze_coat_deficit(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_v = select(min(max((_e86 + _e87), 0f), 1f), _e86, (params.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, params.glaze_ior);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, params.glaze_ior);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e74 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_l = select((layer1_cos_l / _e74), layer1_cos_l, (params.glaze_ior < 1f));
-    let _e79 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
-    let layer1_path_cos_v = select((layer1_cos_v / _e79), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e104 = tunable_glaze_coat_path(n_dot_l_3, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_l = select((layer1_cos_l / _e104), layer1_cos_l, (params.glaze_ior < 1f));
+    let _e109 = tunable_glaze_coat_path(n_dot_v_4, params.glaze_roughness, params.glaze_ior);
+    let layer1_path_cos_v = select((layer1_cos_v / _e109), layer1_cos_v, (params.glaze_ior < 1f));
     let absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
     let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
@@ -505,46 +555,46 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e100 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
-    let _e101 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
-    let layer1_transmit_avg = (_e100 + _e101);
-    let _e104 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
-    let _e106 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e108 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e110 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e112 = (vec3<f32>(_e106, _e108, _e110) * _e104);
-    let _e121 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e123 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e125 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e129 = (params.glaze_ior < 1f);
-    let _e130 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    let _e131 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    let layer1_r_return = select(max((vec3(1f) - _e112), vec3(0f)), _e130, _e129);
-    let layer1_transmit_avg_1 = (_e100 + _e101);
-    let _e136 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    let _e137 = vec3(_e136);
-    let _e147 = (params.glaze_ior < 1f);
-    let _e150 = tunable_glaze_slab_return(params.glaze_ior, vec3(0f));
-    let _e153 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0f));
-    let layer1_r_return_1 = select(max((vec3(1f) - _e137), vec3(0f)), _e150, _e147);
+    let _e130 = tunable_glaze_fresnel_transmit_avg(params.glaze_ior);
+    let _e131 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
+    let layer1_transmit_avg = (_e130 + _e131);
+    let _e134 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
+    let _e136 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e138 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e140 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e142 = (vec3<f32>(_e136, _e138, _e140) * _e134);
+    let _e151 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
+    let _e153 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
+    let _e155 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
+    let _e159 = (params.glaze_ior < 1f);
+    let _e160 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
+    let _e161 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
+    let layer1_r_return = select(max((vec3(1f) - _e142), vec3(0f)), _e160, _e159);
+    let layer1_transmit_avg_1 = (_e130 + _e131);
+    let _e166 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
+    let _e167 = vec3(_e166);
+    let _e177 = (params.glaze_ior < 1f);
+    let _e180 = tunable_glaze_slab_return(params.glaze_ior, vec3(0f));
+    let _e183 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0f));
+    let layer1_r_return_1 = select(max((vec3(1f) - _e167), vec3(0f)), _e180, _e177);
     let layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    let layer1_path_cos_l_1 = select((layer1_cos_l / _e74), layer1_cos_l, (params.glaze_ior < 1f));
-    let layer1_path_cos_v_1 = select((layer1_cos_v / _e79), layer1_cos_v, (params.glaze_ior < 1f));
-    let _e168 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e169 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e169)) * (layer1_eon_escape_shape - 1f)) / max(_e168, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e197 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e198 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e198)) * (layer1_eon_escape_shape - 1f)) / max(_e197, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e233 = sqrt(max((1f - (1f / (params.glaze_ior * params.glaze_ior))), 0f));
-    let _e249 = min(max((((1f - ((_e233 * _e233) * _e233)) / max((1f - (_e233 * _e233)), 0.000001f)) * 0.6666667f), 0f), 1f);
-    let _e250 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e249);
-    let _e251 = tunable_glaze_e_fon(_e249, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e251)) * (layer1_eon_escape_shape - 1f)) / max(_e250, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e136), _e153, _e147).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = select((layer1_cos_l / _e104), layer1_cos_l, (params.glaze_ior < 1f));
+    let layer1_path_cos_v_1 = select((layer1_cos_v / _e109), layer1_cos_v, (params.glaze_ior < 1f));
+    let _e198 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e199 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e199)) * (layer1_eon_escape_shape - 1f)) / max(_e198, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e166), _e183, _e177).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e227 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e228 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e228)) * (layer1_eon_escape_shape - 1f)) / max(_e227, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * select(vec3(_e166), _e183, _e177).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e263 = sqrt(max((1f - (1f / (params.glaze_ior * params.glaze_ior))), 0f));
+    let _e279 = min(max((((1f - ((_e263 * _e263) * _e263)) / max((1f - (_e263 * _e263)), 0.000001f)) * 0.6666667f), 0f), 1f);
+    let _e280 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, _e279);
+    let _e281 = tunable_glaze_e_fon(_e279, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e281)) * (layer1_eon_escape_shape - 1f)) / max(_e280, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * select(vec3(_e166), _e183, _e177).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, params.glaze_ior);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
@@ -581,10 +631,10 @@ fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1:
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_6 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_2 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_2 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_2)) + (r_6 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }

@@ -12,7 +12,7 @@ struct WetClayIblLobes {
 };
 
 static const float3 wet_clay_layer1_rho = float3(0.5876322, 0.34278542, 0.24484675);
-static const float3 wet_clay_layer1_r_return = float3(0.11657971, 0.11657971, 0.11657971);
+static const float3 wet_clay_layer1_r_return = float3(0.116561234, 0.116561234, 0.116561234);
 static const float3 wet_clay_layer1_albedo_l = float3(0.5876322, 0.34278542, 0.24484675);
 static const float3 wet_clay_layer1_albedo_v = float3(0.5876322, 0.34278542, 0.24484675);
 static const uint wet_clay_ibl_specular_lobes = 1u;
@@ -73,9 +73,9 @@ float wet_clay_lambda_ggx(float n_dot_x, float alpha_1)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float wet_clay_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_4 = max(alpha_2, 0.001);
-    const float _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_4);
-    const float _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_4);
+    float alpha_5 = max(alpha_2, 0.001);
+    const float _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_5);
+    const float _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_5);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -112,14 +112,52 @@ float3 wet_clay_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v_
 float wet_clay_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.10215103) + 1.000458);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.19674449, 0.23803984, -0.16421565)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.5898964, -0.15967013, 0.18314482)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.1204348, 0.0433695, 0.022888185)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.0040197377, 0.012479425, -0.004073382)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * -0.002101064));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0043129926));
+    float f = ((u * 0.061948296) + 0.9990154);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.077725045, -0.082651384, 0.38304088)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.084671915, -0.33158544, 0.020545723)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.06567838, 0.02743898, 0.016996266)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.0066894297, 0.011061431, -0.004359484)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * -0.0020143392));
+    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0039643054));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float wet_clay_d_ggx_mirrored_tail(float z, float across, float alpha_3)
+{
+    float a_2 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_2 * a_2);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float wet_clay_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -133,17 +171,17 @@ float wet_clay_coat_scale_curve(float cos_theta)
 float wet_clay_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.073486164) + -0.00078662566);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(0.013768002, -0.1300918, -0.002807647)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.121340424, -0.06928116, -0.0034016967)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.2566341, 0.018279731, -0.067988664)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.12588611, 0.12976222, 0.12627275)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.14185674, 0.1368721, 0.06456471)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.08373688, 0.031232009, 0.03484352)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.017606257, 0.020969963, 0.014611003)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.0073634824, 0.0030219718, 0.0037809932)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0029762809, 0.0009788395, -7.756847e-6)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-1.3495686e-5, -0.0007781948, -2.0290636e-6)));
+    float f_7 = ((u_1 * -0.0460079) + -0.00045738393);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.02235955, -0.021145582, -0.1344705)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.14395773, -0.066309065, -0.1627881)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(0.04900217, 0.01960133, -0.17166997)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.03717453, 0.08526692, 0.07795528)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.1392397, 0.12087162, 0.09367427)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.07772511, 0.03698719, 0.034275267)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.018932091, 0.020119188, 0.015577349)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.006749162, 0.0037896275, 0.0038726719)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0027401017, 0.0007500142, 0.0003133549)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(-7.729927e-6, -0.0004480775, -0.00065559417)));
     return f_17;
 }
 
@@ -190,11 +228,11 @@ float wet_clay_slab_transmittance_grey(float tau, float mu)
 float3 wet_clay_fd_oren_nayar(float3 albedo, float sigma, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
 {
     float sigma_sq = (sigma * sigma);
-    float a_2 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
+    float a_3 = (1.0 - ((sigma_sq / (sigma_sq + 0.33)) * 0.5));
     float b = ((sigma_sq / (sigma_sq + 0.09)) * 0.45);
     float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     float s_over_t = (max(s, 0.0) / max(n_dot_v_2, n_dot_l_2));
-    return (albedo * (((b * s_over_t) + a_2) / 3.1415927));
+    return (albedo * (((b * s_over_t) + a_3) / 3.1415927));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -234,27 +272,38 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 _e21 = wet_clay_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
     const float layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
-    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    float3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    float layer1_mirrored_z = (cos_l - cos_v);
+    const float layer1_mirrored_d = wet_clay_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0144);
+    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
+    const float layer1_mirrored_fresnel = wet_clay_fr_dielectric(layer1_mirrored_cos, 1.33);
     const float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_l_3, 1.33);
-    const float _e30 = wet_clay_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
     const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33);
-    const float _e40 = wet_clay_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
+    const float layer1_lambda_l = wet_clay_lambda_ggx(cos_l, 0.0144);
+    const float layer1_lambda_v = wet_clay_lambda_ggx(cos_v, 0.0144);
+    const float _e47 = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
+    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
+    const float _e62 = wet_clay_coat_deficit_curve(n_dot_l_3);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
+    const float _e70 = wet_clay_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_1, n_1, 1.33);
     const float3 layer1_l = wet_clay_refract_down(l_1, n_1, 1.33);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float _e56 = wet_clay_coat_path_curve(n_dot_l_3);
-    float layer1_path_cos_l = (layer1_cos_l / _e56);
-    const float _e58 = wet_clay_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_v = (layer1_cos_v / _e58);
-    const float _e61 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l);
-    float3 absorb_l = (_e61).xxx;
-    const float _e64 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
-    float3 absorb_v = (_e64).xxx;
+    const float _e86 = wet_clay_coat_path_curve(n_dot_l_3);
+    float layer1_path_cos_l = (layer1_cos_l / _e86);
+    const float _e88 = wet_clay_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v = (layer1_cos_v / _e88);
+    const float _e91 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l);
+    float3 absorb_l = (_e91).xxx;
+    const float _e94 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
+    float3 absorb_v = (_e94).xxx;
     const float3 layer1_f_base = wet_clay_fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, float3(0.5876322, 0.34278542, 0.24484675), float3(0.5876322, 0.34278542, 0.24484675), wet_clay_layer1_rho, wet_clay_layer1_r_return);
     const float3 f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
@@ -284,11 +333,11 @@ float3 wet_clay_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 wet_clay_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_3)
+float3 wet_clay_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_4)
 {
     float3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_3), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
@@ -362,8 +411,8 @@ WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
     float3 absorb_l_1 = (_e31).xxx;
     const float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
     float3 absorb_v_1 = (_e34).xxx;
-    const float3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.3604117).xxx, (1.0).xxx, (1.0).xxx);
-    const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.3604117).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
+    const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);

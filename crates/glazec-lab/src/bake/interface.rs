@@ -13,13 +13,43 @@ pub(super) const SMOOTH_ALPHA: f64 = 1e-3;
 
 /// The single-scattering reflection lobe of a rough dielectric seen from the side where the
 /// relative IOR is `eta` (TIR included): D G2 F / (4 μi μo).
-pub(super) fn dielectric_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
+pub fn dielectric_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
     if wi.z <= 0.0 || wo.z <= 0.0 {
         return 0.0;
     }
     let h = (wi + wo).normalize();
     microsurface::ggx_d(h, alpha) * microsurface::g2(wi, wo, alpha) * fresnel_dielectric(wo.dot(h), eta)
         / (4.0 * wi.z * wo.z)
+}
+
+/// The lobe whose scale c the tables solve: the single-scattering lobe plus the second event of
+/// light arriving or leaving at a grazing angle, `glazec::math`'s `CoatInterface::second_event`
+/// written again in f64 from its formula: 1.1 F(μg)/(1 + 4Λg + 2Λg²) · D(h̄) tan²θh̄/(tan²θh̄ + α²)
+/// F(|wi + w̄o|/2) G2 / (4 μi μo), μg the lower cosine, h̄ the half vector of wi and wo with the
+/// lower one mirrored in the mean plane (none when they mirror into each other).
+pub fn coat_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
+    let single = dielectric_lobe(wi, wo, eta, alpha);
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return single;
+    }
+    let mirrored = DVec3::new(wi.x + wo.x, wi.y + wo.y, wi.z - wo.z);
+    let (across, z2) = (mirrored.x * mirrored.x + mirrored.y * mirrored.y, mirrored.z * mirrored.z);
+    if across < 1e-24 {
+        return single;
+    }
+    let h = DVec3::new(mirrored.x, mirrored.y, mirrored.z.abs()).normalize();
+    let tail = across / (across + alpha * alpha * z2);
+    let grazing = if wi.z < wo.z { wi } else { wo };
+    let lambda = microsurface::lambda(grazing, alpha);
+    let first = 1.1 * fresnel_dielectric(grazing.z, eta) / (1.0 + 4.0 * lambda + 2.0 * lambda * lambda);
+    let second = first
+        * microsurface::ggx_d(h, alpha)
+        * tail
+        // The facet's cosine with either direction, the mirrored one included: |wi + w̄o|/2.
+        * fresnel_dielectric(0.5 * mirrored.length(), eta)
+        * microsurface::g2(wi, wo, alpha)
+        / (4.0 * wi.z * wo.z);
+    single + second
 }
 
 /// E_ss(μ): the single-scattering reflection albedo, by quadrature.

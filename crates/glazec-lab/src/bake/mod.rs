@@ -24,6 +24,7 @@
 
 pub mod glossy;
 mod interface;
+pub use interface::{coat_lobe, dielectric_lobe};
 mod scale;
 
 use glam::DVec3;

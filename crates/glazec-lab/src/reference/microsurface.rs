@@ -270,12 +270,32 @@ impl RoughDielectric {
 
     /// Estimate of f(wi, wo)·|cos θo| (energy form) by next-event estimation along one walk.
     pub fn eval_multiple(&self, wi: DVec3, wo: DVec3, rng: &mut Rng) -> f64 {
+        let (first, later) = self.eval_by_event(wi, wo, rng);
+        first + later
+    }
+
+    /// The mean over `walks` walks from `wi` of [`Self::eval_multiple`]'s two parts: what the
+    /// first microfacet event sends towards `wo` (single scattering) and what the later ones do.
+    pub fn first_and_later_events(&self, wi: DVec3, wo: DVec3, walks: u32, seed: u64) -> (f64, f64) {
+        let mut rng = Rng::seeded(seed);
+        let (mut first, mut later) = (0.0, 0.0);
+        for _ in 0..walks {
+            let (a, b) = self.eval_by_event(wi, wo, &mut rng);
+            first += a;
+            later += b;
+        }
+        (first / f64::from(walks), later / f64::from(walks))
+    }
+
+    /// One walk's next-event estimate of f(wi, wo)·|cos θo|, split into the first event's and the
+    /// later events' contributions.
+    fn eval_by_event(&self, wi: DVec3, wo: DVec3, rng: &mut Rng) -> (f64, f64) {
         let mut outside = wi.z > 0.0;
         let wo_outside = wo.z > 0.0;
         let mut wr = -wi;
         let mut h = if outside { 1.0 + height_inv_cdf(0.999) } else { -1.0 - height_inv_cdf(0.999) };
-        let mut sum = 0.0;
-        for _ in 0..MAX_MICROSURFACE_BOUNCES {
+        let (mut first, mut later) = (0.0, 0.0);
+        for event in 0..MAX_MICROSURFACE_BOUNCES {
             let (w_local, h_local) = if outside { (wr, h) } else { (flip(wr), -h) };
             match next_height(w_local, h_local, self.alpha, rng.uniform()) {
                 None => break,
@@ -289,7 +309,11 @@ impl RoughDielectric {
             let shadowing = if wo_outside { g1_at(wo, h, self.alpha) } else { g1_at(flip(wo), -h, self.alpha) };
             let value = phase * shadowing;
             if value.is_finite() {
-                sum += value;
+                if event == 0 {
+                    first += value;
+                } else {
+                    later += value;
+                }
             }
             let (out, crossed) = Self::sample_phase(incoming, eta, self.alpha, rng);
             let out = if outside { out } else { flip(out) };
@@ -298,7 +322,7 @@ impl RoughDielectric {
             }
             wr = out;
         }
-        sum
+        (first, later)
     }
 }
 

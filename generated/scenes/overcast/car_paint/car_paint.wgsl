@@ -18,11 +18,11 @@ const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026940068f, 0.000000015091631f, 0.00000000018827935f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026933323f, 0.000000015083438f, 0.00000000018815233f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067616f, 0.06705829f, 0.031262092f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7406771f, 0.067058295f, 0.031262092f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
-const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350564f, 0.010574826f, 0.0047770757f);
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350638f, 0.010574817f, 0.0047770706f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -101,21 +101,22 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 29 of the table's
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 28 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.23525593f) + -0.000008429401f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.42355445f, 0.11186912f, -0.9008823f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.043015163f, 0.32627678f, 0.14866436f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.06702751f, 0.062109314f, -0.038766224f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.017394189f, -0.03652423f, 0.011807078f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.006165725f, 0.0035800978f, -0.0011752645f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0018261934f, 0.00019889172f, 0.0007051798f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00018082031f, 0.0006690102f, -0.00014465104f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0002531391f, 0.00021697595f, -0.00014465071f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.00014465082f, -0.000054244127f, -0.00001808135f)));
-    return f_9;
+    let f = ((u * 0.018868122f) + -0.000009304378f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.41898763f, 0.14115073f, 0.25619617f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.04369545f, -0.28174376f, 0.094916634f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.16662645f, 0.056496438f, 0.018922206f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.0033847406f, -0.025781661f, 0.009866177f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0031867106f, 0.0033487321f, 0.00019804694f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0012062758f, 0.00075615157f, 0.0004861098f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00003600769f, 0.00075616484f, -0.00021604773f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00030606767f, 0.00023405152f, -0.0000720159f)));
+    let f_9 = (f_8 + (max(u, 0.83870965f) * 0.000018003984f));
+    let f_10 = (f_9 + (max(u, 0.87096775f) * -0.000018003984f));
+    return f_10;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -150,10 +151,10 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_1: f32) -> vec3<f32> {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_1 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let f_10 = (1.0202647f + dot(max(vec3(u_1), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45261955f, -0.3683653f, -0.29751205f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035235405f, 0.092440605f, 0.047664642f)));
-    let f_12 = (f_11 + (max(u_1, 0.875f) * 0.023005486f));
-    return f_12;
+    let f_11 = (1.0200783f + dot(max(vec3(u_1), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45256233f, -0.368289f, -0.29771614f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035452843f, 0.092573166f, 0.04733944f)));
+    let f_13 = (f_12 + (max(u_1, 0.875f) * 0.023370743f));
+    return f_13;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -163,9 +164,9 @@ fn car_paint_glossy_scale_curve(cos_theta_2: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_next_curve(cos_theta_3: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_13 = ((u_2 * 0.0019297004f) + 0.2134062f);
-    let f_14 = (f_13 + dot(max(vec3(u_2), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
-    return f_14;
+    let f_14 = ((u_2 * 0.0019297004f) + 0.2134062f);
+    let f_15 = (f_14 + dot(max(vec3(u_2), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
+    return f_15;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -178,11 +179,11 @@ fn car_paint_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_15 = ((u_3 * -11.364231f) + 1.1429214f);
-    let f_16 = (f_15 + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047794f, 1.1094351f, 0.25702763f)));
-    let f_17 = (f_16 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07725239f, -0.1627922f, -0.008248329f)));
-    let f_18 = (f_17 + (max(u_3, 0.875f) * 0.071787834f));
-    return f_18;
+    let f_16 = ((u_3 * -11.364125f) + 1.1430384f);
+    let f_17 = (f_16 + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047745f, 1.1096478f, 0.25697708f)));
+    let f_18 = (f_17 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07753658f, -0.16301155f, -0.008024216f)));
+    let f_19 = (f_18 + (max(u_3, 0.875f) * 0.07171154f));
+    return f_19;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -192,14 +193,14 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_19 = ((u_4 * -0.02538353f) + 0.9516745f);
-    let f_20 = (f_19 + dot(max(vec3(u_4), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_24 = (f_23 + (max(u_4, 0.8666667f) * -0.056797568f));
-    let f_25 = (f_24 + (max(u_4, 0.93333334f) * -0.032047037f));
-    return f_25;
+    let f_20 = ((u_4 * -0.02538353f) + 0.9516745f);
+    let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_25 = (f_24 + (max(u_4, 0.8666667f) * -0.056797568f));
+    let f_26 = (f_25 + (max(u_4, 0.93333334f) * -0.032047037f));
+    return f_26;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -209,14 +210,14 @@ fn car_paint_ggx_albedo_curve(cos_theta_5: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_26 = ((u_5 * -0.019831358f) + 0.8686472f);
-    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
-    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
-    let f_29 = (f_28 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
-    let f_30 = (f_29 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
-    let f_31 = (f_30 + (max(u_5, 0.8666667f) * -0.09392203f));
-    let f_32 = (f_31 + (max(u_5, 0.93333334f) * -0.06806106f));
-    return f_32;
+    let f_27 = ((u_5 * -0.019831358f) + 0.8686472f);
+    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
+    let f_29 = (f_28 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
+    let f_30 = (f_29 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
+    let f_31 = (f_30 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
+    let f_32 = (f_31 + (max(u_5, 0.8666667f) * -0.09392203f));
+    let f_33 = (f_32 + (max(u_5, 0.93333334f) * -0.06806106f));
+    return f_33;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -262,9 +263,9 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_quick_curve(cos_theta_7: f32) -> f32 {
     let u_6 = sqrt(min(max(cos_theta_7, 0f), 1f));
-    let f_33 = ((u_6 * 0.0144017935f) + 0.2634757f);
-    let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
-    return f_34;
+    let f_34 = ((u_6 * 0.0144017935f) + 0.2634757f);
+    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
+    return f_35;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -275,9 +276,9 @@ fn car_paint_glossy_quick_curve(cos_theta_7: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_steady_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_35 = ((u_7 * 0.02468437f) + 0.24147323f);
-    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
-    return f_36;
+    let f_36 = ((u_7 * 0.02468437f) + 0.24147323f);
+    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
+    return f_37;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -324,9 +325,9 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_37 = ((u_8 * 0.008631557f) + 0.0920461f);
-    let f_38 = (f_37 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
-    return f_38;
+    let f_38 = ((u_8 * 0.008631557f) + 0.0920461f);
+    let f_39 = (f_38 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
+    return f_39;
 }
 
 // sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
@@ -464,9 +465,9 @@ fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_10: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_39 = ((u_9 * 0.0020885468f) + 0.8244415f);
-    let f_40 = (f_39 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
-    return f_40;
+    let f_40 = ((u_9 * 0.0020885468f) + 0.8244415f);
+    let f_41 = (f_40 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
+    return f_41;
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.

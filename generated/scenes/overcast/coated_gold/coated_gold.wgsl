@@ -12,7 +12,7 @@ struct CoatedGoldIblLobes {
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577632f, 0.03172815f, 0.0034033447f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07576165f, 0.031722005f, 0.0034027132f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
 @group(2) @binding(0) 
@@ -54,17 +54,17 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.09193404f) + -0.00044265765f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.041281834f, -0.17662261f, 0.046880037f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.039753288f, -0.13207489f, 0.055374578f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.3457993f, -0.025617354f, 0.03628184f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.026981566f, 0.22346427f, 0.15814403f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.046465307f, 0.068501875f, 0.0008675591f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.037316743f, 0.014992681f, 0.019915992f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.009369533f, 0.00963811f, 0.005380646f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0050012525f, 0.002772499f, 0.0019204987f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0011232548f, 0.00058081566f, 0.000071219794f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00029040664f, -0.00014381928f, -0.00023699505f)));
+    let f = ((u * -0.032026023f) + -0.00037076068f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.033704236f, -0.020881355f, -0.18295114f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.22080079f, 0.11075193f, 0.015634686f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.049557418f, -0.08091132f, -0.1859818f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.08017361f, 0.2061308f, 0.11820417f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.095714614f, 0.05991873f, 0.010449743f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.03737664f, 0.0165298f, 0.019110624f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.011165314f, 0.008715778f, 0.006094121f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00478209f, 0.0025969543f, 0.0022205522f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0010447791f, 0.00065062195f, 0.00036008007f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0002891664f, 0.00021687511f, -0.0003778086f)));
     return f_10;
 }
 
@@ -116,9 +116,9 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let f_16 = (1.061315f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6039219f, -1.0439978f, -0.45039368f)));
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056563377f, -0.1368208f, 0.033548355f)));
-    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007332802f));
+    let f_16 = (1.0610694f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6038918f, -1.0441265f, -0.4499774f)));
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056713104f, -0.13678741f, 0.033270836f)));
+    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007733345f));
     return f_18;
 }
 
@@ -144,10 +144,10 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_4 * 0.24190712f) + 0.89434123f);
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.965723f, 2.2643862f, 0.4501238f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20816708f, 0.1467824f, -0.08180857f)));
-    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.19411612f));
+    let f_21 = ((u_4 * 0.27659512f) + 0.8937276f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.711802f, 1.9402537f, 0.50745153f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.16362429f, 0.18548012f, -0.10374451f)));
+    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.18750334f));
     return f_24;
 }
 

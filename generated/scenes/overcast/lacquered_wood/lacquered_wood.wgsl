@@ -11,10 +11,10 @@ struct LacqueredWoodIblLobes {
 }
 
 const lacquered_wood_tau: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
-const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19010004f, 0.091129504f, 0.03887021f);
+const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19009909f, 0.09112922f, 0.03887014f);
 const lacquered_wood_layer1_albedo_l: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_layer1_rho: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
-const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947953f, 0.3532142f, 0.14428955f);
+const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947113f, 0.35320336f, 0.14427519f);
 const lacquered_wood_layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_ibl_specular_lobes: u32 = 1u;
 
@@ -97,17 +97,17 @@ fn lacquered_wood_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1:
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn lacquered_wood_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.1377045f) + -0.00028620308f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.09349053f, -0.20126668f, 0.06605962f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.105583094f, -0.39272207f, 0.13863808f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.12506987f, -0.18841746f, 0.17495908f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.16499546f, 0.13213691f, 0.10692f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0030397265f, 0.033235718f, -0.010187234f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.017132793f, 0.004275262f, 0.007178875f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.0032035308f, 0.0041351416f, 0.0024121667f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0018972224f, 0.00092372514f, 0.0007992522f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0005005133f, 0.000020962905f, 0.00025681124f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00010481509f, -0.0003825893f, 0.00020833011f)));
+    let f = ((u * -0.0044140294f) + -0.000009304378f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.07599794f, -0.09372843f, -0.16153325f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.16409607f, 0.22801462f, 0.120679624f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.26423988f, -0.11185803f, 0.083679885f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.10134033f, 0.14106882f, 0.09795896f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.035050724f, 0.027807033f, -0.004147478f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.016485425f, 0.006001293f, 0.006490611f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.004815411f, 0.0032185505f, 0.0033007297f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0016816934f, 0.0011272022f, 0.00058839354f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0007958298f, -0.000020873655f, 0.0002765857f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.000104366576f, -0.000104366576f, -0.0003457319f)));
     return f_10;
 }
 
@@ -246,8 +246,8 @@ fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblL
     let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
-    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
+    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
+    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);

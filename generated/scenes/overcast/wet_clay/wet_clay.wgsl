@@ -11,7 +11,7 @@ struct WetClayIblLobes {
 }
 
 const wet_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.11657971f, 0.11657971f, 0.11657971f);
+const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.116561234f, 0.116561234f, 0.116561234f);
 const wet_clay_layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_ibl_specular_lobes: u32 = 1u;
@@ -95,17 +95,17 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn wet_clay_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.073486164f) + -0.00078662566f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.013768002f, -0.1300918f, -0.002807647f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.121340424f, -0.06928116f, -0.0034016967f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.2566341f, 0.018279731f, -0.067988664f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12588611f, 0.12976222f, 0.12627275f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.14185674f, 0.1368721f, 0.06456471f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.08373688f, 0.031232009f, 0.03484352f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.017606257f, 0.020969963f, 0.014611003f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0073634824f, 0.0030219718f, 0.0037809932f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0029762809f, 0.0009788395f, -0.000007756847f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000013495686f, -0.0007781948f, -0.0000020290636f)));
+    let f = ((u * -0.0460079f) + -0.00045738393f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02235955f, -0.021145582f, -0.1344705f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.14395773f, -0.066309065f, -0.1627881f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.04900217f, 0.01960133f, -0.17166997f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.03717453f, 0.08526692f, 0.07795528f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.1392397f, 0.12087162f, 0.09367427f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.07772511f, 0.03698719f, 0.034275267f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.018932091f, 0.020119188f, 0.015577349f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.006749162f, 0.0037896275f, 0.0038726719f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0027401017f, 0.0007500142f, 0.0003133549f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000007729927f, -0.0004480775f, -0.00065559417f)));
     return f_10;
 }
 
@@ -276,8 +276,8 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let absorb_l_1 = vec3(_e31);
     let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
     let absorb_v_1 = vec3(_e34);
-    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
-    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
+    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
+    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);

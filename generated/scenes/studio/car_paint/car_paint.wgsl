@@ -18,11 +18,11 @@ const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026940068f, 0.000000015091631f, 0.00000000018827935f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0026933323f, 0.000000015083438f, 0.00000000018815233f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067616f, 0.06705829f, 0.031262092f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7406771f, 0.067058295f, 0.031262092f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
-const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350564f, 0.010574826f, 0.0047770757f);
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350638f, 0.010574817f, 0.0047770706f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -69,9 +69,9 @@ fn car_paint_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn car_paint_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_6 = max(alpha_2, 0.001f);
-    let _e5 = car_paint_lambda_ggx(n_dot_v, alpha_6);
-    let _e6 = car_paint_lambda_ggx(n_dot_l, alpha_6);
+    let alpha_7 = max(alpha_2, 0.001f);
+    let _e5 = car_paint_lambda_ggx(n_dot_v, alpha_7);
+    let _e6 = car_paint_lambda_ggx(n_dot_l, alpha_7);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -101,16 +101,54 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 14 of the table's
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.8360856f) + 1.0000006f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.33166942f, -1.3342792f, 0.6242377f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.17057773f, 0.027964713f, 0.0043541198f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0022459035f, -0.00004827998f, 0.0003898144f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0004076958f, -0.0006884337f, 0.0004220009f)));
-    return f_4;
+    let f = ((u * -0.1727557f) + 1.0000006f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.70080215f, -0.7268715f, 0.075482756f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.10977743f, 0.012890697f, 0.000058114532f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.00086009497f, -0.00038713208f, 0.000027716162f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0005024672f, -0.0007742644f, 0.0003871322f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.00007241965f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.00007241965f));
+    return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn car_paint_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_4 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_4 * a_4);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn car_paint_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -119,21 +157,22 @@ fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 29 of the table's
+// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 28 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_5 = ((u_1 * -0.23525593f) + -0.000008429401f);
-    let f_6 = (f_5 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.42355445f, 0.11186912f, -0.9008823f)));
-    let f_7 = (f_6 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.043015163f, 0.32627678f, 0.14866436f)));
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.06702751f, 0.062109314f, -0.038766224f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.017394189f, -0.03652423f, 0.011807078f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.006165725f, 0.0035800978f, -0.0011752645f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0018261934f, 0.00019889172f, 0.0007051798f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00018082031f, 0.0006690102f, -0.00014465104f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0002531391f, 0.00021697595f, -0.00014465071f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.00014465082f, -0.000054244127f, -0.00001808135f)));
-    return f_14;
+    let f_7 = ((u_1 * 0.018868122f) + -0.000009304378f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.41898763f, 0.14115073f, 0.25619617f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.04369545f, -0.28174376f, 0.094916634f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.16662645f, 0.056496438f, 0.018922206f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.0033847406f, -0.025781661f, 0.009866177f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0031867106f, 0.0033487321f, 0.00019804694f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0012062758f, 0.00075615157f, 0.0004861098f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00003600769f, 0.00075616484f, -0.00021604773f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00030606767f, 0.00023405152f, -0.0000720159f)));
+    let f_16 = (f_15 + (max(u_1, 0.83870965f) * 0.000018003984f));
+    let f_17 = (f_16 + (max(u_1, 0.87096775f) * -0.000018003984f));
+    return f_17;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -168,10 +207,10 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_15 = (1.0202647f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45261955f, -0.3683653f, -0.29751205f)));
-    let f_16 = (f_15 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035235405f, 0.092440605f, 0.047664642f)));
-    let f_17 = (f_16 + (max(u_2, 0.875f) * 0.023005486f));
-    return f_17;
+    let f_18 = (1.0200783f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45256233f, -0.368289f, -0.29771614f)));
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.035452843f, 0.092573166f, 0.04733944f)));
+    let f_20 = (f_19 + (max(u_2, 0.875f) * 0.023370743f));
+    return f_20;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -181,9 +220,9 @@ fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_18 = ((u_3 * 0.0019297004f) + 0.2134062f);
-    let f_19 = (f_18 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
-    return f_19;
+    let f_21 = ((u_3 * 0.0019297004f) + 0.2134062f);
+    let f_22 = (f_21 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
+    return f_22;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -196,11 +235,11 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_20 = ((u_4 * -11.364231f) + 1.1429214f);
-    let f_21 = (f_20 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047794f, 1.1094351f, 0.25702763f)));
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07725239f, -0.1627922f, -0.008248329f)));
-    let f_23 = (f_22 + (max(u_4, 0.875f) * 0.071787834f));
-    return f_23;
+    let f_23 = ((u_4 * -11.364125f) + 1.1430384f);
+    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047745f, 1.1096478f, 0.25697708f)));
+    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07753658f, -0.16301155f, -0.008024216f)));
+    let f_26 = (f_25 + (max(u_4, 0.875f) * 0.07171154f));
+    return f_26;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -210,14 +249,14 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_24 = ((u_5 * -0.02538353f) + 0.9516745f);
-    let f_25 = (f_24 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_27 = (f_26 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_29 = (f_28 + (max(u_5, 0.8666667f) * -0.056797568f));
-    let f_30 = (f_29 + (max(u_5, 0.93333334f) * -0.032047037f));
-    return f_30;
+    let f_27 = ((u_5 * -0.02538353f) + 0.9516745f);
+    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
+    let f_29 = (f_28 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
+    let f_30 = (f_29 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
+    let f_31 = (f_30 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
+    let f_32 = (f_31 + (max(u_5, 0.8666667f) * -0.056797568f));
+    let f_33 = (f_32 + (max(u_5, 0.93333334f) * -0.032047037f));
+    return f_33;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -227,14 +266,14 @@ fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_31 = ((u_6 * -0.019831358f) + 0.8686472f);
-    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
-    let f_33 = (f_32 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
-    let f_34 = (f_33 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
-    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
-    let f_36 = (f_35 + (max(u_6, 0.8666667f) * -0.09392203f));
-    let f_37 = (f_36 + (max(u_6, 0.93333334f) * -0.06806106f));
-    return f_37;
+    let f_34 = ((u_6 * -0.019831358f) + 0.8686472f);
+    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
+    let f_36 = (f_35 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
+    let f_37 = (f_36 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
+    let f_38 = (f_37 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
+    let f_39 = (f_38 + (max(u_6, 0.8666667f) * -0.09392203f));
+    let f_40 = (f_39 + (max(u_6, 0.93333334f) * -0.06806106f));
+    return f_40;
 }
 
 // glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
@@ -250,12 +289,12 @@ fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
+fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_4: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu_1 * mu_1)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
     let near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1f));
     let far = (((sin_t * mu_c) + (mu_1 * sin_c)) / max((((mu_1 * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
-    let a2_ = (alpha_3 * alpha_3);
+    let a2_ = (alpha_4 * alpha_4);
     let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
     return ((cos_beta + 1f) * 0.5f);
 }
@@ -267,9 +306,9 @@ fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_3: f32) -> f32 {
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
 // would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
-fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
-    let beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_4);
-    let below_horizon = car_paint_trapped_share(mu_2, 0f, alpha_4);
+fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_5: f32) -> f32 {
+    let beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_5);
+    let below_horizon = car_paint_trapped_share(mu_2, 0f, alpha_5);
     return max((beyond_cone - below_horizon), 0f);
 }
 
@@ -280,9 +319,9 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_4: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_38 = ((u_7 * 0.0144017935f) + 0.2634757f);
-    let f_39 = (f_38 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
-    return f_39;
+    let f_41 = ((u_7 * 0.0144017935f) + 0.2634757f);
+    let f_42 = (f_41 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
+    return f_42;
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -293,9 +332,9 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_40 = ((u_8 * 0.02468437f) + 0.24147323f);
-    let f_41 = (f_40 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
-    return f_41;
+    let f_43 = ((u_8 * 0.02468437f) + 0.24147323f);
+    let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
+    return f_44;
 }
 
 // glazec's glossy level (a conductor under a coat), the light trapped after the first
@@ -342,9 +381,9 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_42 = ((u_9 * 0.008631557f) + 0.0920461f);
-    let f_43 = (f_42 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
-    return f_43;
+    let f_45 = ((u_9 * 0.008631557f) + 0.0920461f);
+    let f_46 = (f_45 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
+    return f_46;
 }
 
 // sin θl sin θv = |l_t| |v_t|, l_t and v_t the directions' components in the plane of `n`:
@@ -407,8 +446,8 @@ fn car_paint_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, sine
 fn car_paint_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
     let r_1 = min(rho_1, 0.95f);
     let r_c = min(rho_c, vec3(0.95f));
-    let a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), car_paint_one);
-    return ((car_paint_one + (a_4 * cos_phi)) / (car_paint_one + (a_4 * r_1)));
+    let a_5 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), car_paint_one);
+    return ((car_paint_one + (a_5 * cos_phi)) / (car_paint_one + (a_5 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -482,9 +521,9 @@ fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
-    let f_44 = ((u_10 * 0.0020885468f) + 0.8244415f);
-    let f_45 = (f_44 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
-    return f_45;
+    let f_47 = ((u_10 * 0.0020885468f) + 0.8244415f);
+    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
+    return f_48;
 }
 
 // The BRDF f(l, v) of material `car_paint` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
@@ -501,13 +540,24 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let _e21 = car_paint_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = car_paint_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = car_paint_coat_scale_curve(n_dot_v_3);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_3, (v_3 + l_3));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = car_paint_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0016f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = car_paint_fr_dielectric(layer1_mirrored_cos, 1.5f);
     let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_l_2, 1.5f);
-    let _e30 = car_paint_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e40 = car_paint_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = car_paint_lambda_ggx(cos_l, 0.0016f);
+    let layer1_lambda_v = car_paint_lambda_ggx(cos_v, 0.0016f);
+    let _e47 = car_paint_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e62 = car_paint_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
+    let _e70 = car_paint_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
     let layer1_v = car_paint_refract_down(v_3, n_3, 1.5f);
     let layer1_l = car_paint_refract_down(l_3, n_3, 1.5f);
     let layer1_n_dot_v = dot(n_3, layer1_v);
@@ -526,79 +576,79 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_l);
     let layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_l);
     let layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_l);
-    let _e77 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
-    let _e82 = max(layer2_cos_l, 0.19711706f);
-    let _e83 = car_paint_ggx_albedo_curve(_e82);
-    let _e86 = car_paint_ggx_albedo_curve_b(_e82);
-    let _e92 = car_paint_glossy_trapped_share(_e82, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_l = (1f - _e92);
-    let layer2_lobe_normaliser_l = (((0.78416157f * _e83) + (0.21583843f * _e86)) * layer2_cone_share_l);
-    let layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e77) * layer2_lobe_normaliser_l), 0f), 1f);
+    let _e107 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_l);
+    let _e112 = max(layer2_cos_l, 0.19711706f);
+    let _e113 = car_paint_ggx_albedo_curve(_e112);
+    let _e116 = car_paint_ggx_albedo_curve_b(_e112);
+    let _e122 = car_paint_glossy_trapped_share(_e112, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_l = (1f - _e122);
+    let layer2_lobe_normaliser_l = (((0.78416157f * _e113) + (0.21583843f * _e116)) * layer2_cone_share_l);
+    let layer2_lobe_albedo_l = min(max((((layer2_scale_l * layer2_scale_l) * _e107) * layer2_lobe_normaliser_l), 0f), 1f);
     let layer2_single_l = min(max(((layer2_lobe_albedo_l - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
-    let _e111 = car_paint_glossy_quick_curve(layer1_n_dot_l);
-    let _e112 = car_paint_glossy_steady_curve(layer1_n_dot_l);
-    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e111, _e112, 0.43932146f, car_paint_layer2_survival);
+    let _e141 = car_paint_glossy_quick_curve(layer1_n_dot_l);
+    let _e142 = car_paint_glossy_steady_curve(layer1_n_dot_l);
+    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e141, _e142, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_l = car_paint_glossy_once(layer2_single_l, layer2_next_l, car_paint_layer2_survival);
-    let _e120 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1f));
-    let layer2_once_colour_l = (layer2_once_l / vec3(max(_e120.x, 0.000001f)));
+    let _e150 = car_paint_glossy_once(layer2_single_l, layer2_next_l, vec3(1f));
+    let layer2_once_colour_l = (layer2_once_l / vec3(max(_e150.x, 0.000001f)));
     let layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v, 1.02f);
     let layer2_transmit_v = (1f - layer2_fresnel_v);
     let layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v);
     let layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v);
     let layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v);
     let layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v);
-    let _e137 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
-    let _e142 = max(layer2_cos_v, 0.19711706f);
-    let _e143 = car_paint_ggx_albedo_curve(_e142);
-    let _e146 = car_paint_ggx_albedo_curve_b(_e142);
-    let _e152 = car_paint_glossy_trapped_share(_e142, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_v = (1f - _e152);
-    let layer2_lobe_normaliser_v = (((0.78416157f * _e143) + (0.21583843f * _e146)) * layer2_cone_share_v);
-    let layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e137) * layer2_lobe_normaliser_v), 0f), 1f);
+    let _e167 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v);
+    let _e172 = max(layer2_cos_v, 0.19711706f);
+    let _e173 = car_paint_ggx_albedo_curve(_e172);
+    let _e176 = car_paint_ggx_albedo_curve_b(_e172);
+    let _e182 = car_paint_glossy_trapped_share(_e172, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_v = (1f - _e182);
+    let layer2_lobe_normaliser_v = (((0.78416157f * _e173) + (0.21583843f * _e176)) * layer2_cone_share_v);
+    let layer2_lobe_albedo_v = min(max((((layer2_scale_v * layer2_scale_v) * _e167) * layer2_lobe_normaliser_v), 0f), 1f);
     let layer2_single_v = min(max(((layer2_lobe_albedo_v - layer2_next_v) / max((1f - layer2_next_v), 0.000001f)), 0f), 1f);
-    let _e171 = car_paint_glossy_quick_curve(layer1_n_dot_v);
-    let _e172 = car_paint_glossy_steady_curve(layer1_n_dot_v);
-    let layer2_later_v = car_paint_glossy_later(layer2_next_v, _e171, _e172, 0.43932146f, car_paint_layer2_survival);
+    let _e201 = car_paint_glossy_quick_curve(layer1_n_dot_v);
+    let _e202 = car_paint_glossy_steady_curve(layer1_n_dot_v);
+    let layer2_later_v = car_paint_glossy_later(layer2_next_v, _e201, _e202, 0.43932146f, car_paint_layer2_survival);
     let layer2_once_v = car_paint_glossy_once(layer2_single_v, layer2_next_v, car_paint_layer2_survival);
-    let _e180 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
-    let layer2_once_colour_v = (layer2_once_v / vec3(max(_e180.x, 0.000001f)));
+    let _e210 = car_paint_glossy_once(layer2_single_v, layer2_next_v, vec3(1f));
+    let layer2_once_colour_v = (layer2_once_v / vec3(max(_e210.x, 0.000001f)));
     let layer2_h = car_paint_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_3, layer2_h);
     let layer2_d = car_paint_d_ggx(dot(n_3, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), car_paint_layer2_alpha_1);
     let layer2_g = car_paint_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, car_paint_layer2_alpha_1);
     let layer2_fresnel = car_paint_f_schlick(car_paint_f0_under_coat, dot(layer2_v, layer2_h));
-    let _e199 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
-    let layer1_under = ((_e199 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
-    let _e205 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
+    let _e229 = car_paint_f_cook_torrance(layer2_d, layer2_g, layer2_fresnel, layer2_cos_v, layer2_cos_l);
+    let layer1_under = ((_e229 * sqrt((layer2_once_colour_l * layer2_once_colour_v))) * (layer2_scale_l * layer2_scale_v));
+    let _e235 = car_paint_interfaced_layer(car_paint_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer2_absorb_l, layer2_absorb_v, layer1_under, 1.02f);
     let layer1_spread_l = car_paint_glossy_spread_curve(layer1_n_dot_l);
     let layer1_spread_v = car_paint_glossy_spread_curve(layer1_n_dot_v);
     let layer1_sines = car_paint_forward_sines(n_3, layer1_v, layer1_l);
     let layer1_spread_rho = min((sqrt(max((layer1_spread_l * layer1_spread_v), 0f)) * layer1_sines), 0.95f);
-    let _e227 = car_paint_glossy_spread_colour(layer1_spread_rho, ((layer2_next_l + layer2_next_v) * 0.5f), ((_e111 + _e171) * 0.5f), ((_e112 + _e172) * 0.5f), 0.43932146f, car_paint_layer2_pool_fresnel);
-    let _e228 = car_paint_forward_cosine(n_3, layer1_v, layer1_l, layer1_sines);
-    let _e229 = car_paint_forward_azimuth_tilt(layer1_spread_rho, _e227, _e228);
-    let _e230 = car_paint_forward_azimuth_weight(layer1_spread_rho, _e228);
-    let layer1_spread = (_e229 * _e230);
-    let _e232 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
-    let _e233 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
-    let _e235 = car_paint_glossy_remainder_lobe(_e232, _e233, car_paint_layer1_remainder_avg);
-    let layer1_later = (_e235 * layer1_spread);
-    let layer1_f = (_e205 + layer1_later);
+    let _e257 = car_paint_glossy_spread_colour(layer1_spread_rho, ((layer2_next_l + layer2_next_v) * 0.5f), ((_e141 + _e201) * 0.5f), ((_e142 + _e202) * 0.5f), 0.43932146f, car_paint_layer2_pool_fresnel);
+    let _e258 = car_paint_forward_cosine(n_3, layer1_v, layer1_l, layer1_sines);
+    let _e259 = car_paint_forward_azimuth_tilt(layer1_spread_rho, _e257, _e258);
+    let _e260 = car_paint_forward_azimuth_weight(layer1_spread_rho, _e258);
+    let layer1_spread = (_e259 * _e260);
+    let _e262 = car_paint_glossy_remainder(layer2_transmit_l, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l, layer2_later_l);
+    let _e263 = car_paint_glossy_remainder(layer2_transmit_v, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v, layer2_later_v);
+    let _e265 = car_paint_glossy_remainder_lobe(_e262, _e263, car_paint_layer1_remainder_avg);
+    let layer1_later = (_e265 * layer1_spread);
+    let layer1_f = (_e235 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e250 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
+    let _e280 = car_paint_interfaced_glossy_under(layer1_f, layer1_albedo_l, inner_l, layer1_albedo_v, inner_v);
     let layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let _e262 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let _e263 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e264 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    let _e292 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e293 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e294 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    let _e273 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    let layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e263 * _e264), 0f)) * layer1_trapped_sines), 0.95f), _e273);
-    let trapped = (_e262 * layer1_trapped_spread);
-    let under = (_e250 + trapped);
+    let _e303 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    let layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e293 * _e294), 0f)) * layer1_trapped_sines), 0.95f), _e303);
+    let trapped = (_e292 * layer1_trapped_spread);
+    let under = (_e280 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -626,10 +676,10 @@ fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f3
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
-    let smoothness = min(max((1f - alpha_5), 0f), 1f);
-    let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let smoothness = min(max((1f - alpha_6), 0f), 1f);
+    let t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
     let d_2 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }

@@ -13,14 +13,14 @@ struct FourLayerIblLobes {
 const four_layer_layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
 const four_layer_layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const four_layer_layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
-const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.3223219f, 0.3223219f, 0.3223219f);
-const four_layer_layer3_rho: vec3<f32> = vec3<f32>(0.8527689f, 0.8527689f, 0.78522366f);
-const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.02070725f, 0.056239247f, 0.14843833f);
-const four_layer_layer2_rho: vec3<f32> = vec3<f32>(0.26342994f, 0.4134114f, 0.64397824f);
+const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.32233894f, 0.32233894f, 0.32233894f);
+const four_layer_layer3_rho: vec3<f32> = vec3<f32>(0.85276955f, 0.85276955f, 0.7852249f);
+const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.020748317f, 0.056278825f, 0.1484741f);
+const four_layer_layer2_rho: vec3<f32> = vec3<f32>(0.26345956f, 0.4134338f, 0.6439879f);
 const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const four_layer_layer1_rho: vec3<f32> = vec3<f32>(0.24375734f, 0.3825383f, 0.5958865f);
-const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949445f, 0.5949445f, 0.5949445f);
+const four_layer_layer1_rho: vec3<f32> = vec3<f32>(0.24378474f, 0.382559f, 0.59589547f);
+const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949359f, 0.5949359f, 0.5949359f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -86,46 +86,26 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
-// Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.031875372f) + 1.0102208f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.07371246f, 0.11994841f, 0.13061099f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.0065534515f, -0.21846236f, -0.30766907f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.093548186f, 0.087488174f, 0.10498703f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.031732325f, 0.04088402f, -0.012624265f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.009346605f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.0017470123f));
-    return f_6;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.03834161f) + -0.004981162f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.014694184f, -0.064813316f, -0.04077694f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.10648364f, -0.07544339f, -0.12260336f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.1165871f, -0.099422485f, -0.13716912f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.08694744f, -0.1522116f, -0.028819263f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0040012896f, 0.048852503f, 0.15331748f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.14091185f, 0.16513813f, 0.16581412f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.10528529f, 0.1050934f, 0.06659178f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.05249732f, 0.033154104f, 0.025457583f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.01801131f, 0.007955713f, 0.0040271506f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0018491934f, -0.00016434962f, -0.0004808017f)));
-    return f_17;
+fn four_layer_coat_deficit_curve(cos_theta: f32) -> f32 {
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f = ((u * -0.035696566f) + -0.0048993737f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.018605858f, -0.04643011f, -0.063839555f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06355408f, -0.120908976f, -0.12705919f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11604294f, -0.18015781f, -0.061962247f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.07012004f, -0.09002024f, -0.02657564f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.08082771f, 0.07607439f, 0.13548814f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.13201948f, 0.18176389f, 0.15296035f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.11392689f, 0.10243415f, 0.070194066f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.051978104f, 0.033135038f, 0.02559825f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.017701015f, 0.008244933f, 0.0041204076f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0017185223f, -0.0000408896f, -0.00060151203f)));
+    return f_10;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -160,46 +140,26 @@ fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
-// Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.015060603f) + 1.0256641f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.021902023f, 0.029723348f, 0.045953378f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.06363901f, 0.032585267f, -0.047657494f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.11613251f, -0.12729764f, 0.02443135f)));
-    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.012624265f, 0.059487823f, 0.020468833f)));
-    let f_23 = (f_22 + (max(u_2, 0.8666667f) * -0.008962155f));
-    let f_24 = (f_23 + (max(u_2, 0.93333334f) * 0.0051319604f));
-    return f_24;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
-    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_25 = ((u_3 * -0.019963026f) + -0.0036066887f);
-    let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02197522f, -0.040990353f, -0.048499584f)));
-    let f_27 = (f_26 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06875825f, -0.081968695f, -0.0997366f)));
-    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11511722f, -0.122522056f, -0.13581657f)));
-    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.120381445f, -0.11980495f, -0.10119216f)));
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.06555103f, -0.0024274737f, 0.024272427f)));
-    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.10645688f, 0.13926408f, 0.1540812f)));
-    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15939546f, 0.16005497f, 0.1593905f)));
-    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.105802804f, 0.08690234f, 0.04736138f)));
-    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.022433989f, 0.00457169f, 0.0023984252f)));
-    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0007751087f, -0.0018081414f, -0.0015191835f)));
-    return f_35;
+fn four_layer_coat_deficit_curve_b(cos_theta_1: f32) -> f32 {
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_11 = ((u_1 * -0.020166278f) + -0.003592166f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
+    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
+    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
+    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
+    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
+    return f_21;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -209,14 +169,14 @@ fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve(cos_theta_4: f32) -> f32 {
-    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_36 = ((u_4 * 0.61936736f) + 1.0213565f);
-    let f_37 = (f_36 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
-    let f_38 = (f_37 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
-    let f_39 = (f_38 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
-    let f_40 = (f_39 + (max(u_4, 0.90909094f) * 0.05309328f));
-    return f_40;
+fn four_layer_coat_path_curve(cos_theta_2: f32) -> f32 {
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_22 = ((u_2 * 0.61936736f) + 1.0213565f);
+    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
+    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
+    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
+    let f_26 = (f_25 + (max(u_2, 0.90909094f) * 0.05309328f));
+    return f_26;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -227,46 +187,26 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
-// Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_c(cos_theta_5: f32) -> f32 {
-    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_41 = ((u_5 * -0.09693145f) + 1.1485513f);
-    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016946197f, 0.047528736f, -0.032536972f)));
-    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.07585465f, 0.005950928f, 0.049590472f)));
-    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.008364883f, 0.03277305f, 0.00065803534f)));
-    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1937771f, -0.0123006115f, -0.15396775f)));
-    let f_46 = (f_45 + (max(u_5, 0.8666667f) * 0.15924813f));
-    let f_47 = (f_46 + (max(u_5, 0.93333334f) * -0.049645904f));
-    return f_47;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_c(cos_theta_6: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_48 = ((u_6 * -0.023300052f) + -0.01609135f);
-    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.031880975f, -0.054331064f, -0.073233485f)));
-    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.100670636f, -0.12005901f, -0.1382981f)));
-    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.1669991f, -0.1905911f, -0.23060215f)));
-    let f_52 = (f_51 + dot(max(vec3(u_6), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21502751f, -0.19809479f, -0.1784274f)));
-    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.1412397f, -0.08890697f, -0.03257388f)));
-    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.03142177f, 0.10445408f, 0.1682191f)));
-    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.2139603f, 0.20863476f, 0.28863242f)));
-    let f_56 = (f_55 + dot(max(vec3(u_6), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2500063f, 0.2236042f, 0.18725146f)));
-    let f_57 = (f_56 + dot(max(vec3(u_6), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13397235f, 0.08653011f, 0.05199398f)));
-    let f_58 = (f_57 + dot(max(vec3(u_6), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.030348241f, 0.016953703f, 0.0046103266f)));
-    return f_58;
+fn four_layer_coat_deficit_curve_c(cos_theta_3: f32) -> f32 {
+    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_27 = ((u_3 * -0.02334994f) + -0.016049497f);
+    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
+    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
+    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
+    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
+    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
+    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
+    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
+    let f_36 = (f_35 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
+    let f_37 = (f_36 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
+    return f_37;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -317,14 +257,14 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve_b(cos_theta_7: f32) -> f32 {
-    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_59 = ((u_7 * 0.9989592f) + 1.2154765f);
-    let f_60 = (f_59 + dot(max(vec3(u_7), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
-    let f_61 = (f_60 + dot(max(vec3(u_7), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
-    let f_62 = (f_61 + dot(max(vec3(u_7), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
-    let f_63 = (f_62 + (max(u_7, 0.90909094f) * 0.30706084f));
-    return f_63;
+fn four_layer_coat_path_curve_b(cos_theta_4: f32) -> f32 {
+    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_38 = ((u_4 * 0.9989592f) + 1.2154765f);
+    let f_39 = (f_38 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
+    let f_40 = (f_39 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
+    let f_41 = (f_40 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
+    let f_42 = (f_41 + (max(u_4, 0.90909094f) * 0.30706084f));
+    return f_42;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -368,16 +308,13 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let d = four_layer_d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003f);
     let g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25f);
     let fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5f);
-    let _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    let layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let specular = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5f);
-    let _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
+    let _e26 = four_layer_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e26), 0f), 1f);
     let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5f);
-    let _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let _e36 = four_layer_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e36), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_1, n_1, 1.5f);
     let layer1_l = four_layer_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -394,35 +331,32 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e75 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e75);
-    let _e78 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e78);
+    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
+    let layer1_absorb_l = vec3(_e71);
+    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
+    let layer1_absorb_v = vec3(_e74);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    let layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
-    let layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
-    let layer2_specular = (_e92 * (layer3_scale_l * layer3_scale_v));
+    let layer2_specular = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1f);
-    let _e101 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e101), 0f), 1f);
+    let _e93 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e93), 0f), 1f);
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
-    let _e111 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e111), 0f), 1f);
+    let _e103 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e103), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e127 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e127);
-    let _e129 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e129);
+    let _e119 = four_layer_coat_path_curve(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / _e119);
+    let _e121 = four_layer_coat_path_curve(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / _e121);
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -430,16 +364,13 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e147 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    let layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
-    let layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
-    let layer3_specular = (_e147 * (layer4_scale_l * layer4_scale_v));
+    let layer3_specular = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2f);
-    let _e156 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e156), 0f), 1f);
+    let _e144 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e144), 0f), 1f);
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
-    let _e166 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e166), 0f), 1f);
+    let _e154 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e154), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -449,55 +380,55 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e201 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e201);
-    let _e203 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e203);
-    let _e210 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e212 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e212)) * vec3(0.18698311f)) / max(_e210, vec3(0.000001f))));
-    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let _e247 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e249 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e249)) * vec3(0.18698311f)) / max(_e247, vec3(0.000001f))));
-    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671017f, 0.9671017f, 0.968903f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
+    let _e189 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e189);
+    let _e191 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e191);
+    let _e198 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e200 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e200)) * vec3(0.18698311f)) / max(_e198, vec3(0.000001f))));
+    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let _e235 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e237 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e237)) * vec3(0.18698311f)) / max(_e235, vec3(0.000001f))));
+    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_l, layer4_first_return_l);
-    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_v, layer4_first_return_v);
-    let _e312 = (1f - layer4_transmit_l);
-    let _e333 = min(max(((vec3((_e312 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e312)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e333 / vec3(0.8097652f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e333) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let _e350 = (1f - layer4_transmit_v);
-    let _e371 = min(max(((vec3((_e350 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e350)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e371 / vec3(0.8097652f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e371) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9328693f, 0.9328693f, 0.93179023f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
+    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
+    let _e300 = (1f - layer4_transmit_l);
+    let _e321 = min(max(((vec3((_e300 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e300)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e321 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e321) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e338 = (1f - layer4_transmit_v);
+    let _e359 = min(max(((vec3((_e338 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e338)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e359 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e359) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_l, layer2_first_return_l);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_v, layer2_first_return_v);
-    let _e416 = (1f - layer3_transmit_l);
-    let _e434 = min(max(((vec3((_e416 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e416)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e434 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e434) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e451 = (1f - layer3_transmit_v);
-    let _e469 = min(max(((vec3((_e451 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e451)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e469 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e469) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
+    let _e404 = (1f - layer3_transmit_l);
+    let _e422 = min(max(((vec3((_e404 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e404)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e422 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e422) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e439 = (1f - layer3_transmit_v);
+    let _e457 = min(max(((vec3((_e439 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e439)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e457 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e457) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e509 = (1f - layer2_transmit_l);
-    let _e530 = min(max(((vec3((_e509 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e509)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e530 / vec3(0.4050555f));
-    let first_return_l = min(max(((vec3(1f) - _e530) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let _e547 = (1f - layer2_transmit_v);
-    let _e568 = min(max(((vec3((_e547 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e547)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e568 / vec3(0.4050555f));
-    let first_return_v = min(max(((vec3(1f) - _e568) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807674f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    let _e497 = (1f - layer2_transmit_l);
+    let _e518 = min(max(((vec3((_e497 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e497)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e518 / vec3(0.4050641f));
+    let first_return_l = min(max(((vec3(1f) - _e518) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let _e535 = (1f - layer2_transmit_v);
+    let _e556 = min(max(((vec3((_e535 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e535)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e556 / vec3(0.4050641f));
+    let first_return_v = min(max(((vec3(1f) - _e556) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -583,23 +514,23 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e107 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
     let _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
     let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e109)) * vec3(0.18698311f)) / max(_e107, vec3(0.000001f))));
-    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
+    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let _e144 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
     let _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
     let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e146)) * vec3(0.18698311f)) / max(_e144, vec3(0.000001f))));
-    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_l_1, layer4_first_return_l_1);
-    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_v_1, layer4_first_return_v_1);
+    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
+    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
     let _e191 = (1f - layer4_transmit_l_1);
-    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e212 / vec3(0.8097652f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
+    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e212 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let _e229 = (1f - layer4_transmit_v_1);
-    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e250 / vec3(0.8097652f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_l_1, layer2_first_return_l_1);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_v_1, layer2_first_return_v_1);
+    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e250 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
     let _e281 = (1f - layer3_transmit_l_1);
     let _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l_1 = (_e299 / vec3(0.9999998f));
@@ -611,15 +542,15 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.4050555f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
+    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e382 / vec3(0.4050641f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
     let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.4050555f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555f), first_escape_v_1, first_return_v_1);
+    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e420 / vec3(0.4050641f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);

@@ -11,10 +11,10 @@ struct LacqueredWoodIblLobes {
 }
 
 const lacquered_wood_tau: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
-const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19010004f, 0.091129504f, 0.03887021f);
+const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19009909f, 0.09112922f, 0.03887014f);
 const lacquered_wood_layer1_albedo_l: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_layer1_rho: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
-const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947953f, 0.3532142f, 0.14428955f);
+const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947113f, 0.35320336f, 0.14427519f);
 const lacquered_wood_layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_ibl_specular_lobes: u32 = 1u;
 
@@ -61,9 +61,9 @@ fn lacquered_wood_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn lacquered_wood_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -97,14 +97,50 @@ fn lacquered_wood_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1:
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.24101077f) + 1.0001287f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.39785382f, -0.16063029f, -0.8319354f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.023287019f, 0.21459104f, 0.10371388f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.042618524f, 0.009201759f, 0.004202128f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.001012087f, 0.0011301042f, -0.00014305116f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.00040054324f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.00014305116f));
+    let f = ((u * 0.051895376f) + 0.99983186f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.1786208f, 0.4314673f, -0.18818562f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.24814187f, 0.049195293f, 0.047053102f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.02862454f, 0.004068014f, 0.0020009282f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.00004112721f, 0.0006982685f, -0.00031113627f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0003343821f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.000049173836f));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn lacquered_wood_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn lacquered_wood_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -117,17 +153,17 @@ fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn lacquered_wood_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.1377045f) + -0.00028620308f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.09349053f, -0.20126668f, 0.06605962f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.105583094f, -0.39272207f, 0.13863808f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.12506987f, -0.18841746f, 0.17495908f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.16499546f, 0.13213691f, 0.10692f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0030397265f, 0.033235718f, -0.010187234f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.017132793f, 0.004275262f, 0.007178875f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.0032035308f, 0.0041351416f, 0.0024121667f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0018972224f, 0.00092372514f, 0.0007992522f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0005005133f, 0.000020962905f, 0.00025681124f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00010481509f, -0.0003825893f, 0.00020833011f)));
+    let f_7 = ((u_1 * -0.0044140294f) + -0.000009304378f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.07599794f, -0.09372843f, -0.16153325f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.16409607f, 0.22801462f, 0.120679624f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.26423988f, -0.11185803f, 0.083679885f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.10134033f, 0.14106882f, 0.09795896f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.035050724f, 0.027807033f, -0.004147478f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.016485425f, 0.006001293f, 0.006490611f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.004815411f, 0.0032185505f, 0.0033007297f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0016816934f, 0.0011272022f, 0.00058839354f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0007958298f, -0.000020873655f, 0.0002765857f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.000104366576f, -0.000104366576f, -0.0003457319f)));
     return f_17;
 }
 
@@ -185,23 +221,34 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_3);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = lacquered_wood_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0064f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = lacquered_wood_fr_dielectric(layer1_mirrored_cos, 1.5f);
     let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_l_2, 1.5f);
-    let _e30 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5f);
-    let _e40 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = lacquered_wood_lambda_ggx(cos_l, 0.0064f);
+    let layer1_lambda_v = lacquered_wood_lambda_ggx(cos_v, 0.0064f);
+    let _e47 = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e62 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
+    let _e70 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5f);
     let layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e56 = lacquered_wood_coat_path_curve(n_dot_l_2);
-    let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = lacquered_wood_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_v = (layer1_cos_v / _e58);
+    let _e86 = lacquered_wood_coat_path_curve(n_dot_l_2);
+    let layer1_path_cos_l = (layer1_cos_l / _e86);
+    let _e88 = lacquered_wood_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_v = (layer1_cos_v / _e88);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     let f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5f);
@@ -229,10 +276,10 @@ fn lacquered_wood_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn lacquered_wood_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn lacquered_wood_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
@@ -269,8 +316,8 @@ fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblL
     let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
-    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548177f, 0.35186347f, 0.27089304f), vec3(1f), vec3(1f));
+    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
+    let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);

@@ -14,16 +14,15 @@ struct TunableGlazeIblLobes {
     irradiance: TunableGlazeIblLobe,
 }
 
-const tunable_glaze_weight_roughness: f32 = 0.80947495f;
+const tunable_glaze_weight_roughness: f32 = 0.006248474f;
 const tunable_glaze_weight_eta: f32 = 0.88888884f;
-const tunable_glaze_weight_roughness_1: f32 = 0.006248474f;
-const tunable_glaze_weight_roughness_2: f32 = 0.26028156f;
+const tunable_glaze_weight_roughness_1: f32 = 0.26028156f;
 const tunable_glaze_tau: vec3<f32> = vec3<f32>(0.15f, 0.05f, 0.025f);
-const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.3195576f, 0.487208f, 0.54594934f);
+const tunable_glaze_layer1_r_return: vec3<f32> = vec3<f32>(0.3195451f, 0.4871986f, 0.545941f);
 const tunable_glaze_ibl_specular_lobes: u32 = 1u;
 
 @group(0) @binding(4) 
-var<uniform> tunable_glaze_tables: array<vec4<u32>, 30>;
+var<uniform> tunable_glaze_tables: array<vec4<u32>, 22>;
 @group(2) @binding(0) 
 var tunable_glaze_environment_sampler: sampler;
 @group(2) @binding(1) 
@@ -121,33 +120,17 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
-// Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_scale_slice(cos_theta: f32) -> f32 {
-    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta = (u_cos_theta * 15f);
-    let cell_cos_theta = min(floor(node_cos_theta), 14f);
-    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
-    let value = tunable_glaze_table_trilinear(u32(cell_cos_theta), vec3<u32>(1u, 16u, 32u), vec3<f32>(weight_cos_theta, tunable_glaze_weight_roughness, tunable_glaze_weight_eta), 0.0000051992565f, 0.9212891f);
-    return value;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
 // scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32) -> f32 {
-    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_1 = (u_cos_theta_1 * 31f);
-    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 30f);
-    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
-    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_1) + 64u), vec3<u32>(1u, 32u, 64u), vec3<f32>(weight_cos_theta_1, tunable_glaze_weight_roughness_1, tunable_glaze_weight_eta), 0.000014581692f, -0.009180314f);
+fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
+    let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta = (u_cos_theta * 31f);
+    let cell_cos_theta = min(floor(node_cos_theta), 30f);
+    let weight_cos_theta = (node_cos_theta - cell_cos_theta);
+    let value = tunable_glaze_table_trilinear(u32(cell_cos_theta), vec3<u32>(1u, 32u, 64u), vec3<f32>(weight_cos_theta, tunable_glaze_weight_roughness, tunable_glaze_weight_eta), 0.000014519305f, -0.0050910613f);
     return value;
 }
 
@@ -165,12 +148,12 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f3
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.15, eta = 1.52 (literals of the material): this function reads only the slices of the table they select.
-fn tunable_glaze_coat_path_slice(cos_theta_2: f32) -> f32 {
-    let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let node_cos_theta_2 = (u_cos_theta_2 * 11f);
-    let cell_cos_theta_2 = min(floor(node_cos_theta_2), 10f);
-    let weight_cos_theta_2 = (node_cos_theta_2 - cell_cos_theta_2);
-    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_2) + 192u), vec3<u32>(1u, 12u, 24u), vec3<f32>(weight_cos_theta_2, tunable_glaze_weight_roughness_2, tunable_glaze_weight_eta), 0.00001072428f, 0.88077754f);
+fn tunable_glaze_coat_path_slice(cos_theta_1: f32) -> f32 {
+    let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let node_cos_theta_1 = (u_cos_theta_1 * 11f);
+    let cell_cos_theta_1 = min(floor(node_cos_theta_1), 10f);
+    let weight_cos_theta_1 = (node_cos_theta_1 - cell_cos_theta_1);
+    let value = tunable_glaze_table_trilinear((u32(cell_cos_theta_1) + 128u), vec3<u32>(1u, 12u, 24u), vec3<f32>(weight_cos_theta_1, tunable_glaze_weight_roughness_1, tunable_glaze_weight_eta), 0.00001072428f, 0.88077754f);
     return value;
 }
 
@@ -260,26 +243,23 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let d = tunable_glaze_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0225f);
     let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, 0.0225f);
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
-    let _e23 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_scale_l = tunable_glaze_coat_scale_slice(n_dot_l_3);
-    let layer1_scale_v = tunable_glaze_coat_scale_slice(n_dot_v_4);
-    let specular = (_e23 * (layer1_scale_l * layer1_scale_v));
+    let specular = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e32 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e32), 0f), 1f);
+    let _e28 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e28), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e42 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e42), 0f), 1f);
+    let _e38 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e38), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e58 = tunable_glaze_coat_path_slice(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e58);
-    let _e60 = tunable_glaze_coat_path_slice(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e60);
+    let _e54 = tunable_glaze_coat_path_slice(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e54);
+    let _e56 = tunable_glaze_coat_path_slice(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / _e56);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v);
     let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
@@ -287,19 +267,19 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_v);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, 0.5f);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e58);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e60);
-    let _e80 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
-    let _e82 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e82)) * vec3(0.27190268f)) / max(_e80, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
-    let _e112 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
-    let _e114 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e114)) * vec3(0.27190268f)) / max(_e112, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
-    let _e145 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e145, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e54);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e56);
+    let _e76 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
+    let _e78 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e78)) * vec3(0.27190268f)) / max(_e76, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
+    let _e108 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
+    let _e110 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e110)) * vec3(0.27190268f)) / max(_e108, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
+    let _e141 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e141, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, tunable_glaze_layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
@@ -384,17 +364,17 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let _e45 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
     let _e47 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
     let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e47)) * vec3(0.27190268f)) / max(_e45, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
     let _e77 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
     let _e79 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
     let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e79)) * vec3(0.27190268f)) / max(_e77, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
     let _e110 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
     let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e110, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.39237234f))) / vec3(0.60762763f)), vec3(0f)), vec3(1f));
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(1.52f, 0.39237234f, vec3<f32>(0.33077273f, 0.37048358f, 0.38116103f), tunable_glaze_layer1_r_return, layer1_rho);
+    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
+    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let rho = tunable_glaze_interfaced_albedo(1.52f, 0.39237955f, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), tunable_glaze_layer1_r_return, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, 0.0225f);

@@ -12,7 +12,7 @@ struct CoatedGoldIblLobes {
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07577632f, 0.03172815f, 0.0034033447f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07576165f, 0.031722005f, 0.0034027132f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
 @group(2) @binding(0) 
@@ -54,17 +54,17 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.09193404f) + -0.00044265765f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.041281834f, -0.17662261f, 0.046880037f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.039753288f, -0.13207489f, 0.055374578f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.3457993f, -0.025617354f, 0.03628184f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.026981566f, 0.22346427f, 0.15814403f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.046465307f, 0.068501875f, 0.0008675591f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.037316743f, 0.014992681f, 0.019915992f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.009369533f, 0.00963811f, 0.005380646f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0050012525f, 0.002772499f, 0.0019204987f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0011232548f, 0.00058081566f, 0.000071219794f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.00029040664f, -0.00014381928f, -0.00023699505f)));
+    let f = ((u * -0.032026023f) + -0.00037076068f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.033704236f, -0.020881355f, -0.18295114f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.22080079f, 0.11075193f, 0.015634686f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.049557418f, -0.08091132f, -0.1859818f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.08017361f, 0.2061308f, 0.11820417f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.095714614f, 0.05991873f, 0.010449743f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.03737664f, 0.0165298f, 0.019110624f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.011165314f, 0.008715778f, 0.006094121f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00478209f, 0.0025969543f, 0.0022205522f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0010447791f, 0.00065062195f, 0.00036008007f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0002891664f, 0.00021687511f, -0.0003778086f)));
     return f_10;
 }
 
@@ -116,9 +116,9 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let f_16 = (1.061315f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6039219f, -1.0439978f, -0.45039368f)));
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056563377f, -0.1368208f, 0.033548355f)));
-    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007332802f));
+    let f_16 = (1.0610694f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6038918f, -1.0441265f, -0.4499774f)));
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056713104f, -0.13678741f, 0.033270836f)));
+    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007733345f));
     return f_18;
 }
 
@@ -144,10 +144,10 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_4 * 0.24190712f) + 0.89434123f);
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.965723f, 2.2643862f, 0.4501238f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20816708f, 0.1467824f, -0.08180857f)));
-    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.19411612f));
+    let f_21 = ((u_4 * 0.27659512f) + 0.8937276f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.711802f, 1.9402537f, 0.50745153f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.16362429f, 0.18548012f, -0.10374451f)));
+    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.18750334f));
     return f_24;
 }
 
@@ -322,9 +322,9 @@ fn coated_gold_lambda_ggx(n_dot_x: f32, alpha_3: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn coated_gold_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_4: f32) -> f32 {
-    let alpha_6 = max(alpha_4, 0.001f);
-    let _e5 = coated_gold_lambda_ggx(n_dot_v, alpha_6);
-    let _e6 = coated_gold_lambda_ggx(n_dot_l, alpha_6);
+    let alpha_7 = max(alpha_4, 0.001f);
+    let _e5 = coated_gold_lambda_ggx(n_dot_v, alpha_7);
+    let _e6 = coated_gold_lambda_ggx(n_dot_l, alpha_7);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -344,14 +344,50 @@ fn coated_gold_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_coat_scale_curve(cos_theta_10: f32) -> f32 {
     let u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_46 = ((u_10 * 0.15601157f) + 1.0003927f);
-    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.28042316f, 0.11270111f, -0.4168833f)));
-    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.49425244f, 0.031675104f, 0.1990074f)));
-    let f_49 = (f_48 + dot(max(vec3(u_10), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.09816172f, 0.01991986f, 0.006784201f)));
-    let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0038820507f, 0.0013017656f, -0.000050067905f)));
-    let f_51 = (f_50 + (max(u_10, 0.8666667f) * 0.00051856047f));
-    let f_52 = (f_51 + (max(u_10, 0.93333334f) * 0.00043809417f));
+    let f_46 = ((u_10 * 0.060539242f) + 0.99981815f);
+    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.12546837f, 0.09257913f, 0.26737326f)));
+    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.23175533f, -0.22550048f, 0.07317067f)));
+    let f_49 = (f_48 + dot(max(vec3(u_10), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.07269861f, 0.011095398f, 0.002680421f)));
+    let f_50 = (f_49 + dot(max(vec3(u_10), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0020688775f, 0.00042915347f, -0.0003343821f)));
+    let f_51 = (f_50 + (max(u_10, 0.8666667f) * 0.0004640222f));
+    let f_52 = (f_51 + (max(u_10, 0.93333334f) * 0.00015020372f));
     return f_52;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn coated_gold_d_ggx_mirrored_tail(z: f32, across: f32, alpha_5: f32) -> f32 {
+    let a_4 = max(alpha_5, 0.001f);
+    let a_sq_1 = (a_4 * a_4);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn coated_gold_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
@@ -438,8 +474,8 @@ fn coated_gold_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, si
 fn coated_gold_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
     let r_1 = min(rho_1, 0.95f);
     let r_c = min(rho_c, vec3(0.95f));
-    let a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), coated_gold_one);
-    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r_1)));
+    let a_5 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), coated_gold_one);
+    return ((coated_gold_one + (a_5 * cos_phi)) / (coated_gold_one + (a_5 * r_1)));
 }
 
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
@@ -550,29 +586,40 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let _e249 = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l_1 = coated_gold_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v_1 = coated_gold_coat_scale_curve(n_dot_v_3);
-    let specular = (_e249 * (layer1_scale_l_1 * layer1_scale_v_1));
+    let layer1_mirrored_along = cross(n_3, (v_3 + l_3));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = coated_gold_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.010000001f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = coated_gold_fr_dielectric(layer1_mirrored_cos, 1.5f);
+    let layer1_lambda_l = coated_gold_lambda_ggx(cos_l, 0.010000001f);
+    let layer1_lambda_v = coated_gold_lambda_ggx(cos_v, 0.010000001f);
+    let _e271 = coated_gold_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e271);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e249 + vec3(layer1_second_event)) * (layer1_scale_l_1 * layer1_scale_v_1));
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_3, layer1_h);
     let layer1_d = coated_gold_d_ggx(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let _e272 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let under = ((_e272 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    let _e281 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let _e302 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e302 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e311 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     let spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
     let spread_v = coated_gold_glossy_spread_curve(n_dot_v_3);
     let sines = coated_gold_forward_sines(n_3, v_3, l_3);
     let spread_rho = min((sqrt(max((spread_l * spread_v), 0f)) * sines), 0.95f);
-    let _e303 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
-    let _e304 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
-    let _e305 = coated_gold_forward_azimuth_tilt(spread_rho, _e303, _e304);
-    let _e306 = coated_gold_forward_azimuth_weight(spread_rho, _e304);
-    let spread = (_e305 * _e306);
-    let _e310 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e313 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let _e315 = coated_gold_glossy_remainder_lobe(_e310, _e313, coated_gold_remainder_avg);
-    let later_2 = (_e315 * spread);
-    let f_55 = (_e281 + later_2);
+    let _e333 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let _e334 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
+    let _e335 = coated_gold_forward_azimuth_tilt(spread_rho, _e333, _e334);
+    let _e336 = coated_gold_forward_azimuth_weight(spread_rho, _e334);
+    let spread = (_e335 * _e336);
+    let _e340 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e343 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let _e345 = coated_gold_glossy_remainder_lobe(_e340, _e343, coated_gold_remainder_avg);
+    let later_2 = (_e345 * spread);
+    let f_55 = (_e311 + later_2);
     return select(vec3(0f), f_55, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 
@@ -597,10 +644,10 @@ fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
-    let smoothness = min(max((1f - alpha_5), 0f), 1f);
-    let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let smoothness = min(max((1f - alpha_6), 0f), 1f);
+    let t_2 = (smoothness * (sqrt(smoothness) + alpha_6));
     let d_2 = ((n_5 * (1f - t_2)) + (r_3 * t_2));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }

@@ -13,14 +13,14 @@ struct FourLayerIblLobes {
 const four_layer_layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.040000003f);
 const four_layer_layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const four_layer_layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
-const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.3223219f, 0.3223219f, 0.3223219f);
-const four_layer_layer3_rho: vec3<f32> = vec3<f32>(0.8527689f, 0.8527689f, 0.78522366f);
-const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.02070725f, 0.056239247f, 0.14843833f);
-const four_layer_layer2_rho: vec3<f32> = vec3<f32>(0.26342994f, 0.4134114f, 0.64397824f);
+const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.32233894f, 0.32233894f, 0.32233894f);
+const four_layer_layer3_rho: vec3<f32> = vec3<f32>(0.85276955f, 0.85276955f, 0.7852249f);
+const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.020748317f, 0.056278825f, 0.1484741f);
+const four_layer_layer2_rho: vec3<f32> = vec3<f32>(0.26345956f, 0.4134338f, 0.6439879f);
 const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const four_layer_layer1_rho: vec3<f32> = vec3<f32>(0.24375734f, 0.3825383f, 0.5958865f);
-const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949445f, 0.5949445f, 0.5949445f);
+const four_layer_layer1_rho: vec3<f32> = vec3<f32>(0.24378474f, 0.382559f, 0.59589547f);
+const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949359f, 0.5949359f, 0.5949359f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -58,9 +58,9 @@ fn four_layer_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn four_layer_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = four_layer_lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = four_layer_lambda_ggx(n_dot_l, alpha_5);
+    let alpha_6 = max(alpha_2, 0.001f);
+    let _e5 = four_layer_lambda_ggx(n_dot_v, alpha_6);
+    let _e6 = four_layer_lambda_ggx(n_dot_l, alpha_6);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -94,14 +94,50 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.031875372f) + 1.0102208f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.07371246f, 0.11994841f, 0.13061099f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.0065534515f, -0.21846236f, -0.30766907f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.093548186f, 0.087488174f, 0.10498703f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.031732325f, 0.04088402f, -0.012624265f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.009346605f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.0017470123f));
+    let f = ((u * 0.02668619f) + 1.0041823f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.019555984f, -0.0630337f, -0.05337595f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.16555935f, 0.18235894f, -0.16423078f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.21464106f, -0.023104595f, 0.06720186f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.022619965f, 0.037275556f, -0.01356125f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0097346315f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.0033295157f));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn four_layer_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn four_layer_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -114,17 +150,17 @@ fn four_layer_coat_scale_curve(cos_theta: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.03834161f) + -0.004981162f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.014694184f, -0.064813316f, -0.04077694f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.10648364f, -0.07544339f, -0.12260336f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.1165871f, -0.099422485f, -0.13716912f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.08694744f, -0.1522116f, -0.028819263f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0040012896f, 0.048852503f, 0.15331748f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.14091185f, 0.16513813f, 0.16581412f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.10528529f, 0.1050934f, 0.06659178f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.05249732f, 0.033154104f, 0.025457583f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.01801131f, 0.007955713f, 0.0040271506f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0018491934f, -0.00016434962f, -0.0004808017f)));
+    let f_7 = ((u_1 * -0.035696566f) + -0.0048993737f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.018605858f, -0.04643011f, -0.063839555f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06355408f, -0.120908976f, -0.12705919f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11604294f, -0.18015781f, -0.061962247f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.07012004f, -0.09002024f, -0.02657564f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.08082771f, 0.07607439f, 0.13548814f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.13201948f, 0.18176389f, 0.15296035f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.11392689f, 0.10243415f, 0.070194066f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.051978104f, 0.033135038f, 0.02559825f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.017701015f, 0.008244933f, 0.0041204076f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0017185223f, -0.0000408896f, -0.00060151203f)));
     return f_17;
 }
 
@@ -151,11 +187,11 @@ fn four_layer_slab_transmittance_grey(tau: f32, mu: f32) -> f32 {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
-    let a_2 = max(alpha_3, 0.001f);
-    let a_sq_1 = (a_2 * a_2);
-    let denom = max((((cos_h_1 * cos_h_1) * a_sq_1) + sin2_h_1), 0.000000000001f);
-    return (a_sq_1 / ((denom * denom) * 3.1415927f));
+fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_4: f32) -> f32 {
+    let a_3 = max(alpha_4, 0.001f);
+    let a_sq_2 = (a_3 * a_3);
+    let denom_1 = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 0.000000000001f);
+    return (a_sq_2 / ((denom_1 * denom_1) * 3.1415927f));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -168,13 +204,13 @@ fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.015060603f) + 1.0256641f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.021902023f, 0.029723348f, 0.045953378f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.06363901f, 0.032585267f, -0.047657494f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.11613251f, -0.12729764f, 0.02443135f)));
-    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.012624265f, 0.059487823f, 0.020468833f)));
-    let f_23 = (f_22 + (max(u_2, 0.8666667f) * -0.008962155f));
-    let f_24 = (f_23 + (max(u_2, 0.93333334f) * 0.0051319604f));
+    let f_18 = ((u_2 * -0.01585722f) + 1.0037742f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.009397574f, 0.07106871f, 0.11350215f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.011117818f, -0.15492256f, -0.032958988f)));
+    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.039440993f, 0.054325465f, 0.025520327f)));
+    let f_23 = (f_22 + (max(u_2, 0.8666667f) * 0.004279018f));
+    let f_24 = (f_23 + (max(u_2, 0.93333334f) * 0.0050067906f));
     return f_24;
 }
 
@@ -188,17 +224,17 @@ fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
     let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_25 = ((u_3 * -0.019963026f) + -0.0036066887f);
-    let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02197522f, -0.040990353f, -0.048499584f)));
-    let f_27 = (f_26 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06875825f, -0.081968695f, -0.0997366f)));
-    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11511722f, -0.122522056f, -0.13581657f)));
-    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.120381445f, -0.11980495f, -0.10119216f)));
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.06555103f, -0.0024274737f, 0.024272427f)));
-    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.10645688f, 0.13926408f, 0.1540812f)));
-    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15939546f, 0.16005497f, 0.1593905f)));
-    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.105802804f, 0.08690234f, 0.04736138f)));
-    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.022433989f, 0.00457169f, 0.0023984252f)));
-    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0007751087f, -0.0018081414f, -0.0015191835f)));
+    let f_25 = ((u_3 * -0.020166278f) + -0.003592166f);
+    let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
+    let f_27 = (f_26 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
+    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
+    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
+    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
+    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
+    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
+    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
+    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
     return f_35;
 }
 
@@ -235,13 +271,13 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_scale_curve_c(cos_theta_5: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_41 = ((u_5 * -0.09693145f) + 1.1485513f);
-    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016946197f, 0.047528736f, -0.032536972f)));
-    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.07585465f, 0.005950928f, 0.049590472f)));
-    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.008364883f, 0.03277305f, 0.00065803534f)));
-    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1937771f, -0.0123006115f, -0.15396775f)));
-    let f_46 = (f_45 + (max(u_5, 0.8666667f) * 0.15924813f));
-    let f_47 = (f_46 + (max(u_5, 0.93333334f) * -0.049645904f));
+    let f_41 = ((u_5 * -0.09836375f) + 1.0570874f);
+    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
+    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.028942803f, -0.056181554f, 0.017554166f)));
+    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0526804f, 0.13846634f, 0.08054138f)));
+    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1908213f, -0.0485462f, -0.15670718f)));
+    let f_46 = (f_45 + (max(u_5, 0.8666667f) * 0.20178081f));
+    let f_47 = (f_46 + (max(u_5, 0.93333334f) * -0.023973586f));
     return f_47;
 }
 
@@ -255,17 +291,17 @@ fn four_layer_coat_scale_curve_c(cos_theta_5: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn four_layer_coat_deficit_curve_c(cos_theta_6: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_48 = ((u_6 * -0.023300052f) + -0.01609135f);
-    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.031880975f, -0.054331064f, -0.073233485f)));
-    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.100670636f, -0.12005901f, -0.1382981f)));
-    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.1669991f, -0.1905911f, -0.23060215f)));
-    let f_52 = (f_51 + dot(max(vec3(u_6), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21502751f, -0.19809479f, -0.1784274f)));
-    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.1412397f, -0.08890697f, -0.03257388f)));
-    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.03142177f, 0.10445408f, 0.1682191f)));
-    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.2139603f, 0.20863476f, 0.28863242f)));
-    let f_56 = (f_55 + dot(max(vec3(u_6), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2500063f, 0.2236042f, 0.18725146f)));
-    let f_57 = (f_56 + dot(max(vec3(u_6), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13397235f, 0.08653011f, 0.05199398f)));
-    let f_58 = (f_57 + dot(max(vec3(u_6), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.030348241f, 0.016953703f, 0.0046103266f)));
+    let f_48 = ((u_6 * -0.02334994f) + -0.016049497f);
+    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
+    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
+    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
+    let f_52 = (f_51 + dot(max(vec3(u_6), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
+    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
+    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
+    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
+    let f_56 = (f_55 + dot(max(vec3(u_6), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
+    let f_57 = (f_56 + dot(max(vec3(u_6), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
+    let f_58 = (f_57 + dot(max(vec3(u_6), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
     return f_58;
 }
 
@@ -371,13 +407,25 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
     let layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = four_layer_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.040000003f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = four_layer_fr_dielectric(layer1_mirrored_cos, 1.5f);
     let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5f);
-    let _e30 = four_layer_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5f);
-    let _e40 = four_layer_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = four_layer_lambda_ggx(cos_l, 0.040000003f);
+    let layer1_lambda_v = four_layer_lambda_ggx(cos_v, 0.040000003f);
+    let _e47 = four_layer_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let _e50 = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.040000003f);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e50) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e64 = four_layer_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e64), 0f), 1f);
+    let _e72 = four_layer_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e72), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_1, n_1, 1.5f);
     let layer1_l = four_layer_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -394,35 +442,46 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e75 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e75);
-    let _e78 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e78);
+    let _e107 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
+    let layer1_absorb_l = vec3(_e107);
+    let _e110 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
+    let layer1_absorb_v = vec3(_e110);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let _e124 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
     let layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
-    let layer2_specular = (_e92 * (layer3_scale_l * layer3_scale_v));
+    let layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
+    let layer3_mirrored_across = dot(layer3_mirrored_along, layer3_mirrored_along);
+    let layer3_mirrored_z = (layer2_cos_l - layer2_cos_v);
+    let layer3_mirrored_d = four_layer_d_ggx_mirrored_tail(layer3_mirrored_z, layer3_mirrored_across, 0.09f);
+    let layer3_mirrored_cos = (sqrt(((layer3_mirrored_z * layer3_mirrored_z) + layer3_mirrored_across)) * 0.5f);
+    let layer3_mirrored_fresnel = four_layer_fr_dielectric(layer3_mirrored_cos, 1.1f);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1f);
-    let _e101 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e101), 0f), 1f);
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
-    let _e111 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e111), 0f), 1f);
+    let layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09f);
+    let layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09f);
+    let _e150 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e150);
+    let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * layer2_g) / ((layer2_cos_v * layer2_cos_l) * 4f));
+    let layer2_specular = ((_e124 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    let _e165 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e165), 0f), 1f);
+    let _e173 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e173), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e127 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e127);
-    let _e129 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e129);
+    let _e189 = four_layer_coat_path_curve(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / _e189);
+    let _e191 = four_layer_coat_path_curve(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / _e191);
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -430,16 +489,27 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e147 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let _e209 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
     let layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
-    let layer3_specular = (_e147 * (layer4_scale_l * layer4_scale_v));
+    let layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
+    let layer4_mirrored_across = dot(layer4_mirrored_along, layer4_mirrored_along);
+    let layer4_mirrored_z = (layer3_cos_l - layer3_cos_v);
+    let layer4_mirrored_d = four_layer_d_ggx_mirrored_tail(layer4_mirrored_z, layer4_mirrored_across, 0.25f);
+    let layer4_mirrored_cos = (sqrt(((layer4_mirrored_z * layer4_mirrored_z) + layer4_mirrored_across)) * 0.5f);
+    let layer4_mirrored_fresnel = four_layer_fr_dielectric(layer4_mirrored_cos, 1.2f);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2f);
-    let _e156 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e156), 0f), 1f);
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
-    let _e166 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e166), 0f), 1f);
+    let layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25f);
+    let layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25f);
+    let _e235 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e235);
+    let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * layer3_g) / ((layer3_cos_v * layer3_cos_l) * 4f));
+    let layer3_specular = ((_e209 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    let _e250 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e250), 0f), 1f);
+    let _e258 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e258), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -449,55 +519,55 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e201 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e201);
-    let _e203 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e203);
-    let _e210 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e212 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e212)) * vec3(0.18698311f)) / max(_e210, vec3(0.000001f))));
-    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let _e247 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e249 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e249)) * vec3(0.18698311f)) / max(_e247, vec3(0.000001f))));
-    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671017f, 0.9671017f, 0.968903f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
+    let _e293 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e293);
+    let _e295 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e295);
+    let _e302 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e304 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e304)) * vec3(0.18698311f)) / max(_e302, vec3(0.000001f))));
+    let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let _e339 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e341 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e341)) * vec3(0.18698311f)) / max(_e339, vec3(0.000001f))));
+    let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
-    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_l, layer4_first_return_l);
-    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_v, layer4_first_return_v);
-    let _e312 = (1f - layer4_transmit_l);
-    let _e333 = min(max(((vec3((_e312 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e312)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e333 / vec3(0.8097652f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e333) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let _e350 = (1f - layer4_transmit_v);
-    let _e371 = min(max(((vec3((_e350 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e350)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e371 / vec3(0.8097652f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e371) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9328693f, 0.9328693f, 0.93179023f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
+    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
+    let _e404 = (1f - layer4_transmit_l);
+    let _e425 = min(max(((vec3((_e404 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e404)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e425 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e425) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e442 = (1f - layer4_transmit_v);
+    let _e463 = min(max(((vec3((_e442 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e442)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e463 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e463) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_l, layer2_first_return_l);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_v, layer2_first_return_v);
-    let _e416 = (1f - layer3_transmit_l);
-    let _e434 = min(max(((vec3((_e416 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e416)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e434 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e434) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e451 = (1f - layer3_transmit_v);
-    let _e469 = min(max(((vec3((_e451 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e451)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e469 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e469) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
+    let _e508 = (1f - layer3_transmit_l);
+    let _e526 = min(max(((vec3((_e508 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e508)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e526 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e526) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e543 = (1f - layer3_transmit_v);
+    let _e561 = min(max(((vec3((_e543 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e543)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e561 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e561) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e509 = (1f - layer2_transmit_l);
-    let _e530 = min(max(((vec3((_e509 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e509)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e530 / vec3(0.4050555f));
-    let first_return_l = min(max(((vec3(1f) - _e530) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let _e547 = (1f - layer2_transmit_v);
-    let _e568 = min(max(((vec3((_e547 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e547)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e568 / vec3(0.4050555f));
-    let first_return_v = min(max(((vec3(1f) - _e568) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807674f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    let _e601 = (1f - layer2_transmit_l);
+    let _e622 = min(max(((vec3((_e601 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e601)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e622 / vec3(0.4050641f));
+    let first_return_l = min(max(((vec3(1f) - _e622) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let _e639 = (1f - layer2_transmit_v);
+    let _e660 = min(max(((vec3((_e639 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e639)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e660 / vec3(0.4050641f));
+    let first_return_v = min(max(((vec3(1f) - _e660) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -513,10 +583,10 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
+fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_4), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
+    let smoothness = min(max((1f - alpha_5), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_5));
     let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
 }
@@ -583,23 +653,23 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e107 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
     let _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
     let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e109)) * vec3(0.18698311f)) / max(_e107, vec3(0.000001f))));
-    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
+    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let _e144 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
     let _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
     let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e146)) * vec3(0.18698311f)) / max(_e144, vec3(0.000001f))));
-    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.6776781f))) / vec3(0.3223219f)), vec3(0f)), vec3(1f));
-    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_l_1, layer4_first_return_l_1);
-    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.6776781f), layer4_first_escape_v_1, layer4_first_return_v_1);
+    let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
+    let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
     let _e191 = (1f - layer4_transmit_l_1);
-    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e212 / vec3(0.8097652f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
+    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e212 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let _e229 = (1f - layer4_transmit_v_1);
-    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.820149f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e250 / vec3(0.8097652f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19023478f)), vec3(0f)), vec3(1f));
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_l_1, layer2_first_return_l_1);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.4812222f, 0.60233945f, 0.76158863f), layer2_first_escape_v_1, layer2_first_return_v_1);
+    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e250 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
     let _e281 = (1f - layer3_transmit_l_1);
     let _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l_1 = (_e299 / vec3(0.9999998f));
@@ -611,15 +681,15 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.4050555f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
+    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e382 / vec3(0.4050641f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
     let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41649783f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.4050555f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949445f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050555f), first_escape_v_1, first_return_v_1);
+    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e420 / vec3(0.4050641f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);

@@ -67,9 +67,9 @@ fn tunable_glaze_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn tunable_glaze_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -133,8 +133,44 @@ fn tunable_glaze_coat_scale_slice(cos_theta: f32, roughness: f32) -> f32 {
     let node_roughness = (u_roughness * 15f);
     let cell_roughness = min(floor(node_roughness), 14f);
     let weight_roughness = (node_roughness - cell_roughness);
-    let value = tunable_glaze_table_trilinear(u32((cell_cos_theta + (cell_roughness * 16f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, tunable_glaze_weight_eta), 0.0000051992565f, 0.9212891f);
+    let value = tunable_glaze_table_trilinear(u32((cell_cos_theta + (cell_roughness * 16f))), vec3<u32>(1u, 16u, 256u), vec3<f32>(weight_cos_theta, weight_roughness, tunable_glaze_weight_eta), 0.0000047796493f, 0.94853806f);
     return value;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn tunable_glaze_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn tunable_glaze_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -153,7 +189,7 @@ fn tunable_glaze_coat_deficit_slice(cos_theta_1: f32, roughness_1: f32) -> f32 {
     let node_roughness_1 = (u_roughness_1 * 31f);
     let cell_roughness_1 = min(floor(node_roughness_1), 30f);
     let weight_roughness_1 = (node_roughness_1 - cell_roughness_1);
-    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 512u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, tunable_glaze_weight_eta), 0.000014581692f, -0.009180314f);
+    let value = tunable_glaze_table_trilinear((u32((cell_cos_theta_1 + (cell_roughness_1 * 32f))) + 512u), vec3<u32>(1u, 32u, 1024u), vec3<f32>(weight_cos_theta_1, weight_roughness_1, tunable_glaze_weight_eta), 0.000014519305f, -0.0050910613f);
     return value;
 }
 
@@ -260,7 +296,7 @@ fn tunable_glaze_coat_deficit_avg_slice(roughness_3: f32) -> f32 {
     let node_roughness_3 = (u_roughness_3 * 31f);
     let cell_roughness_3 = min(floor(node_roughness_3), 30f);
     let weight_roughness_3 = (node_roughness_3 - cell_roughness_3);
-    let value = tunable_glaze_table_bilinear((u32(cell_roughness_3) + 2848u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, tunable_glaze_weight_eta), 0.0000022024374f, -0.001829707f);
+    let value = tunable_glaze_table_bilinear((u32(cell_roughness_3) + 2848u), vec2<u32>(1u, 32u), vec2<f32>(weight_roughness_3, tunable_glaze_weight_eta), 0.0000022032705f, -0.0018360103f);
     return value;
 }
 
@@ -339,23 +375,37 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e29 = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = tunable_glaze_coat_scale_slice(n_dot_l_3, params.glaze_roughness);
     let layer1_scale_v = tunable_glaze_coat_scale_slice(n_dot_v_4, params.glaze_roughness);
-    let specular = (_e29 * (layer1_scale_l * layer1_scale_v));
+    let _e32 = (params.glaze_roughness * params.glaze_roughness);
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = tunable_glaze_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, _e32);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = tunable_glaze_fr_dielectric(layer1_mirrored_cos, 1.52f);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e38 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e38), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e48 = tunable_glaze_coat_deficit_slice(n_dot_v_4, params.glaze_roughness);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e48), 0f), 1f);
+    let _e51 = max(_e32, 0.001f);
+    let layer1_lambda_l = tunable_glaze_lambda_ggx(cos_l, _e51);
+    let layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e51);
+    let _e55 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e55);
+    let _e57 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e51);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e57) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e29 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e71 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e71), 0f), 1f);
+    let _e79 = tunable_glaze_coat_deficit_slice(n_dot_v_4, params.glaze_roughness);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e79), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e64 = tunable_glaze_coat_path_slice(n_dot_l_3, params.glaze_roughness);
-    let layer1_path_cos_l = (layer1_cos_l / _e64);
-    let _e66 = tunable_glaze_coat_path_slice(n_dot_v_4, params.glaze_roughness);
-    let layer1_path_cos_v = (layer1_cos_v / _e66);
+    let _e95 = tunable_glaze_coat_path_slice(n_dot_l_3, params.glaze_roughness);
+    let layer1_path_cos_l = (layer1_cos_l / _e95);
+    let _e97 = tunable_glaze_coat_path_slice(n_dot_v_4, params.glaze_roughness);
+    let layer1_path_cos_v = (layer1_cos_v / _e97);
     let absorb_l = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_v);
     let blur = ((0.34210527f * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
@@ -363,36 +413,36 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
-    let _e80 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
-    let layer1_transmit_avg = (0.9052938f + _e80);
-    let _e84 = (layer1_transmit_avg / 2.3104f);
-    let _e86 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
-    let _e88 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
-    let _e90 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
-    let _e92 = (vec3<f32>(_e86, _e88, _e90) * _e84);
-    let layer1_r_return = max((vec3(1f) - _e92), vec3(0f));
-    let _e101 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
-    let _e103 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
-    let _e105 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
-    let layer1_transmit_avg_1 = (0.9052938f + _e80);
-    let _e111 = (layer1_transmit_avg_1 / 2.3104f);
-    let _e112 = vec3(_e111);
-    let layer1_r_return_1 = max((vec3(1f) - _e112), vec3(0f));
+    let _e111 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
+    let layer1_transmit_avg = (0.9052938f + _e111);
+    let _e115 = (layer1_transmit_avg / 2.3104f);
+    let _e117 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
+    let _e119 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
+    let _e121 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
+    let _e123 = (vec3<f32>(_e117, _e119, _e121) * _e115);
+    let layer1_r_return = max((vec3(1f) - _e123), vec3(0f));
+    let _e132 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
+    let _e134 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
+    let _e136 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
+    let layer1_transmit_avg_1 = (0.9052938f + _e111);
+    let _e142 = (layer1_transmit_avg_1 / 2.3104f);
+    let _e143 = vec3(_e142);
+    let layer1_r_return_1 = max((vec3(1f) - _e143), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e64);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e66);
-    let _e126 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e127 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e127)) * vec3(0.27190268f)) / max(_e126, vec3(0.000001f))));
-    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e155 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
-    let _e156 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e156)) * vec3(0.27190268f)) / max(_e155, vec3(0.000001f))));
-    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e185 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
-    let _e187 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e187)) * vec3(0.27190268f)) / max(_e185, vec3(0.000001f))));
-    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e111).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e95);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e97);
+    let _e157 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e158 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e158)) * vec3(0.27190268f)) / max(_e157, vec3(0.000001f))));
+    let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e142).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e186 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
+    let _e187 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e187)) * vec3(0.27190268f)) / max(_e186, vec3(0.000001f))));
+    let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(_e142).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let _e216 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, 0.8823499f);
+    let _e218 = tunable_glaze_e_fon(0.8823499f, params.body_roughness);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * (1f - _e218)) * vec3(0.27190268f)) / max(_e216, vec3(0.000001f))));
+    let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(_e142).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, layer1_r_return);
     let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
@@ -429,10 +479,10 @@ fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape_1: 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_6 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_1)) + (r_6 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }

@@ -11,7 +11,7 @@ struct WetClayIblLobes {
 }
 
 const wet_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.11657971f, 0.11657971f, 0.11657971f);
+const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.116561234f, 0.116561234f, 0.116561234f);
 const wet_clay_layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_ibl_specular_lobes: u32 = 1u;
@@ -59,9 +59,9 @@ fn wet_clay_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn wet_clay_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_4);
+    let alpha_5 = max(alpha_2, 0.001f);
+    let _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_5);
+    let _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_5);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -95,14 +95,50 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn wet_clay_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.10215103f) + 1.000458f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.19674449f, 0.23803984f, -0.16421565f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.5898964f, -0.15967013f, 0.18314482f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.1204348f, 0.0433695f, 0.022888185f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.0040197377f, 0.012479425f, -0.004073382f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.002101064f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0043129926f));
+    let f = ((u * 0.061948296f) + 0.9990154f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.077725045f, -0.082651384f, 0.38304088f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.084671915f, -0.33158544f, 0.020545723f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.06567838f, 0.02743898f, 0.016996266f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.0066894297f, 0.011061431f, -0.004359484f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.0020143392f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0039643054f));
     return f_6;
+}
+
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn wet_clay_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
+    let a_2 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_2 * a_2);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
+    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn wet_clay_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -115,17 +151,17 @@ fn wet_clay_coat_scale_curve(cos_theta: f32) -> f32 {
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn wet_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.073486164f) + -0.00078662566f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.013768002f, -0.1300918f, -0.002807647f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.121340424f, -0.06928116f, -0.0034016967f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.2566341f, 0.018279731f, -0.067988664f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12588611f, 0.12976222f, 0.12627275f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.14185674f, 0.1368721f, 0.06456471f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.08373688f, 0.031232009f, 0.03484352f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.017606257f, 0.020969963f, 0.014611003f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0073634824f, 0.0030219718f, 0.0037809932f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0029762809f, 0.0009788395f, -0.000007756847f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000013495686f, -0.0007781948f, -0.0000020290636f)));
+    let f_7 = ((u_1 * -0.0460079f) + -0.00045738393f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02235955f, -0.021145582f, -0.1344705f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.14395773f, -0.066309065f, -0.1627881f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.04900217f, 0.01960133f, -0.17166997f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.03717453f, 0.08526692f, 0.07795528f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.1392397f, 0.12087162f, 0.09367427f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.07772511f, 0.03698719f, 0.034275267f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.018932091f, 0.020119188f, 0.015577349f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.006749162f, 0.0037896275f, 0.0038726719f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0027401017f, 0.0007500142f, 0.0003133549f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000007729927f, -0.0004480775f, -0.00065559417f)));
     return f_17;
 }
 
@@ -168,11 +204,11 @@ fn wet_clay_slab_transmittance_grey(tau: f32, mu: f32) -> f32 {
 // with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
 fn wet_clay_fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
     let sigma_sq = (sigma * sigma);
-    let a_2 = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
+    let a_3 = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
     let b = ((sigma_sq / (sigma_sq + 0.09f)) * 0.45f);
     let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
     let s_over_t = (max(s, 0f) / max(n_dot_v_2, n_dot_l_2));
-    return (albedo * (((b * s_over_t) + a_2) / 3.1415927f));
+    return (albedo * (((b * s_over_t) + a_3) / 3.1415927f));
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -209,27 +245,38 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let _e21 = wet_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
     let layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
+    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
+    let layer1_mirrored_z = (cos_l - cos_v);
+    let layer1_mirrored_d = wet_clay_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.0144f);
+    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
+    let layer1_mirrored_fresnel = wet_clay_fr_dielectric(layer1_mirrored_cos, 1.33f);
     let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_l_3, 1.33f);
-    let _e30 = wet_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
     let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33f);
-    let _e40 = wet_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let layer1_lambda_l = wet_clay_lambda_ggx(cos_l, 0.0144f);
+    let layer1_lambda_v = wet_clay_lambda_ggx(cos_v, 0.0144f);
+    let _e47 = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
+    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let _e62 = wet_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
+    let _e70 = wet_clay_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = wet_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e56 = wet_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e56);
-    let _e58 = wet_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e58);
-    let _e61 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
-    let absorb_l = vec3(_e61);
-    let _e64 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
-    let absorb_v = vec3(_e64);
+    let _e86 = wet_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / _e86);
+    let _e88 = wet_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / _e88);
+    let _e91 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
+    let absorb_l = vec3(_e91);
+    let _e94 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
+    let absorb_v = vec3(_e94);
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let under = wet_clay_interfaced_diffuse_under(layer1_f_base, vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), wet_clay_layer1_rho, wet_clay_layer1_r_return);
     let f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
@@ -257,10 +304,10 @@ fn wet_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn wet_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_3: f32) -> vec3<f32> {
+fn wet_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4: f32) -> vec3<f32> {
     let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_3), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
+    let smoothness = min(max((1f - alpha_4), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
     let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
@@ -299,8 +346,8 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let absorb_l_1 = vec3(_e31);
     let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
     let absorb_v_1 = vec3(_e34);
-    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
-    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.3604117f), vec3(1f), vec3(1f));
+    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
+    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
