@@ -521,7 +521,7 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e53);
     float _e57 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
     float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e57);
-    float _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e53);
+    float _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e37);
     float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e59) / ((cos_v * cos_l) * 4.0));
     vec3 specular = ((params.glaze_ior < 1.0) ? _e34 : ((_e34 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v)));
     float _e75 = (1.0 - layer1_fresnel_l);

@@ -579,7 +579,7 @@ float3 tunable_glaze_brdf(float3 n_1, float3 v_1, float3 l_1, TunableGlazeParams
     const float layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e53);
     const float _e57 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
     float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e57);
-    const float _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e53);
+    const float _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e37);
     float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e59) / ((cos_v * cos_l) * 4.0));
     float3 specular = ((params.glaze_ior < 1.0) ? _e34 : ((_e34 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v)));
     float _e75 = (1.0 - layer1_fresnel_l);

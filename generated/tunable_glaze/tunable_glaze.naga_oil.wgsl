@@ -529,7 +529,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e53);
     let _e57 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
     let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e57);
-    let _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e53);
+    let _e59 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e37);
     let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e59) / ((cos_v * cos_l) * 4f));
     let specular = select(((_e34 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v)), _e34, (params.glaze_ior < 1f));
     let _e75 = (1f - layer1_fresnel_l);

@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 use glazec::math::sampling::direction_at_cosine;
+use glazec::math::terms::SECOND_EVENT_LATER;
 
 use crate::accuracy::quadrature::directional_albedo_f64;
 use crate::reference::{fresnel_dielectric, microsurface};
@@ -41,7 +42,7 @@ pub fn coat_lobe(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
     let tail = across / (across + alpha * alpha * z2);
     let grazing = if wi.z < wo.z { wi } else { wo };
     let lambda = microsurface::lambda(grazing, alpha);
-    let first = 1.1 * fresnel_dielectric(grazing.z, eta) / (1.0 + 4.0 * lambda + 2.0 * lambda * lambda);
+    let first = SECOND_EVENT_LATER * fresnel_dielectric(grazing.z, eta) / (1.0 + 4.0 * lambda + 2.0 * lambda * lambda);
     let second = first
         * microsurface::ggx_d(h, alpha)
         * tail

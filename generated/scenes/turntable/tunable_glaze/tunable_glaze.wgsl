@@ -389,7 +389,7 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_lambda_v = tunable_glaze_lambda_ggx(cos_v, _e51);
     let _e55 = tunable_glaze_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
     let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e55);
-    let _e57 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e51);
+    let _e57 = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, _e32);
     let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e57) / ((cos_v * cos_l) * 4f));
     let specular = ((_e29 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
     let _e71 = tunable_glaze_coat_deficit_slice(n_dot_l_3, params.glaze_roughness);

@@ -165,11 +165,13 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         // transmission and G₂ compute anyway (a shader compiler merges the repeated terms).
         let fresnel_at = |mu: F| dielectric_fresnel(mu, self.eta, self.approx);
         let first_fresnel = fresnel_at(g.raw_n_dot_l).max(fresnel_at(g.raw_n_dot_v));
-        let alpha = alpha.at_least(ALPHA_MIN);
-        let lambda_l = lambda_ggx(g.n_dot_l, alpha).named(&self.name("lambda_l"));
-        let lambda_v = lambda_ggx(g.n_dot_v, alpha).named(&self.name("lambda_v"));
+        let clamped = alpha.at_least(ALPHA_MIN);
+        let lambda_l = lambda_ggx(g.n_dot_l, clamped).named(&self.name("lambda_l"));
+        let lambda_v = lambda_ggx(g.n_dot_v, clamped).named(&self.name("lambda_v"));
         let lambda = lambda_l.max(lambda_v);
         let first = (first_fresnel * second_event_share(lambda)).named(&self.name("first_event"));
+        // The same call as a GGX coat's single-scattering lobe makes (it clamps α itself): the
+        // module shares it for a literal α, and a shader compiler merges it for a runtime one.
         let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha);
         (first * distribution * fresnel * shadowing / (g.n_dot_v * g.n_dot_l * 4.0)).named(&self.name("second_event"))
     }

@@ -104,8 +104,9 @@ shading_fn! {
 
 /// The walks' second event per the share `second_event_share` gives for a direction well above
 /// the microsurface's slopes (Λ ≤ 0.02): the third and later events add about a tenth (1.03–1.25
-/// over the probed pairs, `glazec-lab` example `second_event`).
-const SECOND_EVENT_LATER: f32 = 1.1;
+/// over the probed pairs, `glazec-lab` example `second_event`). In f64 for the tables' own
+/// copy of the lobe (`glazec_lab::bake::coat_lobe`); the shader's is the same value in f32.
+pub const SECOND_EVENT_LATER: f64 = 1.1;
 
 shading_fn! {
     /// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
@@ -143,7 +144,7 @@ shading_fn! {
     /// elevation the reflected rays spread and the share falls: the walks give 0.87 at
     /// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
     pub fn second_event_share(lambda: S) -> S {
-        (lambda * (lambda * 2.0 + 4.0) + 1.0).recip() * SECOND_EVENT_LATER
+        (lambda * (lambda * 2.0 + 4.0) + 1.0).recip() * SECOND_EVENT_LATER as f32
     }
 }
 
