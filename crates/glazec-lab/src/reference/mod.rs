@@ -28,6 +28,7 @@
 pub mod environment;
 pub mod microsurface;
 mod rng;
+pub mod smooth_stack;
 
 pub use rng::Rng;
 use rng::seed_of;
