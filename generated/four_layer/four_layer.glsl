@@ -12,12 +12,12 @@ const vec3 four_layer_layer2_tau = vec3(0.35999998, 0.2, 0.040000003);
 const vec3 four_layer_layer4_rho_ms = vec3(0.8032769, 0.8032769, 0.713542);
 const vec3 four_layer_layer4_rho = vec3(0.89252996, 0.89252996, 0.8394612);
 const vec3 four_layer_layer4_r_return = vec3(0.32233894, 0.32233894, 0.32233894);
-const vec3 four_layer_layer3_rho = vec3(0.85276955, 0.85276955, 0.7852249);
+const vec3 four_layer_layer2_rho_returned = vec3(0.830791, 0.8345674, 0.7756857);
 const vec3 four_layer_layer3_r_return = vec3(0.020748317, 0.056278825, 0.1484741);
-const vec3 four_layer_layer2_rho = vec3(0.26345956, 0.4134338, 0.6439879);
+const vec3 four_layer_layer1_rho_returned = vec3(0.2431215, 0.39278597, 0.6227643);
 const vec3 four_layer_layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
-const vec3 four_layer_layer1_rho = vec3(0.24378474, 0.382559, 0.59589547);
+const vec3 four_layer_rho_returned = vec3(0.24368028, 0.3821679, 0.5949716);
 const vec3 four_layer_layer1_r_return = vec3(0.5949359, 0.5949359, 0.5949359);
 const uint four_layer_ibl_specular_lobes = 1u;
 
@@ -538,10 +538,10 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e463 = min(max(((vec3((_e442 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e442)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer2_first_escape_v = (_e463 / vec3(0.80973125));
     vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e463) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
-    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
+    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
+    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
     float _e508 = (1.0 - layer3_transmit_l);
     vec3 _e526 = min(max(((vec3((_e508 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e508)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_l = (_e526 / vec3(0.9999998));
@@ -550,10 +550,10 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e561 = min(max(((vec3((_e543 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e543)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_v = (_e561 / vec3(0.9999998));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e561) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
+    vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
-    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
+    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
+    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
     float _e601 = (1.0 - layer2_transmit_l);
     vec3 _e622 = min(max(((vec3((_e601 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e601)), vec3(0.0)) * vec3(0.41652778))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_l = (_e622 / vec3(0.4050641));
@@ -562,7 +562,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e660 = min(max(((vec3((_e639 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e639)), vec3(0.0)) * vec3(0.41652778))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_v = (_e660 / vec3(0.4050641));
     vec3 first_return_v = min(max(((vec3(1.0) - _e660) / vec3(0.5949359)), vec3(0.0)), vec3(1.0));
-    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
@@ -663,8 +663,8 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer2_first_escape_v_1 = (_e250 / vec3(0.80973125));
     vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e250) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
-    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
+    vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
+    vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
     float _e281 = (1.0 - layer3_transmit_l_1);
     vec3 _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_l_1 = (_e299 / vec3(0.9999998));
@@ -673,8 +673,8 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_v_1 = (_e334 / vec3(0.9999998));
     vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e334) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l_1, layer1_first_return_l_1);
-    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v_1, layer1_first_return_v_1);
+    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l_1, layer1_first_return_l_1);
+    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v_1, layer1_first_return_v_1);
     float _e361 = (1.0 - layer2_transmit_l_1);
     vec3 _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0.0)) * vec3(0.41652778))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_l_1 = (_e382 / vec3(0.4050641));
@@ -683,8 +683,8 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0.0)) * vec3(0.41652778))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 first_escape_v_1 = (_e420 / vec3(0.4050641));
     vec3 first_return_v_1 = min(max(((vec3(1.0) - _e420) / vec3(0.5949359)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641), first_escape_l_1, first_return_l_1);
-    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641), first_escape_v_1, first_return_v_1);
+    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641), first_escape_l_1, first_return_l_1);
+    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641), first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);

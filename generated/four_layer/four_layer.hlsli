@@ -15,12 +15,12 @@ static const float3 four_layer_layer2_tau = float3(0.35999998, 0.2, 0.040000003)
 static const float3 four_layer_layer4_rho_ms = float3(0.8032769, 0.8032769, 0.713542);
 static const float3 four_layer_layer4_rho = float3(0.89252996, 0.89252996, 0.8394612);
 static const float3 four_layer_layer4_r_return = float3(0.32233894, 0.32233894, 0.32233894);
-static const float3 four_layer_layer3_rho = float3(0.85276955, 0.85276955, 0.7852249);
+static const float3 four_layer_layer2_rho_returned = float3(0.830791, 0.8345674, 0.7756857);
 static const float3 four_layer_layer3_r_return = float3(0.020748317, 0.056278825, 0.1484741);
-static const float3 four_layer_layer2_rho = float3(0.26345956, 0.4134338, 0.6439879);
+static const float3 four_layer_layer1_rho_returned = float3(0.2431215, 0.39278597, 0.6227643);
 static const float3 four_layer_layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 four_layer_layer1_specular = float3(0.0, 0.0, 0.0);
-static const float3 four_layer_layer1_rho = float3(0.24378474, 0.382559, 0.59589547);
+static const float3 four_layer_rho_returned = float3(0.24368028, 0.3821679, 0.5949716);
 static const float3 four_layer_layer1_r_return = float3(0.5949359, 0.5949359, 0.5949359);
 static const uint four_layer_ibl_specular_lobes = 1u;
 
@@ -581,10 +581,10 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 _e463 = min(max(((((_e442 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e442).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer2_first_escape_v = (_e463 / (0.80973125).xxx);
     float3 layer2_first_return_v = min(max((((1.0).xxx - _e463) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     const float3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
-    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
-    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
+    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
+    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
     float _e508 = (1.0 - layer3_transmit_l);
     float3 _e526 = min(max(((((_e508 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e508).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l = (_e526 / (0.9999998).xxx);
@@ -593,10 +593,10 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 _e561 = min(max(((((_e543 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e543).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_v = (_e561 / (0.9999998).xxx);
     float3 layer1_first_return_v = min(max((((1.0).xxx - _e561) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
+    const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     const float3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
-    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
+    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
+    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
     float _e601 = (1.0 - layer2_transmit_l);
     float3 _e622 = min(max(((((_e601 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e601).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 first_escape_l = (_e622 / (0.4050641).xxx);
@@ -605,7 +605,7 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 _e660 = min(max(((((_e639 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e639).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 first_escape_v = (_e660 / (0.4050641).xxx);
     float3 first_return_v = min(max((((1.0).xxx - _e660) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807313).xxx, min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807313).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
 }
@@ -743,8 +743,8 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 _e250 = min(max(((((_e229 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e229).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer2_first_escape_v_1 = (_e250 / (0.80973125).xxx);
     float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e250) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
-    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
+    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
+    const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
     float _e281 = (1.0 - layer3_transmit_l_1);
     float3 _e299 = min(max(((((_e281 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e281).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l_1 = (_e299 / (0.9999998).xxx);
@@ -753,8 +753,8 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 _e334 = min(max(((((_e316 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e316).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_v_1 = (_e334 / (0.9999998).xxx);
     float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e334) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
-    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
+    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
+    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
     float _e361 = (1.0 - layer2_transmit_l_1);
     float3 _e382 = min(max(((((_e361 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e361).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 first_escape_l_1 = (_e382 / (0.4050641).xxx);
@@ -763,8 +763,8 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 _e420 = min(max(((((_e399 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e399).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 first_escape_v_1 = (_e420 / (0.4050641).xxx);
     float3 first_return_v_1 = min(max((((1.0).xxx - _e420) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_v_1, first_return_v_1);
+    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);

@@ -613,13 +613,14 @@ vec3 tunable_glaze_interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 r
 }
 
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
-// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
-// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3 r_return_2, vec3 rho_below_2) {
+// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ᵣ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
+// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)) and ρ̄ᵣ the albedo
+// for the light the coat returns (`returned_albedo`).
+vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape_1, vec3 r_return_2, vec3 rho_below_2, vec3 rho_returned) {
     float eta_sq = (eta_13 * eta_13);
     float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
-    vec3 _e12 = (rho_below_2 * r_return_2);
-    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1.0) - _e12)) + vec3(e_fresnel));
+    vec3 _e13 = (rho_returned * r_return_2);
+    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1.0) - _e13)) + vec3(e_fresnel));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -721,7 +722,7 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazePar
     vec3 layer1_first_return_cone_1 = min(max(((vec3(1.0) - (layer1_first_escape_cone_1 * _e138.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
     vec3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e105, layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e105, layer1_first_escape_v_1, layer1_first_return_v_1);
-    vec3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e138.x, _e105, layer1_r_return_2, layer1_rho);
+    vec3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e138.x, _e105, layer1_r_return_2, layer1_rho, layer1_rho);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));

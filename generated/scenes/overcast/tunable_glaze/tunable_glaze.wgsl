@@ -619,13 +619,14 @@ fn tunable_glaze_interfaced_albedo_dir(t_1: f32, a: vec3<f32>, e_below: vec3<f32
 }
 
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
-// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
-// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)).
-fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>) -> vec3<f32> {
+// ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ᵣ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
+// own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)) and ρ̄ᵣ the albedo
+// for the light the coat returns (`returned_albedo`).
+fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_13 * eta_13);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
-    let _e12 = (rho_below_2 * r_return_2);
-    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e12)) + vec3(e_fresnel));
+    let _e13 = (rho_returned * r_return_2);
+    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -727,7 +728,7 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e138.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
     let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e105, layer1_first_escape_l_1, layer1_first_return_l_1);
     let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e105, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e138.x, _e105, layer1_r_return_2, layer1_rho);
+    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e138.x, _e105, layer1_r_return_2, layer1_rho, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));

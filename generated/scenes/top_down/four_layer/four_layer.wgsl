@@ -14,12 +14,12 @@ const four_layer_layer2_tau: vec3<f32> = vec3<f32>(0.35999998f, 0.2f, 0.04000000
 const four_layer_layer4_rho_ms: vec3<f32> = vec3<f32>(0.8032769f, 0.8032769f, 0.713542f);
 const four_layer_layer4_rho: vec3<f32> = vec3<f32>(0.89252996f, 0.89252996f, 0.8394612f);
 const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.32233894f, 0.32233894f, 0.32233894f);
-const four_layer_layer3_rho: vec3<f32> = vec3<f32>(0.85276955f, 0.85276955f, 0.7852249f);
+const four_layer_layer2_rho_returned: vec3<f32> = vec3<f32>(0.830791f, 0.8345674f, 0.7756857f);
 const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.020748317f, 0.056278825f, 0.1484741f);
-const four_layer_layer2_rho: vec3<f32> = vec3<f32>(0.26345956f, 0.4134338f, 0.6439879f);
+const four_layer_layer1_rho_returned: vec3<f32> = vec3<f32>(0.2431215f, 0.39278597f, 0.6227643f);
 const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
-const four_layer_layer1_rho: vec3<f32> = vec3<f32>(0.24378474f, 0.382559f, 0.59589547f);
+const four_layer_rho_returned: vec3<f32> = vec3<f32>(0.24368028f, 0.3821679f, 0.5949716f);
 const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949359f, 0.5949359f, 0.5949359f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
@@ -404,10 +404,10 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e359 = min(max(((vec3((_e338 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e338)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer2_first_escape_v = (_e359 / vec3(0.80973125f));
     let layer2_first_return_v = min(max(((vec3(1f) - _e359) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer3_rho, four_layer_layer3_r_return);
+    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
     let _e404 = (1f - layer3_transmit_l);
     let _e422 = min(max(((vec3((_e404 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e404)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l = (_e422 / vec3(0.9999998f));
@@ -416,10 +416,10 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e457 = min(max(((vec3((_e439 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e439)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_v = (_e457 / vec3(0.9999998f));
     let layer1_first_return_v = min(max(((vec3(1f) - _e457) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer2_rho, four_layer_layer2_r_return);
+    let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
-    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
-    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
+    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
+    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
     let _e497 = (1f - layer2_transmit_l);
     let _e518 = min(max(((vec3((_e497 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e497)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let first_escape_l = (_e518 / vec3(0.4050641f));
@@ -428,7 +428,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e556 = min(max(((vec3((_e535 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e535)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let first_escape_v = (_e556 / vec3(0.4050641f));
     let first_return_v = min(max(((vec3(1f) - _e556) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313f), min(first_return_l, first_return_v))), four_layer_layer1_rho, four_layer_layer1_r_return);
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -529,8 +529,8 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer2_first_escape_v_1 = (_e250 / vec3(0.80973125f));
     let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
-    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer3_rho, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
+    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
     let _e281 = (1f - layer3_transmit_l_1);
     let _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l_1 = (_e299 / vec3(0.9999998f));
@@ -539,8 +539,8 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_v_1 = (_e334 / vec3(0.9999998f));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - _e334) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer2_rho, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
+    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
+    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e361 = (1f - layer2_transmit_l_1);
     let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let first_escape_l_1 = (_e382 / vec3(0.4050641f));
@@ -549,8 +549,8 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let first_escape_v_1 = (_e420 / vec3(0.4050641f));
     let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_layer1_rho, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_v_1, first_return_v_1);
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);

@@ -73,6 +73,15 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         _ => first_pass(stack, k, &interface, &lower, &albedo, (t_l, t_v), &clear),
     });
     let boost = first.as_ref().map_or(inputs.lit(1.0), |p| p.boost);
+    // The albedo for the light this coat returns, less what the layer's top interface sends
+    // straight back (none for a body directly under the coat). Guard: R(0) ≥ 10⁻⁴.
+    let returned = match &first {
+        Some(FirstPass { recirculated: Some(s), .. }) => {
+            let again = r_return / clear().0.x().at_least(1e-4);
+            returned_albedo(albedo.mean, *s, again).named(&name("rho_returned"))
+        }
+        _ => albedo.mean,
+    };
     let f_under: F::Vec = if g.albedo_only {
         inputs.zero()
     } else if lower.glossy {
@@ -87,7 +96,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         // and on the viewer's side is divided by the return factor of diffuse light through the
         // escape cone, so that what returns eventually escapes (reciprocal: symmetric in l, v).
         let e_v = albedo.e_v * first.return_v / first.return_mean.max(first.return_l.min(first.return_v));
-        interfaced_diffuse_under::<F>(lower.f, albedo.e_l * first.return_l, e_v, albedo.mean, r_return)
+        interfaced_diffuse_under::<F>(lower.f, albedo.e_l * first.return_l, e_v, returned, r_return)
     } else {
         unreachable!("a layer that is not glossy has its first pass")
     };
@@ -112,14 +121,15 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         };
         let directional =
             |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, (p, out): (F, F::Vec)| match first {
-                Some((escape, back)) => interfaced_albedo_dir(t, a, e, albedo.mean, r_return, e_escape, escape, back),
+                Some((escape, back)) => interfaced_albedo_dir(t, a, e, returned, r_return, e_escape, escape, back),
                 None => interfaced_albedo_glossy::<F>(t, a, e, p, out),
             };
         let (first_l, first_v) = first.as_ref().map(|p| ((p.escape_l, p.return_l), (p.escape_v, p.return_v))).unzip();
         let e_l = directional(t_l, a_l, albedo.e_l, first_l, trapped_l).named(&name("albedo_l"));
         let e_v = directional(t_v, a_v, albedo.e_v, first_v, trapped_v).named(&name("albedo_v"));
         let e_escape_clear = clear().1.x();
-        let mean = interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean).named(&name("rho"));
+        let mean =
+            interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean, returned).named(&name("rho"));
         Albedo { e_l, e_v, mean }
     });
     Level { f, albedo, glossy: lower.glossy, alpha: lower.alpha, boost, transmission: Some((t_l, t_v)) }
@@ -137,6 +147,9 @@ struct FirstPass<F: Real> {
     /// The return factor of diffuse light seen through the escape cone (at its mean cosine,
     /// with the layer's mean albedo); ≥ 10⁻³.
     pub(super) return_mean: F::Vec,
+    /// S: the share of the light this coat returns that the layer's top interface reflects
+    /// back (`returned_albedo`); none for a body directly under the coat.
+    pub(super) recirculated: Option<F>,
     /// T′(μ̄c)/⟨T′⟩ times the layer's own boost: how concentrated towards the normal the light
     /// leaving this coat's level is (handed to the coat above).
     pub(super) boost: F,
@@ -173,6 +186,7 @@ fn first_pass<F: Real>(
             return_l: one,
             return_v: one,
             return_mean: one,
+            recirculated: None,
             boost: inputs.lit(1.0),
         };
     };
@@ -202,7 +216,13 @@ fn first_pass<F: Real>(
     // At the cone's mean cosine.
     let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission_from_cone(), "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
-    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost }
+    // S = 1 − ⟨T′⟩ of the coat below; for a coat optically thinner than this one (η′ < 1) only
+    // over the directions it accepts, ⟨T′⟩/η′² (light beyond them never reaches this coat from
+    // below, so this coat returns none there).
+    let accepted = lower.eta.sq().min(inputs.lit(1.0));
+    let recirculated = (lower.transmission_hemispherical() / accepted).one_minus().clamp(0.0, 1.0);
+    let recirculated = Some(recirculated.named(&name("recirculated")));
+    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, recirculated, boost }
 }
 
 /// The first pass out of an EON body (Portsmouth et al. 2025) under coat `k`. EON's
@@ -249,7 +269,7 @@ fn eon_first_pass<F: Real>(
     let mu_mean = interface.escape_cone_mean_cosine();
     let (_, return_mean) = factors(mu_mean, "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
-    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, boost: inputs.lit(1.0) }
+    FirstPass { escape_l, escape_v, return_l, return_v, return_mean, recirculated: None, boost: inputs.lit(1.0) }
 }
 
 /// The return factor of a first pass (see [`FirstPass`]): the share 1 − ξ of the first
