@@ -33,7 +33,9 @@
 //!     internal reflections (TIR included) between the coat and the body, R(τ) and the escape
 //!     share E_esc(τ) from slab integrals (smooth) or tables (rough). When the layer below is
 //!     itself coated, the series starts from what its first reflection really returns
-//!     (`first_pass`): that light leaves concentrated towards the normal. A conductor directly
+//!     (`first_pass`): that light leaves concentrated towards the normal; and the light the coat
+//!     returns, which meets that layer beyond the escape cone, is sent back up with the layer's
+//!     albedo less what its top interface reflects straight back (`returned_albedo`). A conductor directly
 //!     under the coat gets the **glossy level** (`glossy`, see its essay): a lobe for the light
 //!     that leaves near the mirror direction and a separable remainder for the light trapped
 //!     by TIR, split by the number of conductor events with statistics from white random walks
