@@ -1,6 +1,8 @@
 //! Stacks of smooth coats over Lambert: glazec's CPU evaluation over the exact answer
 //! (`glazec_lab::reference::smooth_stack`), at body and grazing pairs 90° of azimuth apart (off
-//! the mirror directions), in the red channel. Each coat's IOR is relative to the medium above.
+//! the mirror directions), in the red channel; then the directional albedo glazec states (what
+//! image-based lighting weighs: the sum of `<m>_ibl_lobes`' weights) over the exact one. Each
+//! coat's IOR is relative to the medium above.
 //!
 //! `cargo run --release -p glazec-lab --example smooth_stack`
 
@@ -31,20 +33,25 @@ const STACKS: [Probe; 15] = [
 
 /// (θl, θv) in degrees.
 const PAIRS: [(f64, f64); 5] = [(0.0, 30.0), (30.0, 60.0), (60.0, 60.0), (45.0, 80.0), (85.0, 85.0)];
+/// View angles of the albedo table, degrees.
+const VIEWS: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
+
+/// The material of a stack.
+fn material((_, coats, rho): Probe) -> Result<glazec::model::Material, String> {
+    let layers: Vec<String> = coats
+        .iter()
+        .map(|(ior, absorption)| format!("Coat(lobe: Smooth, ior: {ior}, absorption: {absorption}, thickness: 1.0)"))
+        .collect();
+    let source = format!("Material(name: \"probe\", layers: [{}, Lambert({rho})])", layers.join(", "));
+    Ok(glazec::compile(&source).map_err(|e| format!("{e:?}"))?.material)
+}
 
 fn main() -> Result<(), String> {
     let header: Vec<String> = PAIRS.iter().map(|(a, b)| format!("{a}°/{b}°")).collect();
     println!("| stack over Lambert | {} |", header.join(" | "));
     println!("|---|{}", "---|".repeat(PAIRS.len()));
-    for (label, coats, rho) in STACKS {
-        let layers: Vec<String> = coats
-            .iter()
-            .map(|(ior, absorption)| {
-                format!("Coat(lobe: Smooth, ior: {ior}, absorption: {absorption}, thickness: 1.0)")
-            })
-            .collect();
-        let source = format!("Material(name: \"probe\", layers: [{}, Lambert({rho})])", layers.join(", "));
-        let material = glazec::compile(&source).map_err(|e| format!("{e:?}"))?.material;
+    for probe in STACKS {
+        let material = material(probe)?;
         let values = material.default_values();
         let exact = SmoothStack::of(&Stack::from_material(&material, &values)).ok_or("not a smooth stack")?;
         let cells: Vec<String> = PAIRS
@@ -57,7 +64,26 @@ fn main() -> Result<(), String> {
                 if e == 0.0 { format!("{f} / 0") } else { format!("{:.3}", f / e) }
             })
             .collect();
-        println!("| {label} | {} |", cells.join(" | "));
+        println!("| {} | {} |", probe.0, cells.join(" | "));
+    }
+    println!();
+    let header: Vec<String> = VIEWS.iter().map(|v| format!("{v}°")).collect();
+    println!("| stated directional albedo over the exact one | {} |", header.join(" | "));
+    println!("|---|{}", "---|".repeat(VIEWS.len()));
+    for probe in STACKS {
+        let material = material(probe)?;
+        let values = material.default_values();
+        let exact = SmoothStack::of(&Stack::from_material(&material, &values)).ok_or("not a smooth stack")?;
+        let cells: Vec<String> = VIEWS
+            .iter()
+            .map(|&theta| {
+                let wo = direction_deg(theta, 0.0);
+                let lobes = glazec::eval::environment_lobes(&material, &values, glam::Vec3::Z, wo.as_vec3());
+                let stated: f32 = lobes.iter().map(|lobe| lobe.weight.x).sum();
+                format!("{:.3}", f64::from(stated) / exact.directional_albedo(wo).x)
+            })
+            .collect();
+        println!("| {} | {} |", probe.0, cells.join(" | "));
     }
     Ok(())
 }
