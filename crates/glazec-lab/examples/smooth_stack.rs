@@ -7,6 +7,7 @@
 //! `cargo run --release -p glazec-lab --example smooth_stack`
 
 use glazec::math::sampling::direction_deg;
+use glazec::model::{Material, ParamValue};
 use glazec_lab::reference::Stack;
 use glazec_lab::reference::smooth_stack::SmoothStack;
 
@@ -36,54 +37,50 @@ const PAIRS: [(f64, f64); 5] = [(0.0, 30.0), (30.0, 60.0), (60.0, 60.0), (45.0, 
 /// View angles of the albedo table, degrees.
 const VIEWS: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
 
-/// The material of a stack.
-fn material((_, coats, rho): Probe) -> Result<glazec::model::Material, String> {
+/// A stack's material, its default parameter values and its exact answer.
+fn probe((_, coats, rho): Probe) -> Result<(Material, Vec<ParamValue>, SmoothStack), String> {
     let layers: Vec<String> = coats
         .iter()
         .map(|(ior, absorption)| format!("Coat(lobe: Smooth, ior: {ior}, absorption: {absorption}, thickness: 1.0)"))
         .collect();
     let source = format!("Material(name: \"probe\", layers: [{}, Lambert({rho})])", layers.join(", "));
-    Ok(glazec::compile(&source).map_err(|e| format!("{e:?}"))?.material)
+    let material = glazec::compile(&source).map_err(|e| format!("{e:?}"))?.material;
+    let values = material.default_values();
+    let exact = SmoothStack::of(&Stack::from_material(&material, &values)).ok_or("not a smooth stack")?;
+    Ok((material, values, exact))
+}
+
+/// One cell of a table: the stack's material, values and exact answer, and the column.
+type Cell = dyn Fn(&Material, &[ParamValue], &SmoothStack, usize) -> String;
+
+/// Prints one table: a row per stack, a cell per column.
+fn table(title: &str, columns: &[String], cell: &Cell) -> Result<(), String> {
+    println!("| {title} | {} |", columns.join(" | "));
+    println!("|---|{}", "---|".repeat(columns.len()));
+    for stack in STACKS {
+        let (material, values, exact) = probe(stack)?;
+        let cells: Vec<String> = (0..columns.len()).map(|i| cell(&material, &values, &exact, i)).collect();
+        println!("| {} | {} |", stack.0, cells.join(" | "));
+    }
+    Ok(())
 }
 
 fn main() -> Result<(), String> {
-    let header: Vec<String> = PAIRS.iter().map(|(a, b)| format!("{a}°/{b}°")).collect();
-    println!("| stack over Lambert | {} |", header.join(" | "));
-    println!("|---|{}", "---|".repeat(PAIRS.len()));
-    for probe in STACKS {
-        let material = material(probe)?;
-        let values = material.default_values();
-        let exact = SmoothStack::of(&Stack::from_material(&material, &values)).ok_or("not a smooth stack")?;
-        let cells: Vec<String> = PAIRS
-            .iter()
-            .map(|&(theta_l, theta_v)| {
-                let (wi, wo) = (direction_deg(theta_l, 0.0), direction_deg(theta_v, 90.0));
-                let f = glazec::eval::brdf(&material, &values, wi.as_vec3(), wo.as_vec3()).x as f64;
-                let e = exact.f(wi, wo).x;
-                // Light that cannot enter the stack (a coat thinner than air beyond its critical angle).
-                if e == 0.0 { format!("{f} / 0") } else { format!("{:.3}", f / e) }
-            })
-            .collect();
-        println!("| {} | {} |", probe.0, cells.join(" | "));
-    }
+    let pairs: Vec<String> = PAIRS.iter().map(|(a, b)| format!("{a}°/{b}°")).collect();
+    table("stack over Lambert", &pairs, &|material, values, exact, i| {
+        let (theta_l, theta_v) = PAIRS[i];
+        let (wi, wo) = (direction_deg(theta_l, 0.0), direction_deg(theta_v, 90.0));
+        let f = glazec::eval::brdf(material, values, wi.as_vec3(), wo.as_vec3()).x as f64;
+        let e = exact.f(wi, wo).x;
+        // Light that cannot enter the stack (a coat thinner than air beyond its critical angle).
+        if e == 0.0 { format!("{f} / 0") } else { format!("{:.3}", f / e) }
+    })?;
     println!();
-    let header: Vec<String> = VIEWS.iter().map(|v| format!("{v}°")).collect();
-    println!("| stated directional albedo over the exact one | {} |", header.join(" | "));
-    println!("|---|{}", "---|".repeat(VIEWS.len()));
-    for probe in STACKS {
-        let material = material(probe)?;
-        let values = material.default_values();
-        let exact = SmoothStack::of(&Stack::from_material(&material, &values)).ok_or("not a smooth stack")?;
-        let cells: Vec<String> = VIEWS
-            .iter()
-            .map(|&theta| {
-                let wo = direction_deg(theta, 0.0);
-                let lobes = glazec::eval::environment_lobes(&material, &values, glam::Vec3::Z, wo.as_vec3());
-                let stated: f32 = lobes.iter().map(|lobe| lobe.weight.x).sum();
-                format!("{:.3}", f64::from(stated) / exact.directional_albedo(wo).x)
-            })
-            .collect();
-        println!("| {} | {} |", probe.0, cells.join(" | "));
-    }
-    Ok(())
+    let views: Vec<String> = VIEWS.iter().map(|v| format!("{v}°")).collect();
+    table("stated directional albedo over the exact one", &views, &|material, values, exact, i| {
+        let wo = direction_deg(VIEWS[i], 0.0);
+        let lobes = glazec::eval::environment_lobes(material, values, glam::Vec3::Z, wo.as_vec3());
+        let stated: f32 = lobes.iter().map(|lobe| lobe.weight.x).sum();
+        format!("{:.3}", f64::from(stated) / exact.directional_albedo(wo).x)
+    })
 }
