@@ -75,38 +75,65 @@ impl SmoothStack {
     /// (T, R) of one channel at invariant `p`: T from outside down to the base, R of everything
     /// above seen from the base.
     fn adding(&self, p: f64, channel: usize) -> (f64, f64) {
-        let (t, r_up, _) = self.adding_both(p, channel);
-        (t, r_up)
-    }
-
-    /// [`Self::adding`] and the interfaces' own (specular) reflectance seen from outside.
-    fn adding_both(&self, p: f64, channel: usize) -> (f64, f64, f64) {
         let n = self.indices();
         // Light of this p does not propagate in the base's medium: none reaches it.
         if p >= n[n.len() - 1] {
-            return (0.0, 1.0, 1.0);
+            return (0.0, 1.0);
         }
-        let cosine = |k: usize| (1.0 - (p / n[k]).powi(2)).max(0.0).sqrt();
-        let attenuation = |k: usize| (-self.coats[k - 1].1[channel] / cosine(k)).exp();
         // Below the lowest medium where p does not propagate everything is reflected.
         let (start, mut t, mut r_up) = match (0..n.len()).rev().find(|&k| p >= n[k]) {
             None => (1, 1.0, 0.0),
             Some(k) => (k + 2, 0.0, 1.0),
         };
-        // Light from outside that does not reach medium `start − 1` is reflected whole.
-        let mut r_down = if start == 1 { 0.0 } else { 1.0 };
         for j in start..n.len() {
-            // Through the slab above interface j (medium j − 1; none outside).
-            let a = if j >= 2 { attenuation(j - 1) } else { 1.0 };
-            let r_j = fresnel(n[j - 1], cosine(j - 1), n[j], cosine(j));
+            let (a, r_j) = self.interface(&n, p, j, channel);
+            let t_j = 1.0 - r_j;
+            let round = 1.0 - r_up * a * a * r_j;
+            t = t * a * t_j / round;
+            r_up = r_j + t_j * t_j * a * a * r_up / round;
+        }
+        let a = self.attenuation(&n, p, n.len() - 1, channel);
+        (t * a, r_up * a * a)
+    }
+
+    /// The interfaces' own (specular) reflectance seen from outside at invariant `p` < 1, one
+    /// channel: the adding equations from the top, down to the base or to the first medium `p`
+    /// does not propagate in, which reflects everything.
+    fn mirror_reflectance(&self, p: f64, channel: usize) -> f64 {
+        let n = self.indices();
+        let (mut t, mut r_up, mut r_down) = (1.0, 0.0, 0.0);
+        for j in 1..n.len() {
+            let (a, r_j) = if p >= n[j] {
+                (self.attenuation(&n, p, j - 1, channel), 1.0)
+            } else {
+                self.interface(&n, p, j, channel)
+            };
             let t_j = 1.0 - r_j;
             let round = 1.0 - r_up * a * a * r_j;
             r_down += t * t * a * a * r_j / round;
             t = t * a * t_j / round;
             r_up = r_j + t_j * t_j * a * a * r_up / round;
+            if p >= n[j] {
+                break;
+            }
         }
-        let a = attenuation(n.len() - 1);
-        (t * a, r_up * a * a, r_down)
+        r_down
+    }
+
+    /// One-way attenuation e^(−τ/μ) through the slab of medium `k` (none outside, k = 0).
+    fn attenuation(&self, n: &[f64], p: f64, k: usize, channel: usize) -> f64 {
+        if k == 0 {
+            return 1.0;
+        }
+        let cosine = (1.0 - (p / n[k]).powi(2)).max(0.0).sqrt();
+        (-self.coats[k - 1].1[channel] / cosine).exp()
+    }
+
+    /// (attenuation through the slab above interface `j`, the interface's Fresnel reflectance),
+    /// both media propagating.
+    fn interface(&self, n: &[f64], p: f64, j: usize, channel: usize) -> (f64, f64) {
+        let cosine = |k: usize| (1.0 - (p / n[k]).powi(2)).max(0.0).sqrt();
+        (self.attenuation(n, p, j - 1, channel), fresnel(n[j - 1], cosine(j - 1), n[j], cosine(j)))
     }
 
     /// R̄ of one channel: the share of the base's diffuse light that comes back to it.
@@ -131,8 +158,10 @@ impl SmoothStack {
                 (0..MEAN_STEPS).map(|i| self.adding(((i as f64 + 0.5) / MEAN_STEPS as f64).sqrt(), c).0).sum::<f64>()
                     / MEAN_STEPS as f64;
             let rho = self.albedo[c];
-            let (t, _, r) = self.adding_both((1.0 - wo.z * wo.z).max(0.0).sqrt(), c);
-            r + t * rho * t_mean / (n_base * n_base * (1.0 - rho * self.base_return(c)))
+            let p = (1.0 - wo.z * wo.z).max(0.0).sqrt();
+            let transmitted =
+                self.adding(p, c).0 * rho * t_mean / (n_base * n_base * (1.0 - rho * self.base_return(c)));
+            self.mirror_reflectance(p, c) + transmitted
         }))
     }
 
@@ -199,9 +228,21 @@ mod tests {
 
     #[test]
     fn a_white_clear_stack_reflects_everything() {
-        let (m, values) = material(
-            "Coat(lobe: Smooth, ior: 1.5), Coat(lobe: Smooth, ior: 0.8), Coat(lobe: Smooth, ior: 2.0), Lambert(1.0)",
-        );
+        for (layers, stated_too) in [
+            (
+                "Coat(lobe: Smooth, ior: 1.5), Coat(lobe: Smooth, ior: 0.8), Coat(lobe: Smooth, ior: 2.0), Lambert(1.0)",
+                true,
+            ),
+            // A coat thinner than air (absolute index 0.75) reflects whatever arrives beyond
+            // 48.6°. glazec states 0.994 at 85° and 0.971 at 89° there (docs/limitations.md).
+            ("Coat(lobe: Smooth, ior: 1.5), Coat(lobe: Smooth, ior: 0.5), Lambert(1.0)", false),
+        ] {
+            white_stack_reflects_everything(layers, stated_too);
+        }
+    }
+
+    fn white_stack_reflects_everything(layers: &str, stated_too: bool) {
+        let (m, values) = material(layers);
         let exact = SmoothStack::of(&Stack::from_material(&m, &values)).expect("a smooth stack");
         for theta in [0.0, 40.0, 80.0, 89.0] {
             let wo = direction_deg(theta, 0.0);
@@ -210,7 +251,7 @@ mod tests {
             // What glazec states for image-based lighting (its lobes' weights) is the same.
             let lobes = glazec::eval::environment_lobes(&m, &values, glam::Vec3::Z, wo.as_vec3());
             let stated: f32 = lobes.iter().map(|lobe| lobe.weight.x).sum();
-            assert!((f64::from(stated) - 1.0).abs() < STATED_ENERGY_TOL, "stated at {theta}°: {stated}");
+            assert!(!stated_too || (f64::from(stated) - 1.0).abs() < STATED_ENERGY_TOL, "stated at {theta}°: {stated}");
         }
     }
 
