@@ -22,7 +22,7 @@ use glam::DVec3;
 
 use super::{BaseBsdf, Below, SMOOTH_ALPHA, Stack};
 
-/// Midpoint steps in μ² for R̄ and ⟨T⟩: the integrands are smooth but for square-root kinks at
+/// Midpoint steps in μ² for R̄ and ⟨T⟩ (computed once per stack): the integrands are smooth but for square-root kinks at
 /// the critical angles, where the midpoint rule's error is about 10⁻⁶ at this count (a white
 /// clear stack's albedo comes out 1 + 1.1·10⁻⁶).
 const MEAN_STEPS: usize = 20_000;
@@ -33,6 +33,12 @@ pub struct SmoothStack {
     /// (IOR relative to the medium above, optical depth per channel) per coat, from the top.
     coats: Vec<(f64, DVec3)>,
     albedo: DVec3,
+    /// Absolute indices: outside (1) first, the base's medium last.
+    indices: Vec<f64>,
+    /// R̄ per channel: the share of the base's diffuse light that comes back to it.
+    base_return: DVec3,
+    /// ⟨T⟩ per channel: the outside hemisphere's mean transmittance down to the base.
+    mean_transmission: DVec3,
 }
 
 /// Unpolarised Fresnel reflectance between media of absolute index `n1` (cosine `c1`) and `n2`
@@ -43,13 +49,26 @@ fn fresnel(n1: f64, c1: f64, n2: f64, c2: f64) -> f64 {
     0.5 * (rs * rs + rp * rp)
 }
 
+/// One step of the adding equations: (T, R seen from below, R seen from above) of the layers
+/// added so far, then a slab of one-way attenuation `a` and an interface of reflectance `r_j`.
+fn add_interface((t, r_up, r_down): (f64, f64, f64), a: f64, r_j: f64) -> (f64, f64, f64) {
+    let t_j = 1.0 - r_j;
+    let round = 1.0 - r_up * a * a * r_j;
+    (t * a * t_j / round, r_j + t_j * t_j * a * a * r_up / round, r_down + t * t * a * a * r_j / round)
+}
+
+/// The midpoint-rule mean of `g(μ²)` over μ² ∈ [0, 1] (projected solid angle).
+fn hemispherical_mean(g: impl Fn(f64) -> f64) -> f64 {
+    (0..MEAN_STEPS).map(|i| g((i as f64 + 0.5) / MEAN_STEPS as f64)).sum::<f64>() / MEAN_STEPS as f64
+}
+
 impl SmoothStack {
     /// The stack of `stack`, if every coat is smooth (α below the walks' own smooth limit) and
     /// clear of scattering, over a Lambertian base; `None` otherwise.
     pub fn of(stack: &Stack) -> Option<SmoothStack> {
         let mut coats = Vec::new();
         let mut at = stack;
-        loop {
+        let albedo = loop {
             let (interface, medium) = at.coat.as_ref()?;
             if interface.alpha >= SMOOTH_ALPHA || medium.scattering != 0.0 {
                 return None;
@@ -57,111 +76,95 @@ impl SmoothStack {
             coats.push((interface.eta, medium.absorption * medium.thickness));
             match &at.below {
                 Below::Stack(next) => at = next,
-                Below::Base(BaseBsdf::Lambert { albedo }) => return Some(SmoothStack { coats, albedo: *albedo }),
+                Below::Base(BaseBsdf::Lambert { albedo }) => break *albedo,
                 Below::Base(_) => return None,
             }
+        };
+        let mut indices = vec![1.0];
+        for &(eta, _) in &coats {
+            indices.push(indices[indices.len() - 1] * eta);
         }
+        let mut stack =
+            SmoothStack { coats, albedo, indices, base_return: DVec3::ZERO, mean_transmission: DVec3::ZERO };
+        let n_base = stack.n_base();
+        for c in 0..3 {
+            stack.base_return[c] = hemispherical_mean(|mu_sq| stack.adding(n_base * (1.0 - mu_sq).sqrt(), c).1);
+            stack.mean_transmission[c] = hemispherical_mean(|mu_sq| stack.adding((1.0 - mu_sq).sqrt(), c).0);
+        }
+        Some(stack)
     }
 
-    /// Absolute indices: outside (1) first, the base's medium last.
-    fn indices(&self) -> Vec<f64> {
-        let mut n = vec![1.0];
-        for &(eta, _) in &self.coats {
-            n.push(n[n.len() - 1] * eta);
-        }
-        n
+    /// The absolute index of the base's medium.
+    fn n_base(&self) -> f64 {
+        self.indices[self.indices.len() - 1]
     }
 
     /// (T, R) of one channel at invariant `p`: T from outside down to the base, R of everything
     /// above seen from the base.
     fn adding(&self, p: f64, channel: usize) -> (f64, f64) {
-        let n = self.indices();
+        let n = &self.indices;
         // Light of this p does not propagate in the base's medium: none reaches it.
-        if p >= n[n.len() - 1] {
+        if p >= self.n_base() {
             return (0.0, 1.0);
         }
         // Below the lowest medium where p does not propagate everything is reflected.
-        let (start, mut t, mut r_up) = match (0..n.len()).rev().find(|&k| p >= n[k]) {
-            None => (1, 1.0, 0.0),
-            Some(k) => (k + 2, 0.0, 1.0),
+        let (start, mut sums) = match (0..n.len()).rev().find(|&k| p >= n[k]) {
+            None => (1, (1.0, 0.0, 0.0)),
+            Some(k) => (k + 2, (0.0, 1.0, 1.0)),
         };
         for j in start..n.len() {
-            let (a, r_j) = self.interface(&n, p, j, channel);
-            let t_j = 1.0 - r_j;
-            let round = 1.0 - r_up * a * a * r_j;
-            t = t * a * t_j / round;
-            r_up = r_j + t_j * t_j * a * a * r_up / round;
+            let (a, r_j) = self.interface(p, j, channel);
+            sums = add_interface(sums, a, r_j);
         }
-        let a = self.attenuation(&n, p, n.len() - 1, channel);
-        (t * a, r_up * a * a)
+        let a = self.attenuation(p, n.len() - 1, channel);
+        (sums.0 * a, sums.1 * a * a)
     }
 
     /// The interfaces' own (specular) reflectance seen from outside at invariant `p` < 1, one
     /// channel: the adding equations from the top, down to the base or to the first medium `p`
     /// does not propagate in, which reflects everything.
     fn mirror_reflectance(&self, p: f64, channel: usize) -> f64 {
-        let n = self.indices();
-        let (mut t, mut r_up, mut r_down) = (1.0, 0.0, 0.0);
-        for j in 1..n.len() {
-            let (a, r_j) = if p >= n[j] {
-                (self.attenuation(&n, p, j - 1, channel), 1.0)
-            } else {
-                self.interface(&n, p, j, channel)
-            };
-            let t_j = 1.0 - r_j;
-            let round = 1.0 - r_up * a * a * r_j;
-            r_down += t * t * a * a * r_j / round;
-            t = t * a * t_j / round;
-            r_up = r_j + t_j * t_j * a * a * r_up / round;
-            if p >= n[j] {
-                break;
+        let mut sums = (1.0, 0.0, 0.0);
+        for j in 1..self.indices.len() {
+            if p >= self.indices[j] {
+                return add_interface(sums, self.attenuation(p, j - 1, channel), 1.0).2;
             }
+            let (a, r_j) = self.interface(p, j, channel);
+            sums = add_interface(sums, a, r_j);
         }
-        r_down
+        sums.2
     }
 
     /// One-way attenuation e^(−τ/μ) through the slab of medium `k` (none outside, k = 0).
-    fn attenuation(&self, n: &[f64], p: f64, k: usize, channel: usize) -> f64 {
+    fn attenuation(&self, p: f64, k: usize, channel: usize) -> f64 {
         if k == 0 {
             return 1.0;
         }
-        let cosine = (1.0 - (p / n[k]).powi(2)).max(0.0).sqrt();
+        let cosine = (1.0 - (p / self.indices[k]).powi(2)).max(0.0).sqrt();
         (-self.coats[k - 1].1[channel] / cosine).exp()
     }
 
     /// (attenuation through the slab above interface `j`, the interface's Fresnel reflectance),
     /// both media propagating.
-    fn interface(&self, n: &[f64], p: f64, j: usize, channel: usize) -> (f64, f64) {
+    fn interface(&self, p: f64, j: usize, channel: usize) -> (f64, f64) {
+        let n = &self.indices;
         let cosine = |k: usize| (1.0 - (p / n[k]).powi(2)).max(0.0).sqrt();
-        (self.attenuation(n, p, j - 1, channel), fresnel(n[j - 1], cosine(j - 1), n[j], cosine(j)))
+        (self.attenuation(p, j - 1, channel), fresnel(n[j - 1], cosine(j - 1), n[j], cosine(j)))
     }
 
-    /// R̄ of one channel: the share of the base's diffuse light that comes back to it.
-    fn base_return(&self, channel: usize) -> f64 {
-        let n_base = self.indices()[self.coats.len()];
-        (0..MEAN_STEPS)
-            .map(|i| {
-                let mu_sq = (i as f64 + 0.5) / MEAN_STEPS as f64;
-                self.adding(n_base * (1.0 - mu_sq).sqrt(), channel).1
-            })
-            .sum::<f64>()
-            / MEAN_STEPS as f64
+    /// What the base's diffuse light gives per unit transmittance on each side, one channel:
+    /// ρ / (n² (1 − ρ R̄)).
+    fn diffuse(&self, channel: usize) -> f64 {
+        let rho = self.albedo[channel];
+        rho / (self.n_base() * self.n_base() * (1.0 - rho * self.base_return[channel]))
     }
 
     /// The directional albedo towards `wo` (the mirror reflection included):
     /// R_s(p) + T(p) ρ ⟨T⟩ / (n² (1 − ρ R̄)), ⟨T⟩ the outside hemisphere's mean transmittance.
     pub fn directional_albedo(&self, wo: DVec3) -> DVec3 {
-        let wo = wo.normalize();
-        let n_base = self.indices()[self.coats.len()];
+        let p = (1.0 - wo.normalize().z.powi(2)).max(0.0).sqrt();
         DVec3::from_array(std::array::from_fn(|c| {
-            let t_mean =
-                (0..MEAN_STEPS).map(|i| self.adding(((i as f64 + 0.5) / MEAN_STEPS as f64).sqrt(), c).0).sum::<f64>()
-                    / MEAN_STEPS as f64;
-            let rho = self.albedo[c];
-            let p = (1.0 - wo.z * wo.z).max(0.0).sqrt();
-            let transmitted =
-                self.adding(p, c).0 * rho * t_mean / (n_base * n_base * (1.0 - rho * self.base_return(c)));
-            self.mirror_reflectance(p, c) + transmitted
+            self.mirror_reflectance(p, c) + self.adding(p, c).0 * self.mean_transmission[c] * self.diffuse(c)
         }))
     }
 
@@ -171,13 +174,9 @@ impl SmoothStack {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return DVec3::ZERO;
         }
-        let n = self.indices();
-        let n_base = n[n.len() - 1];
         let sine = |w: DVec3| (1.0 - w.z * w.z).max(0.0).sqrt();
         DVec3::from_array(std::array::from_fn(|c| {
-            let rho = self.albedo[c];
-            self.adding(sine(wi), c).0 * self.adding(sine(wo), c).0 * rho
-                / (PI * n_base * n_base * (1.0 - rho * self.base_return(c)))
+            self.adding(sine(wi), c).0 * self.adding(sine(wo), c).0 * self.diffuse(c) / PI
         }))
     }
 }

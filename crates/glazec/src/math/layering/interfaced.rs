@@ -197,8 +197,8 @@ fn first_pass<F: Real>(
     let mu_mean = interface.escape_cone_mean_cosine();
     let t_cone_below = lower.transmission(mu_mean, "cone");
     // Coats further down concentrate the light further (their boost, handed up).
-    let boost =
-        (t_cone_below / lower.transmission_hemispherical().at_least(1e-4) * lower_level.boost).named(&name("boost"));
+    let t_avg_below = lower.transmission_hemispherical();
+    let boost = (t_cone_below / t_avg_below.at_least(1e-4) * lower_level.boost).named(&name("boost"));
     let shaped = (e_clear * boost).clamp(0.0, 1.0).named(&name("first_escape_diffuse"));
     // ξ for light reflected with albedo `e`, of which 1 − T′ (`below_transmission`) specularly,
     // and escaping coat k with transmission `t` at the mirror direction.
@@ -220,7 +220,7 @@ fn first_pass<F: Real>(
     // over the directions it accepts, ⟨T′⟩/η′² (light beyond them never reaches this coat from
     // below, so this coat returns none there).
     let accepted = lower.eta.sq().min(inputs.lit(1.0));
-    let recirculated = (lower.transmission_hemispherical() / accepted).one_minus().clamp(0.0, 1.0);
+    let recirculated = (t_avg_below / accepted).one_minus().clamp(0.0, 1.0);
     let recirculated = Some(recirculated.named(&name("recirculated")));
     FirstPass { escape_l, escape_v, return_l, return_v, return_mean, recirculated, boost }
 }
