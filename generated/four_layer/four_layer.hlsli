@@ -21,7 +21,7 @@ static const float3 four_layer_layer1_rho_returned = float3(0.2431215, 0.3927859
 static const float3 four_layer_layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
 static const float3 four_layer_layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 four_layer_rho_returned = float3(0.24368028, 0.3821679, 0.5949716);
-static const float3 four_layer_layer1_r_return = float3(0.5949359, 0.5949359, 0.5949359);
+static const float3 four_layer_layer1_r_return = float3(0.58139926, 0.58139926, 0.58139926);
 static const uint four_layer_ibl_specular_lobes = 1u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -58,24 +58,24 @@ float four_layer_d_gtr1_(float cos_h, float sin2_h, float alpha)
     return ((alpha > 0.9999) ? 0.31830987 : d_2);
 }
 
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
-// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float four_layer_lambda_ggx(float n_dot_x, float alpha_1)
+float four_layer_lambda_gtr1_(float n_dot_x, float alpha_1)
 {
-    float mu_sq = max((n_dot_x * n_dot_x), 1e-12);
-    float tan_sq = ((1.0 - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1.0)) - 1.0) * 0.5);
+    float a_2 = min(max(alpha_1, 0.001), 0.9999);
+    float a_sq_1 = (a_2 * a_2);
+    float c = min(max(n_dot_x, 1e-6), 1.0);
+    float root = sqrt(((c * c) + (a_sq_1 * (1.0 - (c * c)))));
+    float x = (((1.0 - c) * (1.0 - a_sq_1)) / (root + 1.0));
+    float lambda_1 = ((((c + 1.0) * x) + (c * log((1.0 - x)))) / (c * log((1.0 / a_sq_1))));
+    return ((alpha_1 > 0.9999) ? ((1.0 - c) / (c * 2.0)) : lambda_1);
 }
 
-// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
-// G2 = 1 / (1 + Λ(v) + Λ(l)).
-float four_layer_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
+// Heitz 2014, eq. 99, for GTR1's Λ (`lambda_gtr1`): the height-correlated Smith
+// masking-shadowing G2 = 1 / (1 + Λ(v) + Λ(l)) of a GTR1 microsurface.
+float four_layer_g_smith_gtr1_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
-    float alpha_6 = max(alpha_2, 0.001);
-    const float _e5 = four_layer_lambda_ggx(n_dot_v, alpha_6);
-    const float _e6 = four_layer_lambda_ggx(n_dot_l, alpha_6);
-    return (1.0 / ((_e5 + _e6) + 1.0));
+    const float _e3 = four_layer_lambda_gtr1_(n_dot_v, alpha_2);
+    const float _e4 = four_layer_lambda_gtr1_(n_dot_l, alpha_2);
+    return (1.0 / ((_e3 + _e4) + 1.0));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -102,85 +102,41 @@ float3 four_layer_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// `coat_scale` of a GTR1 microsurface, for its single-scattering lobe alone.
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_scale_curve(float cos_theta)
+float four_layer_gtr1_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.02668619) + 1.0041823);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.019555984, -0.0630337, -0.05337595)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(0.16555935, 0.18235894, -0.16423078)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.21464106, -0.023104595, 0.06720186)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.022619965, 0.037275556, -0.01356125)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.0097346315));
-    float f_6 = (f_5 + (max(u, 0.93333334) * -0.0033295157));
+    float f = ((u * -0.0338763) + 1.1541083);
+    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.004402399, -0.008066301, 0.068103075)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.0050997688, 0.052646402, 0.00793934)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.080001354, 0.01401186, -0.047464374)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(-0.057506565, 0.03132463, 0.03772259)));
+    float f_5 = (f_4 + (max(u, 0.8666667) * -0.08885265));
+    float f_6 = (f_5 + (max(u, 0.93333334) * -0.028581621));
     return f_6;
-}
-
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
-float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_3)
-{
-    float a_2 = max(alpha_3, 0.001);
-    float a_sq_1 = (a_2 * a_2);
-    float h_sq = ((z * z) + across);
-    float denom = max((((z * z) * a_sq_1) + across), 1e-12);
-    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927));
-}
-
-// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
-// through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
-float four_layer_second_event_share(float lambda)
-{
-    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+// `coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking).
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_deficit_curve(float cos_theta_1)
+float four_layer_gtr1_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.035696566) + -0.0048993737);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.018605858, -0.04643011, -0.063839555)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.06355408, -0.120908976, -0.12705919)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.11604294, -0.18015781, -0.061962247)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.07012004, -0.09002024, -0.02657564)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.08082771, 0.07607439, 0.13548814)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.13201948, 0.18176389, 0.15296035)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.11392689, 0.10243415, 0.070194066)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.051978104, 0.033135038, 0.02559825)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.017701015, 0.008244933, 0.0041204076)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.0017185223, -4.08896e-5, -0.00060151203)));
+    float f_7 = ((u_1 * -0.020805597) + -0.01194569);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.025472999, -0.041520655, -0.057191372)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.07361227, -0.092316985, -0.12546921)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.14167207, -0.16079438, -0.1790852)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.18594587, -0.18325555, -0.1739226)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.15288788, -0.11336464, -0.07238352)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(-0.03315053, 0.031043362, 0.09473523)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.15217534, 0.1882712, 0.21470414)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.21896721, 0.21036482, 0.19324943)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.16274576, 0.13463123, 0.1013019)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.07036227, 0.04881628, 0.027676633)));
     return f_17;
 }
 
@@ -209,12 +165,32 @@ float four_layer_slab_transmittance_grey(float tau, float mu)
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_4)
+float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3)
 {
-    float a_3 = max(alpha_4, 0.001);
+    float a_3 = max(alpha_3, 0.001);
     float a_sq_2 = (a_3 * a_3);
-    float denom_1 = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 1e-12);
-    return (a_sq_2 / ((denom_1 * denom_1) * 3.1415927));
+    float denom = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 1e-12);
+    return (a_sq_2 / ((denom * denom) * 3.1415927));
+}
+
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+float four_layer_lambda_ggx(float n_dot_x_1, float alpha_4)
+{
+    float mu_sq = max((n_dot_x_1 * n_dot_x_1), 1e-12);
+    float tan_sq = ((1.0 - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_4 * alpha_4) * tan_sq) + 1.0)) - 1.0) * 0.5);
+}
+
+// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+// G2 = 1 / (1 + Λ(v) + Λ(l)).
+float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float alpha_5)
+{
+    float alpha_8 = max(alpha_5, 0.001);
+    const float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_8);
+    const float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_8);
+    return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -225,7 +201,7 @@ float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_4)
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_scale_curve_b(float cos_theta_2)
+float four_layer_coat_scale_curve(float cos_theta_2)
 {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_18 = ((u_2 * -0.01585722) + 1.0037742);
@@ -238,6 +214,44 @@ float four_layer_coat_scale_curve_b(float cos_theta_2)
     return f_24;
 }
 
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_6)
+{
+    float a_4 = max(alpha_6, 0.001);
+    float a_sq_3 = (a_4 * a_4);
+    float h_sq = ((z * z) + across);
+    float denom_1 = max((((z * z) * a_sq_3) + across), 1e-12);
+    return ((((a_sq_3 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+float four_layer_second_event_share(float lambda)
+{
+    return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
@@ -246,7 +260,7 @@ float four_layer_coat_scale_curve_b(float cos_theta_2)
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_deficit_curve_b(float cos_theta_3)
+float four_layer_coat_deficit_curve(float cos_theta_3)
 {
     float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_25 = ((u_3 * -0.020166278) + -0.003592166);
@@ -296,7 +310,7 @@ float3 four_layer_slab_transmittance(float3 tau_1, float mu_1)
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_scale_curve_c(float cos_theta_5)
+float four_layer_coat_scale_curve_b(float cos_theta_5)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_41 = ((u_5 * -0.09836375) + 1.0570874);
@@ -317,7 +331,7 @@ float four_layer_coat_scale_curve_c(float cos_theta_5)
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_deficit_curve_c(float cos_theta_6)
+float four_layer_coat_deficit_curve_b(float cos_theta_6)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_48 = ((u_6 * -0.02334994) + -0.016049497);
@@ -339,8 +353,8 @@ float four_layer_coat_deficit_curve_c(float cos_theta_6)
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
 float four_layer_e_fon(float mu_2, float r)
 {
-    float x = (1.0 - min(max(mu_2, 0.0), 1.0));
-    float g_over_pi = (x * ((x * ((x * ((x * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
+    float x_1 = (1.0 - min(max(mu_2, 0.0), 1.0));
+    float g_over_pi = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299) - 0.33218145)) + 0.49188188)) + 0.05710853));
     return (((r * g_over_pi) + 1.0) / ((r * 0.2877934) + 1.0));
 }
 
@@ -356,14 +370,14 @@ float3 four_layer_eon_rho_ms(float3 albedo, float r_1)
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-float3 four_layer_fd_eon(float3 albedo_1, float r_2, float n_dot_v_2, float n_dot_l_2, float v_dot_l)
+float3 four_layer_fd_eon(float3 albedo_1, float r_2, float n_dot_v_3, float n_dot_l_3, float v_dot_l)
 {
-    float s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    float s_over_t = ((s > 0.0) ? (s / max(n_dot_v_2, n_dot_l_2)) : s);
+    float s = (v_dot_l - (n_dot_v_3 * n_dot_l_3));
+    float s_over_t = ((s > 0.0) ? (s / max(n_dot_v_3, n_dot_l_3)) : s);
     float a_f = (1.0 / ((r_2 * 0.2877934) + 1.0));
     float3 f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1.0)) / 3.1415927));
-    const float e_o = four_layer_e_fon(n_dot_v_2, r_2);
-    const float e_i = four_layer_e_fon(n_dot_l_2, r_2);
+    const float e_o = four_layer_e_fon(n_dot_v_3, r_2);
+    const float e_i = four_layer_e_fon(n_dot_l_3, r_2);
     float e_avg_1 = (a_f * ((r_2 * 0.07248825) + 1.0));
     const float3 rho_ms = four_layer_eon_rho_ms(albedo_1, r_2);
     float3 f_ms = (rho_ms * ((max((1.0 - e_o), 1e-7) * max((1.0 - e_i), 1e-7)) / (max((1.0 - e_avg_1), 1e-7) * 3.1415927)));
@@ -433,37 +447,25 @@ float3 four_layer_interfaced_albedo_dir(float t, float3 a, float3 e_below, float
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
-    float n_dot_v_4 = dot(n_1, v_1);
-    float n_dot_l_3 = dot(n_1, l_1);
-    float cos_v = max(n_dot_v_4, 0.0001);
-    float cos_l = max(n_dot_l_3, 0.0001);
+    float n_dot_v_5 = dot(n_1, v_1);
+    float n_dot_l_4 = dot(n_1, l_1);
+    float cos_v = max(n_dot_v_5, 0.0001);
+    float cos_l = max(n_dot_l_4, 0.0001);
     const float3 h = four_layer_half_vector(v_1, l_1);
     float3 n_cross_h = cross(n_1, h);
     const float d = four_layer_d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003);
-    const float g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25);
+    const float g = four_layer_g_smith_gtr1_correlated(cos_v, cos_l, 0.040000003);
     const float fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5);
     const float3 _e21 = four_layer_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
-    const float layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    const float layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
-    float3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
-    float layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
-    float layer1_mirrored_z = (cos_l - cos_v);
-    const float layer1_mirrored_d = four_layer_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.040000003);
-    float layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5);
-    const float layer1_mirrored_fresnel = four_layer_fr_dielectric(layer1_mirrored_cos, 1.5);
-    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5);
-    const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5);
-    const float layer1_lambda_l = four_layer_lambda_ggx(cos_l, 0.040000003);
-    const float layer1_lambda_v = four_layer_lambda_ggx(cos_v, 0.040000003);
-    const float _e47 = four_layer_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
-    const float _e50 = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.040000003);
-    float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e50) / ((cos_v * cos_l) * 4.0));
-    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
-    const float _e64 = four_layer_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e64), 0.0), 1.0);
-    const float _e72 = four_layer_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e72), 0.0), 1.0);
+    const float layer1_scale_l = four_layer_gtr1_coat_scale_curve(n_dot_l_4);
+    const float layer1_scale_v = four_layer_gtr1_coat_scale_curve(n_dot_v_5);
+    float3 specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_4, 1.5);
+    const float _e30 = four_layer_gtr1_coat_deficit_curve(n_dot_l_4);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e30), 0.0), 1.0);
+    const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_5, 1.5);
+    const float _e40 = four_layer_gtr1_coat_deficit_curve(n_dot_v_5);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e40), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_1, n_1, 1.5);
     const float3 layer1_l = four_layer_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
@@ -480,18 +482,18 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    const float _e107 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
-    float3 layer1_absorb_l = (_e107).xxx;
-    const float _e110 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
-    float3 layer1_absorb_v = (_e110).xxx;
+    const float _e75 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
+    float3 layer1_absorb_l = (_e75).xxx;
+    const float _e78 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
+    float3 layer1_absorb_v = (_e78).xxx;
     const float3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     float3 layer2_n_cross_h = cross(n_1, layer2_h);
     const float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09);
     const float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
     const float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    const float3 _e124 = four_layer_f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
-    const float layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
-    const float layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
+    const float3 _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, (layer2_fresnel).xxx, layer2_cos_v, layer2_cos_l);
+    const float layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
+    const float layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     float3 layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
     float layer3_mirrored_across = dot(layer3_mirrored_along, layer3_mirrored_along);
     float layer3_mirrored_z = (layer2_cos_l - layer2_cos_v);
@@ -502,24 +504,24 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
     const float layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09);
     const float layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09);
-    const float _e150 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e150);
+    const float _e118 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e118);
     float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * layer2_g) / ((layer2_cos_v * layer2_cos_l) * 4.0));
-    float3 layer2_specular = ((_e124 + (layer3_second_event).xxx) * (layer3_scale_l * layer3_scale_v));
-    const float _e165 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e165), 0.0), 1.0);
-    const float _e173 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e173), 0.0), 1.0);
+    float3 layer2_specular = ((_e92 + (layer3_second_event).xxx) * (layer3_scale_l * layer3_scale_v));
+    const float _e133 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e133), 0.0), 1.0);
+    const float _e141 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e141), 0.0), 1.0);
     const float3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     const float3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    const float _e189 = four_layer_coat_path_curve(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / _e189);
-    const float _e191 = four_layer_coat_path_curve(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / _e191);
+    const float _e157 = four_layer_coat_path_curve(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / _e157);
+    const float _e159 = four_layer_coat_path_curve(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / _e159);
     const float3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     const float3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -527,9 +529,9 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25);
     const float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
     const float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    const float3 _e209 = four_layer_f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
-    const float layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
-    const float layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
+    const float3 _e177 = four_layer_f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
+    const float layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
+    const float layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     float3 layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
     float layer4_mirrored_across = dot(layer4_mirrored_along, layer4_mirrored_along);
     float layer4_mirrored_z = (layer3_cos_l - layer3_cos_v);
@@ -540,14 +542,14 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
     const float layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25);
     const float layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25);
-    const float _e235 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e235);
+    const float _e203 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e203);
     float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * layer3_g) / ((layer3_cos_v * layer3_cos_l) * 4.0));
-    float3 layer3_specular = ((_e209 + (layer4_second_event).xxx) * (layer4_scale_l * layer4_scale_v));
-    const float _e250 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e250), 0.0), 1.0);
-    const float _e258 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e258), 0.0), 1.0);
+    float3 layer3_specular = ((_e177 + (layer4_second_event).xxx) * (layer4_scale_l * layer4_scale_v));
+    const float _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e218), 0.0), 1.0);
+    const float _e226 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e226), 0.0), 1.0);
     const float3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     const float3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -557,57 +559,57 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer4_f_base = four_layer_fd_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     const float3 layer4_albedo_l = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     const float3 layer4_albedo_v = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    const float _e293 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    float layer4_path_cos_l = (layer4_cos_l / _e293);
-    const float _e295 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e295);
-    const float3 _e302 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    const float _e304 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e304)) * (0.18698311).xxx) / max(_e302, (1e-6).xxx)));
+    const float _e261 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e261);
+    const float _e263 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e263);
+    const float3 _e270 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    const float _e272 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e272)) * (0.18698311).xxx) / max(_e270, (1e-6).xxx)));
     float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 _e339 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    const float _e341 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    float3 layer4_first_escape_v = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e341)) * (0.18698311).xxx) / max(_e339, (1e-6).xxx)));
+    const float3 _e307 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    const float _e309 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    float3 layer4_first_escape_v = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e309)) * (0.18698311).xxx) / max(_e307, (1e-6).xxx)));
     float3 layer4_first_return_v = min(max((((1.0).xxx - (layer4_first_escape_v * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(float3(0.9671044, 0.9671044, 0.9689054), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     const float3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, (1.0).xxx, (1.0).xxx, layer3_under, 1.2);
     const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l, layer4_first_return_l);
     const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v, layer4_first_return_v);
-    float _e404 = (1.0 - layer4_transmit_l);
-    float3 _e425 = min(max(((((_e404 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e404).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l = (_e425 / (0.80973125).xxx);
-    float3 layer2_first_return_l = min(max((((1.0).xxx - _e425) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    float _e442 = (1.0 - layer4_transmit_v);
-    float3 _e463 = min(max(((((_e442 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e442).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v = (_e463 / (0.80973125).xxx);
-    float3 layer2_first_return_v = min(max((((1.0).xxx - _e463) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    float _e372 = (1.0 - layer4_transmit_l);
+    float3 _e393 = min(max(((((_e372 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e372).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e393 / (0.80973125).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e393) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    float _e410 = (1.0 - layer4_transmit_v);
+    float3 _e431 = min(max(((((_e410 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e410).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e431 / (0.80973125).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e431) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     const float3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
-    float _e508 = (1.0 - layer3_transmit_l);
-    float3 _e526 = min(max(((((_e508 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e508).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_l = (_e526 / (0.9999998).xxx);
-    float3 layer1_first_return_l = min(max((((1.0).xxx - _e526) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    float _e543 = (1.0 - layer3_transmit_v);
-    float3 _e561 = min(max(((((_e543 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e543).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_v = (_e561 / (0.9999998).xxx);
-    float3 layer1_first_return_v = min(max((((1.0).xxx - _e561) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e476 = (1.0 - layer3_transmit_l);
+    float3 _e494 = min(max(((((_e476 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e476).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l = (_e494 / (0.9999998).xxx);
+    float3 layer1_first_return_l = min(max((((1.0).xxx - _e494) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e511 = (1.0 - layer3_transmit_v);
+    float3 _e529 = min(max(((((_e511 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e511).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v = (_e529 / (0.9999998).xxx);
+    float3 layer1_first_return_v = min(max((((1.0).xxx - _e529) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     const float3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
-    float _e601 = (1.0 - layer2_transmit_l);
-    float3 _e622 = min(max(((((_e601 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e601).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e622 / (0.4050641).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e622) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
-    float _e639 = (1.0 - layer2_transmit_v);
-    float3 _e660 = min(max(((((_e639 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e639).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e660 / (0.4050641).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e660) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9807313).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    float _e569 = (1.0 - layer2_transmit_l);
+    float3 _e590 = min(max(((((_e569 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e569).xxx), (0.0).xxx) * (0.43044752).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e590 / (0.41860074).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e590) / (0.58139926).xxx), (0.0).xxx), (1.0).xxx);
+    float _e607 = (1.0 - layer2_transmit_v);
+    float3 _e628 = min(max(((((_e607 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e607).xxx), (0.0).xxx) * (0.43044752).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e628 / (0.41860074).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e628) / (0.58139926).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9796237).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
-    return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
+    return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : (0.0).xxx);
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
@@ -622,11 +624,11 @@ float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_5)
+float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_7)
 {
     float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_5), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_5));
+    float smoothness = min(max((1.0 - alpha_7), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_7));
     float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
 }
@@ -640,9 +642,9 @@ float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alph
 // One isotropic lookup must choose one width; the narrower keeps what the reflection really
 // resolves across the plane of incidence, such as a horizon seen at a grazing view, and
 // under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
-float four_layer_grazing_lookup_roughness(float r_4, float n_dot_v_3)
+float four_layer_grazing_lookup_roughness(float r_4, float n_dot_v_4)
 {
-    return (r_4 * sqrt(max(n_dot_v_3, 0.0001)));
+    return (r_4 * sqrt(max(n_dot_v_4, 0.0001)));
 }
 
 #ifndef GLAZEC_CONSTRUCTFOURLAYERIBLLOBE
@@ -684,10 +686,10 @@ FourLayerIblLobes ConstructFourLayerIblLobes(FourLayerIblLobe arg0[1], FourLayer
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
 {
-    float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_5, 1.5);
-    const float _e9 = four_layer_coat_deficit_curve(n_dot_v_5);
+    float n_dot_v_6 = dot(n_4, v_4);
+    float cos_v_1 = max(n_dot_v_6, 0.0001);
+    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_6, 1.5);
+    const float _e9 = four_layer_gtr1_coat_deficit_curve(n_dot_v_6);
     float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
@@ -703,7 +705,7 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 layer1_absorb_l_1 = (_e39).xxx;
     float3 layer1_absorb_v_1 = (_e39).xxx;
     const float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
-    const float _e46 = four_layer_coat_deficit_curve_b(layer2_n_dot_v_1);
+    const float _e46 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
     float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
     float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
     const float3 layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1);
@@ -715,7 +717,7 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     const float3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     const float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
-    const float _e75 = four_layer_coat_deficit_curve_c(layer3_n_dot_v_1);
+    const float _e75 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
     float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
     float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
     const float3 layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2);
@@ -756,15 +758,15 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
     float _e361 = (1.0 - layer2_transmit_l_1);
-    float3 _e382 = min(max(((((_e361 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e361).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e382 / (0.4050641).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e382) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
+    float3 _e382 = min(max(((((_e361 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e361).xxx), (0.0).xxx) * (0.43044752).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e382 / (0.41860074).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e382) / (0.58139926).xxx), (0.0).xxx), (1.0).xxx);
     float _e399 = (1.0 - layer2_transmit_v_1);
-    float3 _e420 = min(max(((((_e399 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e399).xxx), (0.0).xxx) * (0.41652778).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e420 / (0.4050641).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e420) / (0.5949359).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, (0.4050641).xxx, first_escape_v_1, first_return_v_1);
+    float3 _e420 = min(max(((((_e399 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e399).xxx), (0.0).xxx) * (0.43044752).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e420 / (0.41860074).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e420) / (0.58139926).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, (0.41860074).xxx, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, (0.41860074).xxx, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);

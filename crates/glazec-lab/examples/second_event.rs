@@ -10,6 +10,7 @@
 
 use glazec::math::sampling::direction_deg;
 use glazec_lab::bake::{coat_lobe, dielectric_lobe};
+use glazec_lab::reference::Ndf;
 use glazec_lab::reference::microsurface::RoughDielectric;
 
 fn main() {
@@ -35,8 +36,9 @@ fn main() {
             .iter()
             .map(|&alpha| {
                 let (first, later) =
-                    RoughDielectric { eta, alpha }.first_and_later_events(wg, wo, walks, 11 + k as u64);
-                let model = coat_lobe(wg, wo, eta, alpha) / dielectric_lobe(wg, wo, eta, alpha) - 1.0;
+                    RoughDielectric::ggx(eta, alpha).first_and_later_events(wg, wo, walks, 11 + k as u64);
+                let model =
+                    coat_lobe(wg, wo, eta, alpha, Ndf::Ggx) / dielectric_lobe(wg, wo, eta, alpha, Ndf::Ggx) - 1.0;
                 format!("{:.3} / {model:.3}", later / first)
             })
             .collect();

@@ -2,7 +2,8 @@
 //! method: per subject whose label contains NAME (every subject without one), its band figures
 //! and its COUNT worst probes, every channel of glazec's CPU value against the stored reference.
 //!
-//! `cargo run --release -p glazec-lab --example worst_probes -- [NAME] [COUNT]`
+//! `cargo run --release -p glazec-lab --example worst_probes -- [NAME] [COUNT] [BAND]`, BAND one
+//! of `Body`, `Grazing`, `Peak` to list only that band's probes.
 
 use glazec::model::Method;
 use glazec_lab::accuracy::full::{
@@ -12,6 +13,7 @@ use glazec_lab::accuracy::full::{
 fn main() -> Result<(), String> {
     let filter = std::env::args().nth(1).unwrap_or_default();
     let count: usize = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(6);
+    let band = std::env::args().nth(3);
     for set in sets()? {
         let reference = FullReference::read(&stored_reference(set.name), &set.subjects).map_err(|e| e.to_string())?;
         for (subject, reference) in set.subjects.iter().zip(&reference.values) {
@@ -29,8 +31,10 @@ fn main() -> Result<(), String> {
                 m.body_p90 * 100.0,
                 m.grazing_max * 100.0
             );
-            let mut worst: Vec<(f64, usize)> =
-                (0..probes.len()).map(|i| (excess_error(f[i], &reference[i]), i)).collect();
+            let mut worst: Vec<(f64, usize)> = (0..probes.len())
+                .filter(|&i| band.as_ref().is_none_or(|b| format!("{:?}", probes[i].band) == *b))
+                .map(|i| (excess_error(f[i], &reference[i]), i))
+                .collect();
             worst.sort_by(|a, b| b.0.total_cmp(&a.0));
             for &(error, i) in worst.iter().take(count) {
                 let (p, r) = (probes[i], &reference[i]);

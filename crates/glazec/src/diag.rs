@@ -130,6 +130,9 @@ codes! {
     /// A texture read without the `range` its slot needs, or with a `uv_scale` that is not a
     /// positive number.
     TextureRange = "E0221",
+    /// The tables the shader looks up at runtime exceed the uniform binding they live in
+    /// (`lower::builder::MAX_UNIFORM_BYTES`).
+    TableBudget = "E0222",
     /// A scene's number outside its range (angle, tolerance, exposure, light, distance).
     SceneRange = "E0301",
     /// `Range(lo, hi)` with lo > hi.

@@ -116,12 +116,47 @@ pub fn compile(text: &str) -> Result<Compiled, CompileError> {
 pub fn compile_source(file: Option<&str>, text: &str) -> Result<Compiled, CompileError> {
     let (material, source_map) = load(text).map_err(CompileError::Diagnostics)?;
     let mut compiled = compile_material(material, source_map)?;
+    if let Some(diagnostic) = table_budget(&compiled) {
+        return Err(CompileError::Diagnostics(vec![diagnostic]));
+    }
     compiled.origin = Origin::new(file, text);
     Ok(compiled)
 }
 
+/// `E0222` when the tables the library looks up at runtime do not fit the uniform binding they
+/// live in ([`lower::builder::MAX_UNIFORM_BYTES`], what WebGPU guarantees). A lookup whose
+/// arguments are all literal is baked into the shader and reads nothing; only runtime
+/// parameters make a material read tables, and only one with Gtr1 and Ggx coats over a
+/// conductor, with runtime parameters on each, can read more than fits. Reported at its first
+/// runtime parameter.
+fn table_budget(compiled: &Compiled) -> Option<Diagnostic> {
+    let bytes = 2 * compiled.tables.len();
+    if bytes <= lower::builder::MAX_UNIFORM_BYTES {
+        return None;
+    }
+    let map = &compiled.source_map;
+    let span = map.params.first().or(map.layers.first()).or(map.name.as_ref()).copied().unwrap_or_default();
+    let mut diagnostic = Diagnostic::error(
+        diag::Code::TableBudget,
+        format!(
+            "the shader would look up {bytes} bytes of tables, more than the {} a uniform binding holds",
+            lower::builder::MAX_UNIFORM_BYTES
+        ),
+        span,
+        "runtime parameters make the shader read tables",
+    );
+    diagnostic.notes.push(
+        "help: make some parameters literal: a table lookup whose arguments are all literal is baked into \
+         the shader and reads no table"
+            .to_string(),
+    );
+    Some(diagnostic)
+}
+
 /// Lowers and validates an already-checked material (for programs that build [`Material`]s),
-/// with glazec's default bindings.
+/// with glazec's default bindings. Unlike [`compile_source`], it does not refuse a material
+/// whose runtime table lookups exceed the uniform binding (`E0222`): a program that builds
+/// such a material compares `2 * tables.len()` with [`lower::builder::MAX_UNIFORM_BYTES`].
 ///
 /// # Errors
 /// Only for a compiler bug (naga rejecting the generated IR).

@@ -137,18 +137,14 @@ pub struct Subject {
     pub values: Vec<ParamValue>,
     /// Whether a conductor lies under the coats (the body target is looser there).
     pub over_conductor: bool,
-    /// Whether a coat has a Gtr1 lobe, which the reference replaces by a GGX microsurface of
-    /// the same α (docs/accuracy.md): its peak is not comparable.
-    pub gtr1: bool,
 }
 
 impl Subject {
     pub fn new(label: impl Into<String>, material: Material) -> Subject {
         let values = material.default_values();
         let over_conductor = matches!(material.base, Base::Conductor { .. }) && !material.coats.is_empty();
-        let gtr1 = material.coats.iter().any(|c| matches!(c.lobe, Lobe::Gtr1 { .. }));
         let label = label.into();
-        Subject { group: label.clone(), label, material, values, over_conductor, gtr1 }
+        Subject { group: label.clone(), label, material, values, over_conductor }
     }
 
     /// The material under `method`.
@@ -548,9 +544,8 @@ pub fn markdown(title: &str, subjects: &[Subject], methods: &[(Method, Vec<FullM
             let meeting = members.iter().filter(|(s, m)| meets_targets(s, m)).count();
             let mark = if meeting == members.len() { "✓" } else { "✗" };
             md.push_str(&format!(
-                "| {}{} | {mark} {meeting}/{} | {} | {} | {} | {} | {} | {} |\n",
+                "| {} | {mark} {meeting}/{} | {} | {} | {} | {} | {} | {} |\n",
                 group,
-                if members.iter().any(|(s, _)| s.gtr1) { " †" } else { "" },
                 members.len(),
                 pct(worst(|m| m.body_p90)),
                 pct(worst(|m| m.body_max)),
@@ -559,12 +554,6 @@ pub fn markdown(title: &str, subjects: &[Subject], methods: &[(Method, Vec<FullM
                 pct(worst(|m| m.peak_height)),
                 pct(worst(|m| m.peak_width))
             ));
-        }
-        if subjects.iter().any(|s| s.gtr1) {
-            md.push_str(
-                "\n† A Gtr1 coat, which the reference replaces by a GGX microsurface of the same α: its \
-                 peak and the body near it compare two different lobes.\n",
-            );
         }
     }
     md

@@ -4,8 +4,9 @@
 //! Every value is computed in f64 from the reference's microsurface (Heitz et al. 2016), never
 //! from the compiled math it will feed:
 //!
-//! * the share E_ms(μ) that a rough dielectric interface (GGX D, height-correlated Smith G2,
-//!   exact Fresnel with total internal reflection) reflects after two or more microfacet events,
+//! * the share E_ms(μ) that a rough dielectric interface (GGX D, or GTR1 D for a `Gtr1` coat's
+//!   own set of tables, with the height-correlated Smith G2 of either; exact Fresnel with total
+//!   internal reflection) reflects after two or more microfacet events,
 //!   by counting analog microsurface random walks (`walks` per entry: standard error at most
 //!   √(E_ms/walks)), and the single-scattering albedo E_ss by deterministic quadrature over half
 //!   vectors (the walk's single-event share equals it in this model; the generator checks it);
@@ -24,7 +25,7 @@
 
 pub mod glossy;
 mod interface;
-pub use interface::{coat_lobe, dielectric_lobe};
+pub use interface::{Family, coat_lobe, dielectric_lobe};
 mod scale;
 
 use glam::DVec3;
@@ -33,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::accuracy::quadrature::directional_albedo_f64;
 use crate::reference::microsurface::{self, RoughDielectric};
-use crate::reference::{Rng, fresnel_dielectric};
+use crate::reference::{Ndf, Rng, fresnel_dielectric};
 use glazec::math::quadrature::gauss_legendre_16;
 use glazec::math::tables::{Axis, TableId, TableSpec};
 use interface::{SMOOTH_ALPHA, single_scattering_albedo};
@@ -69,38 +70,51 @@ enum Column {
     Path { values: Vec<f64> },
 }
 
+/// A column to compute: the family (its place in [`Family::ALL`]) and the (r, η) node.
 #[derive(Clone, Copy)]
 enum Job {
-    ScaleAndSlab(usize, usize),
-    Path(usize, usize),
+    ScaleAndSlab(usize, usize, usize),
+    Path(usize, usize, usize),
 }
 
 /// Computes every table. `walks` microsurface walks per rough entry, `glossy_walks` white walks
 /// per node of the glossy level's tables; `progress(done, total)`.
 pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) + Sync)) -> (Vec<Vec<f32>>, Report) {
     let dims = |id: TableId| -> Vec<usize> { id.spec().axes.iter().map(|&(_, n)| n).collect() };
-    let (deficit, scale, path, slab) =
-        (dims(TableId::CoatDeficit), dims(TableId::CoatScale), dims(TableId::CoatPath), dims(TableId::CoatReturn));
-    assert_eq!((scale[1], scale[2]), (slab[1], slab[2]), "the scale and the slab tables share their (r, η) nodes");
+    // GGX's jobs first, in the order they had before GTR1 had tables, so that their seeds (the
+    // job's index) and so their tables are unchanged.
     let mut jobs = Vec::new();
-    for e in 0..scale[2] {
-        jobs.extend((0..scale[1]).map(|r| Job::ScaleAndSlab(r, e)));
-    }
-    for e in 0..path[2] {
-        jobs.extend((0..path[1]).map(|r| Job::Path(r, e)));
+    let mut deficit_columns = 0;
+    for (f, family) in Family::ALL.iter().enumerate() {
+        let (scale, path, slab) =
+            (dims(family.tables.scale), dims(family.tables.path), dims(family.tables.slab_return));
+        assert_eq!((scale[1], scale[2]), (slab[1], slab[2]), "the scale and the slab tables share their (r, η) nodes");
+        for e in 0..scale[2] {
+            jobs.extend((0..scale[1]).map(|r| Job::ScaleAndSlab(f, r, e)));
+        }
+        for e in 0..path[2] {
+            jobs.extend((0..path[1]).map(|r| Job::Path(f, r, e)));
+        }
+        let deficit = dims(family.tables.deficit);
+        deficit_columns += deficit[1] * deficit[2];
     }
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let total = jobs.len() + deficit[1] * deficit[2];
+    let total = jobs.len() + deficit_columns;
     let tick = || progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, total);
     let run = |k: usize| {
         let seed = k as u64;
         match jobs[k] {
-            Job::ScaleAndSlab(r, e) => {
+            Job::ScaleAndSlab(f, r, e) => {
+                let family = Family::ALL[f];
+                let (scale, slab) = (dims(family.tables.scale), dims(family.tables.slab_return));
                 let (roughness, eta) = (Axis::Roughness.node(r, scale[1]), Axis::Ior.node(e, scale[2]));
-                scale_and_slab_column(roughness, eta, scale[0], slab[0], walks, seed)
+                scale_and_slab_column(roughness, eta, scale[0], slab[0], walks, seed, family.ndf)
             }
-            Job::Path(r, e) => {
-                path_column(Axis::Roughness.node(r, path[1]), Axis::Ior.node(e, path[2]), path[0], walks, seed)
+            Job::Path(f, r, e) => {
+                let family = Family::ALL[f];
+                let path = dims(family.tables.path);
+                let (roughness, eta) = (Axis::Roughness.node(r, path[1]), Axis::Ior.node(e, path[2]));
+                path_column(roughness, eta, path[0], walks, seed, family.ndf)
             }
         }
     };
@@ -110,20 +124,24 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
     for (job, column) in jobs.iter().zip(results) {
         match (*job, column) {
             (
-                Job::ScaleAndSlab(r, e),
+                Job::ScaleAndSlab(f, r, e),
                 Column::ScaleAndSlab { scale: values, miss, returned, escape, identity_error, sigma },
             ) => {
-                let col = r + scale[1] * e;
-                put(&mut tables, TableId::CoatScale, col, &values);
-                put(&mut tables, TableId::CoatReturn, col, &returned);
-                put(&mut tables, TableId::CoatEscape, col, &escape);
+                let family = Family::ALL[f];
+                let col = r + dims(family.tables.scale)[1] * e;
+                put(&mut tables, family.tables.scale, col, &values);
+                put(&mut tables, family.tables.slab_return, col, &returned);
+                put(&mut tables, family.tables.slab_escape, col, &escape);
                 report.max_scale_miss = report.max_scale_miss.max(miss);
                 let (lo, hi) = report.scale_range;
                 report.scale_range = values.iter().fold((lo, hi), |(lo, hi), &c| (lo.min(c), hi.max(c)));
                 report.max_flux_identity_error = report.max_flux_identity_error.max(identity_error);
                 report.max_single_event_sigma = report.max_single_event_sigma.max(sigma);
             }
-            (Job::Path(r, e), Column::Path { values }) => put(&mut tables, TableId::CoatPath, r + path[1] * e, &values),
+            (Job::Path(f, r, e), Column::Path { values }) => {
+                let family = Family::ALL[f];
+                put(&mut tables, family.tables.path, r + dims(family.tables.path)[1] * e, &values);
+            }
             _ => unreachable!("each job yields its own kind of column"),
         }
     }
@@ -137,25 +155,29 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
     put(&mut tables, TableId::EonEscapeShape, 0, &shape);
     // The deficit of the scaled lobe, through the lookups of c as stored.
     glazec::math::tables::evaluate_on_cpu_with(&tables);
-    let columns = crate::parallel_map(
-        deficit[1] * deficit[2],
-        |k| {
-            let (roughness, eta) =
-                (Axis::Roughness.node(k % deficit[1], deficit[1]), Axis::Ior.node(k / deficit[1], deficit[2]));
-            (0..deficit[0])
-                .map(|i| deficit_at(Axis::Cosine.node(i, deficit[0]), roughness, eta).unwrap_or(0.0))
-                .collect::<Vec<_>>()
-        },
-        |_| tick(),
-    );
-    for (k, values) in columns.iter().enumerate() {
-        put(&mut tables, TableId::CoatDeficit, k, values);
+    for family in Family::ALL {
+        let deficit = dims(family.tables.deficit);
+        let columns = crate::parallel_map(
+            deficit[1] * deficit[2],
+            |k| {
+                let (roughness, eta) =
+                    (Axis::Roughness.node(k % deficit[1], deficit[1]), Axis::Ior.node(k / deficit[1], deficit[2]));
+                (0..deficit[0])
+                    .map(|i| deficit_at(Axis::Cosine.node(i, deficit[0]), roughness, eta, family).unwrap_or(0.0))
+                    .collect::<Vec<_>>()
+            },
+            |_| tick(),
+        );
+        for (k, values) in columns.iter().enumerate() {
+            put(&mut tables, family.tables.deficit, k, values);
+        }
+        let excess = make_deficit_conservative(&mut tables[family.tables.deficit as usize], &deficit, family);
+        report.max_deficit_excess = report.max_deficit_excess.max(excess);
+        let columns = tables[family.tables.deficit as usize].chunks(deficit[0]);
+        let averages: Vec<f32> =
+            columns.map(|c| curve_average(&c.iter().map(|&v| f64::from(v)).collect::<Vec<_>>()) as f32).collect();
+        tables[family.tables.deficit_avg as usize] = averages;
     }
-    report.max_deficit_excess = make_deficit_conservative(&mut tables[TableId::CoatDeficit as usize], &deficit);
-    let columns = tables[TableId::CoatDeficit as usize].chunks(deficit[0]);
-    let averages: Vec<f32> =
-        columns.map(|c| curve_average(&c.iter().map(|&v| f64::from(v)).collect::<Vec<_>>()) as f32).collect();
-    tables[TableId::CoatDeficitAvg as usize] = averages;
     let (albedo, average) = ggx_albedo(TableId::GgxAlbedo.spec());
     tables[TableId::GgxAlbedo as usize] = albedo;
     tables[TableId::GgxAlbedoAvg as usize] = average;
@@ -262,8 +284,8 @@ struct Walks {
     transmitted_cosine: f64,
 }
 
-fn walk(mu: f64, eta: f64, alpha: f64, walks: u32, seed: u64) -> Walks {
-    let surface = RoughDielectric { eta, alpha };
+fn walk(mu: f64, eta: f64, alpha: f64, walks: u32, seed: u64, ndf: Ndf) -> Walks {
+    let surface = RoughDielectric { eta, alpha, ndf };
     let mut rng = Rng::seeded(seed);
     let (mut multiple, mut first, mut crossed, mut log_cosine) = (0u64, 0u64, 0u64, 0.0);
     for _ in 0..walks {
@@ -294,7 +316,15 @@ fn sigma(walks: &Walks, single: f64, n: u32) -> f64 {
 /// of its depth axis (`n_tau`), at one (r, η) node: the walks from outside give E_ms (the
 /// scale's target, with E_ss) and the transmitted share (the flux identity's check), those from
 /// inside the slab's internal reflection.
-fn scale_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, walks: u32, seed: u64) -> Column {
+fn scale_and_slab_column(
+    roughness: f64,
+    eta: f64,
+    n_mu: usize,
+    n_tau: usize,
+    walks: u32,
+    seed: u64,
+    ndf: Ndf,
+) -> Column {
     let alpha = roughness * roughness;
     // Below α = 10⁻³ the reference treats an interface as smooth (pbrt's `EffectivelySmooth`),
     // and so do the tables.
@@ -304,15 +334,15 @@ fn scale_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, wa
     let (mut targets, mut outer_transmit) = (Vec::new(), Vec::new());
     if !smooth {
         for (i, &mu) in cosines.iter().enumerate() {
-            let single = single_scattering_albedo(mu, eta, alpha);
-            let w = walk(mu, eta, alpha, walks, seed << 20 | i as u64);
+            let single = single_scattering_albedo(mu, eta, alpha, ndf);
+            let w = walk(mu, eta, alpha, walks, seed << 20 | i as u64, ndf);
             worst_sigma = worst_sigma.max(sigma(&w, single, walks));
             targets.push(single + w.multiple);
             outer_transmit.push(1.0 - w.single - w.multiple);
         }
     }
     let (scale, miss) =
-        if smooth { (vec![1.0; n_mu], 0.0) } else { scale::scale_column(roughness, eta, &cosines, &targets) };
+        if smooth { (vec![1.0; n_mu], 0.0) } else { scale::scale_column(roughness, eta, &cosines, &targets, ndf) };
     // Inside: relative IOR 1/η, 32 Gauss–Legendre nodes split at the critical cosine.
     let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
     let gl = gauss_legendre_16();
@@ -328,8 +358,8 @@ fn scale_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, wa
             if smooth {
                 return fresnel_dielectric(mu, 1.0 / eta);
             }
-            let single = single_scattering_albedo(mu, 1.0 / eta, alpha);
-            let w = walk(mu, 1.0 / eta, alpha, walks, seed << 20 | 1 << 19 | k as u64);
+            let single = single_scattering_albedo(mu, 1.0 / eta, alpha, ndf);
+            let w = walk(mu, 1.0 / eta, alpha, walks, seed << 20 | 1 << 19 | k as u64, ndf);
             worst_sigma = worst_sigma.max(sigma(&w, single, walks));
             (single + w.multiple).min(1.0)
         })
@@ -355,7 +385,7 @@ fn scale_and_slab_column(roughness: f64, eta: f64, n_mu: usize, n_tau: usize, wa
     Column::ScaleAndSlab { scale, miss, returned, escape, identity_error, sigma: worst_sigma }
 }
 
-fn path_column(roughness: f64, eta: f64, n_mu: usize, walks: u32, seed: u64) -> Column {
+fn path_column(roughness: f64, eta: f64, n_mu: usize, walks: u32, seed: u64, ndf: Ndf) -> Column {
     let alpha = roughness * roughness;
     let values = (0..n_mu)
         .map(|i| {
@@ -363,7 +393,7 @@ fn path_column(roughness: f64, eta: f64, n_mu: usize, walks: u32, seed: u64) -> 
                 return 1.0;
             }
             let mu = Axis::Cosine.node(i, n_mu).max(GRAZING_COSINE);
-            let w = walk(mu, eta, alpha, walks, seed << 20 | 1 << 18 | i as u64);
+            let w = walk(mu, eta, alpha, walks, seed << 20 | 1 << 18 | i as u64, ndf);
             // Paths through the slab are longer by μ′/μ_eff than along Snell's direction.
             if w.transmitted_cosine > 0.0 { refracted_cosine(mu, eta) / w.transmitted_cosine } else { 1.0 }
         })
@@ -400,7 +430,7 @@ const DEFICIT_PROBES_IOR: [f64; 4] = [0.0, 0.25, 0.5, 0.75];
 /// The deficit G(μ) = F(μ) − A(μ) at any argument, A the scaled lobe's albedo through the
 /// lookups of c (0 for η = 1, no interface); `None` below [`SMOOTH_ALPHA`], where the nodes hold
 /// the smooth interface's 0 and the quadrature does not resolve the lobe.
-fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
+fn deficit_at(mu: f64, roughness: f64, eta: f64, family: Family) -> Option<f64> {
     let alpha = roughness * roughness;
     if alpha < SMOOTH_ALPHA {
         return None;
@@ -409,7 +439,7 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
         return Some(0.0);
     }
     let mu = mu.max(GRAZING_COSINE);
-    Some(fresnel_dielectric(mu, eta) - scale::scaled_albedo(mu, roughness, eta))
+    Some(fresnel_dielectric(mu, eta) - scale::scaled_albedo(mu, roughness, eta, family))
 }
 
 /// Makes the deficit table never overestimate: the transmission T = 1 − F + G must not exceed
@@ -417,7 +447,7 @@ fn deficit_at(mu: f64, roughness: f64, eta: f64) -> Option<f64> {
 /// receives. Near grazing incidence, where α ≈ μ, G bends sharply between nodes and the
 /// multilinear lookup overshoots it by up to 3·10⁻³ (the energy gains in docs/stability.md).
 /// Each cell is probed at [`DEFICIT_PROBES`] ×
-fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
+fn make_deficit_conservative(table: &mut [f32], dims: &[usize], family: Family) -> f64 {
     let (n_mu, n_r, n_eta) = (dims[0], dims[1], dims[2]);
     let index = |i: usize, j: usize, k: usize| i + n_mu * (j + n_r * k);
     let cells: Vec<(usize, usize, usize)> =
@@ -440,6 +470,7 @@ fn make_deficit_conservative(table: &mut [f32], dims: &[usize]) -> f64 {
                         Axis::Cosine.argument(i as f64 + sm, n_mu),
                         Axis::Roughness.argument(j as f64 + sr, n_r),
                         Axis::Ior.argument(k as f64 + se, n_eta),
+                        family,
                     );
                     if let Some(truth) = truth {
                         worst = worst.max(interpolated - truth);

@@ -1,4 +1,5 @@
-//! Rough interfaces of the reference: isotropic GGX microsurfaces, in f64.
+//! Rough interfaces of the reference: isotropic GGX microsurfaces, in f64 (dielectric ones may
+//! have GTR1 normals instead: [`Ndf`], [`super::gtr1`]).
 //!
 //! * Single scattering (pbrt-v4's `DielectricBxDF`/`ConductorBxDF`): one microfacet event, the
 //!   height-correlated Smith term; energy that would need a second event is lost.
@@ -17,10 +18,66 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::gtr1;
 use super::rng::Rng;
 
 /// Directions this close to the pole are treated as exactly normal (Λ = 0).
 const POLE: f64 = 0.999_999;
+
+/// The normal distribution of a dielectric microsurface: GGX (the free functions of this file)
+/// or GTR1 ([`super::gtr1`]). The walk only asks it for Λ, D and visible normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ndf {
+    Ggx,
+    Gtr1,
+}
+
+impl Ndf {
+    pub fn lambda(self, w: DVec3, alpha: f64) -> f64 {
+        match self {
+            Ndf::Ggx => lambda(w, alpha),
+            Ndf::Gtr1 => gtr1::lambda(w, alpha),
+        }
+    }
+
+    pub fn d(self, m: DVec3, alpha: f64) -> f64 {
+        match self {
+            Ndf::Ggx => ggx_d(m, alpha),
+            Ndf::Gtr1 => gtr1::d(m, alpha),
+        }
+    }
+
+    /// G1 for a direction on the upper hemisphere: 1/(1 + Λ).
+    pub fn g1(self, w: DVec3, alpha: f64) -> f64 {
+        if w.z <= 0.0 { 0.0 } else { 1.0 / (1.0 + self.lambda(w, alpha)) }
+    }
+
+    /// Height-correlated G2 for two directions measured on their own sides (|z| is used).
+    pub fn g2(self, a: DVec3, b: DVec3, alpha: f64) -> f64 {
+        let up = |w: DVec3| DVec3::new(w.x, w.y, w.z.abs());
+        1.0 / (1.0 + self.lambda(up(a), alpha) + self.lambda(up(b), alpha))
+    }
+
+    /// The distribution of normals visible from `w`: max(0, w·m) D(m) / A(w).
+    pub fn vndf(self, w: DVec3, m: DVec3, alpha: f64) -> f64 {
+        match self {
+            Ndf::Ggx => vndf(w, m, alpha),
+            Ndf::Gtr1 => {
+                let area = gtr1::projected_area(w, alpha);
+                if area <= 0.0 { 0.0 } else { w.dot(m).max(0.0) * gtr1::d(m, alpha) / area }
+            }
+        }
+    }
+
+    /// Samples a normal visible from `w` (any hemisphere). GGX draws two uniforms, as
+    /// [`sample_vndf`] always has, so its random streams are unchanged.
+    pub fn sample_vndf(self, w: DVec3, alpha: f64, rng: &mut Rng) -> DVec3 {
+        match self {
+            Ndf::Ggx => sample_vndf(w, alpha, rng.uniform(), rng.uniform()),
+            Ndf::Gtr1 => gtr1::sample_vndf(w, alpha, rng),
+        }
+    }
+}
 
 /// Smith's Λ for isotropic GGX (Heitz 2014, eq. 72), for a direction on either hemisphere:
 /// (−1 + sign(a)·√(1 + 1/a²))/2 with a = cot θ / α.
@@ -151,19 +208,19 @@ fn height_inv_cdf(u: f64) -> f64 {
 }
 
 /// Masking at height `h` towards `w` (upper hemisphere): C1(h)^Λ(w).
-fn g1_at(w: DVec3, h: f64, alpha: f64) -> f64 {
+fn g1_at(w: DVec3, h: f64, ndf: Ndf, alpha: f64) -> f64 {
     if w.z > POLE {
         return 1.0;
     }
     if w.z <= 0.0 {
         return 0.0;
     }
-    height_cdf(h).powf(lambda(w, alpha))
+    height_cdf(h).powf(ndf.lambda(w, alpha))
 }
 
 /// The next height along a ray travelling in direction `w` from height `h` on the upper side,
 /// or `None` if the ray leaves the microsurface.
-fn next_height(w: DVec3, h: f64, alpha: f64, u: f64) -> Option<f64> {
+fn next_height(w: DVec3, h: f64, ndf: Ndf, alpha: f64, u: f64) -> Option<f64> {
     if w.z > POLE {
         return None;
     }
@@ -173,11 +230,11 @@ fn next_height(w: DVec3, h: f64, alpha: f64, u: f64) -> Option<f64> {
     if w.z.abs() < 1e-6 {
         return Some(h);
     }
-    let g = g1_at(w, h, alpha);
+    let g = g1_at(w, h, ndf, alpha);
     if u > 1.0 - g {
         return None;
     }
-    Some(height_inv_cdf(height_cdf(h) / (1.0 - u).powf(1.0 / lambda(w, alpha))))
+    Some(height_inv_cdf(height_cdf(h) / (1.0 - u).powf(1.0 / ndf.lambda(w, alpha))))
 }
 
 /// A microsurface side: above (`outside`) or below the mean plane. The surface seen from below
@@ -192,20 +249,26 @@ fn flip(w: DVec3) -> DVec3 {
 pub struct RoughDielectric {
     pub eta: f64,
     pub alpha: f64,
+    pub ndf: Ndf,
 }
 
 impl RoughDielectric {
+    /// A GGX interface, what every rough dielectric is but a `Gtr1` coat.
+    pub fn ggx(eta: f64, alpha: f64) -> Self {
+        RoughDielectric { eta, alpha, ndf: Ndf::Ggx }
+    }
+
     /// The local phase function of a microfacet event (energy form: reflection + transmission
     /// integrate to 1), for `wi` and `wo` pointing away from the event, `wi` on the upper side
     /// of a surface of relative IOR `eta`.
-    fn phase(wi: DVec3, wo: DVec3, eta: f64, alpha: f64) -> f64 {
+    fn phase(wi: DVec3, wo: DVec3, eta: f64, ndf: Ndf, alpha: f64) -> f64 {
         if wo.z > 0.0 {
             let wh = (wi + wo).normalize();
             let c = wi.dot(wh);
             if c <= 0.0 {
                 return 0.0;
             }
-            0.25 * vndf(wi, wh, alpha) / c * fresnel_dielectric(c, eta)
+            0.25 * ndf.vndf(wi, wh, alpha) / c * fresnel_dielectric(c, eta)
         } else {
             let mut wh = -(wi + wo * eta).normalize();
             if wh.z < 0.0 {
@@ -216,14 +279,14 @@ impl RoughDielectric {
                 return 0.0;
             }
             let denom = ci + eta * co;
-            eta * eta * (1.0 - fresnel_dielectric(ci, eta)) * vndf(wi, wh, alpha) * (-co) / (denom * denom)
+            eta * eta * (1.0 - fresnel_dielectric(ci, eta)) * ndf.vndf(wi, wh, alpha) * (-co) / (denom * denom)
         }
     }
 
     /// Samples the local phase function from `wi` (upper side): returns the new direction
     /// (pointing away) and whether it crossed to the other side.
-    fn sample_phase(wi: DVec3, eta: f64, alpha: f64, rng: &mut Rng) -> (DVec3, bool) {
-        let m = sample_vndf(wi, alpha, rng.uniform(), rng.uniform());
+    fn sample_phase(wi: DVec3, eta: f64, ndf: Ndf, alpha: f64, rng: &mut Rng) -> (DVec3, bool) {
+        let m = ndf.sample_vndf(wi, alpha, rng);
         let f = fresnel_dielectric(wi.dot(m), eta);
         if rng.uniform() < f {
             (reflect(wi, m), false)
@@ -249,14 +312,14 @@ impl RoughDielectric {
         let mut h = if outside { 1.0 + height_inv_cdf(0.999) } else { -1.0 - height_inv_cdf(0.999) };
         for events in 0..MAX_MICROSURFACE_BOUNCES {
             let (w_local, h_local) = if outside { (wr, h) } else { (flip(wr), -h) };
-            match next_height(w_local, h_local, self.alpha, rng.uniform()) {
+            match next_height(w_local, h_local, self.ndf, self.alpha, rng.uniform()) {
                 // The ray leaves the microsurface travelling along `wr`.
                 None => return (wr, events),
                 Some(hn) => h = if outside { hn } else { -hn },
             }
             let eta = if outside { self.eta } else { 1.0 / self.eta };
             let incoming = if outside { -wr } else { flip(-wr) };
-            let (out, crossed) = Self::sample_phase(incoming, eta, self.alpha, rng);
+            let (out, crossed) = Self::sample_phase(incoming, eta, self.ndf, self.alpha, rng);
             let out = if outside { out } else { flip(out) };
             if crossed {
                 outside = !outside;
@@ -297,7 +360,7 @@ impl RoughDielectric {
         let (mut first, mut later) = (0.0, 0.0);
         for event in 0..MAX_MICROSURFACE_BOUNCES {
             let (w_local, h_local) = if outside { (wr, h) } else { (flip(wr), -h) };
-            match next_height(w_local, h_local, self.alpha, rng.uniform()) {
+            match next_height(w_local, h_local, self.ndf, self.alpha, rng.uniform()) {
                 None => break,
                 Some(hn) => h = if outside { hn } else { -hn },
             }
@@ -305,8 +368,9 @@ impl RoughDielectric {
             // Next-event estimation towards wo from this vertex.
             let incoming = if outside { -wr } else { flip(-wr) };
             let towards = if outside { wo } else { flip(wo) };
-            let phase = Self::phase(incoming, towards, eta, self.alpha);
-            let shadowing = if wo_outside { g1_at(wo, h, self.alpha) } else { g1_at(flip(wo), -h, self.alpha) };
+            let phase = Self::phase(incoming, towards, eta, self.ndf, self.alpha);
+            let shadowing =
+                if wo_outside { g1_at(wo, h, self.ndf, self.alpha) } else { g1_at(flip(wo), -h, self.ndf, self.alpha) };
             let value = phase * shadowing;
             if value.is_finite() {
                 if event == 0 {
@@ -315,7 +379,7 @@ impl RoughDielectric {
                     later += value;
                 }
             }
-            let (out, crossed) = Self::sample_phase(incoming, eta, self.alpha, rng);
+            let (out, crossed) = Self::sample_phase(incoming, eta, self.ndf, self.alpha, rng);
             let out = if outside { out } else { flip(out) };
             if crossed {
                 outside = !outside;
@@ -343,7 +407,7 @@ impl RoughConductor {
         let mut h = 1.0 + height_inv_cdf(0.999);
         let mut weight = DVec3::ONE;
         for _ in 0..MAX_MICROSURFACE_BOUNCES {
-            match next_height(wr, h, self.alpha, rng.uniform()) {
+            match next_height(wr, h, Ndf::Ggx, self.alpha, rng.uniform()) {
                 None => return (wr, weight),
                 Some(hn) => h = hn,
             }
@@ -365,7 +429,7 @@ impl RoughConductor {
         let mut weight = DVec3::ONE;
         let mut sum = DVec3::ZERO;
         for _ in 0..MAX_MICROSURFACE_BOUNCES {
-            match next_height(wr, h, self.alpha, rng.uniform()) {
+            match next_height(wr, h, Ndf::Ggx, self.alpha, rng.uniform()) {
                 None => break,
                 Some(hn) => h = hn,
             }
@@ -374,7 +438,7 @@ impl RoughConductor {
             let c = incoming.dot(wh);
             if wh.z > 0.0 && c > 0.0 {
                 let phase = 0.25 * vndf(incoming, wh, self.alpha) / c;
-                let value = weight * fresnel(c) * (phase * g1_at(wo, h, self.alpha));
+                let value = weight * fresnel(c) * (phase * g1_at(wo, h, Ndf::Ggx, self.alpha));
                 if value.is_finite() {
                     sum += value;
                 }
@@ -450,20 +514,27 @@ mod tests {
     fn multiple_scattering_walk_matches_its_own_evaluation() {
         // The share of walks leaving on the upper side (reflectance) equals the integral of the
         // evaluated reflection over the hemisphere (checked by uniform hemisphere sampling).
-        let interface = RoughDielectric { eta: 1.5, alpha: 0.6 };
-        let wi = dir(0.7, 0.0);
-        let mut rng = Rng::seeded(11);
-        let reflected =
-            (0..SAMPLES).filter(|_| interface.sample_multiple(wi, &mut rng).z > 0.0).count() as f64 / SAMPLES as f64;
-        let mut values = Vec::with_capacity(SAMPLES);
-        for _ in 0..SAMPLES {
-            let (u, v) = (rng.uniform(), rng.uniform());
-            let wo = dir(u.acos(), 2.0 * PI * v); // uniform on the hemisphere, pdf 1/(2π)
-            values.push(interface.eval_multiple(wi, wo, &mut rng) * 2.0 * PI);
+        // Both distributions: GTR1's own Λ, D and visible normals must agree with each other
+        // as GGX's do.
+        for (ndf, alpha, theta) in [(Ndf::Ggx, 0.6, 0.7), (Ndf::Gtr1, 0.3, 0.7), (Ndf::Gtr1, 0.05, 1.35)] {
+            let interface = RoughDielectric { eta: 1.5, alpha, ndf };
+            let wi = dir(theta, 0.0);
+            let mut rng = Rng::seeded(11);
+            let reflected = (0..SAMPLES).filter(|_| interface.sample_multiple(wi, &mut rng).z > 0.0).count() as f64
+                / SAMPLES as f64;
+            let mut values = Vec::with_capacity(SAMPLES);
+            for _ in 0..SAMPLES {
+                let (u, v) = (rng.uniform(), rng.uniform());
+                let wo = dir(u.acos(), 2.0 * PI * v); // uniform on the hemisphere, pdf 1/(2π)
+                values.push(interface.eval_multiple(wi, wo, &mut rng) * 2.0 * PI);
+            }
+            let mean = values.iter().sum::<f64>() / SAMPLES as f64;
+            let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / SAMPLES as f64;
+            let err = (var / SAMPLES as f64).sqrt() + (reflected * (1.0 - reflected) / SAMPLES as f64).sqrt();
+            assert!(
+                (mean - reflected).abs() < SIGMAS * err,
+                "{ndf:?} α {alpha}: eval {mean} vs sampled {reflected} ± {err}"
+            );
         }
-        let mean = values.iter().sum::<f64>() / SAMPLES as f64;
-        let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / SAMPLES as f64;
-        let err = (var / SAMPLES as f64).sqrt() + (reflected * (1.0 - reflected) / SAMPLES as f64).sqrt();
-        assert!((mean - reflected).abs() < SIGMAS * err, "eval {mean} vs sampled {reflected} ± {err}");
     }
 }

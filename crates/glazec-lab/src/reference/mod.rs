@@ -20,12 +20,13 @@
 //! the furnace). Smooth interfaces are the same in both. Every estimate is deterministic: the
 //! random stream is seeded from the directions and the seed.
 //!
-//! Interpretation of the material model, where it has a choice: a `Gtr1` coat is simulated as a
-//! GGX microsurface of the same α (GTR1 with a fixed-α Smith term is not a consistent
-//! microsurface); a conductor given by F0 is a dielectric of the IOR with that F0 (exact Fresnel),
+//! Interpretation of the material model, where it has a choice: a `Gtr1` coat is a microsurface
+//! of GTR1 normals with GTR1's own Smith masking ([`gtr1`]; Burley's fixed-α GGX masking belongs
+//! to no microsurface); a conductor given by F0 is a dielectric of the IOR with that F0 (exact Fresnel),
 //! relative to the medium above it.
 
 pub mod environment;
+pub mod gtr1;
 pub mod microsurface;
 mod rng;
 pub mod smooth_stack;
@@ -38,6 +39,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 
 use glazec::model::{Base, Color, ConductorFresnel, Lobe, Material, ParamValue, Scalar};
+pub use microsurface::Ndf;
 use microsurface::{RoughConductor, RoughDielectric};
 pub use microsurface::{fresnel_conductor, fresnel_dielectric};
 
@@ -117,11 +119,13 @@ impl Accumulator {
     }
 }
 
-/// A dielectric interface: relative IOR (below / above) and GGX α (0: smooth).
+/// A dielectric interface: relative IOR (below / above), microfacet α (0: smooth) and normal
+/// distribution.
 #[derive(Clone, Copy, Debug)]
 pub struct Interface {
     pub eta: f64,
     pub alpha: f64,
+    pub ndf: Ndf,
 }
 
 /// Below this α an interface or conductor is treated as perfectly smooth (pbrt-v4's
@@ -150,6 +154,11 @@ fn walk_from_the_more_grazing<T: std::ops::Div<f64, Output = T>>(
 }
 
 impl Interface {
+    /// A GGX interface (smooth at α = 0).
+    pub fn ggx(eta: f64, alpha: f64) -> Self {
+        Interface { eta, alpha, ndf: Ndf::Ggx }
+    }
+
     fn smooth(&self) -> bool {
         self.alpha < SMOOTH_ALPHA
     }
@@ -166,13 +175,11 @@ impl Interface {
                 if c <= 0.0 {
                     return 0.0;
                 }
-                microsurface::ggx_d(m, self.alpha)
-                    * microsurface::g2(wo, wi, self.alpha)
-                    * fresnel_dielectric(c, self.eta)
+                self.ndf.d(m, self.alpha) * self.ndf.g2(wo, wi, self.alpha) * fresnel_dielectric(c, self.eta)
                     / (4.0 * wo.z * wi.z)
             }
             InterfaceMode::Multiple => walk_from_the_more_grazing(wo, wi, |start, toward| {
-                RoughDielectric { eta: self.eta, alpha: self.alpha }.eval_multiple(start, toward, rng)
+                RoughDielectric { eta: self.eta, alpha: self.alpha, ndf: self.ndf }.eval_multiple(start, toward, rng)
             }),
         }
     }
@@ -195,7 +202,7 @@ impl Interface {
         } else {
             match mode {
                 InterfaceMode::Single => {
-                    let m = microsurface::sample_vndf(w_up, self.alpha, rng.uniform(), rng.uniform());
+                    let m = self.ndf.sample_vndf(w_up, self.alpha, rng);
                     let f = fresnel_dielectric(w_up.dot(m), eta);
                     let out = if rng.uniform() < f {
                         microsurface::reflect(w_up, m)
@@ -207,9 +214,11 @@ impl Interface {
                     if !valid {
                         return None;
                     }
-                    (out, microsurface::g2(w_up, out, self.alpha) / microsurface::g1(w_up, self.alpha))
+                    (out, self.ndf.g2(w_up, out, self.alpha) / self.ndf.g1(w_up, self.alpha))
                 }
-                InterfaceMode::Multiple => (RoughDielectric { eta, alpha: self.alpha }.sample_multiple(w_up, rng), 1.0),
+                InterfaceMode::Multiple => {
+                    (RoughDielectric { eta, alpha: self.alpha, ndf: self.ndf }.sample_multiple(w_up, rng), 1.0)
+                }
             }
         };
         let crossed = out.z < 0.0;
@@ -630,11 +639,12 @@ impl Stack {
             .coats
             .iter()
             .map(|c| {
-                let alpha = match c.lobe {
-                    Lobe::Smooth => 0.0,
-                    Lobe::Ggx { roughness } | Lobe::Gtr1 { roughness } => scalar(roughness, values).powi(2),
+                let (alpha, ndf) = match c.lobe {
+                    Lobe::Smooth => (0.0, Ndf::Ggx),
+                    Lobe::Ggx { roughness } => (scalar(roughness, values).powi(2), Ndf::Ggx),
+                    Lobe::Gtr1 { roughness } => (scalar(roughness, values).powi(2), Ndf::Gtr1),
                 };
-                let interface = Interface { eta: scalar(c.ior, values), alpha };
+                let interface = Interface { eta: scalar(c.ior, values), alpha, ndf };
                 let medium = Medium {
                     absorption: color(c.absorption, values),
                     scattering: 0.0,
@@ -655,7 +665,7 @@ impl Stack {
             }
             Base::Plastic { albedo, roughness, ior } => {
                 let alpha = scalar(*roughness, values).powi(2);
-                coats.push((Interface { eta: scalar(*ior, values), alpha }, clear));
+                coats.push((Interface::ggx(scalar(*ior, values), alpha), clear));
                 BaseBsdf::Lambert { albedo: color(*albedo, values) }
             }
             Base::Conductor { roughness, fresnel } => {

@@ -22,7 +22,7 @@ use glazec::math::sampling::direction_deg as dir;
 fn smooth_coat(eta: f64, rho: f64, tau: f64) -> Stack {
     let medium = Medium { absorption: DVec3::splat(tau), scattering: 0.0, g: 0.0, thickness: 1.0 };
     Stack {
-        coat: Some((Interface { eta, alpha: 0.0 }, medium)),
+        coat: Some((Interface::ggx(eta, 0.0), medium)),
         below: Below::Base(BaseBsdf::Lambert { albedo: DVec3::splat(rho) }),
     }
 }
@@ -130,7 +130,7 @@ fn lambert_and_mirror_limits() {
 }
 
 fn rough_coat(alpha: f64, base: BaseBsdf, medium: Medium) -> Stack {
-    Stack { coat: Some((Interface { eta: 1.5, alpha }, medium)), below: Below::Base(base) }
+    Stack { coat: Some((Interface::ggx(1.5, alpha), medium)), below: Below::Base(base) }
 }
 
 const CLEAR: Medium = Medium { absorption: DVec3::ZERO, scattering: 0.0, g: 0.0, thickness: 1.0 };
@@ -167,7 +167,7 @@ fn single_scattering_interfaces_lose_energy() {
     let n = 400_000;
     let mut rng = Rng::seeded(3);
     for alpha in [0.2, 0.5] {
-        let interface = Interface { eta: 1.5, alpha };
+        let interface = Interface::ggx(1.5, alpha);
         let mut flux = |from: &mut dyn FnMut(&mut Rng) -> DVec3| {
             let (mut through, mut back) = (0.0, 0.0);
             for _ in 0..n {
@@ -218,7 +218,7 @@ fn connection_and_analog_estimators_agree() {
     // analog walks, channel 0, within the combined error.
     let two_coats = Stack {
         coat: Some((
-            Interface { eta: 1.3, alpha: 0.09 },
+            Interface::ggx(1.3, 0.09),
             Medium { absorption: DVec3::splat(0.3), scattering: 0.0, g: 0.0, thickness: 1.0 },
         )),
         below: Below::Stack(Box::new(rough_coat(0.16, BaseBsdf::Lambert { albedo: DVec3::splat(0.7) }, CLEAR))),

@@ -20,7 +20,7 @@ const four_layer_layer1_rho_returned: vec3<f32> = vec3<f32>(0.2431215f, 0.392785
 const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const four_layer_rho_returned: vec3<f32> = vec3<f32>(0.24368028f, 0.3821679f, 0.5949716f);
-const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.5949359f, 0.5949359f, 0.5949359f);
+const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.58139926f, 0.58139926f, 0.58139926f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -46,22 +46,22 @@ fn four_layer_d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     return select(d_2, 0.31830987f, (alpha > 0.9999f));
 }
 
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
-// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-fn four_layer_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
-    let mu_sq = max((n_dot_x * n_dot_x), 0.000000000001f);
-    let tan_sq = ((1f - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_1 * alpha_1) * tan_sq) + 1f)) - 1f) * 0.5f);
+fn four_layer_lambda_gtr1_(n_dot_x: f32, alpha_1: f32) -> f32 {
+    let a_2 = min(max(alpha_1, 0.001f), 0.9999f);
+    let a_sq_1 = (a_2 * a_2);
+    let c = min(max(n_dot_x, 0.000001f), 1f);
+    let root = sqrt(((c * c) + (a_sq_1 * (1f - (c * c)))));
+    let x = (((1f - c) * (1f - a_sq_1)) / (root + 1f));
+    let lambda_1 = ((((c + 1f) * x) + (c * log((1f - x)))) / (c * log((1f / a_sq_1))));
+    return select(lambda_1, ((1f - c) / (c * 2f)), (alpha_1 > 0.9999f));
 }
 
-// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
-// G2 = 1 / (1 + Λ(v) + Λ(l)).
-fn four_layer_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
-    let alpha_6 = max(alpha_2, 0.001f);
-    let _e5 = four_layer_lambda_ggx(n_dot_v, alpha_6);
-    let _e6 = four_layer_lambda_ggx(n_dot_l, alpha_6);
-    return (1f / ((_e5 + _e6) + 1f));
+// Heitz 2014, eq. 99, for GTR1's Λ (`lambda_gtr1`): the height-correlated Smith
+// masking-shadowing G2 = 1 / (1 + Λ(v) + Λ(l)) of a GTR1 microsurface.
+fn four_layer_g_smith_gtr1_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
+    let _e3 = four_layer_lambda_gtr1_(n_dot_v, alpha_2);
+    let _e4 = four_layer_lambda_gtr1_(n_dot_l, alpha_2);
+    return (1f / ((_e3 + _e4) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -86,81 +86,39 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// `coat_scale` of a GTR1 microsurface, for its single-scattering lobe alone.
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve(cos_theta: f32) -> f32 {
+fn four_layer_gtr1_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.02668619f) + 1.0041823f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.019555984f, -0.0630337f, -0.05337595f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.16555935f, 0.18235894f, -0.16423078f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.21464106f, -0.023104595f, 0.06720186f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.022619965f, 0.037275556f, -0.01356125f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0097346315f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.0033295157f));
+    let f = ((u * -0.0338763f) + 1.1541083f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.004402399f, -0.008066301f, 0.068103075f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.0050997688f, 0.052646402f, 0.00793934f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.080001354f, 0.01401186f, -0.047464374f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.057506565f, 0.03132463f, 0.03772259f)));
+    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.08885265f));
+    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.028581621f));
     return f_6;
-}
-
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
-fn four_layer_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
-    let a_2 = max(alpha_3, 0.001f);
-    let a_sq_1 = (a_2 * a_2);
-    let h_sq = ((z * z) + across);
-    let denom = max((((z * z) * a_sq_1) + across), 0.000000000001f);
-    return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927f));
-}
-
-// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
-// through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
-fn four_layer_second_event_share(lambda: f32) -> f32 {
-    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+// `coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking).
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
+fn four_layer_gtr1_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.035696566f) + -0.0048993737f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.018605858f, -0.04643011f, -0.063839555f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06355408f, -0.120908976f, -0.12705919f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.11604294f, -0.18015781f, -0.061962247f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.07012004f, -0.09002024f, -0.02657564f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.08082771f, 0.07607439f, 0.13548814f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.13201948f, 0.18176389f, 0.15296035f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.11392689f, 0.10243415f, 0.070194066f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.051978104f, 0.033135038f, 0.02559825f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.017701015f, 0.008244933f, 0.0041204076f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.0017185223f, -0.0000408896f, -0.00060151203f)));
+    let f_7 = ((u_1 * -0.020805597f) + -0.01194569f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.025472999f, -0.041520655f, -0.057191372f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.07361227f, -0.092316985f, -0.12546921f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.14167207f, -0.16079438f, -0.1790852f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.18594587f, -0.18325555f, -0.1739226f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.15288788f, -0.11336464f, -0.07238352f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.03315053f, 0.031043362f, 0.09473523f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15217534f, 0.1882712f, 0.21470414f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.21896721f, 0.21036482f, 0.19324943f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.16274576f, 0.13463123f, 0.1013019f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.07036227f, 0.04881628f, 0.027676633f)));
     return f_17;
 }
 
@@ -187,11 +145,29 @@ fn four_layer_slab_transmittance_grey(tau: f32, mu: f32) -> f32 {
 // Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_4: f32) -> f32 {
-    let a_3 = max(alpha_4, 0.001f);
+fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
+    let a_3 = max(alpha_3, 0.001f);
     let a_sq_2 = (a_3 * a_3);
-    let denom_1 = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 0.000000000001f);
-    return (a_sq_2 / ((denom_1 * denom_1) * 3.1415927f));
+    let denom = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 0.000000000001f);
+    return (a_sq_2 / ((denom * denom) * 3.1415927f));
+}
+
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
+// Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
+fn four_layer_lambda_ggx(n_dot_x_1: f32, alpha_4: f32) -> f32 {
+    let mu_sq = max((n_dot_x_1 * n_dot_x_1), 0.000000000001f);
+    let tan_sq = ((1f - mu_sq) / mu_sq);
+    return ((sqrt((((alpha_4 * alpha_4) * tan_sq) + 1f)) - 1f) * 0.5f);
+}
+
+// Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
+// G2 = 1 / (1 + Λ(v) + Λ(l)).
+fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f32) -> f32 {
+    let alpha_8 = max(alpha_5, 0.001f);
+    let _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_8);
+    let _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_8);
+    return (1f / ((_e5 + _e6) + 1f));
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -202,7 +178,7 @@ fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_4: f32) -> f32 {
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
+fn four_layer_coat_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_18 = ((u_2 * -0.01585722f) + 1.0037742f);
     let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
@@ -214,6 +190,42 @@ fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
     return f_24;
 }
 
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
+// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
+// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
+// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
+// `z` = n·l − n·v, so tan²θh = across/z², and
+//
+// D = α² H² / (π (α² z² + across)²),  H = z² + across,
+//
+// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
+// first reflection's spread) and takes the peak away: near a grazing mirror direction the
+// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+// alone gave 0.16 and the tail 0.06.
+// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
+// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
+// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+fn four_layer_d_ggx_mirrored_tail(z: f32, across: f32, alpha_6: f32) -> f32 {
+    let a_4 = max(alpha_6, 0.001f);
+    let a_sq_3 = (a_4 * a_4);
+    let h_sq = ((z * z) + across);
+    let denom_1 = max((((z * z) * a_sq_3) + across), 0.000000000001f);
+    return ((((a_sq_3 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+}
+
+// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
+// through a second event after a reflection near the mirror direction, per the first event's
+// Fresnel factor and the single-scattering lobe at the mirrored half vector
+// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
+// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
+// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
+// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
+// elevation the reflected rays spread and the share falls: the walks give 0.87 at
+// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+fn four_layer_second_event_share(lambda: f32) -> f32 {
+    return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
+}
+
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
@@ -222,7 +234,7 @@ fn four_layer_coat_scale_curve_b(cos_theta_2: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
+fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
     let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_25 = ((u_3 * -0.020166278f) + -0.003592166f);
     let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
@@ -269,7 +281,7 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_c(cos_theta_5: f32) -> f32 {
+fn four_layer_coat_scale_curve_b(cos_theta_5: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_41 = ((u_5 * -0.09836375f) + 1.0570874f);
     let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
@@ -289,7 +301,7 @@ fn four_layer_coat_scale_curve_c(cos_theta_5: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_c(cos_theta_6: f32) -> f32 {
+fn four_layer_coat_deficit_curve_b(cos_theta_6: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_48 = ((u_6 * -0.02334994f) + -0.016049497f);
     let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
@@ -309,8 +321,8 @@ fn four_layer_coat_deficit_curve_c(cos_theta_6: f32) -> f32 {
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
 fn four_layer_e_fon(mu_2: f32, r: f32) -> f32 {
-    let x = (1f - min(max(mu_2, 0f), 1f));
-    let g_over_pi = (x * ((x * ((x * ((x * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
+    let x_1 = (1f - min(max(mu_2, 0f), 1f));
+    let g_over_pi = (x_1 * ((x_1 * ((x_1 * ((x_1 * 0.07144299f) - 0.33218145f)) + 0.49188188f)) + 0.05710853f));
     return (((r * g_over_pi) + 1f) / ((r * 0.2877934f) + 1f));
 }
 
@@ -325,13 +337,13 @@ fn four_layer_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
 // plus the analytic multiple-scattering compensation that makes it energy-preserving.
 // Guard: the ε = 10⁻⁷ of the listing on 1 − E terms.
-fn four_layer_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_2: f32, n_dot_l_2: f32, v_dot_l: f32) -> vec3<f32> {
-    let s = (v_dot_l - (n_dot_v_2 * n_dot_l_2));
-    let s_over_t = select(s, (s / max(n_dot_v_2, n_dot_l_2)), (s > 0f));
+fn four_layer_fd_eon(albedo_1: vec3<f32>, r_2: f32, n_dot_v_3: f32, n_dot_l_3: f32, v_dot_l: f32) -> vec3<f32> {
+    let s = (v_dot_l - (n_dot_v_3 * n_dot_l_3));
+    let s_over_t = select(s, (s / max(n_dot_v_3, n_dot_l_3)), (s > 0f));
     let a_f = (1f / ((r_2 * 0.2877934f) + 1f));
     let f_ss = (albedo_1 * ((a_f * ((r_2 * s_over_t) + 1f)) / 3.1415927f));
-    let e_o = four_layer_e_fon(n_dot_v_2, r_2);
-    let e_i = four_layer_e_fon(n_dot_l_2, r_2);
+    let e_o = four_layer_e_fon(n_dot_v_3, r_2);
+    let e_i = four_layer_e_fon(n_dot_l_3, r_2);
     let e_avg_1 = (a_f * ((r_2 * 0.07248825f) + 1f));
     let rho_ms = four_layer_eon_rho_ms(albedo_1, r_2);
     let f_ms = (rho_ms * ((max((1f - e_o), 0.0000001f) * max((1f - e_i), 0.0000001f)) / (max((1f - e_avg_1), 0.0000001f) * 3.1415927f)));
@@ -395,37 +407,25 @@ fn four_layer_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
 
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
-    let n_dot_v_4 = dot(n_1, v_1);
-    let n_dot_l_3 = dot(n_1, l_1);
-    let cos_v = max(n_dot_v_4, 0.0001f);
-    let cos_l = max(n_dot_l_3, 0.0001f);
+    let n_dot_v_5 = dot(n_1, v_1);
+    let n_dot_l_4 = dot(n_1, l_1);
+    let cos_v = max(n_dot_v_5, 0.0001f);
+    let cos_l = max(n_dot_l_4, 0.0001f);
     let h = four_layer_half_vector(v_1, l_1);
     let n_cross_h = cross(n_1, h);
     let d = four_layer_d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003f);
-    let g = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.25f);
+    let g = four_layer_g_smith_gtr1_correlated(cos_v, cos_l, 0.040000003f);
     let fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5f);
     let _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_scale_l = four_layer_coat_scale_curve(n_dot_l_3);
-    let layer1_scale_v = four_layer_coat_scale_curve(n_dot_v_4);
-    let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
-    let layer1_mirrored_across = dot(layer1_mirrored_along, layer1_mirrored_along);
-    let layer1_mirrored_z = (cos_l - cos_v);
-    let layer1_mirrored_d = four_layer_d_ggx_mirrored_tail(layer1_mirrored_z, layer1_mirrored_across, 0.040000003f);
-    let layer1_mirrored_cos = (sqrt(((layer1_mirrored_z * layer1_mirrored_z) + layer1_mirrored_across)) * 0.5f);
-    let layer1_mirrored_fresnel = four_layer_fr_dielectric(layer1_mirrored_cos, 1.5f);
-    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_3, 1.5f);
-    let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_4, 1.5f);
-    let layer1_lambda_l = four_layer_lambda_ggx(cos_l, 0.040000003f);
-    let layer1_lambda_v = four_layer_lambda_ggx(cos_v, 0.040000003f);
-    let _e47 = four_layer_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
-    let _e50 = four_layer_g_smith_ggx_correlated(cos_v, cos_l, 0.040000003f);
-    let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * _e50) / ((cos_v * cos_l) * 4f));
-    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    let _e64 = four_layer_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e64), 0f), 1f);
-    let _e72 = four_layer_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e72), 0f), 1f);
+    let layer1_scale_l = four_layer_gtr1_coat_scale_curve(n_dot_l_4);
+    let layer1_scale_v = four_layer_gtr1_coat_scale_curve(n_dot_v_5);
+    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_4, 1.5f);
+    let _e30 = four_layer_gtr1_coat_deficit_curve(n_dot_l_4);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
+    let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_5, 1.5f);
+    let _e40 = four_layer_gtr1_coat_deficit_curve(n_dot_v_5);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_1, n_1, 1.5f);
     let layer1_l = four_layer_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -442,18 +442,18 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e107 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e107);
-    let _e110 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e110);
+    let _e75 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
+    let layer1_absorb_l = vec3(_e75);
+    let _e78 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
+    let layer1_absorb_v = vec3(_e78);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e124 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
-    let layer3_scale_l = four_layer_coat_scale_curve_b(layer2_n_dot_l);
-    let layer3_scale_v = four_layer_coat_scale_curve_b(layer2_n_dot_v);
+    let _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
+    let layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     let layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
     let layer3_mirrored_across = dot(layer3_mirrored_along, layer3_mirrored_along);
     let layer3_mirrored_z = (layer2_cos_l - layer2_cos_v);
@@ -464,24 +464,24 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
     let layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09f);
     let layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09f);
-    let _e150 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e150);
+    let _e118 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e118);
     let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * layer2_g) / ((layer2_cos_v * layer2_cos_l) * 4f));
-    let layer2_specular = ((_e124 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    let _e165 = four_layer_coat_deficit_curve_b(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e165), 0f), 1f);
-    let _e173 = four_layer_coat_deficit_curve_b(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e173), 0f), 1f);
+    let layer2_specular = ((_e92 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    let _e133 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e133), 0f), 1f);
+    let _e141 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e141), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e189 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e189);
-    let _e191 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e191);
+    let _e157 = four_layer_coat_path_curve(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / _e157);
+    let _e159 = four_layer_coat_path_curve(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / _e159);
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -489,9 +489,9 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e209 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
-    let layer4_scale_l = four_layer_coat_scale_curve_c(layer3_n_dot_l);
-    let layer4_scale_v = four_layer_coat_scale_curve_c(layer3_n_dot_v);
+    let _e177 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
+    let layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     let layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
     let layer4_mirrored_across = dot(layer4_mirrored_along, layer4_mirrored_along);
     let layer4_mirrored_z = (layer3_cos_l - layer3_cos_v);
@@ -502,14 +502,14 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
     let layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25f);
     let layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25f);
-    let _e235 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e235);
+    let _e203 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e203);
     let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * layer3_g) / ((layer3_cos_v * layer3_cos_l) * 4f));
-    let layer3_specular = ((_e209 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    let _e250 = four_layer_coat_deficit_curve_c(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e250), 0f), 1f);
-    let _e258 = four_layer_coat_deficit_curve_c(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e258), 0f), 1f);
+    let layer3_specular = ((_e177 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    let _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e218), 0f), 1f);
+    let _e226 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e226), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -519,57 +519,57 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e293 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e293);
-    let _e295 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e295);
-    let _e302 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e304 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e304)) * vec3(0.18698311f)) / max(_e302, vec3(0.000001f))));
+    let _e261 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e261);
+    let _e263 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e263);
+    let _e270 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e272 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e272)) * vec3(0.18698311f)) / max(_e270, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e339 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e341 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e341)) * vec3(0.18698311f)) / max(_e339, vec3(0.000001f))));
+    let _e307 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e309 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e309)) * vec3(0.18698311f)) / max(_e307, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
-    let _e404 = (1f - layer4_transmit_l);
-    let _e425 = min(max(((vec3((_e404 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e404)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e425 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e425) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e442 = (1f - layer4_transmit_v);
-    let _e463 = min(max(((vec3((_e442 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e442)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e463 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e463) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e372 = (1f - layer4_transmit_l);
+    let _e393 = min(max(((vec3((_e372 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e372)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e393 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e393) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e410 = (1f - layer4_transmit_v);
+    let _e431 = min(max(((vec3((_e410 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e410)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e431 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e431) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e508 = (1f - layer3_transmit_l);
-    let _e526 = min(max(((vec3((_e508 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e508)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e526 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e526) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e543 = (1f - layer3_transmit_v);
-    let _e561 = min(max(((vec3((_e543 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e543)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e561 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e561) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e476 = (1f - layer3_transmit_l);
+    let _e494 = min(max(((vec3((_e476 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e476)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e494 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e494) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e511 = (1f - layer3_transmit_v);
+    let _e529 = min(max(((vec3((_e511 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e511)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e529 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e529) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e601 = (1f - layer2_transmit_l);
-    let _e622 = min(max(((vec3((_e601 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e601)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e622 / vec3(0.4050641f));
-    let first_return_l = min(max(((vec3(1f) - _e622) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
-    let _e639 = (1f - layer2_transmit_v);
-    let _e660 = min(max(((vec3((_e639 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e639)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e660 / vec3(0.4050641f));
-    let first_return_v = min(max(((vec3(1f) - _e660) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9807313f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    let _e569 = (1f - layer2_transmit_l);
+    let _e590 = min(max(((vec3((_e569 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e569)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e590 / vec3(0.41860074f));
+    let first_return_l = min(max(((vec3(1f) - _e590) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
+    let _e607 = (1f - layer2_transmit_v);
+    let _e628 = min(max(((vec3((_e607 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e607)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e628 / vec3(0.41860074f));
+    let first_return_v = min(max(((vec3(1f) - _e628) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9796237f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
-    return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
+    return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
 }
 
 // The reflected radiance factor f(l, v) · max(n·l, 0) of material `four_layer`: multiply by a light's radiance.
@@ -583,10 +583,10 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_5: f32) -> vec3<f32> {
+fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_7: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_5), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let smoothness = min(max((1f - alpha_7), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_7));
     let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
 }
@@ -600,8 +600,8 @@ fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_
 // One isotropic lookup must choose one width; the narrower keeps what the reflection really
 // resolves across the plane of incidence, such as a horizon seen at a grazing view, and
 // under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
-fn four_layer_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
-    return (r_4 * sqrt(max(n_dot_v_3, 0.0001f)));
+fn four_layer_grazing_lookup_roughness(r_4: f32, n_dot_v_4: f32) -> f32 {
+    return (r_4 * sqrt(max(n_dot_v_4, 0.0001f)));
 }
 
 // The material's lobes under image-based lighting (split sum), for a host's own prefiltered environment:
@@ -609,10 +609,10 @@ fn four_layer_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
 // specular[k].roughness around specular[k].direction) + irradiance.weight · (irradiance around
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
-    let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_5, 1.5f);
-    let _e9 = four_layer_coat_deficit_curve(n_dot_v_5);
+    let n_dot_v_6 = dot(n_4, v_4);
+    let cos_v_1 = max(n_dot_v_6, 0.0001f);
+    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_6, 1.5f);
+    let _e9 = four_layer_gtr1_coat_deficit_curve(n_dot_v_6);
     let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_4, n_4, 1.5f);
@@ -628,7 +628,7 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_absorb_l_1 = vec3(_e39);
     let layer1_absorb_v_1 = vec3(_e39);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
-    let _e46 = four_layer_coat_deficit_curve_b(layer2_n_dot_v_1);
+    let _e46 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
     let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
     let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1f);
@@ -640,7 +640,7 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
-    let _e75 = four_layer_coat_deficit_curve_c(layer3_n_dot_v_1);
+    let _e75 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
     let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
     let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2f);
@@ -681,15 +681,15 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.4050641f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
+    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e382 / vec3(0.41860074f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
     let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.41652778f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.4050641f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.5949359f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.4050641f), first_escape_v_1, first_return_v_1);
+    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e420 / vec3(0.41860074f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41860074f), first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41860074f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);

@@ -70,7 +70,7 @@ pub(super) fn coat_sample(eta: f64, alpha: f64, w: DVec3, rng: &mut Rng) -> (DVe
             DVec3::new(-w_up.x / eta, -w_up.y / eta, -(1.0 - sin2).max(0.0).sqrt()).normalize()
         }
     } else {
-        RoughDielectric { eta, alpha }.sample_multiple(w_up, rng)
+        RoughDielectric::ggx(eta, alpha).sample_multiple(w_up, rng)
     };
     let crossed = out.z < 0.0;
     (if below { DVec3::new(out.x, out.y, -out.z) } else { out }, crossed)

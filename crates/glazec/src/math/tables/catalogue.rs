@@ -115,6 +115,12 @@ pub enum TableId {
     FresnelTransmitAvg,
     CoatReturn,
     CoatEscape,
+    Gtr1CoatDeficit,
+    Gtr1CoatScale,
+    Gtr1CoatPath,
+    Gtr1CoatDeficitAvg,
+    Gtr1CoatReturn,
+    Gtr1CoatEscape,
     GgxAlbedo,
     GgxAlbedoAvg,
     EonEscapeShape,
@@ -146,6 +152,13 @@ const SCALE_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 16
 const PATH_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 12), (Axis::Roughness, 12), (Axis::Ior, 8)];
 
 const SLAB_GRID: [(Axis, usize); 3] = [(Axis::Depth, 16), (Axis::Roughness, 16), (Axis::Ior, 8)];
+
+/// A `Gtr1` coat's tables: the same terms on coarser roughness axes. GTR1 is the clear coat's
+/// lobe, and its tables share the uniform budget with GGX's in a material that has both.
+const GTR1_DEFICIT_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 32), (Axis::Roughness, 16), (Axis::Ior, 8)];
+const GTR1_SCALE_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 16), (Axis::Roughness, 12), (Axis::Ior, 8)];
+const GTR1_PATH_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 12), (Axis::Roughness, 8), (Axis::Ior, 8)];
+const GTR1_SLAB_GRID: [(Axis, usize); 3] = [(Axis::Depth, 16), (Axis::Roughness, 12), (Axis::Ior, 8)];
 
 /// The split-sum DFG of the seed's coat lobes (image-based lighting): smooth in both arguments.
 const DFG_GRID: [(Axis, usize); 2] = [(Axis::Cosine, 32), (Axis::Roughness, 32)];
@@ -251,7 +264,7 @@ pub const TABLE_BUDGET: usize = 65_536;
 
 /// Every table's layout. Changing one invalidates `crates/glazec/data/tables.bin` (regenerate it
 /// with `glazec tables`).
-pub const SPECS: [TableSpec; 24] = [
+pub const SPECS: [TableSpec; 30] = [
     rounded_down(table(
         "coat_deficit_table",
         &DEFICIT_GRID,
@@ -322,6 +335,48 @@ pub const SPECS: [TableSpec; 24] = [
             "E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light",
             "leaving the body that escapes through the coat (normalised like coat_return).",
         ],
+    ),
+    rounded_down(table(
+        "gtr1_coat_deficit_table",
+        &GTR1_DEFICIT_GRID,
+        "gtr1_coat_deficit",
+        COAT_PARAMS,
+        table_doc!["`coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking).",],
+    )),
+    table(
+        "gtr1_coat_scale_table",
+        &GTR1_SCALE_GRID,
+        "gtr1_coat_scale",
+        COAT_PARAMS,
+        table_doc!["`coat_scale` of a GTR1 microsurface, for its single-scattering lobe alone.",],
+    ),
+    table(
+        "gtr1_coat_path_table",
+        &GTR1_PATH_GRID,
+        "gtr1_coat_path",
+        COAT_PARAMS,
+        table_doc!["`coat_path` of a GTR1 microsurface.",],
+    ),
+    rounded_down(table(
+        "gtr1_coat_deficit_avg_table",
+        &[GTR1_DEFICIT_GRID[1], GTR1_DEFICIT_GRID[2]],
+        "gtr1_coat_deficit_avg",
+        COAT_AVG_PARAMS,
+        table_doc!["⟨G⟩(r, η) = ∫ 2μ G(μ) dμ of `gtr1_coat_deficit`.",],
+    )),
+    table(
+        "gtr1_coat_return_table",
+        &GTR1_SLAB_GRID,
+        "gtr1_coat_return",
+        SLAB_PARAMS,
+        table_doc!["`coat_return` of a GTR1 microsurface.",],
+    ),
+    table(
+        "gtr1_coat_escape_table",
+        &GTR1_SLAB_GRID,
+        "gtr1_coat_escape",
+        SLAB_PARAMS,
+        table_doc!["`coat_escape` of a GTR1 microsurface.",],
     ),
     table(
         "ggx_albedo_table",
@@ -481,8 +536,47 @@ pub const SPECS: [TableSpec; 24] = [
     ),
 ];
 
+/// The tables of a rough coat's interface, one set per microfacet distribution: GGX (`Ggx`
+/// coats, and `Plastic`'s interface) and GTR1 (`Gtr1` coats).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoatTables {
+    pub deficit: TableId,
+    pub scale: TableId,
+    pub path: TableId,
+    pub deficit_avg: TableId,
+    pub slab_return: TableId,
+    pub slab_escape: TableId,
+}
+
+impl CoatTables {
+    pub const GGX: CoatTables = CoatTables {
+        deficit: TableId::CoatDeficit,
+        scale: TableId::CoatScale,
+        path: TableId::CoatPath,
+        deficit_avg: TableId::CoatDeficitAvg,
+        slab_return: TableId::CoatReturn,
+        slab_escape: TableId::CoatEscape,
+    };
+    pub const GTR1: CoatTables = CoatTables {
+        deficit: TableId::Gtr1CoatDeficit,
+        scale: TableId::Gtr1CoatScale,
+        path: TableId::Gtr1CoatPath,
+        deficit_avg: TableId::Gtr1CoatDeficitAvg,
+        slab_return: TableId::Gtr1CoatReturn,
+        slab_escape: TableId::Gtr1CoatEscape,
+    };
+
+    /// Both sets, GGX first.
+    pub const ALL: [CoatTables; 2] = [CoatTables::GGX, CoatTables::GTR1];
+
+    /// The set's tables.
+    pub fn ids(self) -> [TableId; 6] {
+        [self.deficit, self.scale, self.path, self.deficit_avg, self.slab_return, self.slab_escape]
+    }
+}
+
 impl TableId {
-    pub const ALL: [TableId; 24] = [
+    pub const ALL: [TableId; 30] = [
         TableId::CoatDeficit,
         TableId::CoatScale,
         TableId::CoatPath,
@@ -490,6 +584,12 @@ impl TableId {
         TableId::FresnelTransmitAvg,
         TableId::CoatReturn,
         TableId::CoatEscape,
+        TableId::Gtr1CoatDeficit,
+        TableId::Gtr1CoatScale,
+        TableId::Gtr1CoatPath,
+        TableId::Gtr1CoatDeficitAvg,
+        TableId::Gtr1CoatReturn,
+        TableId::Gtr1CoatEscape,
         TableId::GgxAlbedo,
         TableId::GgxAlbedoAvg,
         TableId::EonEscapeShape,

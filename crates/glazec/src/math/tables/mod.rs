@@ -43,8 +43,8 @@ mod multilinear;
 mod storage;
 
 pub use catalogue::{
-    Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID, GLOSSY_SINGLE_GRID,
-    GLOSSY_TRAPPED_GRID, Rounding, SPECS, TABLE_BUDGET, TableId, TableSpec,
+    Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, CoatTables, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID,
+    GLOSSY_SINGLE_GRID, GLOSSY_TRAPPED_GRID, Rounding, SPECS, TABLE_BUDGET, TableId, TableSpec,
 };
 pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, curves_on_cpu, with_curves};
 pub use storage::{
@@ -112,20 +112,24 @@ mod tests {
         let tables = decode(TABLE_FILE).expect("crates/glazec/data/tables.bin decodes");
         assert_eq!(tables.len(), SPECS.len());
         // The default method reads every table but the seed's DFG; the seed's methods those and
-        // at most the shared GGX albedo.
+        // at most the shared GGX albedo. Without a Gtr1 coat, or without a coated conductor (the
+        // glossy level), a material's tables always fit; with both, and runtime parameters
+        // enough to read most of them, `compile` says so (E0222).
         let bytes = |keep: fn(&TableId) -> bool| -> usize {
             TableId::ALL.iter().filter(|id| keep(id)).map(|id| 2 * id.spec().len()).sum()
         };
-        let default_method = bytes(|id| !id.is_seed_only());
+        let without_gtr1 = bytes(|id| !id.is_seed_only() && !CoatTables::GTR1.ids().contains(id));
+        let without_glossy = bytes(|id| !id.is_seed_only() && !id.is_glossy());
         let seed_methods = bytes(|id| id.is_seed_only() || matches!(id, TableId::GgxAlbedo | TableId::GgxAlbedoAvg));
-        assert!(default_method <= TABLE_BUDGET, "the default method's tables: {default_method} bytes");
+        assert!(without_gtr1 <= TABLE_BUDGET, "the default method's tables but GTR1's: {without_gtr1} bytes");
+        assert!(without_glossy <= TABLE_BUDGET, "the default method's tables but the glossy level's: {without_glossy}");
         assert!(seed_methods <= TABLE_BUDGET, "the seed's tables: {seed_methods} bytes");
         assert_eq!(total_bytes(), bytes(|_| true));
         for (spec, values) in SPECS.iter().zip(&tables) {
             // The deficit (and so its average) may be slightly negative: the table is lowered
             // until its lookup never overshoots (`glazec_lab::bake`). The normalised slab tables
             // exceed 1.
-            let range = if spec.name.starts_with("coat_deficit") { -1.0..=1.0 } else { 0.0..=100.0 };
+            let range = if spec.name.contains("coat_deficit") { -1.0..=1.0 } else { 0.0..=100.0 };
             assert!(values.iter().all(|v| v.is_finite() && range.contains(v)), "{}", spec.name);
         }
         // Decoding and encoding again gives the stored codes (with the stored encodings).

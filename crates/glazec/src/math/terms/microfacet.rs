@@ -95,6 +95,39 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// Smith's auxiliary function Λ for Burley's GTR1 distribution (`d_gtr1`), from its slopes
+    /// (Heitz 2014, eq. 72, Λ(μ) = (1/m)∫_m^∞ (q − m) P2(q) dq with m = cot θ; GTR1's marginal
+    /// slope density is P2(q) = (1/√(q² + α²) − 1/√(q² + 1))/(−ln α²); derived in
+    /// docs/derivations.md, "Smith masking of GTR1"). With c = n·x:
+    ///
+    ///   Λ = [(1 + c)·x + c·ln(1 − x)] / (−c ln α²),  x = (1 − c)(1 − α²) / (1 + √(c² + α²(1 − c²))),
+    ///
+    /// which has no cancellation towards the pole (x → 0 there: Λ ≈ x/(−ln α²)). Burley pairs
+    /// GTR1 with GGX's Smith term at α = 0.25 (`GTR1_SMITH_ROUGHNESS`), which belongs to no
+    /// microsurface; the interfaced method's coat is a GTR1 microsurface, which needs its own.
+    /// Guards: α clamped to [ALPHA_MIN, GTR1_ALPHA_MAX] as in `d_gtr1`, whose limit at α → 1
+    /// (the uniform D = 1/π) has Λ = (1 − c)/(2c); c ≥ 10⁻⁶ (the caller clamps cosines; this
+    /// keeps the division defined at c = 0).
+    pub fn lambda_gtr1(n_dot_x: S, alpha: S) -> S {
+        let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
+        let a_sq = a * a;
+        let c = n_dot_x.clamp(1e-6, 1.0);
+        let root = (c * c + a_sq * (c * c).one_minus()).sqrt();
+        let x = c.one_minus() * a_sq.one_minus() / (root + 1.0);
+        let lambda = ((c + 1.0) * x + c * x.one_minus().ln()) / (c * a_sq.recip().ln());
+        F::select(alpha.gt_lit(GTR1_ALPHA_MAX), c.one_minus() / (c * 2.0), lambda)
+    }
+}
+
+shading_fn! {
+    /// Heitz 2014, eq. 99, for GTR1's Λ (`lambda_gtr1`): the height-correlated Smith
+    /// masking-shadowing G2 = 1 / (1 + Λ(v) + Λ(l)) of a GTR1 microsurface.
+    pub fn g_smith_gtr1_correlated(n_dot_v: S, n_dot_l: S, alpha: S) -> S {
+        (lambda_gtr1(n_dot_v, alpha) + lambda_gtr1(n_dot_l, alpha) + 1.0).recip()
+    }
+}
+
+shading_fn! {
     /// Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
     /// f = D G F / (4 (n·l)(n·v)). The caller passes cosines clamped to ≥ COS_EPSILON.
     pub fn f_cook_torrance(d: S, g: S, fresnel: V, n_dot_v: S, n_dot_l: S) -> V {
