@@ -22,7 +22,7 @@ const four_layer_layer1_rho_returned: vec3<f32> = vec3<f32>(0.2431215f, 0.392785
 const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const four_layer_rho_returned: vec3<f32> = vec3<f32>(0.24368028f, 0.3821679f, 0.5949716f);
-const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.58139926f, 0.58139926f, 0.58139926f);
+const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.58001065f, 0.58001065f, 0.58001065f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -88,40 +88,25 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
 // multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// `coat_scale` of a GTR1 microsurface, for its single-scattering lobe alone.
-// Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_gtr1_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.0338763f) + 1.1541083f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.004402399f, -0.008066301f, 0.068103075f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.0050997688f, 0.052646402f, 0.00793934f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.080001354f, 0.01401186f, -0.047464374f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.057506565f, 0.03132463f, 0.03772259f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.08885265f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.028581621f));
-    return f_6;
-}
-
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
-// `coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking).
+// `coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking) for its
+// unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
+// reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
 // Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_gtr1_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.020805597f) + -0.01194569f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.025472999f, -0.041520655f, -0.057191372f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.07361227f, -0.092316985f, -0.12546921f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.14167207f, -0.16079438f, -0.1790852f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.18594587f, -0.18325555f, -0.1739226f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.15288788f, -0.11336464f, -0.07238352f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.03315053f, 0.031043362f, 0.09473523f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15217534f, 0.1882712f, 0.21470414f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.21896721f, 0.21036482f, 0.19324943f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.16274576f, 0.13463123f, 0.1013019f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.07036227f, 0.04881628f, 0.027676633f)));
-    return f_17;
+fn four_layer_gtr1_coat_deficit_curve(cos_theta: f32) -> f32 {
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f = ((u * -0.028372109f) + -0.0009624428f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.025670707f, -0.040554285f, -0.057198763f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.075509906f, -0.095240116f, -0.116888285f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.14729476f, -0.15903163f, -0.17242777f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.1806798f, -0.1820767f, -0.17346251f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.15383947f, -0.122015774f, -0.08112335f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.032109316f, 0.027136283f, 0.090221226f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.14292918f, 0.18386021f, 0.21080048f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2199489f, 0.21348849f, 0.19780637f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.16790143f, 0.13775985f, 0.10116806f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.07596932f, 0.05083031f, 0.029882526f)));
+    return f_10;
 }
 
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
@@ -180,16 +165,16 @@ fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f3
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.01585722f) + 1.0037742f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.009397574f, 0.07106871f, 0.11350215f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.011117818f, -0.15492256f, -0.032958988f)));
-    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.039440993f, 0.054325465f, 0.025520327f)));
-    let f_23 = (f_22 + (max(u_2, 0.8666667f) * 0.004279018f));
-    let f_24 = (f_23 + (max(u_2, 0.93333334f) * 0.0050067906f));
-    return f_24;
+fn four_layer_coat_scale_curve(cos_theta_1: f32) -> f32 {
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_11 = ((u_1 * -0.01585722f) + 1.0037742f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.009397574f, 0.07106871f, 0.11350215f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.011117818f, -0.15492256f, -0.032958988f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.039440993f, 0.054325465f, 0.025520327f)));
+    let f_16 = (f_15 + (max(u_1, 0.8666667f) * 0.004279018f));
+    let f_17 = (f_16 + (max(u_1, 0.93333334f) * 0.0050067906f));
+    return f_17;
 }
 
 // The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
@@ -236,20 +221,20 @@ fn four_layer_second_event_share(lambda: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
-    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_25 = ((u_3 * -0.020166278f) + -0.003592166f);
-    let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
-    let f_27 = (f_26 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
-    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
-    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
-    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
-    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
-    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
-    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
-    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
-    return f_35;
+fn four_layer_coat_deficit_curve(cos_theta_2: f32) -> f32 {
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_18 = ((u_2 * -0.020166278f) + -0.003592166f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
+    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
+    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
+    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
+    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
+    let f_26 = (f_25 + dot(max(vec3(u_2), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
+    let f_27 = (f_26 + dot(max(vec3(u_2), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
+    let f_28 = (f_27 + dot(max(vec3(u_2), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
+    return f_28;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -259,14 +244,14 @@ fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve(cos_theta_4: f32) -> f32 {
-    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_36 = ((u_4 * 0.61936736f) + 1.0213565f);
-    let f_37 = (f_36 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
-    let f_38 = (f_37 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
-    let f_39 = (f_38 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
-    let f_40 = (f_39 + (max(u_4, 0.90909094f) * 0.05309328f));
-    return f_40;
+fn four_layer_coat_path_curve(cos_theta_3: f32) -> f32 {
+    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_29 = ((u_3 * 0.61936736f) + 1.0213565f);
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
+    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
+    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
+    let f_33 = (f_32 + (max(u_3, 0.90909094f) * 0.05309328f));
+    return f_33;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -283,16 +268,16 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_b(cos_theta_5: f32) -> f32 {
-    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_41 = ((u_5 * -0.09836375f) + 1.0570874f);
-    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
-    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.028942803f, -0.056181554f, 0.017554166f)));
-    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0526804f, 0.13846634f, 0.08054138f)));
-    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1908213f, -0.0485462f, -0.15670718f)));
-    let f_46 = (f_45 + (max(u_5, 0.8666667f) * 0.20178081f));
-    let f_47 = (f_46 + (max(u_5, 0.93333334f) * -0.023973586f));
-    return f_47;
+fn four_layer_coat_scale_curve_b(cos_theta_4: f32) -> f32 {
+    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_34 = ((u_4 * -0.09836375f) + 1.0570874f);
+    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
+    let f_36 = (f_35 + dot(max(vec3(u_4), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.028942803f, -0.056181554f, 0.017554166f)));
+    let f_37 = (f_36 + dot(max(vec3(u_4), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0526804f, 0.13846634f, 0.08054138f)));
+    let f_38 = (f_37 + dot(max(vec3(u_4), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1908213f, -0.0485462f, -0.15670718f)));
+    let f_39 = (f_38 + (max(u_4, 0.8666667f) * 0.20178081f));
+    let f_40 = (f_39 + (max(u_4, 0.93333334f) * -0.023973586f));
+    return f_40;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -303,20 +288,20 @@ fn four_layer_coat_scale_curve_b(cos_theta_5: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_b(cos_theta_6: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_48 = ((u_6 * -0.02334994f) + -0.016049497f);
-    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
-    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
-    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
-    let f_52 = (f_51 + dot(max(vec3(u_6), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
-    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
-    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
-    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
-    let f_56 = (f_55 + dot(max(vec3(u_6), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
-    let f_57 = (f_56 + dot(max(vec3(u_6), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
-    let f_58 = (f_57 + dot(max(vec3(u_6), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
-    return f_58;
+fn four_layer_coat_deficit_curve_b(cos_theta_5: f32) -> f32 {
+    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_41 = ((u_5 * -0.02334994f) + -0.016049497f);
+    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
+    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
+    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
+    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
+    let f_46 = (f_45 + dot(max(vec3(u_5), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
+    let f_47 = (f_46 + dot(max(vec3(u_5), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
+    let f_48 = (f_47 + dot(max(vec3(u_5), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
+    let f_49 = (f_48 + dot(max(vec3(u_5), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
+    let f_50 = (f_49 + dot(max(vec3(u_5), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
+    let f_51 = (f_50 + dot(max(vec3(u_5), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
+    return f_51;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -367,14 +352,14 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve_b(cos_theta_7: f32) -> f32 {
-    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_59 = ((u_7 * 0.9989592f) + 1.2154765f);
-    let f_60 = (f_59 + dot(max(vec3(u_7), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
-    let f_61 = (f_60 + dot(max(vec3(u_7), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
-    let f_62 = (f_61 + dot(max(vec3(u_7), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
-    let f_63 = (f_62 + (max(u_7, 0.90909094f) * 0.30706084f));
-    return f_63;
+fn four_layer_coat_path_curve_b(cos_theta_6: f32) -> f32 {
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_52 = ((u_6 * 0.9989592f) + 1.2154765f);
+    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
+    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
+    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
+    let f_56 = (f_55 + (max(u_6, 0.90909094f) * 0.30706084f));
+    return f_56;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -418,16 +403,13 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let d = four_layer_d_gtr1_(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.040000003f);
     let g = four_layer_g_smith_gtr1_correlated(cos_v, cos_l, 0.040000003f);
     let fresnel = four_layer_fr_dielectric(dot(v_1, h), 1.5f);
-    let _e21 = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
-    let layer1_scale_l = four_layer_gtr1_coat_scale_curve(n_dot_l_4);
-    let layer1_scale_v = four_layer_gtr1_coat_scale_curve(n_dot_v_5);
-    let specular = (_e21 * (layer1_scale_l * layer1_scale_v));
+    let specular = four_layer_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_l_4, 1.5f);
-    let _e30 = four_layer_gtr1_coat_deficit_curve(n_dot_l_4);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e30), 0f), 1f);
+    let _e26 = four_layer_gtr1_coat_deficit_curve(n_dot_l_4);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e26), 0f), 1f);
     let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_5, 1.5f);
-    let _e40 = four_layer_gtr1_coat_deficit_curve(n_dot_v_5);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e40), 0f), 1f);
+    let _e36 = four_layer_gtr1_coat_deficit_curve(n_dot_v_5);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e36), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_1, n_1, 1.5f);
     let layer1_l = four_layer_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
@@ -444,16 +426,16 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e75 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e75);
-    let _e78 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e78);
+    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
+    let layer1_absorb_l = vec3(_e71);
+    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
+    let layer1_absorb_v = vec3(_e74);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.09f);
     let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e92 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let _e88 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
     let layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     let layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
@@ -466,24 +448,24 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
     let layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09f);
     let layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09f);
-    let _e118 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e118);
+    let _e114 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e114);
     let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * layer2_g) / ((layer2_cos_v * layer2_cos_l) * 4f));
-    let layer2_specular = ((_e92 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    let _e133 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e133), 0f), 1f);
-    let _e141 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e141), 0f), 1f);
+    let layer2_specular = ((_e88 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    let _e129 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e129), 0f), 1f);
+    let _e137 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e137), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e157 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e157);
-    let _e159 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e159);
+    let _e153 = four_layer_coat_path_curve(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / _e153);
+    let _e155 = four_layer_coat_path_curve(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / _e155);
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -491,7 +473,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.25f);
     let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e177 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let _e173 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
     let layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     let layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
@@ -504,14 +486,14 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
     let layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25f);
     let layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25f);
-    let _e203 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e203);
+    let _e199 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e199);
     let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * layer3_g) / ((layer3_cos_v * layer3_cos_l) * 4f));
-    let layer3_specular = ((_e177 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    let _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e218), 0f), 1f);
-    let _e226 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e226), 0f), 1f);
+    let layer3_specular = ((_e173 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    let _e214 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e214), 0f), 1f);
+    let _e222 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e222), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -521,55 +503,55 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e261 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e261);
-    let _e263 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e263);
-    let _e270 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e272 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e272)) * vec3(0.18698311f)) / max(_e270, vec3(0.000001f))));
+    let _e257 = four_layer_coat_path_curve_b(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e257);
+    let _e259 = four_layer_coat_path_curve_b(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e259);
+    let _e266 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e268 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e268)) * vec3(0.18698311f)) / max(_e266, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e307 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e309 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e309)) * vec3(0.18698311f)) / max(_e307, vec3(0.000001f))));
+    let _e303 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e305 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e305)) * vec3(0.18698311f)) / max(_e303, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
-    let _e372 = (1f - layer4_transmit_l);
-    let _e393 = min(max(((vec3((_e372 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e372)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e393 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e393) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e410 = (1f - layer4_transmit_v);
-    let _e431 = min(max(((vec3((_e410 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e410)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e431 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e431) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e368 = (1f - layer4_transmit_l);
+    let _e389 = min(max(((vec3((_e368 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e368)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e389 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e389) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e406 = (1f - layer4_transmit_v);
+    let _e427 = min(max(((vec3((_e406 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e406)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e427 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e427) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e476 = (1f - layer3_transmit_l);
-    let _e494 = min(max(((vec3((_e476 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e476)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e494 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e494) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e511 = (1f - layer3_transmit_v);
-    let _e529 = min(max(((vec3((_e511 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e511)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e529 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e529) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e472 = (1f - layer3_transmit_l);
+    let _e490 = min(max(((vec3((_e472 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e472)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e490 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e490) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e507 = (1f - layer3_transmit_v);
+    let _e525 = min(max(((vec3((_e507 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e507)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e525 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e525) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e569 = (1f - layer2_transmit_l);
-    let _e590 = min(max(((vec3((_e569 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e569)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e590 / vec3(0.41860074f));
-    let first_return_l = min(max(((vec3(1f) - _e590) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
-    let _e607 = (1f - layer2_transmit_v);
-    let _e628 = min(max(((vec3((_e607 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e607)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e628 / vec3(0.41860074f));
-    let first_return_v = min(max(((vec3(1f) - _e628) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9796237f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    let _e565 = (1f - layer2_transmit_l);
+    let _e586 = min(max(((vec3((_e565 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e565)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e586 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e586) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e603 = (1f - layer2_transmit_v);
+    let _e624 = min(max(((vec3((_e603 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e603)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e624 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e624) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
 }
@@ -683,15 +665,15 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.41860074f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
+    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e382 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.43044752f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.41860074f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.58139926f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41860074f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41860074f), first_escape_v_1, first_return_v_1);
+    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e420 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);

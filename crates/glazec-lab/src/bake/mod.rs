@@ -66,8 +66,18 @@ pub struct Report {
 
 /// One column of a table (every node along its first axis) at an (r, η) node pair.
 enum Column {
-    ScaleAndSlab { scale: Vec<f64>, miss: f64, returned: Vec<f64>, escape: Vec<f64>, identity_error: f64, sigma: f64 },
-    Path { values: Vec<f64> },
+    /// `scale` is `None` for a family without a scale table.
+    ScaleAndSlab {
+        scale: Option<Vec<f64>>,
+        miss: f64,
+        returned: Vec<f64>,
+        escape: Vec<f64>,
+        identity_error: f64,
+        sigma: f64,
+    },
+    Path {
+        values: Vec<f64>,
+    },
 }
 
 /// A column to compute: the family (its place in [`Family::ALL`]) and the (r, η) node.
@@ -86,11 +96,16 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
     let mut jobs = Vec::new();
     let mut deficit_columns = 0;
     for (f, family) in Family::ALL.iter().enumerate() {
-        let (scale, path, slab) =
-            (dims(family.tables.scale), dims(family.tables.path), dims(family.tables.slab_return));
-        assert_eq!((scale[1], scale[2]), (slab[1], slab[2]), "the scale and the slab tables share their (r, η) nodes");
-        for e in 0..scale[2] {
-            jobs.extend((0..scale[1]).map(|r| Job::ScaleAndSlab(f, r, e)));
+        let (path, slab) = (dims(family.tables.path), dims(family.tables.slab_return));
+        if let Some(scale) = family.tables.scale.map(dims) {
+            assert_eq!(
+                (scale[1], scale[2]),
+                (slab[1], slab[2]),
+                "the scale and the slab tables share their (r, η) nodes"
+            );
+        }
+        for e in 0..slab[2] {
+            jobs.extend((0..slab[1]).map(|r| Job::ScaleAndSlab(f, r, e)));
         }
         for e in 0..path[2] {
             jobs.extend((0..path[1]).map(|r| Job::Path(f, r, e)));
@@ -106,9 +121,15 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
         match jobs[k] {
             Job::ScaleAndSlab(f, r, e) => {
                 let family = Family::ALL[f];
-                let (scale, slab) = (dims(family.tables.scale), dims(family.tables.slab_return));
-                let (roughness, eta) = (Axis::Roughness.node(r, scale[1]), Axis::Ior.node(e, scale[2]));
-                scale_and_slab_column(roughness, eta, scale[0], slab[0], walks, seed, family.ndf)
+                let slab = dims(family.tables.slab_return);
+                let (roughness, eta) = (Axis::Roughness.node(r, slab[1]), Axis::Ior.node(e, slab[2]));
+                // Without a scale table the walks from outside only check the flux identity, at
+                // as many cosines as GGX's scale has.
+                let (n_mu, scaled) = match family.tables.scale {
+                    Some(id) => (dims(id)[0], true),
+                    None => (dims(TableId::CoatScale)[0], false),
+                };
+                scale_and_slab_column(roughness, eta, n_mu, scaled, slab[0], walks, seed, family.ndf)
             }
             Job::Path(f, r, e) => {
                 let family = Family::ALL[f];
@@ -128,13 +149,15 @@ pub fn generate(walks: u32, glossy_walks: u32, progress: &(dyn Fn(usize, usize) 
                 Column::ScaleAndSlab { scale: values, miss, returned, escape, identity_error, sigma },
             ) => {
                 let family = Family::ALL[f];
-                let col = r + dims(family.tables.scale)[1] * e;
-                put(&mut tables, family.tables.scale, col, &values);
+                let col = r + dims(family.tables.slab_return)[1] * e;
                 put(&mut tables, family.tables.slab_return, col, &returned);
                 put(&mut tables, family.tables.slab_escape, col, &escape);
-                report.max_scale_miss = report.max_scale_miss.max(miss);
-                let (lo, hi) = report.scale_range;
-                report.scale_range = values.iter().fold((lo, hi), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+                if let (Some(id), Some(values)) = (family.tables.scale, values) {
+                    put(&mut tables, id, col, &values);
+                    report.max_scale_miss = report.max_scale_miss.max(miss);
+                    let (lo, hi) = report.scale_range;
+                    report.scale_range = values.iter().fold((lo, hi), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+                }
                 report.max_flux_identity_error = report.max_flux_identity_error.max(identity_error);
                 report.max_single_event_sigma = report.max_single_event_sigma.max(sigma);
             }
@@ -316,10 +339,12 @@ fn sigma(walks: &Walks, single: f64, n: u32) -> f64 {
 /// of its depth axis (`n_tau`), at one (r, η) node: the walks from outside give E_ms (the
 /// scale's target, with E_ss) and the transmitted share (the flux identity's check), those from
 /// inside the slab's internal reflection.
+#[allow(clippy::too_many_arguments)]
 fn scale_and_slab_column(
     roughness: f64,
     eta: f64,
     n_mu: usize,
+    scaled: bool,
     n_tau: usize,
     walks: u32,
     seed: u64,
@@ -341,8 +366,14 @@ fn scale_and_slab_column(
             outer_transmit.push(1.0 - w.single - w.multiple);
         }
     }
-    let (scale, miss) =
-        if smooth { (vec![1.0; n_mu], 0.0) } else { scale::scale_column(roughness, eta, &cosines, &targets, ndf) };
+    let (scale, miss) = match (scaled, smooth) {
+        (false, _) => (None, 0.0),
+        (true, true) => (Some(vec![1.0; n_mu]), 0.0),
+        (true, false) => {
+            let (scale, miss) = scale::scale_column(roughness, eta, &cosines, &targets, ndf);
+            (Some(scale), miss)
+        }
+    };
     // Inside: relative IOR 1/η, 32 Gauss–Legendre nodes split at the critical cosine.
     let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
     let gl = gauss_legendre_16();

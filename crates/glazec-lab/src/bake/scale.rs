@@ -94,9 +94,10 @@ pub(super) fn scale_column(roughness: f64, eta: f64, cosines: &[f64], targets: &
 /// compiled lookup (the tables `glazec::math::tables::evaluate_on_cpu_with` set), by quadrature.
 pub(super) fn scaled_albedo(mu: f64, roughness: f64, eta: f64, family: Family) -> f64 {
     let alpha = roughness * roughness;
+    // A family without a scale table has an unscaled lobe.
     let c = |mu: f64| {
         let args = [mu as f32, roughness as f32, eta as f32];
-        f64::from(glazec::math::tables::lookup::<f32>(family.tables.scale, &args))
+        family.tables.scale.map_or(1.0, |id| f64::from(glazec::math::tables::lookup::<f32>(id, &args)))
     };
     let wo = direction_at_cosine(mu);
     let gathered: f64 = albedo_nodes(wo, alpha)

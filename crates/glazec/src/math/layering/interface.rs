@@ -143,15 +143,16 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// direction for a smooth-ish coat, as the reference's microsurface walks show; a separable
     /// Kulla–Conty lobe spread it over every direction, most towards grazing pairs (5× the
     /// reference at 85°). Unscaled for a smooth coat, for an optically thinner one (η < 1: no
-    /// tables) and under [`Approximations::single_scattering`].
+    /// tables), for a GTR1 coat (whose later events leave far from its peak: `CoatTables::GTR1`)
+    /// and under [`Approximations::single_scattering`].
     pub(super) fn scaled_lobe(&self, single: F::Vec, g: &Geometry<F>) -> F::Vec {
         let Some(r) = self.roughness.filter(|_| !self.approx.single_scattering) else { return single };
-        let c_l = tables::lookup(self.tables.scale, &[g.raw_n_dot_l, r, self.eta]).named(&self.name("scale_l"));
-        let c_v = tables::lookup(self.tables.scale, &[g.raw_n_dot_v, r, self.eta]).named(&self.name("scale_v"));
-        // The second-event term is GGX's (its tail and its share are fitted to GGX walks); a
-        // GTR1 coat's scale is solved for its single-scattering lobe alone.
-        let lobe = if self.tables == CoatTables::GGX { single + self.second_event(r * r, g).splat() } else { single };
-        let scaled = lobe * (c_l * c_v);
+        // A GTR1 coat's lobe is not scaled (`CoatTables::GTR1`).
+        let Some(scale) = self.tables.scale else { return single };
+        let c_l = tables::lookup(scale, &[g.raw_n_dot_l, r, self.eta]).named(&self.name("scale_l"));
+        let c_v = tables::lookup(scale, &[g.raw_n_dot_v, r, self.eta]).named(&self.name("scale_v"));
+        let second = self.second_event(r * r, g);
+        let scaled = (single + second.splat()) * (c_l * c_v);
         self.unless_below_one(|| single, scaled, F::Vec::select)
     }
 
