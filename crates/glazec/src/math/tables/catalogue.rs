@@ -156,7 +156,7 @@ const SLAB_GRID: [(Axis, usize); 3] = [(Axis::Depth, 16), (Axis::Roughness, 16),
 /// lobe, and its tables share the uniform budget with GGX's in a material that has both), and
 /// no lobe scale: the walks put GTR1's multiply-scattered reflection far from its lobe's peak
 /// (at most 0.4% of the single-scattering lobe there, where a scale that reflects it adds
-/// 2–9%), and there is little of it (⟨E_ms⟩ 0.29% at r 0.14, 0.36% at r 0.4), so it is left to
+/// 2–9%), and there is little of it (⟨E_ms⟩ 0.29% at r 0.14, 0.37% at r 0.4), so it is left to
 /// the transmission.
 const GTR1_DEFICIT_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 32), (Axis::Roughness, 16), (Axis::Ior, 8)];
 const GTR1_PATH_GRID: [(Axis, usize); 3] = [(Axis::Cosine, 12), (Axis::Roughness, 8), (Axis::Ior, 8)];
