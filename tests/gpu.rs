@@ -196,27 +196,40 @@ fn random_stacks_agree_with_the_cpu_in_every_language() {
         .collect();
     // rayon hands stacks out as threads come free: their shaders take very different times to
     // compile on lavapipe.
-    let results: Vec<([Worst; 4], Option<String>)> = stacks
+    // `None`: refused with E0222 (more tables than a uniform holds), the right answer for it.
+    let results: Vec<Option<([Worst; 4], Option<String>)>> = stacks
         .par_iter()
         .enumerate()
         .map(|(index, text)| {
             let mut worst: [Worst; 4] = Default::default();
-            let compiled = glazec::compile(text).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
+            let compiled = match glazec::compile(text) {
+                Ok(compiled) => compiled,
+                Err(e) if common::stacks::refused_for_table_budget(&e) => return None,
+                Err(e) => panic!("{e:?}\n{text}"),
+            };
             let values = compiled.material.default_values();
             let found = check_material(gpu, &format!("random stack {index}"), &compiled, &values, &pairs, &mut worst);
-            (worst, (!found.is_empty()).then(|| format!("{}\n{text}", found.join("\n"))))
+            Some((worst, (!found.is_empty()).then(|| format!("{}\n{text}", found.join("\n")))))
         })
         .collect();
+    let refused = results.iter().filter(|r| r.is_none()).count();
     let mut worst: [Worst; 4] = Default::default();
     let mut failures = Vec::new();
-    for (found_worst, found) in results {
+    for (found_worst, found) in results.into_iter().flatten() {
         for (total, part) in worst.iter_mut().zip(found_worst) {
             total.merge(part);
         }
         failures.extend(found);
     }
     report("random stacks", &worst);
-    eprintln!("GPU cases executed: {count} stacks × {} paths × {} pairs", ShaderPath::ALL.len(), pairs.len());
+    eprintln!(
+        "GPU cases executed: {} stacks × {} paths × {} pairs ({refused} of {count} refused with E0222)",
+        count - refused,
+        ShaderPath::ALL.len(),
+        pairs.len()
+    );
+    // Nearly all stacks must run: a refusal is for stacks with many runtime parameters.
+    assert!(refused * 10 <= count, "{refused} of {count} random stacks were refused with E0222");
     assert!(failures.is_empty(), "{} stacks disagree:\n{}", failures.len(), failures.join("\n\n"));
 }
 

@@ -142,3 +142,15 @@ impl Writer {
         format!("Material(name: \"random\", {method} layers: [\n    {}\n])", layers.join(",\n    "))
     }
 }
+
+/// Whether glazec refused the stack only because its runtime lookups would need more tables
+/// than a uniform binding holds (E0222): a random stack with many runtime parameters can, and
+/// the refusal is the right answer for it.
+pub fn refused_for_table_budget(error: &glazec::CompileError) -> bool {
+    match error {
+        glazec::CompileError::Diagnostics(d) => {
+            !d.is_empty() && d.iter().all(|d| d.code == glazec::diag::Code::TableBudget)
+        }
+        glazec::CompileError::Internal(_) => false,
+    }
+}
