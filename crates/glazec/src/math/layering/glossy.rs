@@ -504,7 +504,7 @@ pub(super) fn glossy_level<F: Real>(
     } else {
         let f_top = glossy
             .interface
-            .scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx), g)
+            .scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx, blur), g)
             .named(&level_name("specular", k));
         // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
         // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).

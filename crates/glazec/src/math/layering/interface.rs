@@ -14,6 +14,9 @@ pub(super) struct CoatInterface<'i, F: Real> {
     pub(super) eta: F,
     /// `None` for a smooth coat.
     pub(super) roughness: Option<F>,
+    /// The median slope of its microfacet normals, which sets how much it blurs the lobes seen
+    /// through it (`level::coat_blur`): GGX's α = r², GTR1's √α = r; `None` for a smooth coat.
+    pub(super) median_slope: Option<F>,
     /// The tables of its microfacet distribution (GGX or GTR1).
     pub(super) tables: CoatTables,
     pub(super) inputs: &'i Inputs<F>,
@@ -32,8 +35,10 @@ impl<'i, F: Real> CoatInterface<'i, F> {
             }
             Lobe::Ggx { roughness } | Lobe::Gtr1 { roughness } => Some(inputs.scalar(*roughness)),
         };
-        let tables = if matches!(lobe, Lobe::Gtr1 { .. }) { CoatTables::GTR1 } else { CoatTables::GGX };
-        CoatInterface { eta, roughness, tables, inputs, level: k + 1, approx }
+        let gtr1 = matches!(lobe, Lobe::Gtr1 { .. });
+        let tables = if gtr1 { CoatTables::GTR1 } else { CoatTables::GGX };
+        let median_slope = roughness.map(|r| if gtr1 { r } else { r * r });
+        CoatInterface { eta, roughness, median_slope, tables, inputs, level: k + 1, approx }
     }
 
     pub(super) fn name(&self, base: &str) -> String {
@@ -231,23 +236,38 @@ impl<'i, F: Real> CoatInterface<'i, F> {
 /// microfacet normal and the exact height-correlated Smith term of its distribution (GGX's, or
 /// GTR1's own for a `Gtr1` coat: the reference walks a GTR1 microsurface, and Burley's GGX term
 /// at α = 0.25 shadowed its lobe 4% less per direction at 60° and 60% less at 85° for α 0.04).
-/// Zero for a smooth coat (a delta lobe that point lights cannot see).
+/// Seen through rough coats above, whose refraction spreads it, the lobe is widened by their
+/// `blur` (`level::BLUR_WIDTH`): α + blur for GGX; for GTR1 its median slope √α + blur. (The
+/// coat's transmission and multiple-scattering scale stay those of its own roughness: the
+/// widened lobe reflects what the narrower one does, less what its wider masking takes near
+/// grazing, so no energy is gained.) Zero for a smooth coat (a delta lobe that point lights
+/// cannot see; one seen through a rough coat would be that coat's transmission lobe, which the
+/// method leaves out).
 pub(super) fn interfaced_lobe<F: Real>(
     lobe: &Lobe,
     eta: F,
     inputs: &Inputs<F>,
     g: &Geometry<F>,
     approx: Approximations,
+    blur: Option<F>,
 ) -> F::Vec {
+    let name = |base| level_name(base, g.level);
+    // Named where it is computed at run time (a literal α stays inline).
+    let widened = |alpha: F| {
+        let alpha = blur.map_or(alpha, |b| alpha + b);
+        if alpha.known().is_some() { alpha } else { alpha.named(&name("lobe_alpha")) }
+    };
     let (distribution, shadowing) = match lobe {
         Lobe::Smooth => return inputs.zero(),
         Lobe::Ggx { roughness } => {
             let r = inputs.scalar(*roughness);
-            (d_ggx(g.half().n_dot_h, g.half().sin2_h, r * r), g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, r * r))
+            let alpha = widened(r * r);
+            (d_ggx(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
         Lobe::Gtr1 { roughness } => {
             let r = inputs.scalar(*roughness);
-            (d_gtr1(g.half().n_dot_h, g.half().sin2_h, r * r), g_smith_gtr1_correlated(g.n_dot_v, g.n_dot_l, r * r))
+            let alpha = widened(r).sq();
+            (d_gtr1(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_gtr1_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
     };
     let name = |base| level_name(base, g.level);

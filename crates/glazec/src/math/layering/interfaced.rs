@@ -44,7 +44,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let f_top = if g.albedo_only {
         inputs.zero()
     } else {
-        interface.scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx), g).named(&name("specular"))
+        interface.scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx, blur), g).named(&name("specular"))
     };
     let t_l = interface.transmission(g.raw_n_dot_l, "l");
     let t_v = interface.transmission(g.raw_n_dot_v, "v");
@@ -60,7 +60,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let deeper = Depth {
         k: k + 1,
         n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
-        blur: coat_blur(interface.roughness, eta, blur, k),
+        blur: coat_blur(interface.median_slope, eta, blur, k),
     };
     let lower = interfaced(stack, &below, deeper, true);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });

@@ -1,5 +1,5 @@
 //! What the interfaced method hands up from one level to the coat above it: the level's BRDF
-//! and albedos ([`Level`], [`Albedo`]), and the blur rough coats add to a conductor's lobe.
+//! and albedos ([`Level`], [`Albedo`]), and the blur rough coats add to the lobes under them.
 
 use super::geometry::level_name;
 use crate::math::Real;
@@ -29,24 +29,29 @@ pub(super) struct Albedo<F: Real> {
     pub(super) mean: F::Vec,
 }
 
-/// How much a rough coat widens a conductor's lobe under it: α += BLUR_WIDTH · |1 − 1/η| α_coat.
-/// A facet tilted by θm refracts a ray by about (1 − 1/η) θm (Walter et al. 2007, the
+/// How much a rough coat widens a lobe under it (a conductor's, or a coat's own reflection seen
+/// through it): α += BLUR_WIDTH · |1 − 1/η| m, m the median slope of the coat's microfacet
+/// normals. A facet tilted by θm refracts a ray by about (1 − 1/η) θm (Walter et al. 2007, the
 /// refraction Jacobian at normal incidence). The light crosses the coat twice, through
-/// independent facets, so the two deviations add in quadrature: √2 (1 − 1/η) α_coat in
-/// direction. A GGX lobe of width α in half-vector slope reflects into 2α in direction, so that
-/// spread is (1/√2)(1 − 1/η) α_coat in the conductor's α. GGX slopes are heavy-tailed, so the
-/// added width adds to the conductor's own linearly rather than in quadrature (Belcour 2018 adds
-/// variances). Against the reference (standard set, copper under coats of roughness 0.5) this
-/// gives a lobe error of 9–14%.
+/// independent facets, so the two deviations add in quadrature: √2 (1 − 1/η) m in direction. A
+/// GGX lobe of width α in half-vector slope reflects into 2α in direction, so that spread is
+/// (1/√2)(1 − 1/η) m in the lower lobe's α. GGX slopes are heavy-tailed, so the added width adds
+/// to the lower lobe's own linearly rather than in quadrature (Belcour 2018 adds variances).
+/// The median slope is GGX's α (its sampling gives tan²θm = α² u/(1 − u), Walter et al. 2007)
+/// and GTR1's √α (tan²θm = (α^(2(1−u)) − α²)/(1 − α^(2(1−u))), Burley 2012, at u = ½), so a
+/// GTR1 coat of roughness r blurs like a GGX coat of α = r: its long tails spread what is seen
+/// through it far more than its α says. Against the reference (standard set, copper under
+/// coats of roughness 0.5) this gives a lobe error of 9–14%.
 pub(super) const BLUR_WIDTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
 
-/// The blur a coat of roughness `roughness` (α = r²) and relative IOR `eta` adds to the `blur`
-/// of the coats above it (see [`BLUR_WIDTH`]); a smooth coat adds none.
-pub(super) fn coat_blur<F: Real>(roughness: Option<F>, eta: F, blur: Option<F>, k: usize) -> Option<F> {
-    let Some(r) = roughness else { return blur };
+/// The blur a rough coat adds to the `blur` of the coats above it (see [`BLUR_WIDTH`]), from the
+/// median slope of its microfacet normals (`median_slope`: α for GGX, √α for GTR1) and its
+/// relative IOR `eta`; a smooth coat adds none.
+pub(super) fn coat_blur<F: Real>(median_slope: Option<F>, eta: F, blur: Option<F>, k: usize) -> Option<F> {
+    let Some(slope) = median_slope else { return blur };
     // |1 − 1/η|: a coat optically thinner than the medium above (η < 1) spreads rays too (and a
     // negative width would make α negative).
     let spread = eta.recip().one_minus().abs();
-    let added = (spread * r.sq() * BLUR_WIDTH).named(&level_name("blur", k));
+    let added = (spread * slope * BLUR_WIDTH).named(&level_name("blur", k));
     Some(blur.map_or(added, |b| b + added))
 }
