@@ -107,6 +107,25 @@ fn eight_coats_compile() {
     compiled.emit(&glazec::Target::TEXT).expect("emits");
 }
 
+/// Coats optically thinner than the medium above them over a conductor: beyond their critical
+/// angles no light enters (T = 0), the coat reflects all of it from below (k = 1) and the level
+/// under it can be white (E = 1), where the glossy inter-reflection's 1 − E k was 0/0: NaN at
+/// 21 of 25 direction pairs (found by shrinking a deep-tier random stack).
+#[test]
+fn coats_thinner_than_the_medium_above_a_conductor_stay_finite() {
+    for iors in [[1.0, 0.7, 0.7], [0.7, 0.7, 1.5], [0.7, 1.5, 0.7], [0.7, 0.7, 0.7]] {
+        let coats: Vec<String> = iors.iter().map(|n| format!("Coat(lobe: Smooth, ior: {n:?})")).collect();
+        let text =
+            format!("Material(name: \"thin\", layers: [{}, Conductor(roughness: 0.05, f0: 0.9)])", coats.join(", "));
+        let compiled = glazec::compile(&text).unwrap_or_else(|e| panic!("{e:?}"));
+        let values = compiled.material.default_values();
+        for (wi, wo) in directions() {
+            let f = glazec::eval::brdf(&compiled.material, &values, wi, wo);
+            assert!(f.is_finite() && f.min_element() >= 0.0, "f = {f} at wi {wi} wo {wo}\n{text}");
+        }
+    }
+}
+
 /// A stack whose lookups at literal roughnesses and runtime IORs, depths and a runtime conductor
 /// roughness would take 72,368 bytes of table uniform as compact per-lookup blocks (found by the
 /// deep tier's random stacks, which wgpu then refused: over WebGPU's 64 KiB) fits: the buffer

@@ -487,9 +487,12 @@ vec3 car_paint_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, v
 // coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
 // rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
 // symmetric in i and o.
+// Guard: the denominator ≥ 10⁻⁶. Beyond the critical angle of a coat optically thinner
+// than the medium above (T = 0, so k = 1) over a white level (E = 1) it is 0, and so is f
+// (no light enters): 0/0 was NaN under three smooth coats of η 1, 0.7, 0.7 over a conductor.
 vec3 car_paint_interfaced_glossy_under(vec3 f_below, vec3 e_i, vec3 k_i, vec3 e_o, vec3 k_o) {
     vec3 _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / (vec3(1.0) - _e8));
+    return (f_below / max((vec3(1.0) - _e8), vec3(1e-6)));
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
@@ -659,10 +662,12 @@ vec3 car_paint_eval(vec3 n_4, vec3 v_4, vec3 l_4) {
 // k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
 // except its share p outside the escape cone, trapped, of which X leaves
 // (`trapped_return`).
+// Guard: 1 − E k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in `interfaced_glossy_under`;
+// the numerator is 0 there too).
 vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below, float p, vec3 trapped_out) {
     vec3 k = ((a_2 * a_2) * (1.0 - t_2));
     vec3 _e13 = (e_below * k);
-    vec3 direct = ((e_below * (t_2 * (1.0 - p))) / (vec3(1.0) - _e13));
+    vec3 direct = ((e_below * (t_2 * (1.0 - p))) / max((vec3(1.0) - _e13), vec3(1e-6)));
     return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + vec3((1.0 - t_2)));
 }
 

@@ -492,9 +492,12 @@ fn car_paint_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_
 // coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
 // rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
 // symmetric in i and o.
+// Guard: the denominator ≥ 10⁻⁶. Beyond the critical angle of a coat optically thinner
+// than the medium above (T = 0, so k = 1) over a white level (E = 1) it is 0, and so is f
+// (no light enters): 0/0 was NaN under three smooth coats of η 1, 0.7, 0.7 over a conductor.
 fn car_paint_interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: vec3<f32>, e_o: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
     let _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / (vec3(1f) - _e8));
+    return (f_below / max((vec3(1f) - _e8), vec3(0.000001f)));
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
@@ -664,10 +667,12 @@ fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
 // k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
 // except its share p outside the escape cone, trapped, of which X leaves
 // (`trapped_return`).
+// Guard: 1 − E k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in `interfaced_glossy_under`;
+// the numerator is 0 there too).
 fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>, p: f32, trapped_out: vec3<f32>) -> vec3<f32> {
     let k = ((a_2 * a_2) * (1f - t_2));
     let _e13 = (e_below * k);
-    let direct = ((e_below * (t_2 * (1f - p))) / (vec3(1f) - _e13));
+    let direct = ((e_below * (t_2 * (1f - p))) / max((vec3(1f) - _e13), vec3(0.000001f)));
     return ((((a_2 * a_2) * (direct + ((e_below * trapped_out) * p))) * t_2) + vec3((1f - t_2)));
 }
 

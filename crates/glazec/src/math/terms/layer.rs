@@ -92,8 +92,11 @@ shading_fn! {
     /// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
     /// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
     /// symmetric in i and o.
+    /// Guard: the denominator ≥ 10⁻⁶. Beyond the critical angle of a coat optically thinner
+    /// than the medium above (T = 0, so k = 1) over a white level (E = 1) it is 0, and so is f
+    /// (no light enters): 0/0 was NaN under three smooth coats of η 1, 0.7, 0.7 over a conductor.
     pub fn interfaced_glossy_under(f_below: V, e_i: V, k_i: V, e_o: V, k_o: V) -> V {
-        f_below / (e_i * k_i * e_o * k_o).sqrt().one_minus()
+        f_below / (e_i * k_i * e_o * k_o).sqrt().one_minus().max(f_below.x().lit(1e-6).splat())
     }
 }
 
@@ -274,9 +277,11 @@ shading_fn! {
     /// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
     /// except its share p outside the escape cone, trapped, of which X leaves
     /// (`trapped_return`).
+    /// Guard: 1 − E k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in `interfaced_glossy_under`;
+    /// the numerator is 0 there too).
     pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V, p: S, trapped_out: V) -> V {
         let k = a * a * t.one_minus();
-        let direct = e_below * (t * p.one_minus()) / (e_below * k).one_minus();
+        let direct = e_below * (t * p.one_minus()) / (e_below * k).one_minus().max(t.lit(1e-6).splat());
         a * a * (direct + e_below * trapped_out * p) * t + t.one_minus().splat()
     }
 }
