@@ -464,8 +464,8 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
     vec3 layer3_n_cross_h = cross(n_1, layer3_h);
-    float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.30292588);
-    float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.30292588);
+    float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828);
+    float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828);
     float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
     vec3 _e175 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     float layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);

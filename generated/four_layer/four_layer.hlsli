@@ -508,8 +508,8 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     const float3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
     float3 layer3_n_cross_h = cross(n_1, layer3_h);
-    const float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.30292588);
-    const float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.30292588);
+    const float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828);
+    const float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828);
     const float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
     const float3 _e175 = four_layer_f_cook_torrance(layer3_d, layer3_g, (layer3_fresnel).xxx, layer3_cos_v, layer3_cos_l);
     const float layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);

@@ -484,7 +484,7 @@ pub(super) fn glossy_level<F: Real>(
     let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, "l");
     let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
     let v_side = v.as_ref().unwrap_or(&l);
-    let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur);
+    let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur.total());
     // The remainder's mean ⟨M⟩ (for f) and the mean albedo (for the levels above), from the same
     // nodes in one loop.
     let mut wanted: Vec<PerSide<F>> = Vec::new();

@@ -1,6 +1,7 @@
 //! What a layering method reads: runtime-parameter values and literal constants ([`Inputs`]),
 //! and the stack expanded into coats over an opaque body ([`Body`]).
 
+use super::level::Blur;
 use crate::math::{Real, Slot, Vector};
 use crate::model::{Approximations, Base, Coat, Color, ConductorFresnel, Lobe, Material, Scalar};
 
@@ -70,19 +71,19 @@ pub(super) struct Stack<'s, F: Real> {
 }
 
 /// Where a walk down the stack is: at coat `k` (the body when `k` is the number of coats), in a
-/// medium of absolute IOR `n_medium` (`None`: air), under coats whose roughness widens a
-/// conductor's lobe by the GGX α `blur` (see `level::BLUR_WIDTH`).
+/// medium of absolute IOR `n_medium` (`None`: air), under coats whose roughness widens the lobes
+/// below by `blur` (see `level::BLUR_WIDTH`).
 #[derive(Clone, Copy)]
 pub(super) struct Depth<F: Real> {
     pub(super) k: usize,
     pub(super) n_medium: Option<F>,
-    pub(super) blur: Option<F>,
+    pub(super) blur: Blur<F>,
 }
 
 impl<F: Real> Depth<F> {
     /// The top of the stack, in air.
     pub(super) fn top() -> Self {
-        Depth { k: 0, n_medium: None, blur: None }
+        Depth { k: 0, n_medium: None, blur: Blur::none() }
     }
 }
 

@@ -3,6 +3,7 @@
 
 use super::geometry::{Geometry, level_name};
 use super::inputs::Inputs;
+use super::level::Blur;
 use crate::math::tables::{self, CoatTables, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
@@ -237,40 +238,33 @@ impl<'i, F: Real> CoatInterface<'i, F> {
 /// GTR1's own for a `Gtr1` coat: the reference walks a GTR1 microsurface, and Burley's GGX term
 /// at α = 0.25 shadowed its lobe 4% less per direction at 60° and 60% less at 85° for α 0.04).
 /// Seen through rough coats above, whose refraction spreads it, the lobe is widened by their
-/// `blur` (`level::BLUR_WIDTH`): α + blur for GGX; for GTR1 its median slope √α + blur. (The
-/// coat's transmission and multiple-scattering scale stay those of its own roughness: the
-/// widened lobe reflects what the narrower one does, less what its wider masking takes near
-/// grazing, so no energy is gained.) Zero for a smooth coat (a delta lobe that point lights
-/// cannot see; one seen through a rough coat would be that coat's transmission lobe, which the
-/// method leaves out).
+/// `blur` ([`Blur::widen`] of its median slope: GGX's α, GTR1's √α). (The coat's transmission
+/// and multiple-scattering scale stay those of its own roughness: the widened lobe reflects what
+/// the narrower one does, less what its wider masking takes near grazing, so no energy is
+/// gained.) Zero for a smooth coat (a delta lobe that point lights cannot see; one seen through
+/// a rough coat would be that coat's transmission lobe, which the method leaves out).
 pub(super) fn interfaced_lobe<F: Real>(
     lobe: &Lobe,
     eta: F,
     inputs: &Inputs<F>,
     g: &Geometry<F>,
     approx: Approximations,
-    blur: Option<F>,
+    blur: Blur<F>,
 ) -> F::Vec {
     let name = |base| level_name(base, g.level);
-    // Named where it is computed at run time (a literal α stays inline).
-    let widened = |alpha: F| {
-        let alpha = blur.map_or(alpha, |b| alpha + b);
-        if alpha.known().is_some() { alpha } else { alpha.named(&name("lobe_alpha")) }
-    };
     let (distribution, shadowing) = match lobe {
         Lobe::Smooth => return inputs.zero(),
         Lobe::Ggx { roughness } => {
             let r = inputs.scalar(*roughness);
-            let alpha = widened(r * r);
+            let alpha = blur.widen(r * r, &name("lobe_alpha"));
             (d_ggx(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
         Lobe::Gtr1 { roughness } => {
             let r = inputs.scalar(*roughness);
-            let alpha = widened(r).sq();
+            let alpha = blur.widen(r, &name("lobe_slope")).sq();
             (d_gtr1(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_gtr1_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
     };
-    let name = |base| level_name(base, g.level);
     let distribution = distribution.named(&name("d"));
     let shadowing = shadowing.named(&name("g"));
     let microfacet = || dielectric_fresnel(g.half().v_dot_h, eta, approx);

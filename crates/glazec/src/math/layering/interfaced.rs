@@ -13,7 +13,7 @@ use super::level::{Albedo, Level, coat_blur};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
-use crate::model::{Color, Scalar};
+use crate::model::{Color, Lobe, Scalar};
 
 /// The interfaced method from depth `at` down, at the directions `g` of that level; the level's
 /// albedos too when `want_albedo`.
@@ -24,11 +24,11 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         let f = if g.albedo_only {
             inputs.zero()
         } else {
-            base_brdf(body, inputs, g, n_medium, blur).named(&level_name("f_base", g.level))
+            base_brdf(body, inputs, g, n_medium, blur.total()).named(&level_name("f_base", g.level))
         };
-        let albedo = want_albedo.then(|| body_albedo(body, inputs, g, n_medium, blur));
+        let albedo = want_albedo.then(|| body_albedo(body, inputs, g, n_medium, blur.total()));
         let alpha = match body {
-            Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur, g.level)),
+            Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur.total(), g.level)),
             _ => None,
         };
         return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0), transmission: None };
@@ -60,7 +60,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let deeper = Depth {
         k: k + 1,
         n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
-        blur: coat_blur(interface.median_slope, eta, blur, k),
+        blur: coat_blur(interface.median_slope, matches!(coat.lobe, Lobe::Gtr1 { .. }), eta, blur, k),
     };
     let lower = interfaced(stack, &below, deeper, true);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });

@@ -44,14 +44,59 @@ pub(super) struct Albedo<F: Real> {
 /// coats of roughness 0.5) this gives a lobe error of 9–14%.
 pub(super) const BLUR_WIDTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
 
+/// The blur of the rough coats above a level (see [`BLUR_WIDTH`]), kept by the kind of their
+/// microfacet distribution, because the two compose differently with a lobe seen through them.
+#[derive(Clone, Copy)]
+pub(super) struct Blur<F: Real> {
+    /// The sum of the GGX coats' blurs.
+    pub(super) ggx: Option<F>,
+    /// The sum of the GTR1 coats' blurs.
+    pub(super) gtr1: Option<F>,
+}
+
+impl<F: Real> Blur<F> {
+    /// No rough coat above.
+    pub(super) fn none() -> Self {
+        Blur { ggx: None, gtr1: None }
+    }
+
+    /// The whole blur, added to a conductor's α (what `BLUR_WIDTH` was measured with).
+    pub(super) fn total(self) -> Option<F> {
+        match (self.ggx, self.gtr1) {
+            (Some(g), Some(t)) => Some(g + t),
+            (g, t) => g.or(t),
+        }
+    }
+
+    /// The median slope `m` of a coat's lobe (GGX's α, GTR1's √α) seen through the coats
+    /// above: √(m² + m·g + g²) + t, g the GGX blur and t the GTR1 blur. Two GGX slope
+    /// distributions convolve into one whose peak is that of a GGX of about √(m² + mg + g²)
+    /// (within 2% for g/m from 0.03 to 3.5, by numerical integration; docs/derivations.md, "A
+    /// lobe seen through a rough coat"), narrower than m + g: with m + g the four-GGX-coat stack
+    /// of the multi-coat set was 1.1% off in the body (p90) against 0.6%. GTR1's long tails carry
+    /// most of what it spreads far from the peak, and matching the peak leaves them out (the
+    /// `Gtr1` stack over Plastic: 7.2% against 3.9% with the linear sum), so its blur adds
+    /// linearly.
+    pub(super) fn widen(self, m: F, name: &str) -> F {
+        let through_ggx = match self.ggx {
+            Some(g) => (m.sq() + m * g + g.sq()).sqrt(),
+            None => m,
+        };
+        let widened = self.gtr1.map_or(through_ggx, |t| through_ggx + t);
+        // Named where it is computed at run time (a literal α stays inline).
+        if widened.known().is_some() { widened } else { widened.named(name) }
+    }
+}
+
 /// The blur a rough coat adds to the `blur` of the coats above it (see [`BLUR_WIDTH`]), from the
-/// median slope of its microfacet normals (`median_slope`: α for GGX, √α for GTR1) and its
-/// relative IOR `eta`; a smooth coat adds none.
-pub(super) fn coat_blur<F: Real>(median_slope: Option<F>, eta: F, blur: Option<F>, k: usize) -> Option<F> {
+/// median slope of its microfacet normals (`median_slope`: α for GGX, √α for GTR1, whose blur
+/// is kept apart when `gtr1`) and its relative IOR `eta`; a smooth coat adds none.
+pub(super) fn coat_blur<F: Real>(median_slope: Option<F>, gtr1: bool, eta: F, blur: Blur<F>, k: usize) -> Blur<F> {
     let Some(slope) = median_slope else { return blur };
     // |1 − 1/η|: a coat optically thinner than the medium above (η < 1) spreads rays too (and a
     // negative width would make α negative).
     let spread = eta.recip().one_minus().abs();
     let added = (spread * slope * BLUR_WIDTH).named(&level_name("blur", k));
-    Some(blur.map_or(added, |b| b + added))
+    let add = |sum: Option<F>| Some(sum.map_or(added, |b| b + added));
+    if gtr1 { Blur { gtr1: add(blur.gtr1), ..blur } } else { Blur { ggx: add(blur.ggx), ..blur } }
 }
