@@ -3,7 +3,7 @@
 
 use super::geometry::{Geometry, level_name};
 use super::inputs::Inputs;
-use super::level::Blur;
+use super::level::{Blur, coat_blur};
 use crate::math::tables::{self, CoatTables, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
@@ -15,9 +15,6 @@ pub(super) struct CoatInterface<'i, F: Real> {
     pub(super) eta: F,
     /// `None` for a smooth coat.
     pub(super) roughness: Option<F>,
-    /// The median slope of its microfacet normals, which sets how much it blurs the lobes seen
-    /// through it (`level::coat_blur`): GGX's α = r², GTR1's √α = r; `None` for a smooth coat.
-    pub(super) median_slope: Option<F>,
     /// The tables of its microfacet distribution (GGX or GTR1).
     pub(super) tables: CoatTables,
     pub(super) inputs: &'i Inputs<F>,
@@ -36,10 +33,17 @@ impl<'i, F: Real> CoatInterface<'i, F> {
             }
             Lobe::Ggx { roughness } | Lobe::Gtr1 { roughness } => Some(inputs.scalar(*roughness)),
         };
-        let gtr1 = matches!(lobe, Lobe::Gtr1 { .. });
-        let tables = if gtr1 { CoatTables::GTR1 } else { CoatTables::GGX };
-        let median_slope = roughness.map(|r| if gtr1 { r } else { r * r });
-        CoatInterface { eta, roughness, median_slope, tables, inputs, level: k + 1, approx }
+        let tables = if matches!(lobe, Lobe::Gtr1 { .. }) { CoatTables::GTR1 } else { CoatTables::GGX };
+        CoatInterface { eta, roughness, tables, inputs, level: k + 1, approx }
+    }
+
+    /// The blur of the coats above, `above`, with this coat's added (`level::coat_blur`), from
+    /// the median slope of its microfacet normals: GGX's α = r², GTR1's √α = r (none for a
+    /// smooth coat).
+    pub(super) fn blur_below(&self, above: Blur<F>, k: usize) -> Blur<F> {
+        let gtr1 = self.tables == CoatTables::GTR1;
+        let median_slope = self.roughness.map(|r| if gtr1 { r } else { r * r });
+        coat_blur(median_slope, gtr1, self.eta, above, k)
     }
 
     pub(super) fn name(&self, base: &str) -> String {

@@ -9,11 +9,11 @@ use super::geometry::{Geometry, level_name};
 use super::glossy::{glossy_level, trapped, trapped_shares};
 use super::inputs::{Body, Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
-use super::level::{Albedo, Level, coat_blur};
+use super::level::{Albedo, Level};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
-use crate::model::{Color, Lobe, Scalar};
+use crate::model::{Color, Scalar};
 
 /// The interfaced method from depth `at` down, at the directions `g` of that level; the level's
 /// albedos too when `want_albedo`.
@@ -57,11 +57,8 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         let path_v = interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v");
         (absorbed(tau, path_l).named(&name("absorb_l")), absorbed(tau, path_v).named(&name("absorb_v")))
     };
-    let deeper = Depth {
-        k: k + 1,
-        n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
-        blur: coat_blur(interface.median_slope, matches!(coat.lobe, Lobe::Gtr1 { .. }), eta, blur, k),
-    };
+    let deeper =
+        Depth { k: k + 1, n_medium: Some(n_medium.map_or(eta, |n| n * eta)), blur: interface.blur_below(blur, k) };
     let lower = interfaced(stack, &below, deeper, true);
     let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
     let (r_return, e_escape) = interface.slab(tau);
