@@ -161,6 +161,21 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
     counts
 }
 
+/// Where `walks` white walks from outside cosine `mu` leave the coat: per walk that left, the
+/// exit's cosine, its azimuth φf about the forward direction (radians) and its count of
+/// conductor events; for research into the remainder's shape (`examples/glossy_azimuth_shape.rs`).
+pub fn walk_exits(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<(f64, f64, usize)> {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    let mut exits = Vec::new();
+    for _ in 0..walks {
+        let Some(Walk { events, exit: Some(exit), .. }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
+        let (cosine, _) = forward_cosine(wo, exit);
+        exits.push((exit.z, cosine.clamp(-1.0, 1.0).acos(), events.len()));
+    }
+    exits
+}
+
 /// The peak-matched widening of a conductor lobe (α = `alpha_c`) seen through the coat from
 /// outside cosine `mu`: light refracted into u instead of Snell's direction s′ moves the half
 /// vector between u and the mirror image of s′ off the normal by the slope t; the conductor's
