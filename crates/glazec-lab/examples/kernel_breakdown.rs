@@ -9,14 +9,14 @@
 //! * no second event: the coat lobe's second microfacet event is left out;
 //! * both.
 //!
-//! And, for each of the clay coat's three curves, the nodes it keeps against the fewest knots
-//! of a piecewise-linear function within 10⁻⁴ of it (issue 30's bound), found greedily through
-//! 2,001 points uniform in the table's coordinate: how much smaller a curve within that bound
-//! could be.
+//! And, for each of the clay coat's three curves, the nodes it keeps against the knots a
+//! piecewise-linear function within 10⁻⁴ of it (issue 30's bound) needs, chosen through 2,001
+//! points uniform in the table's coordinate by the curves' own knot selection
+//! (`tables::keep_knots`): how much smaller a curve within that bound could be.
 //!
 //! `cargo run --release -p glazec-lab --example kernel_breakdown` (docs/speed.md quotes it).
 
-use glazec::math::tables::{Curve, TableId};
+use glazec::math::tables::{Curve, TableId, keep_knots};
 use glazec_gpu::throughput::{PAIRS, interleaved_seconds, pairs};
 use glazec_gpu::{EvalKernel, Gpu};
 use glazec_lab::bench::{CLAY_BY_HAND, CLAY_STACK};
@@ -60,41 +60,21 @@ fn without_second_event(wgsl: &str) -> Result<String, String> {
 const CLAY_COAT: [f32; 2] = [0.35, 1.5];
 /// Issue 30's bound on a specialised curve against the lookup it replaces.
 const BOUND: f64 = 1e-4;
-/// Points of the greedy search.
+/// Points the knots are chosen among.
 const POINTS: usize = 2001;
 
-/// Interior knots of the fewest-segment piecewise-linear function through points of `values`
-/// (uniform in the coordinate) within [`BOUND`] of all of them, each segment as long as it can
-/// be from where the last one ended.
-fn fewest_knots(values: &[f64]) -> usize {
-    let last = values.len() - 1;
-    let (mut start, mut knots) = (0, 0);
-    while start < last {
-        let mut end = start + 1;
-        while end < last {
-            let next = end + 1;
-            let chord =
-                |i: usize| values[start] + (values[next] - values[start]) * (i - start) as f64 / (next - start) as f64;
-            if (start..=next).any(|i| (chord(i) - values[i]).abs() > BOUND) {
-                break;
-            }
-            end = next;
-        }
-        if end < last {
-            knots += 1;
-        }
-        start = end;
-    }
-    knots
-}
-
 fn knot_counts() {
-    println!("| curve (clay's coat) | nodes kept | fewest knots within {BOUND:e} (interior) |\n|---|---|---|");
+    println!("| curve (clay's coat) | nodes kept | knots within {BOUND:e} (interior) |\n|---|---|---|");
     for table in [TableId::CoatScale, TableId::CoatDeficit, TableId::CoatPath] {
         let curve = Curve::of_table(table, 0, &[0.0, CLAY_COAT[0], CLAY_COAT[1]]);
-        let values: Vec<f64> =
-            (0..POINTS).map(|i| f64::from(curve.evaluate::<f32>(curve.mapping.node(i, POINTS) as f32))).collect();
-        println!("| {table:?} | {} of {} | {} |", curve.kept(), curve.nodes, fewest_knots(&values));
+        let points: Vec<(f64, f64)> = (0..POINTS)
+            .map(|i| {
+                let u = i as f64 / (POINTS - 1) as f64;
+                (u, f64::from(curve.evaluate::<f32>(curve.mapping.node(i, POINTS) as f32)))
+            })
+            .collect();
+        // (Interior knots: the two ends are always kept.)
+        println!("| {table:?} | {} of {} | {} |", curve.kept(), curve.nodes, keep_knots(&points, BOUND).len() - 2);
     }
     println!();
 }

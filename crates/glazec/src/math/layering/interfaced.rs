@@ -21,14 +21,16 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let Stack { coats, body, inputs, approx } = *stack;
     let Depth { k, n_medium, blur } = at;
     let Some(coat) = coats.get(k) else {
+        // A body's lobe takes the whole blur (`Blur::total`), summed once.
+        let blur = blur.total();
         let f = if g.albedo_only {
             inputs.zero()
         } else {
-            base_brdf(body, inputs, g, n_medium, blur.total()).named(&level_name("f_base", g.level))
+            base_brdf(body, inputs, g, n_medium, blur).named(&level_name("f_base", g.level))
         };
-        let albedo = want_albedo.then(|| body_albedo(body, inputs, g, n_medium, blur.total()));
+        let albedo = want_albedo.then(|| body_albedo(body, inputs, g, n_medium, blur));
         let alpha = match body {
-            Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur.total(), g.level)),
+            Body::Conductor(roughness, _) => Some(conductor_alpha(inputs.scalar(*roughness), blur, g.level)),
             _ => None,
         };
         return Level { f, albedo, glossy: alpha.is_some(), alpha, boost: inputs.lit(1.0), transmission: None };

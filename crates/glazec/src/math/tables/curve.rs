@@ -247,8 +247,9 @@ pub(super) fn on_cpu<R>(table: TableId, args: &[f32], with: impl FnOnce(&Curve) 
 }
 
 /// The points a piecewise-linear interpolant of `points` (u, value) must keep to stay within
-/// `tolerance` of all of them: the two ends, then greedily the point furthest away.
-fn keep_knots(points: &[(f64, f64)], tolerance: f64) -> Vec<usize> {
+/// `tolerance` of all of them: the two ends, then greedily the point furthest away. (Also what
+/// the lab's `kernel_breakdown` example asks of a curve at issue 30's bound.)
+pub fn keep_knots(points: &[(f64, f64)], tolerance: f64) -> Vec<usize> {
     let n = points.len();
     let mut kept = vec![0, n - 1];
     loop {

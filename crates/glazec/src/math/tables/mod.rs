@@ -46,7 +46,7 @@ pub use catalogue::{
     Axis, COSINE_FLOOR, COSINE_FLOOR_ROOT, CoatTables, GLOSSY_BLUR_GRID, GLOSSY_PATH_GRID, GLOSSY_POOL_GRID,
     GLOSSY_SINGLE_GRID, GLOSSY_TRAPPED_GRID, Rounding, SPECS, TABLE_BUDGET, TableId, TableSpec,
 };
-pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, curves_on_cpu, with_curves};
+pub use curve::{Curve, Form, KNOT_TOLERANCE, curves_for, curves_on_cpu, keep_knots, with_curves};
 pub use storage::{
     Quantization, buffer, buffer_len, buffer_vec4s, decode, decode_by_name, encode, evaluate_on_cpu_with, total_bytes,
 };
