@@ -12,7 +12,7 @@ struct CoatedGoldIblLobes {
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07576165f, 0.031722005f, 0.0034027132f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.0757431f, 0.031714782f, 0.003402011f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
 @group(2) @binding(0) 
@@ -116,9 +116,9 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let f_16 = (1.0610694f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6038918f, -1.0441265f, -0.4499774f)));
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056713104f, -0.13678741f, 0.033270836f)));
-    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.007733345f));
+    let f_16 = (1.0610528f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036816f, -1.0432777f, -0.4499693f)));
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056975365f, -0.13719273f, 0.033540726f)));
+    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.0075826645f));
     return f_18;
 }
 
@@ -144,10 +144,10 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_4 * 0.27659512f) + 0.8937276f);
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.711802f, 1.9402537f, 0.50745153f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.16362429f, 0.18548012f, -0.10374451f)));
-    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.18750334f));
+    let f_21 = ((u_4 * 0.28391647f) + 0.89241874f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-2.720334f, 1.9398336f, 0.50840664f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.16389179f, 0.18417549f, -0.101017f)));
+    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.18714046f));
     return f_24;
 }
 
@@ -334,6 +334,36 @@ fn coated_gold_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
+// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
+// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
+// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
+// a direction's horizontal part by μδ in its plane, by δ across it):
+// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
+// With s = h_t/cos θh the half vector's slope,
+//
+// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
+//
+// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
+// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
+// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
+// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
+// [`d_ggx`]. `base` is α², `twist_sq` t².
+// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
+// zero half vector, as in `d_ggx`.
+fn coated_gold_d_ggx_crossed(cos_h_1: f32, sin2_h_1: f32, l_dot_h: f32, mu_l: f32, mu_v: f32, twist_sq: f32, base: f32, beta_l: f32, beta_v: f32) -> f32 {
+    let base_1 = max(base, 0.0000010000001f);
+    let across = ((base_1 + beta_l) + beta_v);
+    let along = ((base_1 + ((beta_l * mu_l) * mu_l)) + ((beta_v * mu_v) * mu_v));
+    let det = max(((across * along) + ((beta_l * beta_v) * twist_sq)), 0.000000000001f);
+    let off_l = (l_dot_h - (mu_l * cos_h_1));
+    let off_v = (l_dot_h - (mu_v * cos_h_1));
+    let spread = (((along * sin2_h_1) + ((beta_l * off_l) * off_l)) + ((beta_v * off_v) * off_v));
+    let bracket = max(((cos_h_1 * cos_h_1) + (spread / det)), 0.000000000001f);
+    return (1f / (((sqrt(det) * bracket) * bracket) * 3.1415927f));
+}
+
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
 // "Closed-form layering models compared"): the light under a coat of relative IOR η enters
 // with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
@@ -379,18 +409,17 @@ fn coated_gold_forward_sines(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> 
 // mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
 // white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
 // This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
-// κ drops more slowly with the count than ρ₁ⁿ), but drives [`forward_azimuth_tilt`], whose
-// first-order tilt takes less light from behind than the walks' mixture of counts does;
+// κ drops more slowly with the count than ρ₁ⁿ); it drives [`forward_azimuth_tilt`], and
 // together they meet the reference best (docs/accuracy.md, "Coats over conductors").
 // Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
 // L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
 fn coated_gold_glossy_spread_colour(rho: f32, next_2: f32, quick_1: f32, steady_1: f32, slow_1: f32, c_2: vec3<f32>) -> vec3<f32> {
     let rest_1 = max((1f - ((next_2 + quick_1) + steady_1)), 0f);
-    let weight = max(((quick_1 + steady_1) + rest_1), 0.000001f);
-    let events = ((((quick_1 * 2f) + (steady_1 * 5f)) + (rest_1 / max((1f - slow_1), 0.000001f))) / weight);
+    let weight_1 = max(((quick_1 + steady_1) + rest_1), 0.000001f);
+    let events = ((((quick_1 * 2f) + (steady_1 * 5f)) + (rest_1 / max((1f - slow_1), 0.000001f))) / weight_1);
     let per_event = exp((log(max(rho, 0.000001f)) / events));
     let _e34 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, vec3(per_event));
-    let white = (_e34.x / weight);
+    let white = (_e34.x / weight_1);
     let _e38 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, (c_2 * per_event));
     let _e39 = coated_gold_glossy_later(next_2, quick_1, steady_1, slow_1, c_2);
     let coloured = (_e38 / max(_e39, vec3(0.000001f)));
@@ -406,30 +435,41 @@ fn coated_gold_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, si
     return (-(dot(l_t_1, v_t_1)) / sines);
 }
 
-// A distribution over the azimuth φf of mean resultant length ρ, reweighted per channel to
-// mean resultant lengths ρ_c ≥ ρ: the least change of it (Kullback–Leibler; an exponential
-// tilt e^(λ cos φf), Cover & Thomas 2006, "Elements of Information Theory", §12.1) to first
-// order, (1 + a cos φf)/(1 + aρ), whose mean over the distribution is 1 (albedo unchanged)
-// and whose mean resultant length is (ρ + a(1 + ρ₂)/2)/(1 + aρ) = ρ_c, ρ₂ = E[cos 2φf] = ρ²
-// for the wrapped Cauchy: a = (ρ_c − ρ)/((1 + ρ²)/2 − ρ_c ρ). It leaves a concentrated
-// forward peak nearly as it is (there (1 + a)/(1 + aρ) ≈ 1) and takes the light from behind.
-// Guards: ρ, ρ_c ≤ 0.95 (as [`forward_azimuth_weight`]); a ≤ 1, which keeps the weight ≥ 0;
-// the denominator ≥ (1 − ρ)²/2 > 0 for ρ_c ≤ 1, kept ≥ 10⁻⁶.
-fn coated_gold_forward_azimuth_tilt(rho_1: f32, rho_c: vec3<f32>, cos_phi: f32) -> vec3<f32> {
-    let r_1 = min(rho_1, 0.95f);
-    let r_c = min(rho_c, vec3(0.95f));
-    let a_4 = min(((r_c - vec3(r_1)) / max((vec3((((r_1 * r_1) + 1f) * 0.5f)) - (r_c * r_1)), vec3(0.000001f))), coated_gold_one);
-    return ((coated_gold_one + (a_4 * cos_phi)) / (coated_gold_one + (a_4 * r_1)));
-}
-
 // The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
 // Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
 // resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
 // light between azimuths without changing its albedo; symmetric in l and v when ρ is.
 // Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
-fn coated_gold_forward_azimuth_weight(rho_2: f32, cos_phi_1: f32) -> f32 {
+fn coated_gold_forward_azimuth_weight(rho_1: f32, cos_phi: f32) -> f32 {
+    let r_1 = min(rho_1, 0.95f);
+    return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi) * 2f)));
+}
+
+// The wrapped Cauchy weight W ([`forward_azimuth_weight`], `weight`, of mean resultant
+// length ρ) reweighted per channel to mean resultant lengths ρ_c: tilted towards W itself,
+// (1 + aW)/(1 + a⟨W⟩), the per-channel distribution a mixture of W and W²/⟨W⟩, which is
+// W sharpened (the light that took few conductor events, which a coloured conductor
+// darkens least, is the light that kept going forward). Its mean over W is 1 (albedo
+// unchanged), with ⟨W⟩ = E_W[W] = (1 + ρ²)/(1 − ρ²), and its mean resultant length is
+// (ρ + a·2ρ/(1 − ρ²))/(1 + a⟨W⟩) (W's Fourier coefficients are ρ^|k|): equal to ρ_c for
+// a = (ρ_c − ρ)(1 − ρ²)/(2ρ − ρ_c(1 + ρ²)). Against the first-order tilt 1 + a cos φf,
+// which took the colour's darkening from behind, it keeps the back and the sides in the
+// same proportion as the white light; at 60°–85° copper's f over a white conductor's then
+// meets the reference's (0.82–1.26× it in every channel, against 0.38–1.37×;
+// docs/accuracy.md, "Coats over conductors: the remainder's colour").
+// Guards: ρ ≤ 0.95 (as [`forward_azimuth_weight`]); ρ_c below W²'s own mean resultant
+// length 2ρ/(1 + ρ²), the most this tilt reaches (less 10⁻³), and the denominator ≥ 10⁻⁶;
+// a ≥ −0.999(1 − ρ)/(1 + ρ), which keeps 1 + aW > 0 where W is largest, (1 + ρ)/(1 − ρ).
+fn coated_gold_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, weight: f32) -> vec3<f32> {
     let r_2 = min(rho_2, 0.95f);
-    return ((1f - (r_2 * r_2)) / (((r_2 * r_2) + 1f) - ((r_2 * cos_phi_1) * 2f)));
+    let r_sq = (r_2 * r_2);
+    let mean_weight = ((r_sq + 1f) / (1f - r_sq));
+    let reach = (((r_2 * 2f) / (r_sq + 1f)) - 0.001f);
+    let r_c = min(rho_c, vec3(reach));
+    let denominator = max((vec3((r_2 * 2f)) - (r_c * (r_sq + 1f))), vec3(0.000001f));
+    let least = vec3((((1f - r_2) / (r_2 + 1f)) * -0.999f));
+    let a_4 = max((((r_c - vec3(r_2)) * (1f - r_sq)) / denominator), least);
+    return ((coated_gold_one + (a_4 * weight)) / (coated_gold_one + (a_4 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of what leaves after three or more conductor
@@ -530,26 +570,32 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let specular = coated_gold_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_3, layer1_h);
-    let layer1_d = coated_gold_d_ggx(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), layer1_alpha_2);
+    let _e256 = dot(layer1_v, layer1_h);
+    let _e258 = dot(n_3, cross(layer1_l, layer1_v));
+    let _e262 = max(layer1_cos_l, 0.05f);
+    let layer1_across_l = ((layer1_blur_l_2 * layer1_blur_l_2) / (_e262 * _e262));
+    let _e267 = max(layer1_cos_v, 0.05f);
+    let layer1_across_v = ((layer1_blur_v_2 * layer1_blur_v_2) / (_e267 * _e267));
+    let layer1_d = coated_gold_d_ggx_crossed(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), _e256, layer1_cos_l, layer1_cos_v, (_e258 * _e258), 0.00390625f, layer1_across_l, layer1_across_v);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
-    let layer1_fresnel = coated_gold_fr_conductor(dot(layer1_v, layer1_h), vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let _e268 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
-    let under = ((_e268 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
-    let _e277 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
+    let layer1_fresnel = coated_gold_fr_conductor(_e256, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let _e282 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);
+    let under = ((_e282 * sqrt((layer1_once_colour_l * layer1_once_colour_v))) * (layer1_scale_l * layer1_scale_v));
+    let _e291 = coated_gold_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     let spread_l = coated_gold_glossy_spread_curve(n_dot_l_2);
     let spread_v = coated_gold_glossy_spread_curve(n_dot_v_3);
     let sines = coated_gold_forward_sines(n_3, v_3, l_3);
     let spread_rho = min((sqrt(max((spread_l * spread_v), 0f)) * sines), 0.95f);
-    let _e299 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
-    let _e300 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
-    let _e301 = coated_gold_forward_azimuth_tilt(spread_rho, _e299, _e300);
-    let _e302 = coated_gold_forward_azimuth_weight(spread_rho, _e300);
-    let spread = (_e301 * _e302);
-    let _e306 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
-    let _e309 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
-    let _e311 = coated_gold_glossy_remainder_lobe(_e306, _e309, coated_gold_remainder_avg);
-    let later_2 = (_e311 * spread);
-    let f_48 = (_e277 + later_2);
+    let _e313 = coated_gold_glossy_spread_colour(spread_rho, ((layer1_next_l + layer1_next_v) * 0.5f), ((_e107 + _e210) * 0.5f), ((_e108 + _e211) * 0.5f), 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let _e314 = coated_gold_forward_cosine(n_3, v_3, l_3, sines);
+    let spread_weight = coated_gold_forward_azimuth_weight(spread_rho, _e314);
+    let _e316 = coated_gold_forward_azimuth_tilt(spread_rho, _e313, spread_weight);
+    let spread_1 = (_e316 * spread_weight);
+    let _e320 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
+    let _e323 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
+    let _e325 = coated_gold_glossy_remainder_lobe(_e320, _e323, coated_gold_remainder_avg);
+    let later_2 = (_e325 * spread_1);
+    let f_48 = (_e291 + later_2);
     return select(vec3(0f), f_48, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 

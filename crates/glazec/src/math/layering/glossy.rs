@@ -9,9 +9,10 @@
 //! the reference's own microsurfaces (`glazec_lab::bake::glossy`):
 //!
 //! * **near the mirror direction** — a lobe: the conductor's GGX lobe at the refracted
-//!   directions, widened by the coat's two crossings (α² = α_c² + σ(μᵢ)² + σ(μₒ)², σ tabulated:
-//!   the widening whose peak matches the conductor's peak seen through the coat, tapered towards
-//!   grazing) and scaled by s(μᵢ) s(μₒ) (tabulated, solved so that for a white conductor under a
+//!   directions, widened by the coat's two crossings (each crossing's σ(μ) along its own plane
+//!   of incidence and σ/μ′ across it, `d_ggx_crossed`; Smith's G at α² = α_c² + σ(μᵢ)² + σ(μₒ)²;
+//!   σ tabulated: the widening whose peak matches the conductor's peak seen through the coat,
+//!   tapered towards grazing) and scaled by s(μᵢ) s(μₒ) (tabulated, solved so that for a white conductor under a
 //!   clear coat the lobe reflects exactly T(μ)·(P₁ + (1 − P₁)w₀): the light the walks let out
 //!   after one event, and at the second from the trapped light's first return, w₀, which still
 //!   leaves near the mirror direction), coloured by √(o(μᵢ) o(μₒ)) (o: that light's colour,
@@ -151,17 +152,62 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         Some((self.lookup(TableId::GlossyBlur, mu) * self.roughness.sq()).named(&self.name(&format!("blur_{side}"))))
     }
 
+    /// The crossings' blurs (σ(μ_l), σ(μ_v)) at outer cosines; `None` under a smooth coat.
+    fn blurs(&self, mu_l: F, mu_v: F) -> Option<(F, F)> {
+        Some((self.blur(mu_l, "l")?, self.blur(mu_v, "v")?))
+    }
+
     /// The lobe's α: α² = α_c² + σ_l² + σ_v², plus (linearly) the blur of rough coats above.
     fn alpha(&self, mu_l: F, mu_v: F, blur_above: Option<F>) -> F {
+        self.widened_alpha(self.blurs(mu_l, mu_v), blur_above)
+    }
+
+    /// [`Self::alpha`] from the crossings' blurs.
+    fn widened_alpha(&self, blurs: Option<(F, F)>, blur_above: Option<F>) -> F {
         let alpha_c = self.conductor_roughness.sq();
-        let widened = match (self.blur(mu_l, "l"), self.blur(mu_v, "v")) {
-            (Some(l), Some(v)) => (alpha_c.sq() + l.sq() + v.sq()).sqrt(),
-            _ => alpha_c,
+        let widened = match blurs {
+            Some((l, v)) => (alpha_c.sq() + l.sq() + v.sq()).sqrt(),
+            None => alpha_c,
         };
         match blur_above {
             Some(b) => (widened + b).named(&self.name("alpha")),
             None => widened.named(&self.name("alpha")),
         }
+    }
+
+    /// The lobe's distribution at the directions `below` the coat: the conductor's GGX
+    /// (α_c, plus the blur of rough coats above) with each crossing's blur σ spread along its
+    /// own direction's plane of incidence and σ²/μ′² across it (`d_ggx_crossed`). A GGX
+    /// reflection is μ′ times as wide across its plane as along it, and an isotropic blur of
+    /// α² = α_c² + σ_l² + σ_v² (what `alpha` gives Smith's G and the levels above) made the
+    /// lobe under a rough coat too narrow across and too high: copper under an η 1.33, r ½ coat
+    /// peaked 20% above the reference, 6% with this (docs/accuracy.md, "rough coats (r 0.5)").
+    /// Under a smooth coat there is no crossing blur and it is `d_ggx` at `alpha`.
+    fn distribution(&self, below: &Geometry<F>, blurs: Option<(F, F)>, alpha: F, blur_above: Option<F>) -> F {
+        let half = below.half();
+        let name = self.name("d");
+        let Some((sigma_l, sigma_v)) = blurs else {
+            return d_ggx(half.n_dot_h, half.sin2_h, alpha).named(&name);
+        };
+        let alpha_c = self.conductor_roughness.sq();
+        let base = match blur_above {
+            Some(b) => (alpha_c + b).sq(),
+            None => alpha_c.sq(),
+        };
+        let across = |sigma: F, mu: F| sigma.sq() / mu.at_least(CROSSED_COSINE_MIN).sq();
+        let twist = below.n.dot(below.l.cross(below.v));
+        d_ggx_crossed(
+            half.n_dot_h,
+            half.sin2_h,
+            half.v_dot_h,
+            below.n_dot_l,
+            below.n_dot_v,
+            twist.sq(),
+            base,
+            across(sigma_l, below.n_dot_l).named(&self.name("across_l")),
+            across(sigma_v, below.n_dot_v).named(&self.name("across_v")),
+        )
+        .named(&name)
     }
 
     /// Attenuation of light that leaves after one event, per crossing: e^(−τ q/μ_eff), μ_eff the
@@ -427,18 +473,18 @@ fn directional_albedo<F: Real>(side: &Side<F>) -> F::Vec {
     glossy_albedo(side.transmission, side.fresnel, side.absorb_lobe, side.absorb, side.once, side.single, side.later)
 }
 
-/// The conductor's GGX lobe (without the cosine) at the level's directions with GGX α `alpha`;
-/// white (F = 1) without a Fresnel description.
+/// The conductor's microfacet lobe (without the cosine) at the level's directions with the
+/// distribution `distribution` ([`Glossy::distribution`]) and Smith's G at GGX α `alpha`; white
+/// (F = 1) without a Fresnel description.
 fn conductor_lobe<F: Real>(
     fresnel: Option<&ConductorFresnel>,
     inputs: &Inputs<F>,
     g: &Geometry<F>,
-    alpha: F,
+    (distribution, alpha): (F, F),
     n_medium: Option<F>,
 ) -> F::Vec {
     let name = |base| level_name(base, g.level);
     let half = g.half();
-    let distribution = d_ggx(half.n_dot_h, half.sin2_h, alpha).named(&name("d"));
     let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha).named(&name("g"));
     let f = match fresnel {
         Some(fresnel) => conductor_fresnel(fresnel, inputs, half.v_dot_h, n_medium).named(&name("fresnel")),
@@ -484,7 +530,8 @@ pub(super) fn glossy_level<F: Real>(
     let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, "l");
     let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
     let v_side = v.as_ref().unwrap_or(&l);
-    let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, blur.total());
+    let blurs = glossy.blurs(g.raw_n_dot_l, g.raw_n_dot_v);
+    let alpha = glossy.widened_alpha(blurs, blur.total());
     // The remainder's mean ⟨M⟩ (for f) and the mean albedo (for the levels above), from the same
     // nodes in one loop.
     let mut wanted: Vec<PerSide<F>> = Vec::new();
@@ -509,8 +556,10 @@ pub(super) fn glossy_level<F: Real>(
         // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
         // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).
         let colour = (l.once_colour * v_side.once_colour).sqrt();
-        let lobe =
-            conductor_lobe(Some(fresnel), inputs, &below, alpha, glossy.n_medium) * colour * (l.scale * v_side.scale);
+        let distribution = glossy.distribution(&below, blurs, alpha, blur.total());
+        let lobe = conductor_lobe(Some(fresnel), inputs, &below, (distribution, alpha), glossy.n_medium)
+            * colour
+            * (l.scale * v_side.scale);
         let once = interfaced_layer(
             f_top,
             l.transmission,
@@ -538,8 +587,8 @@ pub(super) fn glossy_level<F: Real>(
         let rho_c =
             glossy_spread_colour(rho, mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), l.slow, c_fresnel);
         let cos_phi = forward_cosine(g.n, g.v, g.l, sines);
-        let spread = (forward_azimuth_tilt(rho, rho_c, cos_phi) * forward_azimuth_weight(rho, cos_phi))
-            .named(&level_name("spread", k));
+        let weight = forward_azimuth_weight(rho, cos_phi).named(&level_name("spread_weight", k));
+        let spread = (forward_azimuth_tilt(rho, rho_c, weight) * weight).named(&level_name("spread", k));
         let later = (glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average) * spread)
             .named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
@@ -575,10 +624,12 @@ pub fn glossy_lobe_white(r_c: f64, r: f64, eta: f64, l: glam::DVec3, v: glam::DV
     let material_level = |g: &Geometry<f32>| {
         let glossy = white_level(&inputs, &coat, &conductor, r_c, eta);
         let below = g.refracted(eta as f32);
-        let alpha = glossy.alpha(g.raw_n_dot_l, g.raw_n_dot_v, None);
+        let blurs = glossy.blurs(g.raw_n_dot_l, g.raw_n_dot_v);
+        let alpha = glossy.widened_alpha(blurs, None);
+        let distribution = glossy.distribution(&below, blurs, alpha, None);
         let (t_l, t_v) =
             (glossy.interface.transmission(g.raw_n_dot_l, "l"), glossy.interface.transmission(g.raw_n_dot_v, "v"));
-        conductor_lobe(None, &inputs, &below, alpha, None).x * t_l * t_v / (eta as f32).powi(2)
+        conductor_lobe(None, &inputs, &below, (distribution, alpha), None).x * t_l * t_v / (eta as f32).powi(2)
     };
     let g = Geometry::new(glam::Vec3::Z, v.as_vec3(), l.as_vec3(), 0);
     f64::from(material_level(&g))

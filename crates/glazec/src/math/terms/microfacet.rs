@@ -42,6 +42,43 @@ shading_fn! {
     }
 }
 
+/// Smallest refracted cosine by which [`d_ggx_crossed`]'s callers divide a crossing's blur
+/// (β = σ²/μ′²): a direction refracted almost flat (a coat of IOR just above 1 seen near
+/// grazing) would otherwise spread the lobe without bound across its plane.
+pub const CROSSED_COSINE_MIN: f32 = 0.05;
+
+shading_fn! {
+    /// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+    /// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
+    /// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
+    /// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
+    /// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
+    /// a direction's horizontal part by μδ in its plane, by δ across it):
+    /// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
+    /// With s = h_t/cos θh the half vector's slope,
+    ///
+    ///   D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
+    ///
+    /// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
+    /// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
+    /// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
+    /// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
+    /// [`d_ggx`]. `base` is α², `twist_sq` t².
+    /// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
+    /// zero half vector, as in `d_ggx`.
+    pub fn d_ggx_crossed(cos_h: S, sin2_h: S, l_dot_h: S, mu_l: S, mu_v: S, twist_sq: S, base: S, beta_l: S, beta_v: S) -> S {
+        let base = base.at_least(ALPHA_MIN * ALPHA_MIN);
+        let across = base + beta_l + beta_v;
+        let along = base + beta_l * mu_l * mu_l + beta_v * mu_v * mu_v;
+        let det = (across * along + beta_l * beta_v * twist_sq).at_least(TINY);
+        let off_l = l_dot_h - mu_l * cos_h;
+        let off_v = l_dot_h - mu_v * cos_h;
+        let spread = along * sin2_h + beta_l * off_l * off_l + beta_v * off_v * off_v;
+        let bracket = (cos_h * cos_h + spread / det).at_least(TINY);
+        (det.sqrt() * bracket * bracket * PI).recip()
+    }
+}
+
 shading_fn! {
     /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1
     /// (Bowsher 2022, eq. 10): the clear-coat distribution

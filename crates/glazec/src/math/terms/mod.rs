@@ -39,6 +39,39 @@ mod tests {
     }
 
     #[test]
+    fn crossed_ggx_is_ggx_with_the_crossings_covariance() {
+        // d_ggx_crossed, written without a frame, against GGX with the slope covariance
+        // A = α² I + Σ_l + Σ_v built in the frame n = z (Σ = β(I − x_t x_tᵀ)), at the half
+        // vectors of pairs all round the hemisphere; and plain d_ggx where nothing is crossed.
+        let direction = |theta: f32, phi: f32| Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+        let (base, beta_l, beta_v) = (0.01_f32, 0.03_f32, 0.11_f32);
+        for (theta_l, theta_v) in [(0.2_f32, 0.5_f32), (1.0, 1.3), (1.45, 0.1), (0.7, 0.7)] {
+            for phi in [0.0_f32, 0.8, 2.0, 3.1, 4.4] {
+                let (l, v) = (direction(theta_l, 0.3), direction(theta_v, 0.3 + phi));
+                let h = (l + v).normalize();
+                let covariance = |x: Vec3, beta: f32| {
+                    let (x, y) = (f64::from(x.x), f64::from(x.y));
+                    let b = f64::from(beta);
+                    [b * (1.0 - x * x), -b * x * y, b * (1.0 - y * y)]
+                };
+                let (cl, cv) = (covariance(l, beta_l), covariance(v, beta_v));
+                let a = [f64::from(base) + cl[0] + cv[0], cl[1] + cv[1], f64::from(base) + cl[2] + cv[2]];
+                let det = a[0] * a[2] - a[1] * a[1];
+                let (sx, sy) = (f64::from(h.x / h.z), f64::from(h.y / h.z));
+                let q = (a[2] * sx * sx - 2.0 * a[1] * sx * sy + a[0] * sy * sy) / det;
+                let expected = 1.0 / (std::f64::consts::PI * det.sqrt() * (1.0 + q).powi(2) * f64::from(h.z).powi(4));
+                let twist = Vec3::Z.dot(l.cross(v));
+                let sin2_h = Vec3::Z.cross(h).length_squared();
+                let got = d_ggx_crossed(h.z, sin2_h, l.dot(h), l.z, v.z, twist * twist, base, beta_l, beta_v);
+                let error = (f64::from(got) / expected - 1.0).abs();
+                assert!(error < 1e-4, "θ {theta_l}/{theta_v}, φ {phi}: {got} against {expected}");
+                let plain = d_ggx_crossed(h.z, sin2_h, l.dot(h), l.z, v.z, twist * twist, base, 0.0, 0.0);
+                assert!((plain / d_ggx(h.z, sin2_h, base.sqrt()) - 1.0).abs() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
     fn gtr1_is_normalised_and_continuous_at_one() {
         for alpha in [0.01_f32, 0.1, 0.5] {
             let integral = simpson(
