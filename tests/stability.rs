@@ -45,16 +45,13 @@ struct KnownGain {
 /// (μ, r_c, r, η) and solved at the nodes so that the lobe of a white conductor reflects what
 /// the walks let out near the mirror direction; between the nodes the interpolated lobe can
 /// reflect more than the coat lets in, which no remainder can take back: under a smooth coat of
-/// IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60° for η = 1 + 10⁻⁵), and
-/// under an η 1.5 coat of roughness about 0.44 at 84°–88° (E = 1.0012 at the sweep's r 0.464
-/// and 85°; up to 1.0046 at r 0.444 and 87° between the sweep's values, where a lobe-albedo
-/// fit that meets the law at every probe leaves E unchanged). The conductor-roughness sweep has no
-/// known gain, also within 0.1° of grazing: the lobe-albedo table is fitted to the energy law
-/// with probes on the cells' faces and edges (`glazec_lab::bake::glossy`).
-const KNOWN_GAINS: [KnownGain; 2] = [
-    KnownGain { sweep: "IOR over a conductor", values: 1.0..=1.004, from_angle: 0.0, bound: 1.0221 },
-    KnownGain { sweep: "roughness over a conductor", values: 0.4..=0.5, from_angle: 80.0, bound: 1.0013 },
-];
+/// IOR within 4·10⁻³ of 1 (measured E = 1.0220 at 89.9°, 1.0057 at 60° for η = 1 + 10⁻⁵). The
+/// other sweeps over a conductor have no known gain: the lobe-albedo table is fitted to the
+/// energy law with probes on the cells' faces and edges, 2·10⁻³ below it
+/// (`glazec_lab::bake::glossy`), which took the roughness sweep's corner under an η 1.5 coat of
+/// roughness about 0.44 at 84°–88° (E = 1.0015 at r 0.464 and 85° with 8·10⁻⁴) under the law.
+const KNOWN_GAINS: [KnownGain; 1] =
+    [KnownGain { sweep: "IOR over a conductor", values: 1.0..=1.004, from_angle: 0.0, bound: 1.0221 }];
 
 /// Whether a discontinuity after a parameter value is a known one: only the steepest corner of
 /// [`KNOWN_GAINS`], a white conductor under a smooth coat of IOR 1 + 10⁻⁵ … 1 + 1.8·10⁻⁴ seen at

@@ -16,11 +16,11 @@ const vec3 car_paint_layer2_survival = vec3(0.67227614, 0.004048639, 0.000535044
 const float car_paint_layer2_alpha_1 = 0.09037713;
 const vec3 car_paint_layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 car_paint_layer2_pool_fresnel = vec3(0.88051546, 0.8935001, 0.8935001);
-const vec3 car_paint_layer1_remainder_avg = vec3(0.002694392, 1.5097473e-8, 1.8836983e-10);
+const vec3 car_paint_layer1_remainder_avg = vec3(0.002556721, 1.3874291e-8, 1.6963514e-10);
 const float car_paint_layer1_mu_c = 0.745356;
-const vec3 car_paint_layer1_rho = vec3(0.74067557, 0.06705828, 0.031262092);
+const vec3 car_paint_layer1_rho = vec3(0.7408724, 0.06705919, 0.031262197);
 const float car_paint_layer1_trapped_escape = 0.15678635;
-const vec3 car_paint_trapped_out = vec3(0.29350474, 0.010574815, 0.0047770706);
+const vec3 car_paint_trapped_out = vec3(0.29371256, 0.010574966, 0.0047770874);
 const uint car_paint_ibl_specular_lobes = 2u;
 const float car_paint_base_roughness = 0.37185615;
 
@@ -230,10 +230,10 @@ float car_paint_glossy_next_curve(float cos_theta_4) {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5) {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_23 = ((u_4 * -11.363764) + 1.1429684);
-    float f_24 = (f_23 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(10.047169, 1.1093187, 0.25752163)));
-    float f_25 = (f_24 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(-0.07755089, -0.16272259, -0.008029938)));
-    float f_26 = (f_25 + (max(u_4, 0.875) * 0.07154274));
+    float f_23 = ((u_4 * -29.170328) + 1.154152);
+    float f_24 = (f_23 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(26.135412, 2.7729282, 0.29837227)));
+    float f_25 = (f_24 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(-0.06760216, -0.16285706, -0.005716324)));
+    float f_26 = (f_25 + (max(u_4, 0.875) * 0.06338596));
     return f_26;
 }
 

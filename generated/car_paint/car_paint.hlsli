@@ -19,11 +19,11 @@ static const float3 car_paint_layer2_survival = float3(0.67227614, 0.004048639, 
 static const float car_paint_layer2_alpha_1 = 0.09037713;
 static const float3 car_paint_layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 car_paint_layer2_pool_fresnel = float3(0.88051546, 0.8935001, 0.8935001);
-static const float3 car_paint_layer1_remainder_avg = float3(0.002694392, 1.5097473e-8, 1.8836983e-10);
+static const float3 car_paint_layer1_remainder_avg = float3(0.002556721, 1.3874291e-8, 1.6963514e-10);
 static const float car_paint_layer1_mu_c = 0.745356;
-static const float3 car_paint_layer1_rho = float3(0.74067557, 0.06705828, 0.031262092);
+static const float3 car_paint_layer1_rho = float3(0.7408724, 0.06705919, 0.031262197);
 static const float car_paint_layer1_trapped_escape = 0.15678635;
-static const float3 car_paint_trapped_out = float3(0.29350474, 0.010574815, 0.0047770706);
+static const float3 car_paint_trapped_out = float3(0.29371256, 0.010574966, 0.0047770874);
 static const uint car_paint_ibl_specular_lobes = 2u;
 static const float car_paint_base_roughness = 0.37185615;
 
@@ -261,10 +261,10 @@ float car_paint_glossy_next_curve(float cos_theta_4)
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_23 = ((u_4 * -11.363764) + 1.1429684);
-    float f_24 = (f_23 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(10.047169, 1.1093187, 0.25752163)));
-    float f_25 = (f_24 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.07755089, -0.16272259, -0.008029938)));
-    float f_26 = (f_25 + (max(u_4, 0.875) * 0.07154274));
+    float f_23 = ((u_4 * -29.170328) + 1.154152);
+    float f_24 = (f_23 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(26.135412, 2.7729282, 0.29837227)));
+    float f_25 = (f_24 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.06760216, -0.16285706, -0.005716324)));
+    float f_26 = (f_25 + (max(u_4, 0.875) * 0.06338596));
     return f_26;
 }
 

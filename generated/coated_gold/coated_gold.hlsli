@@ -13,7 +13,7 @@ struct CoatedGoldIblLobes {
 
 static const float3 coated_gold_one = float3(1.0, 1.0, 1.0);
 static const float3 coated_gold_layer1_pool_fresnel = float3(0.9322251, 0.7678392, 0.3619415);
-static const float3 coated_gold_remainder_avg = float3(0.0757431, 0.031714782, 0.003402011);
+static const float3 coated_gold_remainder_avg = float3(0.07507064, 0.0314375, 0.0033729775);
 static const uint coated_gold_ibl_specular_lobes = 2u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -162,10 +162,10 @@ float coated_gold_glossy_next_curve(float cos_theta_3)
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4)
 {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_4 * 0.28391647) + 0.89241874);
-    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-2.720334, 1.9398336, 0.50840664)));
-    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.16389179, 0.18417549, -0.101017)));
-    float f_24 = (f_23 + (max(u_4, 0.875) * -0.18714046));
+    float f_21 = ((u_4 * -0.8511572) + 0.8990947);
+    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-1.8809705, 2.228713, 0.48012495)));
+    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.20398283, 0.17494202, -0.09362078)));
+    float f_24 = (f_23 + (max(u_4, 0.875) * -0.196105));
     return f_24;
 }
 

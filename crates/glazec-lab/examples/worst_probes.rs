@@ -3,7 +3,7 @@
 //! and its COUNT worst probes, every channel of glazec's CPU value against the stored reference.
 //!
 //! `cargo run --release -p glazec-lab --example worst_probes -- [NAME] [COUNT] [BAND]`, BAND one
-//! of `Body`, `Grazing`, `Peak` to list only that band's probes.
+//! of `Body`, `Grazing`, `Mirror` to list only that band's probes.
 
 use glazec::model::Method;
 use glazec_lab::accuracy::full::{
@@ -32,7 +32,7 @@ fn main() -> Result<(), String> {
                 m.grazing_max * 100.0
             );
             let mut worst: Vec<(f64, usize)> = (0..probes.len())
-                .filter(|&i| band.as_ref().is_none_or(|b| format!("{:?}", probes[i].band) == *b))
+                .filter(|&i| band.as_ref().is_none_or(|b| format!("{:?}", probes[i].band).starts_with(b.as_str())))
                 .map(|i| (excess_error(f[i], &reference[i]), i))
                 .collect();
             worst.sort_by(|a, b| b.0.total_cmp(&a.0));

@@ -18,11 +18,11 @@ const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.002694392f, 0.000000015097473f, 0.00000000018836983f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.002556721f, 0.000000013874291f, 0.00000000016963514f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74067557f, 0.06705828f, 0.031262092f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7408724f, 0.06705919f, 0.031262197f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
-const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29350474f, 0.010574815f, 0.0047770706f);
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371256f, 0.010574966f, 0.0047770874f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -179,10 +179,10 @@ fn car_paint_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_16 = ((u_3 * -11.363764f) + 1.1429684f);
-    let f_17 = (f_16 + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(10.047169f, 1.1093187f, 0.25752163f)));
-    let f_18 = (f_17 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.07755089f, -0.16272259f, -0.008029938f)));
-    let f_19 = (f_18 + (max(u_3, 0.875f) * 0.07154274f));
+    let f_16 = ((u_3 * -29.170328f) + 1.154152f);
+    let f_17 = (f_16 + dot(max(vec3(u_3), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(26.135412f, 2.7729282f, 0.29837227f)));
+    let f_18 = (f_17 + dot(max(vec3(u_3), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.06760216f, -0.16285706f, -0.005716324f)));
+    let f_19 = (f_18 + (max(u_3, 0.875f) * 0.06338596f));
     return f_19;
 }
 

@@ -153,7 +153,7 @@ pub struct GlossyReport {
     pub max_scale_miss: f64,
     /// Largest energy excess E − 1 of a white conductor under a clear coat found between the
     /// nodes before K was fitted (`fit_lobe_albedo`), and what the fit left at a probe (as the
-    /// lookup's linear model predicts it; the fit's ceiling, −8·10⁻⁴, where it met every probe).
+    /// lookup's linear model predicts it; the fit's ceiling, −2·10⁻³, where it met every probe).
     pub max_energy_excess: f64,
     pub max_energy_after_fit: f64,
 }

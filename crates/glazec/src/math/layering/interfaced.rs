@@ -6,10 +6,11 @@ use std::cell::OnceCell;
 
 use super::base::{base_brdf, body_albedo, conductor_alpha};
 use super::geometry::{Geometry, level_name};
-use super::glossy::{glossy_level, trapped, trapped_shares};
+use super::glossy::glossy_level;
 use super::inputs::{Body, Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
 use super::level::{Albedo, Level};
+use super::trapped::{trapped, trapped_shares};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};

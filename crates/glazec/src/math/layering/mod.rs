@@ -56,6 +56,7 @@ mod interface;
 mod interfaced;
 mod level;
 mod seed;
+mod trapped;
 
 pub use geometry::COS_EPSILON;
 pub use glossy::{GLOSSY_GRAZING, glossy_coat_transmission, glossy_lobe_normaliser, glossy_lobe_white};
