@@ -445,8 +445,10 @@ fn car_paint_forward_azimuth_weight(rho_1: f32, cos_phi: f32) -> f32 {
     return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi) * 2f)));
 }
 
-// The wrapped Cauchy weight W ([`forward_azimuth_weight`], `weight`, of mean resultant
-// length ρ) reweighted per channel to mean resultant lengths ρ_c: tilted towards W itself,
+// glazec's glossy level, after Mardia & Jupp 2000, "Directional Statistics", §3.5.7 (the
+// wrapped Cauchy's Fourier coefficients): the wrapped Cauchy weight W
+// ([`forward_azimuth_weight`], `weight`, of mean resultant length ρ) reweighted per channel
+// to mean resultant lengths ρ_c: tilted towards W itself,
 // (1 + aW)/(1 + a⟨W⟩), the per-channel distribution a mixture of W and W²/⟨W⟩, which is
 // W sharpened (the light that took few conductor events, which a coloured conductor
 // darkens least, is the light that kept going forward). Its mean over W is 1 (albedo
