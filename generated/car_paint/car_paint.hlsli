@@ -708,8 +708,12 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float _e293 = car_paint_glossy_spread_curve_b(n_dot_l_2);
     const float _e294 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     const float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
+    float _e302 = min((sqrt(max((_e293 * _e294), 0.0)) * layer1_trapped_sines), 0.95);
     const float _e303 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    const float layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e293 * _e294), 0.0)) * layer1_trapped_sines), 0.95), _e303);
+    const float _e304 = car_paint_forward_azimuth_weight(_e302, _e303);
+    const float3 _e310 = car_paint_glossy_spread_colour(_e302, 0.0, 0.0, 0.0, 0.8432137, car_paint_layer1_rho);
+    const float3 _e311 = car_paint_forward_azimuth_tilt(_e302, _e310, _e304);
+    float3 layer1_trapped_spread = (_e311 * _e304);
     float3 trapped = (_e292 * layer1_trapped_spread);
     float3 under = (_e280 + trapped);
     const float3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);

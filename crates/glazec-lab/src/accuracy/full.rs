@@ -284,25 +284,37 @@ pub struct FullReference {
 
 const MAGIC: &[u8; 8] = b"GLAZFUL1";
 
+/// The reference at every probe of `subject`, the `index`-th of its set (its seed).
+fn subject_reference(subject: &Subject, index: usize, samples: u32) -> Vec<Estimate> {
+    let stack = Stack::from_material(&subject.with_method(Method::INTERFACED), &subject.values);
+    let opts = reference::Options { mode: InterfaceMode::Multiple, samples, seed: index as u64, ..Default::default() };
+    subject
+        .probes()
+        .iter()
+        .map(|p| stack.f(p.wi, p.wo, &reference::Options { samples: samples * extra_samples(p), ..opts }))
+        .collect()
+}
+
 impl FullReference {
     /// The reference for `subjects` (multiple-scattering interfaces), `samples` per value
     /// ([`extra_samples`] times that at the most grazing probes).
     pub fn compute(subjects: &[Subject], samples: u32, progress: &(dyn Fn(usize) + Sync)) -> FullReference {
-        let values = crate::parallel_map(
-            subjects.len(),
-            |i| {
-                let s = &subjects[i];
-                let stack = Stack::from_material(&s.with_method(Method::INTERFACED), &s.values);
-                let opts =
-                    reference::Options { mode: InterfaceMode::Multiple, samples, seed: i as u64, ..Default::default() };
-                s.probes()
-                    .iter()
-                    .map(|p| stack.f(p.wi, p.wo, &reference::Options { samples: samples * extra_samples(p), ..opts }))
-                    .collect()
-            },
-            progress,
-        );
+        let values = crate::parallel_map(subjects.len(), |i| subject_reference(&subjects[i], i, samples), progress);
         FullReference { samples, values }
+    }
+
+    /// Recomputes the values of the subjects `which` selects, keeping the others'. Each subject's
+    /// random stream is seeded by its index, so this gives the values [`Self::compute`] would.
+    pub fn recompute(&mut self, subjects: &[Subject], which: &(dyn Fn(&Subject) -> bool + Sync)) {
+        let chosen: Vec<usize> = (0..subjects.len()).filter(|&i| which(&subjects[i])).collect();
+        let values = crate::parallel_map(
+            chosen.len(),
+            |j| subject_reference(&subjects[chosen[j]], chosen[j], self.samples),
+            |_| {},
+        );
+        for (i, v) in chosen.into_iter().zip(values) {
+            self.values[i] = v;
+        }
     }
 
     /// Little-endian: magic, samples, subject count, then per subject its probe count and per

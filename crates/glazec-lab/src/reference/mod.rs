@@ -22,8 +22,10 @@
 //!
 //! Interpretation of the material model, where it has a choice: a `Gtr1` coat is a microsurface
 //! of GTR1 normals with GTR1's own Smith masking ([`gtr1`]; Burley's fixed-α GGX masking belongs
-//! to no microsurface); a conductor given by F0 is a dielectric of the IOR with that F0 (exact Fresnel),
-//! relative to the medium above it.
+//! to no microsurface); a conductor given by F0 has Schlick's Fresnel factor with that F0, as the
+//! material language defines it, re-expressed for the medium above it through the IOR it implies
+//! (glazec's `f0_under_medium`); a conductor given by η + iκ has the exact conductor Fresnel
+//! factor, relative to that medium.
 
 pub mod environment;
 pub mod gtr1;
@@ -243,12 +245,30 @@ pub enum BaseBsdf {
         albedo: DVec3,
         roughness: f64,
     },
-    /// A GGX conductor; `eta`/`k` relative to the medium above.
+    /// A GGX conductor, its Fresnel factor relative to the medium above.
     Conductor {
         alpha: f64,
-        eta: DVec3,
-        k: DVec3,
+        optics: ConductorOptics,
     },
+}
+
+/// A conductor's Fresnel factor, relative to the medium above it.
+#[derive(Clone, Copy, Debug)]
+pub enum ConductorOptics {
+    /// The exact conductor Fresnel factor of complex IOR η + iκ ([`fresnel_conductor`]).
+    Complex { eta: DVec3, k: DVec3 },
+    /// Schlick 1994: F0 + (1 − F0)(1 − cos)⁵, what the material language means by `f0`.
+    Schlick { f0: DVec3 },
+}
+
+impl ConductorOptics {
+    /// The Fresnel factor at cosine `c` (clamped to [0, 1]).
+    pub fn fresnel(&self, c: f64) -> DVec3 {
+        match *self {
+            ConductorOptics::Complex { eta, k } => fresnel_conductor(c, eta, k),
+            ConductorOptics::Schlick { f0 } => f0 + (DVec3::ONE - f0) * (1.0 - c.clamp(0.0, 1.0)).powi(5),
+        }
+    }
 }
 
 fn cosine_sample(rng: &mut Rng) -> DVec3 {
@@ -298,11 +318,11 @@ impl BaseBsdf {
                 let rho_ms = *albedo * *albedo * e_avg / (DVec3::ONE - *albedo * (1.0 - e_avg));
                 f_ss + rho_ms / PI * ((1.0 - eo) * (1.0 - ei) / (1.0 - e_avg))
             }
-            BaseBsdf::Conductor { alpha, eta, k } => {
+            BaseBsdf::Conductor { alpha, optics } => {
                 if *alpha < SMOOTH_ALPHA {
                     return DVec3::ZERO;
                 }
-                let fresnel = |c: f64| fresnel_conductor(c, *eta, *k);
+                let fresnel = |c: f64| optics.fresnel(c);
                 match mode {
                     InterfaceMode::Single => {
                         let m = (wo + wi).normalize();
@@ -320,8 +340,8 @@ impl BaseBsdf {
     /// Samples a reflected direction from `wo` (above): (direction, f·cos/pdf).
     fn sample(&self, wo: DVec3, mode: InterfaceMode, rng: &mut Rng) -> Option<(DVec3, DVec3)> {
         match self {
-            BaseBsdf::Conductor { alpha, eta, k } => {
-                let fresnel = |c: f64| fresnel_conductor(c, *eta, *k);
+            BaseBsdf::Conductor { alpha, optics } => {
+                let fresnel = |c: f64| optics.fresnel(c);
                 if *alpha < SMOOTH_ALPHA {
                     return Some((DVec3::new(-wo.x, -wo.y, wo.z), fresnel(wo.z)));
                 }
@@ -671,14 +691,19 @@ impl Stack {
             Base::Conductor { roughness, fresnel } => {
                 // The conductor sits in the medium of the last coat.
                 let n: f64 = coats.iter().map(|(i, _)| i.eta).product();
-                let (eta, k) = match fresnel {
-                    ConductorFresnel::Complex { eta, k } => (color(*eta, values), color(*k, values)),
+                let optics = match fresnel {
+                    ConductorFresnel::Complex { eta, k } => {
+                        ConductorOptics::Complex { eta: color(*eta, values) / n, k: color(*k, values) / n }
+                    }
+                    // F0 → η = (1 + √F0)/(1 − √F0) → η/n → F0′, as glazec's `f0_under_medium`.
                     ConductorFresnel::F0(f0) => {
                         let s = color(*f0, values).map(|x| x.clamp(0.0, 0.999_999).sqrt());
-                        ((DVec3::ONE + s) / (DVec3::ONE - s), DVec3::ZERO)
+                        let eta = (DVec3::ONE + s) / (DVec3::ONE - s) / n;
+                        let r = (eta - DVec3::ONE) / (eta + DVec3::ONE);
+                        ConductorOptics::Schlick { f0: r * r }
                     }
                 };
-                BaseBsdf::Conductor { alpha: scalar(*roughness, values).powi(2), eta: eta / n, k: k / n }
+                BaseBsdf::Conductor { alpha: scalar(*roughness, values).powi(2), optics }
             }
         };
         let mut stack = Stack { coat: None, below: Below::Base(base) };

@@ -226,7 +226,14 @@ fn connection_and_analog_estimators_agree() {
     let cases = [
         (
             "rough coat over conductor",
-            rough_coat(0.25, BaseBsdf::Conductor { alpha: 0.2, eta: DVec3::splat(0.2), k: DVec3::splat(3.0) }, CLEAR),
+            rough_coat(
+                0.25,
+                BaseBsdf::Conductor {
+                    alpha: 0.2,
+                    optics: ConductorOptics::Complex { eta: DVec3::splat(0.2), k: DVec3::splat(3.0) },
+                },
+                CLEAR,
+            ),
         ),
         (
             "scattering slab",
@@ -259,7 +266,10 @@ fn connection_and_analog_estimators_agree() {
 fn reference_is_reciprocal_on_average() {
     let stack = rough_coat(
         0.25,
-        BaseBsdf::Conductor { alpha: 0.3, eta: DVec3::splat(0.3), k: DVec3::splat(2.5) },
+        BaseBsdf::Conductor {
+            alpha: 0.3,
+            optics: ConductorOptics::Complex { eta: DVec3::splat(0.3), k: DVec3::splat(2.5) },
+        },
         Medium { absorption: DVec3::splat(0.2), scattering: 0.0, g: 0.0, thickness: 1.0 },
     );
     let opts = Options { samples: 40_000, ..Options::default() };

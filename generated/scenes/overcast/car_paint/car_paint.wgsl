@@ -590,8 +590,12 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let _e259 = car_paint_glossy_spread_curve_b(n_dot_l_2);
     let _e260 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
+    let _e268 = min((sqrt(max((_e259 * _e260), 0f)) * layer1_trapped_sines), 0.95f);
     let _e269 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    let layer1_trapped_spread = car_paint_forward_azimuth_weight(min((sqrt(max((_e259 * _e260), 0f)) * layer1_trapped_sines), 0.95f), _e269);
+    let _e270 = car_paint_forward_azimuth_weight(_e268, _e269);
+    let _e276 = car_paint_glossy_spread_colour(_e268, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
+    let _e277 = car_paint_forward_azimuth_tilt(_e268, _e276, _e270);
+    let layer1_trapped_spread = (_e277 * _e270);
     let trapped = (_e258 * layer1_trapped_spread);
     let under = (_e246 + trapped);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);

@@ -8,7 +8,7 @@ use super::interface::CoatInterface;
 use super::level::Albedo;
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
-use crate::math::{Real, Vector};
+use crate::math::{Named, Real, Vector};
 
 /// What a glossy body under a coat sends outside the coat's escape cone, at the directions
 /// `below` (under the coat): the trapped shares of its reflections towards l and v, and what
@@ -46,8 +46,8 @@ pub(super) fn trapped_shares<F: Real>(
 /// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`), spread
 /// over the azimuth about the forward direction like the glossy level's own remainder
 /// (`forward_azimuth_weight`, κ from `glossy_spread` at the body's α and the coat's roughness
-/// and IOR: total internal reflection and a glossy reflection both keep the light going on);
-/// `above` the directions above the coat.
+/// and IOR: total internal reflection and a glossy reflection both keep the light going on) and
+/// tilted per channel like it (`forward_azimuth_tilt`); `above` the directions above the coat.
 pub(super) fn trapped<F: Real>(
     interface: &CoatInterface<'_, F>,
     above: &Geometry<F>,
@@ -67,7 +67,14 @@ pub(super) fn trapped<F: Real>(
     let kappa = (kappa(above.raw_n_dot_l) * kappa(above.raw_n_dot_v)).at_least(0.0).sqrt();
     let sines = forward_sines::<F>(above.n, above.v, above.l).named(&name("trapped_sines"));
     let rho = (kappa * sines).min(inputs.lit(0.95));
-    let spread = forward_azimuth_weight(rho, forward_cosine(above.n, above.v, above.l, sines));
+    let weight = forward_azimuth_weight(rho, forward_cosine(above.n, above.v, above.l, sines));
+    // Tilted per channel as the glossy level's remainder is (`glossy_spread_colour`), with
+    // the event counts this lobe assumes: a geometric count of retention 1 − q. The light a
+    // coloured body lets survive took fewer bounces and kept going forward more; leaving
+    // sideways or backwards takes the most bounces.
+    let none = inputs.lit(0.0);
+    let rho_c = glossy_spread_colour(rho, none, none, none, q.one_minus(), albedo.mean);
+    let spread = forward_azimuth_tilt(rho, rho_c, weight) * weight;
     let lobe = lobe * spread.named(&name("trapped_spread"));
     // Without total internal reflection (η ≤ 1) nothing is trapped.
     F::Vec::select(mu_c.gt_lit(0.0), lobe, inputs.zero())
