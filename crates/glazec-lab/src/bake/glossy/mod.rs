@@ -66,7 +66,7 @@ mod solve;
 mod walk;
 
 pub use solve::TRAPPED_RETENTIONS;
-pub use walk::{EventCounts, GLOSSY_TAPER_POWER, event_counts, peak_blur, walk_exits};
+pub use walk::{EventCounts, GLOSSY_TAPER_POWER, event_counts, peak_blur, walk_events, walk_exits};
 
 use energy::{energy_probes, fit_lobe_albedo};
 use glazec::math::tables::{

@@ -176,6 +176,20 @@ pub fn walk_exits(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) ->
     exits
 }
 
+/// The conductor events of `walks` white walks from outside cosine `mu`: per walk that left, the
+/// incidence cosine of each of its events, in order; for research into the trapped light's colour
+/// (`examples/glossy_pool_colour.rs`).
+pub fn walk_events(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    (0..walks)
+        .filter_map(|_| {
+            let Walk { events, exit: Some(_), .. } = walk(eta, r * r, r_c * r_c, wo, &mut rng)? else { return None };
+            Some(events)
+        })
+        .collect()
+}
+
 /// The peak-matched widening of a conductor lobe (α = `alpha_c`) seen through the coat from
 /// outside cosine `mu`: light refracted into u instead of Snell's direction s′ moves the half
 /// vector between u and the mirror image of s′ off the normal by the slope t; the conductor's

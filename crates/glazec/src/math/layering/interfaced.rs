@@ -82,15 +82,26 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         }
         _ => albedo.mean,
     };
+    // Over a glossy body: the shares of its reflections towards l and v that leave the escape
+    // cone, trapped (none without total internal reflection, η ≤ 1), and what becomes of them.
+    let trapped_at = match (lower.glossy, lower.alpha) {
+        (true, Some(alpha)) => {
+            let t = trapped_shares(&interface, &below, alpha, (r_return, clear().0), inputs);
+            let share = |p: F| F::select(t.mu_c.gt_lit(0.0), p, inputs.lit(0.0));
+            Some((alpha, share(t.p_l), share(t.p_v), t))
+        }
+        _ => None,
+    };
     let f_under: F::Vec = if g.albedo_only {
         inputs.zero()
-    } else if lower.glossy {
+    } else if let Some((alpha, p_l, p_v, shares)) = &trapped_at {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
-        let glossy = interfaced_glossy_under::<F>(lower.f, albedo.e_l, k_l, albedo.e_v, k_v);
-        glossy
-            + trapped(&interface, g, &below, &albedo, lower.alpha, (r_return, clear().0), inputs)
-                .named(&name("trapped"))
+        // Only what the body keeps inside the escape cone comes back up to the coat; what it
+        // sends beyond is the trapped lobe's.
+        let kept = |e: F::Vec, p: F| e * p.one_minus();
+        let glossy = interfaced_glossy_under::<F>(lower.f, kept(albedo.e_l, *p_l), k_l, kept(albedo.e_v, *p_v), k_v);
+        glossy + trapped(&interface, g, &below, &albedo, *alpha, shares, inputs).named(&name("trapped"))
     } else if let Some(first) = &first {
         // The series starts from what the first pass returns, E·c (c = 1 for a diffusing body),
         // and on the viewer's side is divided by the return factor of diffuse light through the
@@ -108,16 +119,13 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let albedo = want_albedo.then(|| {
         // Over a glossy body: the shares it sends outside the escape cone towards l and v, and
         // what of trapped light leaves (none of either without a glossy body).
-        let (trapped_l, trapped_v) = match (lower.glossy, lower.alpha) {
-            (true, Some(alpha)) => {
-                let t = trapped_shares(&interface, &below, alpha, (r_return, clear().0), inputs);
+        let (trapped_l, trapped_v) = match &trapped_at {
+            Some((_, p_l, p_v, t)) => {
                 let out = trapped_return(t.round_trip, albedo.mean, t.q, interface.transmission_from_cone())
                     .named(&name("trapped_out"));
-                // Without total internal reflection (η ≤ 1) nothing is trapped.
-                let share = |p: F| F::select(t.mu_c.gt_lit(0.0), p, inputs.lit(0.0));
-                ((share(t.p_l), out), (share(t.p_v), out))
+                ((*p_l, out), (*p_v, out))
             }
-            _ => ((inputs.lit(0.0), inputs.zero()), (inputs.lit(0.0), inputs.zero())),
+            None => ((inputs.lit(0.0), inputs.zero()), (inputs.lit(0.0), inputs.zero())),
         };
         let directional =
             |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, (p, out): (F, F::Vec)| match first {

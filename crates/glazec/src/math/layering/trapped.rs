@@ -13,6 +13,7 @@ use crate::math::{Named, Real, Vector};
 /// What a glossy body under a coat sends outside the coat's escape cone, at the directions
 /// `below` (under the coat): the trapped shares of its reflections towards l and v, and what
 /// becomes of trapped light.
+#[derive(Clone, Copy)]
 pub(super) struct Trapped<F: Real> {
     /// μc, the escape cone's cosine inside (0 without total internal reflection).
     pub(super) mu_c: F,
@@ -43,7 +44,8 @@ pub(super) fn trapped_shares<F: Real>(
     Trapped { mu_c, p_l, p_v, round_trip, q }
 }
 
-/// The light a glossy body under a coat sends outside the escape cone (`trapped_lobe`), spread
+/// The light a glossy body of GGX α under a coat sends outside the escape cone, its `shares`
+/// ([`trapped_shares`]) (`trapped_lobe`), spread
 /// over the azimuth about the forward direction like the glossy level's own remainder
 /// (`forward_azimuth_weight`, κ from `glossy_spread` at the body's α and the coat's roughness
 /// and IOR: total internal reflection and a glossy reflection both keep the light going on) and
@@ -53,14 +55,13 @@ pub(super) fn trapped<F: Real>(
     above: &Geometry<F>,
     below: &Geometry<F>,
     albedo: &Albedo<F>,
-    alpha: Option<F>,
-    returns: (F::Vec, F::Vec),
+    alpha: F,
+    shares: &Trapped<F>,
     inputs: &Inputs<F>,
 ) -> F::Vec {
-    let Some(alpha) = alpha else { return inputs.zero() };
     let name = |base: &str| level_name(base, below.level);
     let eta = interface.eta;
-    let Trapped { mu_c, p_l, p_v, round_trip, q } = trapped_shares(interface, below, alpha, returns, inputs);
+    let Trapped { mu_c, p_l, p_v, round_trip, q } = *shares;
     let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
     let roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
     let kappa = |mu: F| tables::lookup(TableId::GlossySpread, &[mu, alpha.sqrt(), roughness, eta]);

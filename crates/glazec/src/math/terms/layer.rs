@@ -91,7 +91,12 @@ shading_fn! {
     /// stays near the mirror direction, inside the coat's escape cone, so it returns with the
     /// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
     /// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-    /// symmetric in i and o.
+    /// symmetric in i and o, Eᵢ the share of the body's albedo it keeps inside the cone (the
+    /// caller's Eᵢ(1 − pᵢ), `trapped_share`: what it sends beyond is trapped, `trapped_lobe`).
+    /// With the whole albedo instead, two smooth coats (η 1.5 over η 1.02) over a white
+    /// conductor of roughness 0.3 were 1.40× the reference at 75°/85° forwards and 1.58× at
+    /// 89°/75°, and ∫f came to 1.015 at 85°: the light the body sends just beyond the cone's
+    /// edge, where k is largest, was counted in both.
     /// Guard: the denominator ≥ 10⁻⁶. Beyond the critical angle of a coat optically thinner
     /// than the medium above (T = 0, so k = 1) over a white level (E = 1) it is 0, and so is f
     /// (no light enters): 0/0 was NaN under three smooth coats of η 1, 0.7, 0.7 over a conductor.
@@ -285,16 +290,17 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a glossy body (same model as
-    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E k) + p X),
-    /// k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves with T,
-    /// except its share p outside the escape cone, trapped, of which X leaves
-    /// (`trapped_return`).
-    /// Guard: 1 − E k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in `interfaced_glossy_under`;
-    /// the numerator is 0 there too).
+    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E (1 − p) k)
+    /// + p X), k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves
+    /// with T or comes back (k) to be reflected again, except its share p outside the escape
+    /// cone, trapped, of which X leaves (`trapped_return`).
+    /// Guard: 1 − E (1 − p) k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
+    /// `interfaced_glossy_under`; the numerator is 0 there too).
     pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V, p: S, trapped_out: V) -> V {
         let k = a * a * t.one_minus();
-        let direct = e_below * (t * p.one_minus()) / (e_below * k).one_minus().max(t.lit(1e-6).splat());
-        a * a * (direct + e_below * trapped_out * p) * t + t.one_minus().splat()
+        let kept = trapped_out * p + (t * p.one_minus()).splat();
+        let bounced = e_below * kept / (e_below * k * p.one_minus()).one_minus().max(t.lit(1e-6).splat());
+        a * a * bounced * t + t.one_minus().splat()
     }
 }
 
