@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::base::cosine_sample;
 use super::*;
 
 /// Walks per albedo estimate.
