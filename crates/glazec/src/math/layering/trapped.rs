@@ -44,12 +44,12 @@ pub(super) fn trapped_shares<F: Real>(
     Trapped { mu_c, p_l, p_v, round_trip, q }
 }
 
-/// The light a glossy body of GGX α under a coat sends outside the escape cone, its `shares`
-/// ([`trapped_shares`]) (`trapped_lobe`), spread
-/// over the azimuth about the forward direction like the glossy level's own remainder
-/// (`forward_azimuth_weight`, κ from `glossy_spread` at the body's α and the coat's roughness
-/// and IOR: total internal reflection and a glossy reflection both keep the light going on) and
-/// tilted per channel like it (`forward_azimuth_tilt`); `above` the directions above the coat.
+/// The light a glossy body of GGX α under a coat sends outside the escape cone (`trapped_lobe`,
+/// from its `shares`, [`trapped_shares`]), spread over the azimuth about the forward direction
+/// like the glossy level's own remainder (`forward_azimuth_weight`, κ from `glossy_spread` at
+/// the body's α and the coat's roughness and IOR: total internal reflection and a glossy
+/// reflection both keep the light going on) and tilted per channel like it
+/// (`forward_azimuth_tilt`); `above` the directions above the coat.
 pub(super) fn trapped<F: Real>(
     interface: &CoatInterface<'_, F>,
     above: &Geometry<F>,
