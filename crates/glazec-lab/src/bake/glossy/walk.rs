@@ -161,33 +161,39 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
     counts
 }
 
+/// The `walks` white walks from outside cosine `mu` that left the coat (not cut at
+/// `EVENT_CAP`): per walk, its conductor events' incidence cosines and the direction it left in;
+/// and the direction they came from.
+fn walks_that_left(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> (DVec3, Vec<(Vec<f64>, DVec3)>) {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    let left = (0..walks)
+        .filter_map(|_| {
+            let Walk { events, exit: Some(exit), .. } = walk(eta, r * r, r_c * r_c, wo, &mut rng)? else { return None };
+            Some((events, exit))
+        })
+        .collect();
+    (wo, left)
+}
+
 /// Where `walks` white walks from outside cosine `mu` leave the coat: per walk that left, the
 /// exit's cosine, its azimuth φf about the forward direction (radians) and its count of
 /// conductor events; for research into the remainder's shape (`examples/glossy_azimuth_shape.rs`).
 pub fn walk_exits(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<(f64, f64, usize)> {
-    let mut rng = Rng::seeded(seed);
-    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    let mut exits = Vec::new();
-    for _ in 0..walks {
-        let Some(Walk { events, exit: Some(exit), .. }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
-        let (cosine, _) = forward_cosine(wo, exit);
-        exits.push((exit.z, cosine.clamp(-1.0, 1.0).acos(), events.len()));
-    }
-    exits
+    let (wo, left) = walks_that_left(mu, r_c, r, eta, walks, seed);
+    left.into_iter()
+        .map(|(events, exit)| {
+            let (cosine, _) = forward_cosine(wo, exit);
+            (exit.z, cosine.clamp(-1.0, 1.0).acos(), events.len())
+        })
+        .collect()
 }
 
 /// The conductor events of `walks` white walks from outside cosine `mu`: per walk that left, the
 /// incidence cosine of each of its events, in order; for research into the trapped light's colour
 /// (`examples/glossy_pool_colour.rs`).
 pub fn walk_events(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<Vec<f64>> {
-    let mut rng = Rng::seeded(seed);
-    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    (0..walks)
-        .filter_map(|_| {
-            let Walk { events, exit: Some(_), .. } = walk(eta, r * r, r_c * r_c, wo, &mut rng)? else { return None };
-            Some(events)
-        })
-        .collect()
+    walks_that_left(mu, r_c, r, eta, walks, seed).1.into_iter().map(|(events, _)| events).collect()
 }
 
 /// The peak-matched widening of a conductor lobe (α = `alpha_c`) seen through the coat from

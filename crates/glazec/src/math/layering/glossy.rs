@@ -48,6 +48,7 @@ use super::geometry::{COS_EPSILON, Geometry, level_name};
 use super::inputs::{Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
 use super::level::{Albedo, Level};
+use super::trapped::forward_spread;
 use crate::math::Sum;
 use crate::math::quadrature::GAUSS_LEGENDRE_4;
 use crate::math::tables::{self, Axis, TableId};
@@ -579,16 +580,9 @@ pub(super) fn glossy_level<F: Real>(
         // round trip in c too, absorbing copper fits the reference worse, docs/accuracy.md).
         let kappa_l = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_l).named(&level_name("spread_l", k));
         let kappa_v = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_v).named(&level_name("spread_v", k));
-        let sines = forward_sines::<F>(g.n, g.v, g.l).named(&level_name("sines", k));
-        let rho = ((kappa_l * kappa_v).at_least(0.0).sqrt() * sines)
-            .min(inputs.lit(0.95))
-            .named(&level_name("spread_rho", k));
         let mean = |of: fn(&Side<F>) -> F| (of(&l) + of(v_side)) * 0.5;
-        let rho_c =
-            glossy_spread_colour(rho, mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), l.slow, c_fresnel);
-        let cos_phi = forward_cosine(g.n, g.v, g.l, sines);
-        let weight = forward_azimuth_weight(rho, cos_phi).named(&level_name("spread_weight", k));
-        let spread = (forward_azimuth_tilt(rho, rho_c, weight) * weight).named(&level_name("spread", k));
+        let counts = [mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), l.slow];
+        let spread = forward_spread(g, (kappa_l, kappa_v), counts, c_fresnel, ("", k));
         let later = (glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average) * spread)
             .named(&level_name("later", k));
         (once + later).named(&level_name("f", k))

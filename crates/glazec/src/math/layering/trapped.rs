@@ -59,24 +59,44 @@ pub(super) fn trapped<F: Real>(
     shares: &Trapped<F>,
     inputs: &Inputs<F>,
 ) -> F::Vec {
-    let name = |base: &str| level_name(base, below.level);
     let eta = interface.eta;
     let Trapped { mu_c, p_l, p_v, round_trip, q } = *shares;
     let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
     let roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
     let kappa = |mu: F| tables::lookup(TableId::GlossySpread, &[mu, alpha.sqrt(), roughness, eta]);
-    let kappa = (kappa(above.raw_n_dot_l) * kappa(above.raw_n_dot_v)).at_least(0.0).sqrt();
-    let sines = forward_sines::<F>(above.n, above.v, above.l).named(&name("trapped_sines"));
-    let rho = (kappa * sines).min(inputs.lit(0.95));
-    let weight = forward_azimuth_weight(rho, forward_cosine(above.n, above.v, above.l, sines));
-    // Tilted per channel as the glossy level's remainder is (`glossy_spread_colour`), with
-    // the event counts this lobe assumes: a geometric count of retention 1 − q. The light a
-    // coloured body lets survive took fewer bounces and kept going forward more; leaving
-    // sideways or backwards takes the most bounces.
+    // Over the event counts this lobe assumes: a geometric count of retention 1 − q.
     let none = inputs.lit(0.0);
-    let rho_c = glossy_spread_colour(rho, none, none, none, q.one_minus(), albedo.mean);
-    let spread = forward_azimuth_tilt(rho, rho_c, weight) * weight;
-    let lobe = lobe * spread.named(&name("trapped_spread"));
+    let counts = [none, none, none, q.one_minus()];
+    let kappas = (kappa(above.raw_n_dot_l), kappa(above.raw_n_dot_v));
+    let lobe = lobe * forward_spread(above, kappas, counts, albedo.mean, ("trapped_", below.level));
     // Without total internal reflection (η ≤ 1) nothing is trapped.
     F::Vec::select(mu_c.gt_lit(0.0), lobe, inputs.zero())
+}
+
+/// How light trapped between a coat and a glossy body leaves over the azimuth, at the directions
+/// `g` above the coat: the glossy level's remainder and what a coat traps over a coated conductor
+/// alike. A reflection off the body and a total internal reflection both keep a direction's
+/// horizontal part, so it leaves about the forward direction: the wrapped Cauchy weight W of
+/// ρ = √(κ_l κ_v) sin θl sin θv (`forward_azimuth_weight`; κ per side from `glossy_spread`),
+/// tilted per channel (`forward_azimuth_tilt`) to the mean resultant length
+/// `glossy_spread_colour` gives the event counts `counts` (w₀, w₁, w₂ and the slow retention B_s,
+/// as `glossy_later` takes them) under a per-event survival `colour`: light that took few events,
+/// which a coloured body darkens least, kept going forward more. Each channel's mean over the
+/// azimuth is 1, and it is symmetric in l and v. Guard: ρ ≤ 0.95 (as `forward_azimuth_weight`).
+/// Its values are named `<prefix>sines`, `<prefix>spread_rho`, `<prefix>spread_weight` and
+/// `<prefix>spread` at `level` in generated code.
+pub(super) fn forward_spread<F: Real>(
+    g: &Geometry<F>,
+    (kappa_l, kappa_v): (F, F),
+    [next, quick, steady, slow]: [F; 4],
+    colour: F::Vec,
+    (prefix, level): (&str, usize),
+) -> F::Vec {
+    let name = |base: &str| level_name(&format!("{prefix}{base}"), level);
+    let sines = forward_sines::<F>(g.n, g.v, g.l).named(&name("sines"));
+    let rho = ((kappa_l * kappa_v).at_least(0.0).sqrt() * sines).min(sines.lit(0.95)).named(&name("spread_rho"));
+    let rho_c = glossy_spread_colour(rho, next, quick, steady, slow, colour);
+    let cos_phi = forward_cosine(g.n, g.v, g.l, sines);
+    let weight = forward_azimuth_weight(rho, cos_phi).named(&name("spread_weight"));
+    (forward_azimuth_tilt(rho, rho_c, weight) * weight).named(&name("spread"))
 }
