@@ -19,11 +19,11 @@ static const float3 car_paint_layer2_survival = float3(0.67227614, 0.004048639, 
 static const float car_paint_layer2_alpha_1 = 0.09037713;
 static const float3 car_paint_layer1_specular = float3(0.0, 0.0, 0.0);
 static const float3 car_paint_layer2_pool_fresnel = float3(0.88051546, 0.8935001, 0.8935001);
-static const float3 car_paint_layer1_remainder_avg = float3(0.002556721, 1.3874291e-8, 1.6963514e-10);
+static const float3 car_paint_layer1_remainder_avg = float3(0.0025565596, 1.3872456e-8, 1.6960744e-10);
 static const float car_paint_layer1_mu_c = 0.745356;
-static const float3 car_paint_layer1_rho = float3(0.7408724, 0.06705919, 0.031262197);
+static const float3 car_paint_layer1_rho = float3(0.7408726, 0.06705919, 0.031262197);
 static const float car_paint_layer1_trapped_escape = 0.15678635;
-static const float3 car_paint_trapped_out = float3(0.29371256, 0.010574966, 0.0047770874);
+static const float3 car_paint_trapped_out = float3(0.29371282, 0.010574966, 0.0047770874);
 static const uint car_paint_ibl_specular_lobes = 2u;
 static const float car_paint_base_roughness = 0.37185615;
 
@@ -261,10 +261,10 @@ float car_paint_glossy_next_curve(float cos_theta_4)
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_23 = ((u_4 * -29.170328) + 1.154152);
-    float f_24 = (f_23 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(26.135412, 2.7729282, 0.29837227)));
-    float f_25 = (f_24 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.06760216, -0.16285706, -0.005716324)));
-    float f_26 = (f_25 + (max(u_4, 0.875) * 0.06338596));
+    float f_23 = ((u_4 * -29.170326) + 1.1541525);
+    float f_24 = (f_23 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(26.13546, 2.7728767, 0.29838753)));
+    float f_25 = (f_24 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(-0.0676775, -0.16279411, -0.005718231)));
+    float f_26 = (f_25 + (max(u_4, 0.875) * 0.06338692));
     return f_26;
 }
 
@@ -417,8 +417,8 @@ float3 car_paint_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i
 float car_paint_glossy_spread_curve(float cos_theta_10)
 {
     float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
-    float f_45 = ((u_9 * 0.008631557) + 0.0920461);
-    float f_46 = (f_45 + dot(max((u_9).xxx, float3(0.25, 0.5, 0.75)), float3(0.001826942, 0.013103694, -0.023562193)));
+    float f_45 = ((u_9 * 0.00097328424) + 0.09675407);
+    float f_46 = (f_45 + dot(max((u_9).xxx, float3(0.25, 0.5, 0.75)), float3(0.012419343, 0.008055359, -0.021447986)));
     return f_46;
 }
 
@@ -588,8 +588,8 @@ float3 car_paint_trapped_lobe(float3 e_i_1, float p_i, float3 e_o_1, float p_o, 
 float car_paint_glossy_spread_curve_b(float cos_theta_11)
 {
     float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_47 = ((u_10 * 0.0020885468) + 0.8244415);
-    float f_48 = (f_47 + dot(max((u_10).xxx, float3(0.25, 0.5, 0.75)), float3(0.12044048, 0.21109223, -0.33362126)));
+    float f_47 = ((u_10 * 0.020996809) + 0.8990296);
+    float f_48 = (f_47 + dot(max((u_10).xxx, float3(0.25, 0.5, 0.75)), float3(0.13127232, 0.2275126, -0.37978172)));
     return f_48;
 }
 

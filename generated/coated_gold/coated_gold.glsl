@@ -10,7 +10,7 @@ struct CoatedGoldIblLobes {
 };
 const vec3 coated_gold_one = vec3(1.0, 1.0, 1.0);
 const vec3 coated_gold_layer1_pool_fresnel = vec3(0.9322251, 0.7678392, 0.3619415);
-const vec3 coated_gold_remainder_avg = vec3(0.07507064, 0.0314375, 0.0033729775);
+const vec3 coated_gold_remainder_avg = vec3(0.075069316, 0.03143694, 0.0033729167);
 const uint coated_gold_ibl_specular_lobes = 2u;
 
 layout(binding = 33) uniform sampler2D coated_gold_radiance;
@@ -139,10 +139,10 @@ float coated_gold_glossy_next_curve(float cos_theta_3) {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4) {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_4 * -0.8511572) + 0.8990947);
-    float f_22 = (f_21 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(-1.8809705, 2.228713, 0.48012495)));
-    float f_23 = (f_22 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(0.20398283, 0.17494202, -0.09362078)));
-    float f_24 = (f_23 + (max(u_4, 0.875) * -0.196105));
+    float f_21 = ((u_4 * -0.85115623) + 0.89909506);
+    float f_22 = (f_21 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(-1.8826203, 2.2303228, 0.48050165)));
+    float f_23 = (f_22 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(0.20334625, 0.1752038, -0.093585014)));
+    float f_24 = (f_23 + (max(u_4, 0.875) * -0.19610357));
     return f_24;
 }
 
@@ -434,8 +434,8 @@ vec3 coated_gold_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, ve
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float coated_gold_glossy_spread_curve(float cos_theta_11) {
     float u_11 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_53 = ((u_11 * 0.013588667) + 0.9104079);
-    float f_54 = (f_53 + dot(max(vec3(u_11), vec3(0.25, 0.5, 0.75)), vec3(0.11148405, 0.17691398, -0.3019867)));
+    float f_53 = ((u_11 * 0.058451414) + 0.9806291);
+    float f_54 = (f_53 + dot(max(vec3(u_11), vec3(0.25, 0.5, 0.75)), vec3(0.0821147, 0.24325347, -0.38381958)));
     return f_54;
 }
 

@@ -13,7 +13,7 @@ struct CoatedGoldIblLobes {
 
 static const float3 coated_gold_one = float3(1.0, 1.0, 1.0);
 static const float3 coated_gold_layer1_pool_fresnel = float3(0.9322251, 0.7678392, 0.3619415);
-static const float3 coated_gold_remainder_avg = float3(0.07507064, 0.0314375, 0.0033729775);
+static const float3 coated_gold_remainder_avg = float3(0.075069316, 0.03143694, 0.0033729167);
 static const uint coated_gold_ibl_specular_lobes = 2u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -162,10 +162,10 @@ float coated_gold_glossy_next_curve(float cos_theta_3)
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4)
 {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_4 * -0.8511572) + 0.8990947);
-    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-1.8809705, 2.228713, 0.48012495)));
-    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.20398283, 0.17494202, -0.09362078)));
-    float f_24 = (f_23 + (max(u_4, 0.875) * -0.196105));
+    float f_21 = ((u_4 * -0.85115623) + 0.89909506);
+    float f_22 = (f_21 + dot(max((u_4).xxx, float3(0.125, 0.25, 0.375)), float3(-1.8826203, 2.2303228, 0.48050165)));
+    float f_23 = (f_22 + dot(max((u_4).xxx, float3(0.5, 0.625, 0.75)), float3(0.20334625, 0.1752038, -0.093585014)));
+    float f_24 = (f_23 + (max(u_4, 0.875) * -0.19610357));
     return f_24;
 }
 
@@ -477,8 +477,8 @@ float3 coated_gold_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a
 float coated_gold_glossy_spread_curve(float cos_theta_11)
 {
     float u_11 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_53 = ((u_11 * 0.013588667) + 0.9104079);
-    float f_54 = (f_53 + dot(max((u_11).xxx, float3(0.25, 0.5, 0.75)), float3(0.11148405, 0.17691398, -0.3019867)));
+    float f_53 = ((u_11 * 0.058451414) + 0.9806291);
+    float f_54 = (f_53 + dot(max((u_11).xxx, float3(0.25, 0.5, 0.75)), float3(0.0821147, 0.24325347, -0.38381958)));
     return f_54;
 }
 

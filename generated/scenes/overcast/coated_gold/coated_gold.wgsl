@@ -12,7 +12,7 @@ struct CoatedGoldIblLobes {
 
 const coated_gold_one: vec3<f32> = vec3<f32>(1f, 1f, 1f);
 const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.7678392f, 0.3619415f);
-const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.07507064f, 0.0314375f, 0.0033729775f);
+const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.075069316f, 0.03143694f, 0.0033729167f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
 @group(2) @binding(0) 
@@ -144,10 +144,10 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_4 * -0.8511572f) + 0.8990947f);
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-1.8809705f, 2.228713f, 0.48012495f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20398283f, 0.17494202f, -0.09362078f)));
-    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.196105f));
+    let f_21 = ((u_4 * -0.85115623f) + 0.89909506f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-1.8826203f, 2.2303228f, 0.48050165f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20334625f, 0.1752038f, -0.093585014f)));
+    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.19610357f));
     return f_24;
 }
 
@@ -383,8 +383,8 @@ fn coated_gold_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn coated_gold_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_46 = ((u_10 * 0.013588667f) + 0.9104079f);
-    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.11148405f, 0.17691398f, -0.3019867f)));
+    let f_46 = ((u_10 * 0.058451414f) + 0.9806291f);
+    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0821147f, 0.24325347f, -0.38381958f)));
     return f_47;
 }
 

@@ -18,11 +18,11 @@ const car_paint_layer2_survival: vec3<f32> = vec3<f32>(0.67227614f, 0.004048639f
 const car_paint_layer2_alpha_1: f32 = 0.09037713f;
 const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
-const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.002556721f, 0.000000013874291f, 0.00000000016963514f);
+const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0025565596f, 0.000000013872456f, 0.00000000016960744f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7408724f, 0.06705919f, 0.031262197f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7408726f, 0.06705919f, 0.031262197f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
-const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371256f, 0.010574966f, 0.0047770874f);
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371282f, 0.010574966f, 0.0047770874f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -235,10 +235,10 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_23 = ((u_4 * -29.170328f) + 1.154152f);
-    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(26.135412f, 2.7729282f, 0.29837227f)));
-    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.06760216f, -0.16285706f, -0.005716324f)));
-    let f_26 = (f_25 + (max(u_4, 0.875f) * 0.06338596f));
+    let f_23 = ((u_4 * -29.170326f) + 1.1541525f);
+    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(26.13546f, 2.7728767f, 0.29838753f)));
+    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.0676775f, -0.16279411f, -0.005718231f)));
+    let f_26 = (f_25 + (max(u_4, 0.875f) * 0.06338692f));
     return f_26;
 }
 
@@ -381,8 +381,8 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_45 = ((u_9 * 0.008631557f) + 0.0920461f);
-    let f_46 = (f_45 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.001826942f, 0.013103694f, -0.023562193f)));
+    let f_45 = ((u_9 * 0.00097328424f) + 0.09675407f);
+    let f_46 = (f_45 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.012419343f, 0.008055359f, -0.021447986f)));
     return f_46;
 }
 
@@ -541,8 +541,8 @@ fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
-    let f_47 = ((u_10 * 0.0020885468f) + 0.8244415f);
-    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.12044048f, 0.21109223f, -0.33362126f)));
+    let f_47 = ((u_10 * 0.020996809f) + 0.8990296f);
+    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.13127232f, 0.2275126f, -0.37978172f)));
     return f_48;
 }
 

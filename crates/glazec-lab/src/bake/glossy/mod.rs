@@ -20,8 +20,11 @@
 //!   simplex-constrained least squares. With fixed retentions the weights are linear in the
 //!   generating function, so interpolating them between nodes interpolates it (two fitted rates
 //!   per node would not: they trade off against each other from node to node);
-//! * κ: how the light that leaves after three or more events (the remainder; the first two make
-//!   the lobe) keeps going forward: the mean cosine of its azimuth about the forward direction is
+//! * κ: how the light of the remainder keeps going forward (what leaves after three or more
+//!   events, and what leaves at the second but not in the lobe: the walks whose first return
+//!   total internal reflection sent back, and of those the coat's Fresnel reflection sent back
+//!   inside the cone what exceeds w₀; `EventCounts::forward_spread`): the mean cosine of its
+//!   azimuth about the forward direction is
 //!   about κ sin θᵢ sin θₒ (measured: κ within ±15% over θₒ and θᵢ for a conductor of roughness
 //!   0.3 under a smooth coat, while E[cos φf] itself runs from 0.13 to 0.68), the ρ of the
 //!   wrapped Cauchy weight that spreads the remainder over the azimuth;
@@ -66,7 +69,9 @@ mod solve;
 mod walk;
 
 pub use solve::TRAPPED_RETENTIONS;
-pub use walk::{EventCounts, GLOSSY_TAPER_POWER, event_counts, peak_blur, walk_events, walk_exits};
+pub use walk::{
+    EventCounts, GLOSSY_TAPER_POWER, WalkReturn, event_counts, peak_blur, walk_events, walk_exits, walk_returns,
+};
 
 use energy::{energy_probes, fit_lobe_albedo};
 use glazec::math::tables::{
@@ -104,7 +109,7 @@ fn trapped_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Trap
         .map(|(i, &mu)| event_counts(mu, r_c, r, eta, walks, seed << 8 | i as u64))
         .collect();
     let (slow_retention, fit_error) = fit_trapped(&counts);
-    let weights = counts
+    let weights: Vec<[f64; 3]> = counts
         .iter()
         .map(|c| {
             let (w, _) = trapped_weights(c, slow_retention);
@@ -117,7 +122,7 @@ fn trapped_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Trap
     // Without any trapped light (a mirror under a smooth coat), inside the TIR cone.
     let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
     // Along the normal (the last node) light has no azimuth: the node takes its neighbour's κ.
-    let spread: Vec<Option<f64>> = counts.iter().map(EventCounts::forward_spread).collect();
+    let spread: Vec<Option<f64>> = counts.iter().zip(&weights).map(|(c, w)| c.forward_spread(w[0])).collect();
     let spread = (0..spread.len())
         .map(|i| spread[i].or_else(|| spread[..i].iter().rev().find_map(|&k| k)).unwrap_or(0.0).min(SPREAD_MAX))
         .collect();

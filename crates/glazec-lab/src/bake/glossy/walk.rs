@@ -29,6 +29,13 @@ pub struct EventCounts {
     /// The same two sums split by the walk's event count (index k: k + 1 events), for research
     /// into how the spread depends on the count (`examples/glossy_colour_spread.rs`).
     pub forward_by_events: Vec<(f64, f64)>,
+    /// The same two sums over the walks that left at the second event, split by where their
+    /// first return went: inside the escape cone (the coat's Fresnel reflection sent them back,
+    /// about the mirror direction) or beyond it (total internal reflection); and the count of
+    /// the first.
+    pub second_inside: (f64, f64),
+    pub second_beyond: (f64, f64),
+    pub second_inside_walks: u64,
 }
 
 impl EventCounts {
@@ -39,9 +46,24 @@ impl EventCounts {
 
     /// κ of the remainder's azimuth about the forward direction, E[cos φf] = κ sin θᵢ sin θₒ (the
     /// wrapped Cauchy distribution's ρ is its mean resultant length E[cos φf]), by the moments:
-    /// Σ cos φf / Σ sin θᵢ sin θₒ; `None` without any remainder that has an azimuth.
-    pub(super) fn forward_spread(&self) -> Option<f64> {
-        (self.forward_weight > 0.0).then(|| (self.forward_cosine_sum / self.forward_weight).max(0.0))
+    /// Σ cos φf / Σ sin θᵢ sin θₒ over the light the remainder holds; `None` without any
+    /// remainder that has an azimuth. The remainder holds every walk that left after three or
+    /// more events and, of those that left at the second, all but the share `next` of the trapped
+    /// light that the level's lobe takes (w₀). That share is taken from the walks whose first
+    /// return the coat's Fresnel reflection sent back inside the escape cone, which leave about
+    /// the mirror direction like the lobe (for coats of roughness ≤ 0.2 they leave w₀ within
+    /// 0.03 of the fitted weight; `examples/second_return.rs`); what total internal reflection
+    /// returned leaves anywhere in the cone, and further forward than the later events (κ
+    /// 1.02–1.35 against 0.75–0.99 for a conductor of roughness 0.25–0.3 under η 1.5 coats of
+    /// roughness ≤ 0.2 at 40°–85°). Counted from three events only, the remainder's spread put
+    /// too much of it to the side and behind.
+    pub(super) fn forward_spread(&self, next: f64) -> Option<f64> {
+        let trapped = self.entered as f64 * (1.0 - self.share(0));
+        let inside = self.second_inside_walks as f64;
+        let kept = if inside > 0.0 { (1.0 - next * trapped / inside).clamp(0.0, 1.0) } else { 0.0 };
+        let cosines = self.forward_cosine_sum + self.second_beyond.0 + kept * self.second_inside.0;
+        let weight = self.forward_weight + self.second_beyond.1 + kept * self.second_inside.1;
+        (weight > 0.0).then(|| (cosines / weight).max(0.0))
     }
 
     /// Σ_{k ≥ 2} P_k c^(k−1): the trapped light's generating function, exactly.
@@ -136,18 +158,31 @@ fn forward_cosine(wo: DVec3, exit: DVec3) -> (f64, f64) {
 pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> EventCounts {
     let mut rng = Rng::seeded(seed);
     let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    // The escape cone's cosine inside the coat (0: no total internal reflection, η ≤ 1).
+    let cone = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
     let mut counts = EventCounts {
         events: vec![0; EVENT_CAP],
         forward_by_events: vec![(0.0, 0.0); EVENT_CAP],
         ..Default::default()
     };
     for _ in 0..walks {
-        let Some(Walk { events, exit, .. }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
+        let Some(Walk { crossings, events, exit }) = walk(eta, r * r, r_c * r_c, wo, &mut rng) else { continue };
         counts.entered += 1;
         counts.events[events.len().clamp(1, EVENT_CAP) - 1] += 1;
         for &cosine in events.iter().skip(1) {
             counts.pool_cosine_sum += cosine;
             counts.pool_events += 1;
+        }
+        if let (2, Some(exit)) = (events.len(), exit) {
+            let (cosine, weight) = forward_cosine(wo, exit);
+            if crossings.get(1).is_some_and(|&up| up > cone) {
+                counts.second_inside.0 += cosine;
+                counts.second_inside.1 += weight;
+                counts.second_inside_walks += 1;
+            } else {
+                counts.second_beyond.0 += cosine;
+                counts.second_beyond.1 += weight;
+            }
         }
         if let (true, Some(exit)) = (events.len() >= 3, exit) {
             let (cosine, weight) = forward_cosine(wo, exit);
@@ -194,6 +229,36 @@ pub fn walk_exits(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) ->
 /// (`examples/glossy_pool_colour.rs`).
 pub fn walk_events(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<Vec<f64>> {
     walks_that_left(mu, r_c, r, eta, walks, seed).1.into_iter().map(|(events, _)| events).collect()
+}
+
+/// How one white walk that entered the coat left ([`walk_returns`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WalkReturn {
+    /// The cosine of its first upward direction (after the first conductor event).
+    pub first_return: f64,
+    /// Its count of conductor events (`EVENT_CAP` for a cut walk).
+    pub events: usize,
+    /// For a walk that left: cos φf and sin θᵢ sin θₒ of its exit about the forward direction.
+    pub forward: Option<(f64, f64)>,
+}
+
+/// How `walks` white walks from outside cosine `mu` leave, per walk that entered the coat; for
+/// research into where the light that leaves at the second event came from (the coat's Fresnel
+/// reflection inside the escape cone, or total internal reflection beyond it;
+/// `examples/second_return.rs`).
+pub fn walk_returns(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<WalkReturn> {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    (0..walks)
+        .filter_map(|_| {
+            let Walk { crossings, events, exit } = walk(eta, r * r, r_c * r_c, wo, &mut rng)?;
+            Some(WalkReturn {
+                first_return: crossings.get(1).copied().unwrap_or(1.0),
+                events: events.len(),
+                forward: exit.map(|e| forward_cosine(wo, e)),
+            })
+        })
+        .collect()
 }
 
 /// The peak-matched widening of a conductor lobe (α = `alpha_c`) seen through the coat from
