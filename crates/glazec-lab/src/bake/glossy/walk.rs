@@ -52,11 +52,11 @@ impl EventCounts {
     /// light that the level's lobe takes (w₀). That share is taken from the walks whose first
     /// return the coat's Fresnel reflection sent back inside the escape cone, which leave about
     /// the mirror direction like the lobe (for coats of roughness ≤ 0.2 they leave w₀ within
-    /// 0.03 of the fitted weight; `examples/second_return.rs`); what total internal reflection
-    /// returned leaves anywhere in the cone, and further forward than the later events (κ
-    /// 1.02–1.35 against 0.75–0.99 for a conductor of roughness 0.25–0.3 under η 1.5 coats of
-    /// roughness ≤ 0.2 at 40°–85°). Counted from three events only, the remainder's spread put
-    /// too much of it to the side and behind.
+    /// 0.03 of the fitted weight at 40°–85°; `examples/second_return.rs`); what total internal
+    /// reflection returned leaves anywhere in the cone, and further forward than the later
+    /// events (κ 1.02–1.35 against 0.75–0.99 for a conductor of roughness 0.25–0.3 under η 1.5
+    /// coats of roughness ≤ 0.2 at 40°–85°). Counted from three events only, the remainder's
+    /// spread put too much of it to the side and behind.
     pub(super) fn forward_spread(&self, next: f64) -> Option<f64> {
         let trapped = self.entered as f64 * (1.0 - self.share(0));
         let inside = self.second_inside_walks as f64;
