@@ -1,0 +1,81 @@
+//! How far a coloured conductor's remainder under a coat moves forward, the walks against the
+//! glossy level's model: white walks (`walk_returns`) weighed by cⁿ (a constant per-event
+//! survival c), over the walks the remainder holds (three or more events; at the second after
+//! total internal reflection), at θᵢ and exits within ±5° of θₒ; the mean resultant length of
+//! their azimuth about the forward direction, white and coloured, and the coloured light's
+//! share to the side (|φf − 90°| < 15°) and behind (φf > 150°) over white's, each over its
+//! mean; against the level's ρ (κ from `GlossySpread`), ρ_c (`glossy_spread_colour` over the
+//! tables' event counts) and what its tilt (`forward_azimuth_tilt`) gives the side and the back.
+//!
+//! `cargo run --release -p glazec-lab --example spread_colour [-- WALKS]`
+
+use glam::Vec3;
+use glazec::math::tables::{TableId, lookup};
+use glazec::math::terms::{forward_azimuth_tilt, forward_azimuth_weight, glossy_spread_colour};
+use glazec_lab::bake::glossy::walk_returns;
+
+fn main() {
+    let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(1_000_000);
+    println!("| r_c, r, η | θi/θo | c | walks ρ white / coloured | side, back | model ρ / ρ_c | side, back |");
+    println!("|---|---|---|---|---|---|---|");
+    for (r_c, r, eta) in [(0.25_f64, 0.1_f64, 1.5_f64), (0.3, 0.0, 1.5), (0.3, 0.0, 2.0), (0.3, 0.2, 1.33)] {
+        let cone = (1.0 - 1.0 / (eta * eta)).sqrt();
+        for (theta_i, theta_o) in [(85.0_f64, 75.0_f64), (75.0, 75.0), (60.0, 60.0)] {
+            let mu_i = theta_i.to_radians().cos();
+            let returns = walk_returns(mu_i, r_c, r, eta, walks, 11);
+            let kept: Vec<_> = returns
+                .iter()
+                .filter(|w| w.events >= 3 || (w.events == 2 && w.first_return <= cone))
+                .filter_map(|w| {
+                    let (cos_phi, sines) = w.forward?;
+                    let exit = (sines / theta_i.to_radians().sin()).clamp(0.0, 1.0).asin().to_degrees();
+                    ((exit - theta_o).abs() < 5.0).then_some((cos_phi.clamp(-1.0, 1.0), w.events))
+                })
+                .collect();
+            let at = |mu: f64| [mu as f32, r_c as f32, r as f32, eta as f32];
+            let mu_o = theta_o.to_radians().cos();
+            let mean = |id: TableId| 0.5 * (lookup::<f32>(id, &at(mu_i)) + lookup::<f32>(id, &at(mu_o)));
+            let slow = lookup::<f32>(TableId::GlossySlowRetention, &[r_c as f32, r as f32, eta as f32]);
+            let kappa = (lookup::<f32>(TableId::GlossySpread, &at(mu_i))
+                * lookup::<f32>(TableId::GlossySpread, &at(mu_o)))
+            .sqrt();
+            let rho = (kappa * (theta_i.to_radians().sin() * theta_o.to_radians().sin()) as f32).min(0.95);
+            for c in [0.9_f64, 0.6] {
+                let weigh = |coloured: bool, keep: &dyn Fn(f64) -> bool| -> (f64, f64) {
+                    kept.iter()
+                        .filter(|(p, _)| keep(*p))
+                        .map(|&(p, n)| (if coloured { c.powi(n as i32) } else { 1.0 }, p))
+                        .fold((0.0, 0.0), |(s, m), (w, p)| (s + w, m + w * p))
+                };
+                let (white, white_cos) = weigh(false, &|_| true);
+                let (coloured, coloured_cos) = weigh(true, &|_| true);
+                let side = |p: f64| (p.acos().to_degrees() - 90.0).abs() < 15.0;
+                let back = |p: f64| p.acos().to_degrees() > 150.0;
+                let share =
+                    |keep: &dyn Fn(f64) -> bool| (weigh(true, keep).0 / coloured) / (weigh(false, keep).0 / white);
+                let rho_c = glossy_spread_colour::<f32>(
+                    rho,
+                    mean(TableId::GlossyNext),
+                    mean(TableId::GlossyQuick),
+                    mean(TableId::GlossySteady),
+                    slow,
+                    Vec3::splat(c as f32),
+                )
+                .x;
+                let tilt = |cos_phi: f32| {
+                    let w = forward_azimuth_weight::<f32>(rho, cos_phi);
+                    forward_azimuth_tilt::<f32>(rho, Vec3::splat(rho_c), w).x
+                };
+                println!(
+                    "| {r_c}, {r}, {eta} | {theta_i}/{theta_o} | {c} | {:.3} / {:.3} | {:.2}, {:.2} | {rho:.3} / {rho_c:.3} | {:.2}, {:.2} |",
+                    white_cos / white,
+                    coloured_cos / coloured,
+                    share(&side),
+                    share(&back),
+                    tilt(0.0),
+                    tilt(-0.966)
+                );
+            }
+        }
+    }
+}
