@@ -20,7 +20,7 @@ fn main() {
     println!("| r_c, r, η | θ | P₁ | q₂ | G | F | w₀ | κ ≥ 3 | κ 2, TIR | κ both |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for (r_c, r, eta) in configs {
-        let mu_c = (1.0 - 1.0 / (eta * eta) as f64).sqrt();
+        let mu_c: f64 = (1.0 - 1.0 / (eta * eta)).sqrt();
         for theta in [85.0_f64, 75.0, 60.0, 40.0] {
             let mu = theta.to_radians().cos();
             let returns = walk_returns(mu, r_c, r, eta, walks, 7);

@@ -5,7 +5,9 @@
 //! their azimuth about the forward direction, white and coloured, and the coloured light's
 //! share to the side (|φf − 90°| < 15°) and behind (φf > 150°) over white's, each over its
 //! mean; against the level's ρ (κ from `GlossySpread`), ρ_c (`glossy_spread_colour` over the
-//! tables' event counts) and what its tilt (`forward_azimuth_tilt`) gives the side and the back.
+//! tables' event counts), what its tilt (`forward_azimuth_tilt`) gives the side and the back,
+//! and what the random-walk model behind ρ_c gives there when summed over the event counts
+//! (a wrapped Cauchy of A·ρ₁ⁿ after n events) instead of tilted.
 //!
 //! `cargo run --release -p glazec-lab --example spread_colour [-- WALKS]`
 
@@ -16,8 +18,10 @@ use glazec_lab::bake::glossy::walk_returns;
 
 fn main() {
     let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(1_000_000);
-    println!("| r_c, r, η | θi/θo | c | walks ρ white / coloured | side, back | model ρ / ρ_c | side, back |");
-    println!("|---|---|---|---|---|---|---|");
+    println!(
+        "| r_c, r, η | θi/θo | c | walks ρ white / coloured | side, back | model ρ / ρ_c | tilt: side, back | random walk: side, back |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
     for (r_c, r, eta) in [(0.25_f64, 0.1_f64, 1.5_f64), (0.3, 0.0, 1.5), (0.3, 0.0, 2.0), (0.3, 0.2, 1.33)] {
         let cone = (1.0 - 1.0 / (eta * eta)).sqrt();
         for (theta_i, theta_o) in [(85.0_f64, 75.0_f64), (75.0, 75.0), (60.0, 60.0)] {
@@ -62,18 +66,47 @@ fn main() {
                     Vec3::splat(c as f32),
                 )
                 .x;
+                // The random-walk model itself, not its tilt: light that took n more events
+                // leaves with a wrapped Cauchy of mean resultant length A·ρ₁ⁿ (ρ₁ = ρ^(1/n̄) as
+                // `glossy_spread_colour` takes it, A so that white light's is ρ), summed over
+                // the event counts of the tables' geometric mixture, weighed by cⁿ.
+                let (next, quick, steady) = (
+                    f64::from(mean(TableId::GlossyNext)),
+                    f64::from(mean(TableId::GlossyQuick)),
+                    f64::from(mean(TableId::GlossySteady)),
+                );
+                let rest = (1.0 - next - quick - steady).max(0.0);
+                let components = [(quick, 0.5), (steady, 0.8), (rest, f64::from(slow))];
+                let weight_of =
+                    |n: i32| -> f64 { components.iter().map(|&(w, b)| w * (1.0 - b) * b.powi(n - 1)).sum::<f64>() };
+                let total: f64 = components.iter().map(|c| c.0).sum::<f64>().max(1e-6);
+                let events = (quick * 2.0 + steady * 5.0 + rest / (1.0 - f64::from(slow)).max(1e-6)) / total;
+                let step = f64::from(rho).powf(1.0 / events);
+                let scale = f64::from(rho) / ((1..400).map(|n| weight_of(n) * step.powi(n)).sum::<f64>() / total);
+                let mixture = |survival: f64, cos_phi: f64| {
+                    let (mut sum, mut norm) = (0.0, 0.0);
+                    for n in 1..400 {
+                        let (w, r) = (weight_of(n) * survival.powi(n), (scale * step.powi(n)).min(0.999));
+                        sum += w * (1.0 - r * r) / (1.0 + r * r - 2.0 * r * cos_phi);
+                        norm += w;
+                    }
+                    sum / norm
+                };
+                let random_walk = |cos_phi: f64| mixture(c, cos_phi) / mixture(1.0, cos_phi);
                 let tilt = |cos_phi: f32| {
                     let w = forward_azimuth_weight::<f32>(rho, cos_phi);
                     forward_azimuth_tilt::<f32>(rho, Vec3::splat(rho_c), w).x
                 };
                 println!(
-                    "| {r_c}, {r}, {eta} | {theta_i}/{theta_o} | {c} | {:.3} / {:.3} | {:.2}, {:.2} | {rho:.3} / {rho_c:.3} | {:.2}, {:.2} |",
+                    "| {r_c}, {r}, {eta} | {theta_i}/{theta_o} | {c} | {:.3} / {:.3} | {:.2}, {:.2} | {rho:.3} / {rho_c:.3} | {:.2}, {:.2} | {:.2}, {:.2} |",
                     white_cos / white,
                     coloured_cos / coloured,
                     share(&side),
                     share(&back),
                     tilt(0.0),
-                    tilt(-0.966)
+                    tilt(-0.966),
+                    random_walk(0.0),
+                    random_walk(-0.966)
                 );
             }
         }
