@@ -469,9 +469,10 @@ float3 coated_gold_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
-// leaves after three or more conductor events: the mean cosine of its azimuth about the
-// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
-// internal reflection keeps the direction's horizontal part).
+// leaves as the level's remainder (after three or more conductor events, or at the second
+// after total internal reflection): the mean cosine of its azimuth about the forward
+// direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
+// reflection keeps the direction's horizontal part).
 // Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 float coated_gold_glossy_spread_curve(float cos_theta_11)
@@ -573,10 +574,11 @@ float3 coated_gold_forward_azimuth_tilt(float rho_2, float3 rho_c, float weight)
     return ((coated_gold_one + (a_5 * weight)) / (coated_gold_one + (a_5 * mean_weight)));
 }
 
-// glazec's glossy level, the directional albedo of what leaves after three or more conductor
-// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
-// and reflected by the conductor (F, at the refracted direction), but not let out at once
-// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+// glazec's glossy level, the directional albedo of the remainder, what leaves after more
+// than one conductor event and not in the lobe: M(μ) = T a² F (1 − P₁) Ŷ, light that enters
+// (T), is attenuated down and up once (a²) and reflected by the conductor (F, at the
+// refracted direction), but not let out at once (1 − P₁) or in the lobe at the second event
+// (w₀), and that its further events return (`glossy_later`).
 float3 coated_gold_glossy_remainder(float t, float3 a, float3 fresnel_1, float single_1, float3 later)
 {
     return ((((a * a) * fresnel_1) * later) * (t * (1.0 - single_1)));

@@ -374,9 +374,10 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
-// leaves after three or more conductor events: the mean cosine of its azimuth about the
-// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
-// internal reflection keeps the direction's horizontal part).
+// leaves as the level's remainder (after three or more conductor events, or at the second
+// after total internal reflection): the mean cosine of its azimuth about the forward
+// direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
+// reflection keeps the direction's horizontal part).
 // Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
@@ -472,10 +473,11 @@ fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, weight: f32) -> 
     return ((car_paint_one + (a_5 * weight)) / (car_paint_one + (a_5 * mean_weight)));
 }
 
-// glazec's glossy level, the directional albedo of what leaves after three or more conductor
-// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
-// and reflected by the conductor (F, at the refracted direction), but not let out at once
-// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+// glazec's glossy level, the directional albedo of the remainder, what leaves after more
+// than one conductor event and not in the lobe: M(μ) = T a² F (1 − P₁) Ŷ, light that enters
+// (T), is attenuated down and up once (a²) and reflected by the conductor (F, at the
+// refracted direction), but not let out at once (1 − P₁) or in the lobe at the second event
+// (w₀), and that its further events return (`glossy_later`).
 fn car_paint_glossy_remainder(t: f32, a: vec3<f32>, fresnel_1: vec3<f32>, single_1: f32, later: vec3<f32>) -> vec3<f32> {
     return ((((a * a) * fresnel_1) * later) * (t * (1f - single_1)));
 }
@@ -534,9 +536,10 @@ fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
-// leaves after three or more conductor events: the mean cosine of its azimuth about the
-// forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total
-// internal reflection keeps the direction's horizontal part).
+// leaves as the level's remainder (after three or more conductor events, or at the second
+// after total internal reflection): the mean cosine of its azimuth about the forward
+// direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
+// reflection keeps the direction's horizontal part).
 // Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
 // 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {

@@ -528,9 +528,10 @@ pub const SPECS: [TableSpec; 29] = [
         GLOSSY_PARAMS,
         glossy_doc![
             "κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it",
-            "leaves after three or more conductor events: the mean cosine of its azimuth about the",
-            "forward direction is κ sin θ sin θₒ (each reflection off the conductor and each total",
-            "internal reflection keeps the direction's horizontal part).",
+            "leaves as the level's remainder (after three or more conductor events, or at the second",
+            "after total internal reflection): the mean cosine of its azimuth about the forward",
+            "direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal",
+            "reflection keeps the direction's horizontal part).",
         ],
     ),
 ];

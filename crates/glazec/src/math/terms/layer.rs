@@ -150,10 +150,11 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// glazec's glossy level, the directional albedo of what leaves after three or more conductor
-    /// events: M(μ) = T a² F (1 − P₁) Ŷ, light that enters (T), is attenuated down and up once (a²)
-    /// and reflected by the conductor (F, at the refracted direction), but not let out at once
-    /// (1 − P₁) or at the second event, and that its further events return (`glossy_later`).
+    /// glazec's glossy level, the directional albedo of the remainder, what leaves after more
+    /// than one conductor event and not in the lobe: M(μ) = T a² F (1 − P₁) Ŷ, light that enters
+    /// (T), is attenuated down and up once (a²) and reflected by the conductor (F, at the
+    /// refracted direction), but not let out at once (1 − P₁) or in the lobe at the second event
+    /// (w₀), and that its further events return (`glossy_later`).
     pub fn glossy_remainder(t: S, a: V, fresnel: V, single: S, later: V) -> V {
         a * a * fresnel * later * (t * single.one_minus())
     }
