@@ -15,12 +15,12 @@ use glazec_lab::bake::glossy::{WalkReturn, walk_returns};
 
 fn main() {
     let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(200_000);
-    let configs =
+    let configs: [(f64, f64, f64); 6] =
         [(0.25, 0.1, 1.5), (0.3, 0.0, 1.5), (0.3, 0.2, 1.5), (0.3, 0.5, 1.5), (0.3, 0.2, 2.0), (0.3, 0.0, 1.33)];
     println!("| r_c, r, η | θ | P₁ | q₂ | G | F | w₀ | κ ≥ 3 | κ 2, TIR | κ both |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for (r_c, r, eta) in configs {
-        let mu_c: f64 = (1.0 - 1.0 / (eta * eta)).sqrt();
+        let mu_c = (1.0 - 1.0 / (eta * eta)).sqrt();
         for theta in [85.0_f64, 75.0, 60.0, 40.0] {
             let mu = theta.to_radians().cos();
             let returns = walk_returns(mu, r_c, r, eta, walks, 7);
