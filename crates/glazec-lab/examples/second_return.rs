@@ -11,7 +11,7 @@
 //! `cargo run --release -p glazec-lab --example second_return [-- WALKS]`
 
 use glazec::math::tables::{TableId, lookup};
-use glazec_lab::bake::glossy::{WalkReturn, walk_returns};
+use glazec_lab::bake::glossy::{WalkReturn, escape_cone_cosine, walk_returns};
 
 fn main() {
     let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(200_000);
@@ -20,7 +20,7 @@ fn main() {
     println!("| r_c, r, η | θ | P₁ | q₂ | G | F | w₀ | κ ≥ 3 | κ 2, TIR | κ both |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for (r_c, r, eta) in configs {
-        let mu_c = (1.0 - 1.0 / (eta * eta)).sqrt();
+        let mu_c = escape_cone_cosine(eta);
         for theta in [85.0_f64, 75.0, 60.0, 40.0] {
             let mu = theta.to_radians().cos();
             let returns = walk_returns(mu, r_c, r, eta, walks, 7);

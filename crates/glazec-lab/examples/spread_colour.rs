@@ -14,7 +14,7 @@
 use glam::Vec3;
 use glazec::math::tables::{TableId, lookup};
 use glazec::math::terms::{forward_azimuth_tilt, forward_azimuth_weight, glossy_spread_colour};
-use glazec_lab::bake::glossy::walk_returns;
+use glazec_lab::bake::glossy::{escape_cone_cosine, walk_returns};
 
 fn main() {
     let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(1_000_000);
@@ -23,7 +23,7 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|");
     for (r_c, r, eta) in [(0.25_f64, 0.1_f64, 1.5_f64), (0.3, 0.0, 1.5), (0.3, 0.0, 2.0), (0.3, 0.2, 1.33)] {
-        let cone = (1.0 - 1.0 / (eta * eta)).sqrt();
+        let cone = escape_cone_cosine(eta);
         for (theta_i, theta_o) in [(85.0_f64, 75.0_f64), (75.0, 75.0), (60.0, 60.0)] {
             let mu_i = theta_i.to_radians().cos();
             let returns = walk_returns(mu_i, r_c, r, eta, walks, 11);

@@ -70,7 +70,8 @@ mod walk;
 
 pub use solve::TRAPPED_RETENTIONS;
 pub use walk::{
-    EventCounts, GLOSSY_TAPER_POWER, WalkReturn, event_counts, peak_blur, walk_events, walk_exits, walk_returns,
+    EventCounts, GLOSSY_TAPER_POWER, WalkReturn, escape_cone_cosine, event_counts, peak_blur, walk_events, walk_exits,
+    walk_returns,
 };
 
 use energy::{energy_probes, fit_lobe_albedo};
@@ -118,7 +119,7 @@ fn trapped_column((r_c, r, eta): (f64, f64, f64), walks: u32, seed: u64) -> Trap
         .collect();
     let (pool_sum, pool_events) =
         counts.iter().fold((0.0, 0u64), |(s, n), c| (s + c.pool_cosine_sum, n + c.pool_events));
-    let mu_c = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
+    let mu_c = escape_cone_cosine(eta);
     // Without any trapped light (a mirror under a smooth coat), inside the TIR cone.
     let pool_cosine = if pool_events > 0 { pool_sum / pool_events as f64 } else { 0.7 * mu_c.max(0.5) };
     // Along the normal (the last node) light has no azimuth: the node takes its neighbour's κ.

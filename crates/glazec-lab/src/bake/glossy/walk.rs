@@ -154,12 +154,17 @@ fn forward_cosine(wo: DVec3, exit: DVec3) -> (f64, f64) {
     (if lengths < 1e-12 { 0.0 } else { -a.dot(b) / lengths }, lengths)
 }
 
+/// The cosine of the coat's escape cone inside it, √(1 − 1/η²) (0 without total internal
+/// reflection, η ≤ 1).
+pub fn escape_cone_cosine(eta: f64) -> f64 {
+    (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt()
+}
+
 /// Event counts of `walks` white walks from outside cosine `mu`.
 pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> EventCounts {
     let mut rng = Rng::seeded(seed);
     let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    // The escape cone's cosine inside the coat (0: no total internal reflection, η ≤ 1).
-    let cone = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
+    let cone = escape_cone_cosine(eta);
     let mut counts = EventCounts {
         events: vec![0; EVENT_CAP],
         forward_by_events: vec![(0.0, 0.0); EVENT_CAP],
@@ -173,8 +178,9 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
             counts.pool_cosine_sum += cosine;
             counts.pool_events += 1;
         }
-        if let (2, Some(exit)) = (events.len(), exit) {
-            let (cosine, weight) = forward_cosine(wo, exit);
+        let Some(exit) = exit else { continue };
+        let (cosine, weight) = forward_cosine(wo, exit);
+        if events.len() == 2 {
             if crossings.get(1).is_some_and(|&up| up > cone) {
                 counts.second_inside.0 += cosine;
                 counts.second_inside.1 += weight;
@@ -183,9 +189,7 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
                 counts.second_beyond.0 += cosine;
                 counts.second_beyond.1 += weight;
             }
-        }
-        if let (true, Some(exit)) = (events.len() >= 3, exit) {
-            let (cosine, weight) = forward_cosine(wo, exit);
+        } else if events.len() >= 3 {
             counts.forward_cosine_sum += cosine;
             counts.forward_weight += weight;
             let by = &mut counts.forward_by_events[events.len().clamp(1, EVENT_CAP) - 1];
@@ -196,19 +200,20 @@ pub fn event_counts(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) 
     counts
 }
 
+/// Of `walks` white walks from outside cosine `mu`, those that entered the coat; and the
+/// direction they came from.
+fn walks_that_entered(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> (DVec3, Vec<Walk>) {
+    let mut rng = Rng::seeded(seed);
+    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
+    (wo, (0..walks).filter_map(|_| walk(eta, r * r, r_c * r_c, wo, &mut rng)).collect())
+}
+
 /// The `walks` white walks from outside cosine `mu` that left the coat (not cut at
 /// `EVENT_CAP`): per walk, its conductor events' incidence cosines and the direction it left in;
 /// and the direction they came from.
 fn walks_that_left(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> (DVec3, Vec<(Vec<f64>, DVec3)>) {
-    let mut rng = Rng::seeded(seed);
-    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    let left = (0..walks)
-        .filter_map(|_| {
-            let Walk { events, exit: Some(exit), .. } = walk(eta, r * r, r_c * r_c, wo, &mut rng)? else { return None };
-            Some((events, exit))
-        })
-        .collect();
-    (wo, left)
+    let (wo, entered) = walks_that_entered(mu, r_c, r, eta, walks, seed);
+    (wo, entered.into_iter().filter_map(|w| Some((w.events, w.exit?))).collect())
 }
 
 /// Where `walks` white walks from outside cosine `mu` leave the coat: per walk that left, the
@@ -247,16 +252,13 @@ pub struct WalkReturn {
 /// reflection inside the escape cone, or total internal reflection beyond it;
 /// `examples/second_return.rs`).
 pub fn walk_returns(mu: f64, r_c: f64, r: f64, eta: f64, walks: u32, seed: u64) -> Vec<WalkReturn> {
-    let mut rng = Rng::seeded(seed);
-    let wo = direction_at_cosine(mu.max(GLOSSY_GRAZING));
-    (0..walks)
-        .filter_map(|_| {
-            let Walk { crossings, events, exit } = walk(eta, r * r, r_c * r_c, wo, &mut rng)?;
-            Some(WalkReturn {
-                first_return: crossings.get(1).copied().unwrap_or(1.0),
-                events: events.len(),
-                forward: exit.map(|e| forward_cosine(wo, e)),
-            })
+    let (wo, entered) = walks_that_entered(mu, r_c, r, eta, walks, seed);
+    entered
+        .into_iter()
+        .map(|w| WalkReturn {
+            first_return: w.crossings.get(1).copied().unwrap_or(1.0),
+            events: w.events.len(),
+            forward: w.exit.map(|e| forward_cosine(wo, e)),
         })
         .collect()
 }
