@@ -3,11 +3,12 @@
 //! survival c), over the walks the remainder holds (three or more events; at the second after
 //! total internal reflection), at θᵢ and exits within ±5° of θₒ; the mean resultant length of
 //! their azimuth about the forward direction, white and coloured, and the coloured light's
-//! share to the side (|φf − 90°| < 15°) and behind (φf > 150°) over white's, each over its
-//! mean; against the level's ρ (κ from `GlossySpread`), ρ_c (`glossy_spread_colour` over the
-//! tables' event counts), what its tilt (`forward_azimuth_tilt`) gives the side and the back,
-//! and what the random-walk model behind ρ_c gives there when summed over the event counts
-//! (a wrapped Cauchy of A·ρ₁ⁿ after n events) instead of tilted.
+//! share per bin of φf (0° forward; [`BINS`]) over white's, each over its mean; against the
+//! level's ρ (κ from `GlossySpread`), ρ_c (`glossy_spread_colour` over the tables' event
+//! counts), the share its tilt (`forward_azimuth_tilt`, averaged over each bin under the white
+//! weight) gives per bin, and what the random-walk model behind ρ_c gives to the side
+//! (φf = 90°) and behind (φf = 165°) when summed over the event counts (a wrapped Cauchy of
+//! A·ρ₁ⁿ after n events) instead of tilted.
 //!
 //! `cargo run --release -p glazec-lab --example spread_colour [-- WALKS]`
 
@@ -16,13 +17,18 @@ use glazec::math::tables::{TableId, lookup};
 use glazec::math::terms::{forward_azimuth_tilt, forward_azimuth_weight, glossy_spread_colour};
 use glazec_lab::bake::glossy::{escape_cone_cosine, walk_returns};
 
+/// Bins of φf about the forward direction, degrees.
+const BINS: [(f64, f64); 6] = [(0.0, 20.0), (20.0, 45.0), (45.0, 75.0), (75.0, 105.0), (105.0, 135.0), (135.0, 180.0)];
+
 fn main() {
     let walks: u32 = std::env::args().nth(1).and_then(|w| w.parse().ok()).unwrap_or(1_000_000);
     println!(
-        "| r_c, r, η | θi/θo | c | walks ρ white / coloured | side, back | model ρ / ρ_c | tilt: side, back | random walk: side, back |"
+        "| r_c, r, η | θi/θo | c | walks ρ white / coloured | walks: share per bin of φf | model ρ / ρ_c | tilt: share per bin | random walk: side, back |"
     );
     println!("|---|---|---|---|---|---|---|---|");
-    for (r_c, r, eta) in [(0.25_f64, 0.1_f64, 1.5_f64), (0.3, 0.0, 1.5), (0.3, 0.0, 2.0), (0.3, 0.2, 1.33)] {
+    for (r_c, r, eta) in
+        [(0.25_f64, 0.1_f64, 1.5_f64), (0.3, 0.0, 1.5), (0.3, 0.0, 2.0), (0.3, 0.2, 1.33), (0.3, 0.5, 1.5)]
+    {
         let cone = escape_cone_cosine(eta);
         for (theta_i, theta_o) in [(85.0_f64, 75.0_f64), (75.0, 75.0), (60.0, 60.0)] {
             let mu_i = theta_i.to_radians().cos();
@@ -53,10 +59,12 @@ fn main() {
                 };
                 let (white, white_cos) = weigh(false, &|_| true);
                 let (coloured, coloured_cos) = weigh(true, &|_| true);
-                let side = |p: f64| (p.acos().to_degrees() - 90.0).abs() < 15.0;
-                let back = |p: f64| p.acos().to_degrees() > 150.0;
                 let share =
                     |keep: &dyn Fn(f64) -> bool| (weigh(true, keep).0 / coloured) / (weigh(false, keep).0 / white);
+                let walk_shares: Vec<String> = BINS
+                    .iter()
+                    .map(|&(lo, hi)| format!("{:.2}", share(&|p: f64| (lo..hi).contains(&p.acos().to_degrees()))))
+                    .collect();
                 let rho_c = glossy_spread_colour::<f32>(
                     rho,
                     mean(TableId::GlossyNext),
@@ -93,18 +101,26 @@ fn main() {
                     sum / norm
                 };
                 let random_walk = |cos_phi: f64| mixture(c, cos_phi) / mixture(1.0, cos_phi);
-                let tilt = |cos_phi: f32| {
-                    let w = forward_azimuth_weight::<f32>(rho, cos_phi);
-                    forward_azimuth_tilt::<f32>(rho, Vec3::splat(rho_c), w).x
-                };
+                // The tilt's share per bin: its mean over the bin under the white weight W.
+                let tilt_shares: Vec<String> = BINS
+                    .iter()
+                    .map(|&(lo, hi)| {
+                        let (mut tilted, mut plain) = (0.0, 0.0);
+                        for k in 0..60 {
+                            let cos_phi = (lo + (f64::from(k) + 0.5) / 60.0 * (hi - lo)).to_radians().cos() as f32;
+                            let w = forward_azimuth_weight::<f32>(rho, cos_phi);
+                            tilted += w * forward_azimuth_tilt::<f32>(rho, Vec3::splat(rho_c), cos_phi).x;
+                            plain += w;
+                        }
+                        format!("{:.2}", tilted / plain)
+                    })
+                    .collect();
                 println!(
-                    "| {r_c}, {r}, {eta} | {theta_i}/{theta_o} | {c} | {:.3} / {:.3} | {:.2}, {:.2} | {rho:.3} / {rho_c:.3} | {:.2}, {:.2} | {:.2}, {:.2} |",
+                    "| {r_c}, {r}, {eta} | {theta_i}/{theta_o} | {c} | {:.3} / {:.3} | {} | {rho:.3} / {rho_c:.3} | {} | {:.2}, {:.2} |",
                     white_cos / white,
                     coloured_cos / coloured,
-                    share(&side),
-                    share(&back),
-                    tilt(0.0),
-                    tilt(-0.966),
+                    walk_shares.join(" "),
+                    tilt_shares.join(" "),
                     random_walk(0.0),
                     random_walk(-0.966)
                 );

@@ -98,5 +98,5 @@ pub(super) fn forward_spread<F: Real>(
     let rho_c = glossy_spread_colour(rho, next, quick, steady, slow, colour);
     let cos_phi = forward_cosine(g.n, g.v, g.l, sines);
     let weight = forward_azimuth_weight(rho, cos_phi).named(&name("spread_weight"));
-    (forward_azimuth_tilt(rho, rho_c, weight) * weight).named(&name("spread"))
+    (forward_azimuth_tilt(rho, rho_c, cos_phi) * weight).named(&name("spread"))
 }

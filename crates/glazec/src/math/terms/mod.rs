@@ -72,6 +72,36 @@ mod tests {
     }
 
     #[test]
+    fn forward_tilt_keeps_the_albedo_and_reaches_its_mean_resultant_length() {
+        // Over the azimuth, W(ρ)·tilt has mean 1 and is positive, and its first Fourier
+        // coefficient is ρ_c (clamped to what the tilt reaches) where ρ_c ≥ ρ, as a coloured
+        // conductor's is (a ρ_c below ρ moves it only as far as 1 + aV > 0 allows); the
+        // channels are independent.
+        const N: usize = 20_000;
+        for rho in [0.05_f32, 0.2, 0.45, 0.7, 0.84, 0.95] {
+            for rho_c in [rho * 0.8, rho, rho + 0.5 * (1.0 - rho) * 0.3, rho + (1.0 - rho) * 0.6, 0.99] {
+                let top = (rho + 0.95) / (0.95 * rho + 1.0) - 1e-3;
+                let wanted = rho_c.min(top);
+                let (mut mean, mut first, mut least) = (0.0_f64, 0.0_f64, f32::MAX);
+                for k in 0..N {
+                    let phi = (k as f32 + 0.5) / N as f32 * 2.0 * PI;
+                    let w = forward_azimuth_weight(rho, phi.cos());
+                    let tilt = forward_azimuth_tilt(rho, Vec3::new(rho_c, rho, wanted), phi.cos());
+                    least = least.min(tilt.min_element());
+                    mean += f64::from(w * tilt.x) / N as f64;
+                    first += f64::from(w * tilt.x * phi.cos()) / N as f64;
+                    assert!((tilt.y - 1.0).abs() < 1e-5, "white stays untilted: ρ {rho}: {}", tilt.y);
+                }
+                assert!(least > 0.0, "ρ {rho}, ρ_c {rho_c}: {least}");
+                assert!((mean - 1.0).abs() < 1e-3, "ρ {rho}, ρ_c {rho_c}: mean {mean}");
+                if rho_c >= rho {
+                    assert!((first - f64::from(wanted)).abs() < 2e-3, "ρ {rho}, ρ_c {rho_c}: {first} against {wanted}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn gtr1_is_normalised_and_continuous_at_one() {
         for alpha in [0.01_f32, 0.1, 0.5] {
             let integral = simpson(
