@@ -4,7 +4,9 @@
 //! over the bin; the walks that left after one event against the level's lobe (`glossy_lobe_white`
 //! times the scales s(μᵢ) s(μₒ)), and the rest against the level's f less that lobe and less the
 //! coat's own reflection (the same coat over a black base). The lobe also holds w₀ of the light
-//! that leaves at the second event, which the walks count in the rest.
+//! that leaves at the second event, which the walks count in the rest. Then the mean resultant
+//! length ρ of the rest's azimuth per pair of angles against the level's,
+//! √(κ(μᵢ) κ(μₒ)) sin θᵢ sin θₒ (`glossy_spread`).
 //!
 //! `cargo run --release -p glazec-lab --example glossy_lobe_events [-- WALKS R ETA]`
 //! (a conductor of roughness 0.3 under a GGX coat of roughness R, relative IOR ETA; defaults
@@ -95,6 +97,27 @@ fn main() -> Result<(), String> {
             })
             .collect();
         println!("| {ti}° | {lo}°–{hi}° | {} |", cells.join(" | "));
+    }
+    let kappa =
+        |mu: f64| f64::from(lookup::<f32>(TableId::GlossySpread, &[mu as f32, R_C as f32, r as f32, eta as f32]));
+    let bands = [(15.0, 25.0), (30.0, 40.0), (45.0, 55.0), (55.0, 65.0), (70.0, 80.0), (80.0, 88.0_f64)];
+    println!("\nρ of the walks that left after two or more events / the level's, θo bands {bands:?}\n");
+    for ti in [20.0_f64, 35.0, 50.0, 60.0, 75.0, 89.0] {
+        let exits = walk_exits(ti.to_radians().cos(), R_C, r, eta, walks, 5);
+        let row: Vec<String> = bands
+            .iter()
+            .map(|&(lo, hi)| {
+                let (a, b) = (f64::to_radians(hi).cos(), f64::to_radians(lo).cos());
+                let rest: Vec<f64> =
+                    exits.iter().filter(|e| e.2 >= 2 && e.0 >= a && e.0 < b).map(|e| e.1.cos()).collect();
+                let walks_rho = rest.iter().sum::<f64>() / rest.len().max(1) as f64;
+                let to = ((lo + hi) / 2.0_f64).to_radians();
+                let ti = ti.to_radians();
+                let level = (kappa(ti.cos()) * kappa(to.cos())).sqrt() * ti.sin() * to.sin();
+                format!("{walks_rho:.2} / {level:.2}")
+            })
+            .collect();
+        println!("θi {ti}°: {}", row.join(", "));
     }
     Ok(())
 }
