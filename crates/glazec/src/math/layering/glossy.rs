@@ -513,7 +513,7 @@ pub(super) fn glossy_level<F: Real>(
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));
     let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
-    let coat_roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
+    let coat_roughness = interface.glossy_roughness().unwrap_or(inputs.lit(0.0));
     let glossy = Glossy {
         interface,
         inputs,
