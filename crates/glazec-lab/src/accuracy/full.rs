@@ -177,7 +177,7 @@ impl Subject {
 
 /// The multi-coat set: 2–4 coats, Smooth, Ggx and Gtr1 mixed, absorbing and clear, over
 /// Lambert, EON, Plastic and a conductor.
-pub const MULTI_COAT_SET: [(&str, &str); 10] = [
+pub const MULTI_COAT_SET: [(&str, &str); 11] = [
     (
         "ggx 0.2 / ggx 0.4 over Lambert 0.8",
         "Coat(lobe: Ggx(0.2), ior: 1.5), Coat(lobe: Ggx(0.4), ior: 1.4, absorption: (0.2, 0.5, 0.9), thickness: 1.0), Lambert(0.8)",
@@ -217,6 +217,10 @@ pub const MULTI_COAT_SET: [(&str, &str); 10] = [
     (
         "ggx 0.05 / ggx 0.05 over silver",
         "Coat(lobe: Ggx(0.05), ior: 1.5), Coat(lobe: Ggx(0.05), ior: 1.5, absorption: 0.2, thickness: 1.0), Conductor(roughness: 0.2, f0: (0.95, 0.93, 0.88))",
+    ),
+    (
+        "gtr1 0.15 over copper",
+        "Coat(lobe: Gtr1(0.15), ior: 1.5), Conductor(roughness: 0.3, eta: (0.27, 0.68, 1.22), k: (3.61, 2.63, 2.29))",
     ),
 ];
 
