@@ -176,7 +176,8 @@ impl Subject {
 }
 
 /// The multi-coat set: 2–4 coats, Smooth, Ggx and Gtr1 mixed, absorbing and clear, over
-/// Lambert, EON, Plastic and a conductor.
+/// Lambert, EON, Plastic and a conductor; and one GTR1 coat right over a conductor (the Disney
+/// clear-coat over a metal), which the standard set's GGX and smooth coats do not cover.
 pub const MULTI_COAT_SET: [(&str, &str); 11] = [
     (
         "ggx 0.2 / ggx 0.4 over Lambert 0.8",
@@ -602,10 +603,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_multi_coat_material_compiles_with_two_to_four_coats() {
+    fn every_multi_coat_material_compiles_with_two_to_four_coats_or_is_a_gtr1_coat_over_a_conductor() {
+        // Besides the stacks, the set holds one single coat: a GTR1 coat right over a conductor
+        // (the Disney clear-coat over a metal), which the standard set's GGX coats do not cover.
+        let mut single = Vec::new();
         for s in multi_coat_set() {
-            assert!((2..=4).contains(&s.material.coats.len()), "{}", s.label);
+            if s.material.coats.len() == 1 {
+                let gtr1 = matches!(s.material.coats[0].lobe, glazec::model::Lobe::Gtr1 { .. });
+                assert!(gtr1 && matches!(s.material.base, Base::Conductor { .. }), "{}", s.label);
+                single.push(s.label);
+            } else {
+                assert!((2..=4).contains(&s.material.coats.len()), "{}", s.label);
+            }
         }
+        assert_eq!(single.len(), 1, "{single:?}");
         let bases: Vec<&str> = multi_coat_set()
             .iter()
             .map(|s| match s.material.base {
