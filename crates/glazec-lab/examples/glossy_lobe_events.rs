@@ -12,10 +12,9 @@
 //! (a conductor of roughness 0.3 under a GGX coat of roughness R, relative IOR ETA; defaults
 //! 1,000,000 walks, 0.5, 1.5).
 
-use std::f64::consts::PI;
-
 use glam::DVec3;
 use glazec::math::layering::glossy_lobe_white;
+use glazec::math::sampling::direction_deg;
 use glazec::math::tables::{TableId, lookup};
 use glazec::model::Material;
 use glazec_lab::bake::glossy::walk_exits;
@@ -28,10 +27,9 @@ const BINS: [(f64, f64); 4] = [(0.0, 30.0), (30.0, 60.0), (60.0, 120.0), (120.0,
 const STEPS: usize = 24;
 
 /// The unit directions at polar angles `ti`, `to` (degrees) and azimuth φf (radians) about the
-/// forward direction.
+/// forward direction (`direction_deg`'s φ = 180° − φf).
 fn directions(ti: f64, to: f64, phi_f: f64) -> (DVec3, DVec3) {
-    let (ti, to, phi) = (ti.to_radians(), to.to_radians(), PI - phi_f);
-    (DVec3::new(ti.sin(), 0.0, ti.cos()), DVec3::new(to.sin() * phi.cos(), to.sin() * phi.sin(), to.cos()))
+    (direction_deg(ti, 0.0), direction_deg(to, 180.0 - phi_f.to_degrees()))
 }
 
 /// `f` averaged over the bin's azimuths.

@@ -2,7 +2,8 @@
 //! reference (which walks GTR1's own microsurface), for coats of roughness r and IOR η over
 //! copper of roughness 0.3, at the mirror peak, in the body and at grazing pairs (φ = 180° is
 //! forward, the mirror plane); per material the ratio in green and the RMS of its logarithm.
-//! What the glossy level's GGX roughness for a GTR1 coat (`gtr1_glossy_roughness`) is fitted on.
+//! What the glossy level's GGX roughness for a GTR1 coat (`CoatInterface::glossy_roughness`) is
+//! fitted on.
 //!
 //! `cargo run --release -p glazec-lab --example gtr1_over_conductor [-- SAMPLES]`
 
