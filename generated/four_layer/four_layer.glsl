@@ -110,6 +110,23 @@ vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_1) {
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.4472136, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float four_layer_coat_path_curve(float cos_theta_1) {
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_11 = ((u_1 * 0.85441303) + 1.298795);
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.15871215, -0.14111447, -0.2991382)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5701791, -0.71037436, -0.39294133)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.09422189, 0.3586102, 0.40072)));
+    float f_15 = (f_14 + (max(u_1, 0.90909094) * 0.27592653));
+    return f_15;
+}
+
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)
 // along a direction with cosine μ: e^{−τ/μ}, one exponential instead of three. Guard: μ ≥
 // COS_EPSILON (the caller's clamp) keeps τ/μ finite.
@@ -158,16 +175,16 @@ float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float 
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_scale_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_11 = ((u_1 * -0.01585722) + 1.0037742);
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.015521049, -0.0011971594, -0.027303094)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.009397574, 0.07106871, 0.11350215)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.011117818, -0.15492256, -0.032958988)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.039440993, 0.054325465, 0.025520327)));
-    float f_16 = (f_15 + (max(u_1, 0.8666667) * 0.004279018));
-    float f_17 = (f_16 + (max(u_1, 0.93333334) * 0.0050067906));
-    return f_17;
+float four_layer_coat_scale_curve(float cos_theta_2) {
+    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_16 = ((u_2 * -0.01585722) + 1.0037742);
+    float f_17 = (f_16 + dot(max(vec3(u_2), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.015521049, -0.0011971594, -0.027303094)));
+    float f_18 = (f_17 + dot(max(vec3(u_2), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.009397574, 0.07106871, 0.11350215)));
+    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.011117818, -0.15492256, -0.032958988)));
+    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.039440993, 0.054325465, 0.025520327)));
+    float f_21 = (f_20 + (max(u_2, 0.8666667) * 0.004279018));
+    float f_22 = (f_21 + (max(u_2, 0.93333334) * 0.0050067906));
+    return f_22;
 }
 
 // The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
@@ -214,20 +231,37 @@ float four_layer_second_event_share(float lambda) {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_deficit_curve(float cos_theta_2) {
-    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * -0.020166278) + -0.003592166);
-    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.021597356, -0.040179193, -0.049817026)));
-    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.06540829, -0.08492416, -0.09904)));
-    float f_21 = (f_20 + dot(max(vec3(u_2), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.113132745, -0.13081473, -0.12935963)));
-    float f_22 = (f_21 + dot(max(vec3(u_2), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.12845609, -0.11919704, -0.09944743)));
-    float f_23 = (f_22 + dot(max(vec3(u_2), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.052427426, -0.007245466, 0.02059634)));
-    float f_24 = (f_23 + dot(max(vec3(u_2), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.112209596, 0.13448581, 0.15254664)));
-    float f_25 = (f_24 + dot(max(vec3(u_2), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.15822935, 0.15778777, 0.16349415)));
-    float f_26 = (f_25 + dot(max(vec3(u_2), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.10673136, 0.088544466, 0.04380997)));
-    float f_27 = (f_26 + dot(max(vec3(u_2), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.025283044, 0.0045521106, 0.0008847585)));
-    float f_28 = (f_27 + dot(max(vec3(u_2), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.001206447, -0.0013657487, -0.0018065764)));
-    return f_28;
+float four_layer_coat_deficit_curve(float cos_theta_3) {
+    float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_23 = ((u_3 * -0.020166278) + -0.003592166);
+    float f_24 = (f_23 + dot(max(vec3(u_3), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.021597356, -0.040179193, -0.049817026)));
+    float f_25 = (f_24 + dot(max(vec3(u_3), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.06540829, -0.08492416, -0.09904)));
+    float f_26 = (f_25 + dot(max(vec3(u_3), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.113132745, -0.13081473, -0.12935963)));
+    float f_27 = (f_26 + dot(max(vec3(u_3), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.12845609, -0.11919704, -0.09944743)));
+    float f_28 = (f_27 + dot(max(vec3(u_3), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.052427426, -0.007245466, 0.02059634)));
+    float f_29 = (f_28 + dot(max(vec3(u_3), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.112209596, 0.13448581, 0.15254664)));
+    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.15822935, 0.15778777, 0.16349415)));
+    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.10673136, 0.088544466, 0.04380997)));
+    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.025283044, 0.0045521106, 0.0008847585)));
+    float f_33 = (f_32 + dot(max(vec3(u_3), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.001206447, -0.0013657487, -0.0018065764)));
+    return f_33;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.39223224, eta = 1.6500001 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+float four_layer_coat_path_curve_b(float cos_theta_4) {
+    float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_34 = ((u_4 * 0.6249771) + 1.2128764);
+    float f_35 = (f_34 + dot(max(vec3(u_4), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.17379999, -0.19735098, -0.37488556)));
+    float f_36 = (f_35 + dot(max(vec3(u_4), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5835321, -0.5122471, -0.123875216)));
+    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.26421505, 0.3508737, 0.32350385)));
+    float f_38 = (f_37 + (max(u_4, 0.90909094) * 0.1978307));
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -237,14 +271,14 @@ float four_layer_coat_deficit_curve(float cos_theta_2) {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_path_curve(float cos_theta_3) {
-    float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_29 = ((u_3 * 0.61936736) + 1.0213565);
-    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.205127, -0.30001545, -0.5639963)));
-    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5196192, -0.20065153, 0.29480273)));
-    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.38684246, 0.27492082, 0.13936397)));
-    float f_33 = (f_32 + (max(u_3, 0.90909094) * 0.05309328));
-    return f_33;
+float four_layer_coat_path_curve_c(float cos_theta_5) {
+    float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_39 = ((u_5 * 0.61936736) + 1.0213565);
+    float f_40 = (f_39 + dot(max(vec3(u_5), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.205127, -0.30001545, -0.5639963)));
+    float f_41 = (f_40 + dot(max(vec3(u_5), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5196192, -0.20065153, 0.29480273)));
+    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.38684246, 0.27492082, 0.13936397)));
+    float f_43 = (f_42 + (max(u_5, 0.90909094) * 0.05309328));
+    return f_43;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -261,16 +295,16 @@ vec3 four_layer_slab_transmittance(vec3 tau_1, float mu_1) {
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_scale_curve_b(float cos_theta_4) {
-    float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_34 = ((u_4 * -0.09836375) + 1.0570874);
-    float f_35 = (f_34 + dot(max(vec3(u_4), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.016100407, 0.041386478, -0.055650454)));
-    float f_36 = (f_35 + dot(max(vec3(u_4), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.028942803, -0.056181554, 0.017554166)));
-    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.0526804, 0.13846634, 0.08054138)));
-    float f_38 = (f_37 + dot(max(vec3(u_4), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1908213, -0.0485462, -0.15670718)));
-    float f_39 = (f_38 + (max(u_4, 0.8666667) * 0.20178081));
-    float f_40 = (f_39 + (max(u_4, 0.93333334) * -0.023973586));
-    return f_40;
+float four_layer_coat_scale_curve_b(float cos_theta_6) {
+    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_44 = ((u_6 * -0.09836375) + 1.0570874);
+    float f_45 = (f_44 + dot(max(vec3(u_6), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.016100407, 0.041386478, -0.055650454)));
+    float f_46 = (f_45 + dot(max(vec3(u_6), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.028942803, -0.056181554, 0.017554166)));
+    float f_47 = (f_46 + dot(max(vec3(u_6), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.0526804, 0.13846634, 0.08054138)));
+    float f_48 = (f_47 + dot(max(vec3(u_6), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1908213, -0.0485462, -0.15670718)));
+    float f_49 = (f_48 + (max(u_6, 0.8666667) * 0.20178081));
+    float f_50 = (f_49 + (max(u_6, 0.93333334) * -0.023973586));
+    return f_50;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -281,20 +315,20 @@ float four_layer_coat_scale_curve_b(float cos_theta_4) {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_deficit_curve_b(float cos_theta_5) {
-    float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_41 = ((u_5 * -0.02334994) + -0.016049497);
-    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.03191054, -0.05409825, -0.073503256)));
-    float f_43 = (f_42 + dot(max(vec3(u_5), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.09984654, -0.120689094, -0.13824081)));
-    float f_44 = (f_43 + dot(max(vec3(u_5), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.16592556, -0.1920268, -0.22958589)));
-    float f_45 = (f_44 + dot(max(vec3(u_5), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.21488523, -0.19938082, -0.17912954)));
-    float f_46 = (f_45 + dot(max(vec3(u_5), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.14108264, -0.09059119, -0.029674768)));
-    float f_47 = (f_46 + dot(max(vec3(u_5), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.027411243, 0.10859025, 0.16891617)));
-    float f_48 = (f_47 + dot(max(vec3(u_5), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.21400557, 0.2071494, 0.2902663)));
-    float f_49 = (f_48 + dot(max(vec3(u_5), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.24877523, 0.22388436, 0.18702175)));
-    float f_50 = (f_49 + dot(max(vec3(u_5), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13321595, 0.08762789, 0.052062992)));
-    float f_51 = (f_50 + dot(max(vec3(u_5), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.029958058, 0.017007504, 0.004341509)));
-    return f_51;
+float four_layer_coat_deficit_curve_b(float cos_theta_7) {
+    float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_51 = ((u_7 * -0.02334994) + -0.016049497);
+    float f_52 = (f_51 + dot(max(vec3(u_7), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.03191054, -0.05409825, -0.073503256)));
+    float f_53 = (f_52 + dot(max(vec3(u_7), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.09984654, -0.120689094, -0.13824081)));
+    float f_54 = (f_53 + dot(max(vec3(u_7), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.16592556, -0.1920268, -0.22958589)));
+    float f_55 = (f_54 + dot(max(vec3(u_7), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.21488523, -0.19938082, -0.17912954)));
+    float f_56 = (f_55 + dot(max(vec3(u_7), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.14108264, -0.09059119, -0.029674768)));
+    float f_57 = (f_56 + dot(max(vec3(u_7), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.027411243, 0.10859025, 0.16891617)));
+    float f_58 = (f_57 + dot(max(vec3(u_7), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.21400557, 0.2071494, 0.2902663)));
+    float f_59 = (f_58 + dot(max(vec3(u_7), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.24877523, 0.22388436, 0.18702175)));
+    float f_60 = (f_59 + dot(max(vec3(u_7), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13321595, 0.08762789, 0.052062992)));
+    float f_61 = (f_60 + dot(max(vec3(u_7), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.029958058, 0.017007504, 0.004341509)));
+    return f_61;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -345,14 +379,14 @@ vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_3) {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-float four_layer_coat_path_curve_b(float cos_theta_6) {
-    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_52 = ((u_6 * 0.9989592) + 1.2154765);
-    float f_53 = (f_52 + dot(max(vec3(u_6), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.008608699, 0.10287821, -0.086366296)));
-    float f_54 = (f_53 + dot(max(vec3(u_6), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.42313886, -1.11914, -0.8689335)));
-    float f_55 = (f_54 + dot(max(vec3(u_6), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.05576874, 0.45673752, 0.48545372)));
-    float f_56 = (f_55 + (max(u_6, 0.90909094) * 0.30706084));
-    return f_56;
+float four_layer_coat_path_curve_d(float cos_theta_8) {
+    float u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001), 1.0))) - 0.1) * 1.1111112);
+    float f_62 = ((u_8 * 0.9989592) + 1.2154765);
+    float f_63 = (f_62 + dot(max(vec3(u_8), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.008608699, 0.10287821, -0.086366296)));
+    float f_64 = (f_63 + dot(max(vec3(u_8), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.42313886, -1.11914, -0.8689335)));
+    float f_65 = (f_64 + dot(max(vec3(u_8), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.05576874, 0.45673752, 0.48545372)));
+    float f_66 = (f_65 + (max(u_8, 0.90909094) * 0.30706084));
+    return f_66;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -419,16 +453,20 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    float _e71 = four_layer_slab_transmittance_grey(0.02, layer2_cos_l);
-    vec3 layer1_absorb_l = vec3(_e71);
-    float _e74 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v);
-    vec3 layer1_absorb_v = vec3(_e74);
+    float _e80 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_l * layer1_n_dot_l)))), 0.0)));
+    float layer2_path_cos_l = (layer2_cos_l / ((_e80 - 1.0) + 1.0));
+    float _e96 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v * layer1_n_dot_v)))), 0.0)));
+    float layer2_path_cos_v = (layer2_cos_v / ((_e96 - 1.0) + 1.0));
+    float _e103 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l);
+    vec3 layer1_absorb_l = vec3(_e103);
+    float _e106 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v);
+    vec3 layer1_absorb_v = vec3(_e106);
     vec3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
     float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.13714045);
     float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.13714045);
     float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    vec3 _e88 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    vec3 _e120 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     float layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
     float layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     vec3 layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
@@ -441,25 +479,29 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
     float layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09);
     float layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09);
-    float _e114 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e114);
-    float _e117 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e117) / ((layer2_cos_v * layer2_cos_l) * 4.0));
-    vec3 layer2_specular = ((_e88 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    float _e131 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e131), 0.0), 1.0);
-    float _e139 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e139), 0.0), 1.0);
+    float _e146 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e146);
+    float _e149 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e149) / ((layer2_cos_v * layer2_cos_l) * 4.0));
+    vec3 layer2_specular = ((_e120 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    float _e163 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e163), 0.0), 1.0);
+    float _e171 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e171), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     vec3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    float _e155 = four_layer_coat_path_curve(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / _e155);
-    float _e157 = four_layer_coat_path_curve(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / _e157);
+    float _e197 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_l * layer2_n_dot_l)))), 0.0)));
+    float _e199 = (_e197 - 1.0);
+    float _e200 = four_layer_coat_path_curve_c(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / (_e200 + _e199));
+    float _e215 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v * layer2_n_dot_v)))), 0.0)));
+    float _e217 = (_e215 - 1.0);
+    float _e218 = four_layer_coat_path_curve_c(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / (_e218 + _e217));
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -467,7 +509,7 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828);
     float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828);
     float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    vec3 _e175 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    vec3 _e239 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     float layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
     float layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     vec3 layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
@@ -480,15 +522,15 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
     float layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25);
     float layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25);
-    float _e201 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e201);
-    float _e204 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
-    float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e204) / ((layer3_cos_v * layer3_cos_l) * 4.0));
-    vec3 layer3_specular = ((_e175 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    float _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e218), 0.0), 1.0);
-    float _e226 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e226), 0.0), 1.0);
+    float _e265 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e265);
+    float _e268 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
+    float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e268) / ((layer3_cos_v * layer3_cos_l) * 4.0));
+    vec3 layer3_specular = ((_e239 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    float _e282 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e282), 0.0), 1.0);
+    float _e290 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e290), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     vec3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -498,54 +540,54 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_f_base = four_layer_fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     vec3 layer4_albedo_v = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    float _e261 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    float layer4_path_cos_l = (layer4_cos_l / _e261);
-    float _e263 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e263);
-    vec3 _e270 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    float _e272 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e272)) * vec3(0.18698311)) / max(_e270, vec3(1e-6))));
+    float _e325 = four_layer_coat_path_curve_d(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e325);
+    float _e327 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e327);
+    vec3 _e334 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e336 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e336)) * vec3(0.18698311)) / max(_e334, vec3(1e-6))));
     vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
-    vec3 _e307 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    float _e309 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e309)) * vec3(0.18698311)) / max(_e307, vec3(1e-6))));
+    vec3 _e371 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e373 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e373)) * vec3(0.18698311)) / max(_e371, vec3(1e-6))));
     vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
     vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671044, 0.9671044, 0.9689054), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     vec3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l, layer4_first_return_l);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v, layer4_first_return_v);
-    float _e372 = (1.0 - layer4_transmit_l);
-    vec3 _e393 = min(max(((vec3((_e372 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e372)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e393 / vec3(0.80973125));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e393) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e410 = (1.0 - layer4_transmit_v);
-    vec3 _e431 = min(max(((vec3((_e410 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e410)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e431 / vec3(0.80973125));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e431) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e436 = (1.0 - layer4_transmit_l);
+    vec3 _e457 = min(max(((vec3((_e436 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e457 / vec3(0.80973125));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e457) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e474 = (1.0 - layer4_transmit_v);
+    vec3 _e495 = min(max(((vec3((_e474 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e474)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e495 / vec3(0.80973125));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e495) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
     vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
-    float _e476 = (1.0 - layer3_transmit_l);
-    vec3 _e494 = min(max(((vec3((_e476 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e476)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e494 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e494) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e511 = (1.0 - layer3_transmit_v);
-    vec3 _e529 = min(max(((vec3((_e511 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e511)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e529 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e529) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e540 = (1.0 - layer3_transmit_l);
+    vec3 _e558 = min(max(((vec3((_e540 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e540)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e558 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e558) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e575 = (1.0 - layer3_transmit_v);
+    vec3 _e593 = min(max(((vec3((_e575 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e575)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e593 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e593) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
-    float _e569 = (1.0 - layer2_transmit_l);
-    vec3 _e590 = min(max(((vec3((_e569 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e569)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e590 / vec3(0.41998938));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e590) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e607 = (1.0 - layer2_transmit_v);
-    vec3 _e628 = min(max(((vec3((_e607 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e607)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e628 / vec3(0.41998938));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e628) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e633 = (1.0 - layer2_transmit_l);
+    vec3 _e654 = min(max(((vec3((_e633 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e633)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e654 / vec3(0.41998938));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e654) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e671 = (1.0 - layer2_transmit_v);
+    vec3 _e692 = min(max(((vec3((_e671 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e671)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e692 / vec3(0.41998938));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e692) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : vec3(0.0));
@@ -603,78 +645,87 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 layer2_v = four_layer_refract_down(layer1_v, n_4, 1.0);
     float layer2_n_dot_v_1 = dot(n_4, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    float _e39 = four_layer_slab_transmittance_grey(0.02, layer2_cos_v_1);
-    vec3 layer1_absorb_l_1 = vec3(_e39);
-    vec3 layer1_absorb_v_1 = vec3(_e39);
+    float _e48 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
+    float layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e48 - 1.0) + 1.0));
+    float _e64 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
+    float layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e64 - 1.0) + 1.0));
+    float _e71 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l_1);
+    vec3 layer1_absorb_l_1 = vec3(_e71);
+    float _e74 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v_1);
+    vec3 layer1_absorb_v_1 = vec3(_e74);
     float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
-    float _e46 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
-    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e46), 0.0), 1.0);
+    float _e80 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e80), 0.0), 1.0);
+    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e80), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1);
     float layer3_n_dot_v_1 = dot(n_4, layer3_v);
     float layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001);
-    float _e64 = four_layer_coat_path_curve(layer2_n_dot_v_1);
-    float layer3_path_cos_l_1 = (layer3_cos_v_1 / _e64);
-    float layer3_path_cos_v_1 = (layer3_cos_v_1 / _e64);
+    float _e108 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
+    float _e110 = (_e108 - 1.0);
+    float _e111 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    float layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e111 + _e110));
+    float _e126 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
+    float _e128 = (_e126 - 1.0);
+    float layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e111 + _e128));
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
-    float _e75 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
-    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e75), 0.0), 1.0);
+    float _e141 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e141), 0.0), 1.0);
+    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e141), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2);
     float layer4_n_dot_v_1 = dot(n_4, layer4_v);
     float layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001);
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v_1);
-    float _e99 = four_layer_coat_path_curve_b(layer3_n_dot_v_1);
-    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e99);
-    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e99);
-    vec3 _e107 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
-    float _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
-    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e109)) * vec3(0.18698311)) / max(_e107, vec3(1e-6))));
+    float _e165 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e165);
+    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e165);
+    vec3 _e173 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
+    float _e175 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
+    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e175)) * vec3(0.18698311)) / max(_e173, vec3(1e-6))));
     vec3 layer4_first_return_l_1 = min(max(((vec3(1.0) - (layer4_first_escape_l_1 * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
-    vec3 _e144 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
-    float _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
-    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e146)) * vec3(0.18698311)) / max(_e144, vec3(1e-6))));
+    vec3 _e210 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
+    float _e212 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
+    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e212)) * vec3(0.18698311)) / max(_e210, vec3(1e-6))));
     vec3 layer4_first_return_v_1 = min(max(((vec3(1.0) - (layer4_first_escape_v_1 * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l_1, layer4_first_return_l_1);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v_1, layer4_first_return_v_1);
-    float _e191 = (1.0 - layer4_transmit_l_1);
-    vec3 _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l_1 = (_e212 / vec3(0.80973125));
-    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e212) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e229 = (1.0 - layer4_transmit_v_1);
-    vec3 _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v_1 = (_e250 / vec3(0.80973125));
-    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e250) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e257 = (1.0 - layer4_transmit_l_1);
+    vec3 _e278 = min(max(((vec3((_e257 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l_1 = (_e278 / vec3(0.80973125));
+    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e278) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e295 = (1.0 - layer4_transmit_v_1);
+    vec3 _e316 = min(max(((vec3((_e295 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e295)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v_1 = (_e316 / vec3(0.80973125));
+    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e316) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e281 = (1.0 - layer3_transmit_l_1);
-    vec3 _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l_1 = (_e299 / vec3(0.9999998));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e299) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e316 = (1.0 - layer3_transmit_v_1);
-    vec3 _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v_1 = (_e334 / vec3(0.9999998));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e334) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e347 = (1.0 - layer3_transmit_l_1);
+    vec3 _e365 = min(max(((vec3((_e347 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e347)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l_1 = (_e365 / vec3(0.9999998));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e365) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e382 = (1.0 - layer3_transmit_v_1);
+    vec3 _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v_1 = (_e400 / vec3(0.9999998));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e400) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e361 = (1.0 - layer2_transmit_l_1);
-    vec3 _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l_1 = (_e382 / vec3(0.41998938));
-    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e382) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e399 = (1.0 - layer2_transmit_v_1);
-    vec3 _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v_1 = (_e420 / vec3(0.41998938));
-    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e420) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e427 = (1.0 - layer2_transmit_l_1);
+    vec3 _e448 = min(max(((vec3((_e427 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e427)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l_1 = (_e448 / vec3(0.41998938));
+    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e448) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e465 = (1.0 - layer2_transmit_v_1);
+    vec3 _e486 = min(max(((vec3((_e465 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e465)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v_1 = (_e486 / vec3(0.41998938));
+    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e486) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938), first_escape_l_1, first_return_l_1);
     vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938), first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e465 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e465 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e465 ? under_albedo : vec3(0.0))));
+    bool _e531 = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e531 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e531 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -117,6 +117,23 @@ fn four_layer_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.4472136, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn four_layer_coat_path_curve(cos_theta_1: f32) -> f32 {
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_11 = ((u_1 * 0.85441303f) + 1.298795f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.15871215f, -0.14111447f, -0.2991382f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5701791f, -0.71037436f, -0.39294133f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.09422189f, 0.3586102f, 0.40072f)));
+    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.27592653f));
+    return f_15;
+}
+
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)
 // along a direction with cosine μ: e^{−τ/μ}, one exponential instead of three. Guard: μ ≥
 // COS_EPSILON (the caller's clamp) keeps τ/μ finite.
@@ -165,16 +182,16 @@ fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f3
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * -0.01585722f) + 1.0037742f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.009397574f, 0.07106871f, 0.11350215f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.011117818f, -0.15492256f, -0.032958988f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.039440993f, 0.054325465f, 0.025520327f)));
-    let f_16 = (f_15 + (max(u_1, 0.8666667f) * 0.004279018f));
-    let f_17 = (f_16 + (max(u_1, 0.93333334f) * 0.0050067906f));
-    return f_17;
+fn four_layer_coat_scale_curve(cos_theta_2: f32) -> f32 {
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_16 = ((u_2 * -0.01585722f) + 1.0037742f);
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.015521049f, -0.0011971594f, -0.027303094f)));
+    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.009397574f, 0.07106871f, 0.11350215f)));
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.011117818f, -0.15492256f, -0.032958988f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.039440993f, 0.054325465f, 0.025520327f)));
+    let f_21 = (f_20 + (max(u_2, 0.8666667f) * 0.004279018f));
+    let f_22 = (f_21 + (max(u_2, 0.93333334f) * 0.0050067906f));
+    return f_22;
 }
 
 // The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
@@ -221,20 +238,37 @@ fn four_layer_second_event_share(lambda: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.020166278f) + -0.003592166f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
-    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
-    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
-    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
-    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
-    let f_26 = (f_25 + dot(max(vec3(u_2), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
-    let f_27 = (f_26 + dot(max(vec3(u_2), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
-    let f_28 = (f_27 + dot(max(vec3(u_2), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
-    return f_28;
+fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
+    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_23 = ((u_3 * -0.020166278f) + -0.003592166f);
+    let f_24 = (f_23 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
+    let f_25 = (f_24 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
+    let f_26 = (f_25 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
+    let f_27 = (f_26 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
+    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
+    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
+    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
+    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
+    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
+    return f_33;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.39223224, eta = 1.6500001 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn four_layer_coat_path_curve_b(cos_theta_4: f32) -> f32 {
+    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_34 = ((u_4 * 0.6249771f) + 1.2128764f);
+    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.17379999f, -0.19735098f, -0.37488556f)));
+    let f_36 = (f_35 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5835321f, -0.5122471f, -0.123875216f)));
+    let f_37 = (f_36 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.26421505f, 0.3508737f, 0.32350385f)));
+    let f_38 = (f_37 + (max(u_4, 0.90909094f) * 0.1978307f));
+    return f_38;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -244,14 +278,14 @@ fn four_layer_coat_deficit_curve(cos_theta_2: f32) -> f32 {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve(cos_theta_3: f32) -> f32 {
-    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_29 = ((u_3 * 0.61936736f) + 1.0213565f);
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
-    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
-    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
-    let f_33 = (f_32 + (max(u_3, 0.90909094f) * 0.05309328f));
-    return f_33;
+fn four_layer_coat_path_curve_c(cos_theta_5: f32) -> f32 {
+    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_39 = ((u_5 * 0.61936736f) + 1.0213565f);
+    let f_40 = (f_39 + dot(max(vec3(u_5), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
+    let f_41 = (f_40 + dot(max(vec3(u_5), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
+    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
+    let f_43 = (f_42 + (max(u_5, 0.90909094f) * 0.05309328f));
+    return f_43;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -268,16 +302,16 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // symmetric scaling); 1 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
 // 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_scale_curve_b(cos_theta_4: f32) -> f32 {
-    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_34 = ((u_4 * -0.09836375f) + 1.0570874f);
-    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
-    let f_36 = (f_35 + dot(max(vec3(u_4), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.028942803f, -0.056181554f, 0.017554166f)));
-    let f_37 = (f_36 + dot(max(vec3(u_4), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0526804f, 0.13846634f, 0.08054138f)));
-    let f_38 = (f_37 + dot(max(vec3(u_4), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1908213f, -0.0485462f, -0.15670718f)));
-    let f_39 = (f_38 + (max(u_4, 0.8666667f) * 0.20178081f));
-    let f_40 = (f_39 + (max(u_4, 0.93333334f) * -0.023973586f));
-    return f_40;
+fn four_layer_coat_scale_curve_b(cos_theta_6: f32) -> f32 {
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_44 = ((u_6 * -0.09836375f) + 1.0570874f);
+    let f_45 = (f_44 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.016100407f, 0.041386478f, -0.055650454f)));
+    let f_46 = (f_45 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.028942803f, -0.056181554f, 0.017554166f)));
+    let f_47 = (f_46 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.0526804f, 0.13846634f, 0.08054138f)));
+    let f_48 = (f_47 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1908213f, -0.0485462f, -0.15670718f)));
+    let f_49 = (f_48 + (max(u_6, 0.8666667f) * 0.20178081f));
+    let f_50 = (f_49 + (max(u_6, 0.93333334f) * -0.023973586f));
+    return f_50;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -288,20 +322,20 @@ fn four_layer_coat_scale_curve_b(cos_theta_4: f32) -> f32 {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_b(cos_theta_5: f32) -> f32 {
-    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_41 = ((u_5 * -0.02334994f) + -0.016049497f);
-    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
-    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
-    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
-    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
-    let f_46 = (f_45 + dot(max(vec3(u_5), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
-    let f_47 = (f_46 + dot(max(vec3(u_5), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
-    let f_48 = (f_47 + dot(max(vec3(u_5), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
-    let f_49 = (f_48 + dot(max(vec3(u_5), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
-    let f_50 = (f_49 + dot(max(vec3(u_5), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
-    let f_51 = (f_50 + dot(max(vec3(u_5), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
-    return f_51;
+fn four_layer_coat_deficit_curve_b(cos_theta_7: f32) -> f32 {
+    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_51 = ((u_7 * -0.02334994f) + -0.016049497f);
+    let f_52 = (f_51 + dot(max(vec3(u_7), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
+    let f_53 = (f_52 + dot(max(vec3(u_7), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
+    let f_54 = (f_53 + dot(max(vec3(u_7), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
+    let f_55 = (f_54 + dot(max(vec3(u_7), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
+    let f_56 = (f_55 + dot(max(vec3(u_7), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
+    let f_57 = (f_56 + dot(max(vec3(u_7), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
+    let f_58 = (f_57 + dot(max(vec3(u_7), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
+    let f_59 = (f_58 + dot(max(vec3(u_7), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
+    let f_60 = (f_59 + dot(max(vec3(u_7), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
+    let f_61 = (f_60 + dot(max(vec3(u_7), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
+    return f_61;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -352,14 +386,14 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve_b(cos_theta_6: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_52 = ((u_6 * 0.9989592f) + 1.2154765f);
-    let f_53 = (f_52 + dot(max(vec3(u_6), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
-    let f_54 = (f_53 + dot(max(vec3(u_6), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
-    let f_55 = (f_54 + dot(max(vec3(u_6), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
-    let f_56 = (f_55 + (max(u_6, 0.90909094f) * 0.30706084f));
-    return f_56;
+fn four_layer_coat_path_curve_d(cos_theta_8: f32) -> f32 {
+    let u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_62 = ((u_8 * 0.9989592f) + 1.2154765f);
+    let f_63 = (f_62 + dot(max(vec3(u_8), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
+    let f_64 = (f_63 + dot(max(vec3(u_8), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
+    let f_65 = (f_64 + dot(max(vec3(u_8), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
+    let f_66 = (f_65 + (max(u_8, 0.90909094f) * 0.30706084f));
+    return f_66;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -426,16 +460,20 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e71);
-    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e74);
+    let _e80 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_l * layer1_n_dot_l)))), 0f)));
+    let layer2_path_cos_l = (layer2_cos_l / ((_e80 - 1f) + 1f));
+    let _e96 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v * layer1_n_dot_v)))), 0f)));
+    let layer2_path_cos_v = (layer2_cos_v / ((_e96 - 1f) + 1f));
+    let _e103 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l);
+    let layer1_absorb_l = vec3(_e103);
+    let _e106 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v);
+    let layer1_absorb_v = vec3(_e106);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.13714045f);
     let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.13714045f);
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e88 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let _e120 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
     let layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     let layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
@@ -448,25 +486,29 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
     let layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09f);
     let layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09f);
-    let _e114 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e114);
-    let _e117 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
-    let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e117) / ((layer2_cos_v * layer2_cos_l) * 4f));
-    let layer2_specular = ((_e88 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    let _e131 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e131), 0f), 1f);
-    let _e139 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e139), 0f), 1f);
+    let _e146 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e146);
+    let _e149 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
+    let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e149) / ((layer2_cos_v * layer2_cos_l) * 4f));
+    let layer2_specular = ((_e120 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    let _e163 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e163), 0f), 1f);
+    let _e171 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e171), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e155 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e155);
-    let _e157 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e157);
+    let _e197 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_l * layer2_n_dot_l)))), 0f)));
+    let _e199 = (_e197 - 1f);
+    let _e200 = four_layer_coat_path_curve_c(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / (_e200 + _e199));
+    let _e215 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v * layer2_n_dot_v)))), 0f)));
+    let _e217 = (_e215 - 1f);
+    let _e218 = four_layer_coat_path_curve_c(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / (_e218 + _e217));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -474,7 +516,7 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828f);
     let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828f);
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e175 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let _e239 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
     let layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     let layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
@@ -487,15 +529,15 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
     let layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25f);
     let layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25f);
-    let _e201 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e201);
-    let _e204 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
-    let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e204) / ((layer3_cos_v * layer3_cos_l) * 4f));
-    let layer3_specular = ((_e175 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    let _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e218), 0f), 1f);
-    let _e226 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e226), 0f), 1f);
+    let _e265 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e265);
+    let _e268 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
+    let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e268) / ((layer3_cos_v * layer3_cos_l) * 4f));
+    let layer3_specular = ((_e239 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    let _e282 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e282), 0f), 1f);
+    let _e290 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e290), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -505,54 +547,54 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e261 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e261);
-    let _e263 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e263);
-    let _e270 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e272 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e272)) * vec3(0.18698311f)) / max(_e270, vec3(0.000001f))));
+    let _e325 = four_layer_coat_path_curve_d(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e325);
+    let _e327 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e327);
+    let _e334 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e336 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e336)) * vec3(0.18698311f)) / max(_e334, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e307 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e309 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e309)) * vec3(0.18698311f)) / max(_e307, vec3(0.000001f))));
+    let _e371 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e373 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e373)) * vec3(0.18698311f)) / max(_e371, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
-    let _e372 = (1f - layer4_transmit_l);
-    let _e393 = min(max(((vec3((_e372 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e372)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e393 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e393) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e410 = (1f - layer4_transmit_v);
-    let _e431 = min(max(((vec3((_e410 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e410)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e431 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e431) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e436 = (1f - layer4_transmit_l);
+    let _e457 = min(max(((vec3((_e436 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e457 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e457) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e474 = (1f - layer4_transmit_v);
+    let _e495 = min(max(((vec3((_e474 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e474)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e495 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e495) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e476 = (1f - layer3_transmit_l);
-    let _e494 = min(max(((vec3((_e476 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e476)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e494 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e494) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e511 = (1f - layer3_transmit_v);
-    let _e529 = min(max(((vec3((_e511 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e511)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e529 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e529) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e540 = (1f - layer3_transmit_l);
+    let _e558 = min(max(((vec3((_e540 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e540)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e558 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e558) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e575 = (1f - layer3_transmit_v);
+    let _e593 = min(max(((vec3((_e575 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e575)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e593 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e593) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e569 = (1f - layer2_transmit_l);
-    let _e590 = min(max(((vec3((_e569 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e569)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e590 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e590) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e607 = (1f - layer2_transmit_v);
-    let _e628 = min(max(((vec3((_e607 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e607)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e628 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e628) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e633 = (1f - layer2_transmit_l);
+    let _e654 = min(max(((vec3((_e633 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e633)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e654 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e654) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e671 = (1f - layer2_transmit_v);
+    let _e692 = min(max(((vec3((_e671 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e671)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e692 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e692) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
@@ -610,78 +652,87 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer2_v = four_layer_refract_down(layer1_v, n_4, 1f);
     let layer2_n_dot_v_1 = dot(n_4, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let _e39 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v_1);
-    let layer1_absorb_l_1 = vec3(_e39);
-    let layer1_absorb_v_1 = vec3(_e39);
+    let _e48 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e48 - 1f) + 1f));
+    let _e64 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e64 - 1f) + 1f));
+    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l_1);
+    let layer1_absorb_l_1 = vec3(_e71);
+    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
+    let layer1_absorb_v_1 = vec3(_e74);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
-    let _e46 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
-    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
+    let _e80 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
+    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1f);
     let layer3_n_dot_v_1 = dot(n_4, layer3_v);
     let layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001f);
-    let _e64 = four_layer_coat_path_curve(layer2_n_dot_v_1);
-    let layer3_path_cos_l_1 = (layer3_cos_v_1 / _e64);
-    let layer3_path_cos_v_1 = (layer3_cos_v_1 / _e64);
+    let _e108 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e110 = (_e108 - 1f);
+    let _e111 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    let layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e111 + _e110));
+    let _e126 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e128 = (_e126 - 1f);
+    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e111 + _e128));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
-    let _e75 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
-    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
+    let _e141 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
+    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2f);
     let layer4_n_dot_v_1 = dot(n_4, layer4_v);
     let layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001f);
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v_1);
-    let _e99 = four_layer_coat_path_curve_b(layer3_n_dot_v_1);
-    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e99);
-    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e99);
-    let _e107 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
-    let _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
-    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e109)) * vec3(0.18698311f)) / max(_e107, vec3(0.000001f))));
+    let _e165 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e165);
+    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e165);
+    let _e173 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
+    let _e175 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
+    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e175)) * vec3(0.18698311f)) / max(_e173, vec3(0.000001f))));
     let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e144 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
-    let _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
-    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e146)) * vec3(0.18698311f)) / max(_e144, vec3(0.000001f))));
+    let _e210 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
+    let _e212 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
+    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e212)) * vec3(0.18698311f)) / max(_e210, vec3(0.000001f))));
     let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
-    let _e191 = (1f - layer4_transmit_l_1);
-    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e212 / vec3(0.80973125f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e229 = (1f - layer4_transmit_v_1);
-    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e250 / vec3(0.80973125f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e257 = (1f - layer4_transmit_l_1);
+    let _e278 = min(max(((vec3((_e257 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e278 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e278) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e295 = (1f - layer4_transmit_v_1);
+    let _e316 = min(max(((vec3((_e295 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e295)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e316 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e316) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
-    let _e281 = (1f - layer3_transmit_l_1);
-    let _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l_1 = (_e299 / vec3(0.9999998f));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e299) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e316 = (1f - layer3_transmit_v_1);
-    let _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v_1 = (_e334 / vec3(0.9999998f));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e334) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e347 = (1f - layer3_transmit_l_1);
+    let _e365 = min(max(((vec3((_e347 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e347)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l_1 = (_e365 / vec3(0.9999998f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e365) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e382 = (1f - layer3_transmit_v_1);
+    let _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e400 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e400) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e427 = (1f - layer2_transmit_l_1);
+    let _e448 = min(max(((vec3((_e427 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e427)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e448 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e448) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e465 = (1f - layer2_transmit_v_1);
+    let _e486 = min(max(((vec3((_e465 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e465)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e486 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e486) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_l_1, first_return_l_1);
     let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e465 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e465))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e465)));
+    let _e531 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e531))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e531)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

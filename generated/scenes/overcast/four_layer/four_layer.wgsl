@@ -115,6 +115,23 @@ fn four_layer_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.4472136, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn four_layer_coat_path_curve(cos_theta_1: f32) -> f32 {
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_11 = ((u_1 * 0.85441303f) + 1.298795f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.15871215f, -0.14111447f, -0.2991382f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5701791f, -0.71037436f, -0.39294133f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.09422189f, 0.3586102f, 0.40072f)));
+    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.27592653f));
+    return f_15;
+}
+
 // Beer–Lambert transmittance of a grey slab (the same optical depth τ in every channel)
 // along a direction with cosine μ: e^{−τ/μ}, one exponential instead of three. Guard: μ ≥
 // COS_EPSILON (the caller's clamp) keeps τ/μ finite.
@@ -163,20 +180,37 @@ fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f3
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * -0.020166278f) + -0.003592166f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
-    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
-    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
-    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
-    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
-    return f_21;
+fn four_layer_coat_deficit_curve(cos_theta_2: f32) -> f32 {
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_16 = ((u_2 * -0.020166278f) + -0.003592166f);
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
+    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
+    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
+    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
+    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
+    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
+    let f_26 = (f_25 + dot(max(vec3(u_2), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
+    return f_26;
+}
+
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
+// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
+// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
+// rough interface refracts into; 1 when smooth).
+// Here roughness = 0.39223224, eta = 1.6500001 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
+// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+fn four_layer_coat_path_curve_b(cos_theta_3: f32) -> f32 {
+    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_27 = ((u_3 * 0.6249771f) + 1.2128764f);
+    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.17379999f, -0.19735098f, -0.37488556f)));
+    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5835321f, -0.5122471f, -0.123875216f)));
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.26421505f, 0.3508737f, 0.32350385f)));
+    let f_31 = (f_30 + (max(u_3, 0.90909094f) * 0.1978307f));
+    return f_31;
 }
 
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
@@ -186,14 +220,14 @@ fn four_layer_coat_deficit_curve(cos_theta_1: f32) -> f32 {
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_22 = ((u_2 * 0.61936736f) + 1.0213565f);
-    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
-    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
-    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
-    let f_26 = (f_25 + (max(u_2, 0.90909094f) * 0.05309328f));
-    return f_26;
+fn four_layer_coat_path_curve_c(cos_theta_4: f32) -> f32 {
+    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_32 = ((u_4 * 0.61936736f) + 1.0213565f);
+    let f_33 = (f_32 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
+    let f_34 = (f_33 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
+    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
+    let f_36 = (f_35 + (max(u_4, 0.90909094f) * 0.05309328f));
+    return f_36;
 }
 
 // Beer–Lambert transmittance of a slab with optical depth τ (per channel) along a direction
@@ -210,20 +244,20 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
 // 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_deficit_curve_b(cos_theta_3: f32) -> f32 {
-    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_27 = ((u_3 * -0.02334994f) + -0.016049497f);
-    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
-    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
-    let f_31 = (f_30 + dot(max(vec3(u_3), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
-    let f_32 = (f_31 + dot(max(vec3(u_3), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
-    let f_33 = (f_32 + dot(max(vec3(u_3), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
-    let f_34 = (f_33 + dot(max(vec3(u_3), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
-    let f_35 = (f_34 + dot(max(vec3(u_3), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
-    let f_36 = (f_35 + dot(max(vec3(u_3), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
-    let f_37 = (f_36 + dot(max(vec3(u_3), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
-    return f_37;
+fn four_layer_coat_deficit_curve_b(cos_theta_5: f32) -> f32 {
+    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_37 = ((u_5 * -0.02334994f) + -0.016049497f);
+    let f_38 = (f_37 + dot(max(vec3(u_5), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
+    let f_39 = (f_38 + dot(max(vec3(u_5), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
+    let f_40 = (f_39 + dot(max(vec3(u_5), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
+    let f_41 = (f_40 + dot(max(vec3(u_5), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
+    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
+    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
+    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
+    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
+    let f_46 = (f_45 + dot(max(vec3(u_5), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
+    let f_47 = (f_46 + dot(max(vec3(u_5), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
+    return f_47;
 }
 
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
@@ -274,14 +308,14 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
 // rough interface refracts into; 1 when smooth).
 // Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
 // 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
-fn four_layer_coat_path_curve_b(cos_theta_4: f32) -> f32 {
-    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_38 = ((u_4 * 0.9989592f) + 1.2154765f);
-    let f_39 = (f_38 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
-    let f_40 = (f_39 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
-    let f_41 = (f_40 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
-    let f_42 = (f_41 + (max(u_4, 0.90909094f) * 0.30706084f));
-    return f_42;
+fn four_layer_coat_path_curve_d(cos_theta_6: f32) -> f32 {
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
+    let f_48 = ((u_6 * 0.9989592f) + 1.2154765f);
+    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
+    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
+    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
+    let f_52 = (f_51 + (max(u_6, 0.90909094f) * 0.30706084f));
+    return f_52;
 }
 
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
@@ -348,10 +382,14 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_l);
-    let layer1_absorb_l = vec3(_e71);
-    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v);
-    let layer1_absorb_v = vec3(_e74);
+    let _e80 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_l * layer1_n_dot_l)))), 0f)));
+    let layer2_path_cos_l = (layer2_cos_l / ((_e80 - 1f) + 1f));
+    let _e96 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v * layer1_n_dot_v)))), 0f)));
+    let layer2_path_cos_v = (layer2_cos_v / ((_e96 - 1f) + 1f));
+    let _e103 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l);
+    let layer1_absorb_l = vec3(_e103);
+    let _e106 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v);
+    let layer1_absorb_v = vec3(_e106);
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
     let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.13714045f);
@@ -359,21 +397,25 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
     let layer2_specular = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_l, 1.1f);
-    let _e93 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e93), 0f), 1f);
+    let _e125 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e125), 0f), 1f);
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
-    let _e103 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e103), 0f), 1f);
+    let _e135 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e135), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e119 = four_layer_coat_path_curve(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / _e119);
-    let _e121 = four_layer_coat_path_curve(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / _e121);
+    let _e161 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_l * layer2_n_dot_l)))), 0f)));
+    let _e163 = (_e161 - 1f);
+    let _e164 = four_layer_coat_path_curve_c(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / (_e164 + _e163));
+    let _e179 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v * layer2_n_dot_v)))), 0f)));
+    let _e181 = (_e179 - 1f);
+    let _e182 = four_layer_coat_path_curve_c(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / (_e182 + _e181));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
@@ -383,11 +425,11 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
     let layer3_specular = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_l, 1.2f);
-    let _e144 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e144), 0f), 1f);
+    let _e208 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e208), 0f), 1f);
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
-    let _e154 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e154), 0f), 1f);
+    let _e218 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e218), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -397,54 +439,54 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e189 = four_layer_coat_path_curve_b(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e189);
-    let _e191 = four_layer_coat_path_curve_b(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e191);
-    let _e198 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e200 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e200)) * vec3(0.18698311f)) / max(_e198, vec3(0.000001f))));
+    let _e253 = four_layer_coat_path_curve_d(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e253);
+    let _e255 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e255);
+    let _e262 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e264 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e264)) * vec3(0.18698311f)) / max(_e262, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e235 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e237 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e237)) * vec3(0.18698311f)) / max(_e235, vec3(0.000001f))));
+    let _e299 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e301 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e301)) * vec3(0.18698311f)) / max(_e299, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
-    let _e300 = (1f - layer4_transmit_l);
-    let _e321 = min(max(((vec3((_e300 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e300)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e321 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e321) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e338 = (1f - layer4_transmit_v);
-    let _e359 = min(max(((vec3((_e338 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e338)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e359 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e359) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e364 = (1f - layer4_transmit_l);
+    let _e385 = min(max(((vec3((_e364 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e364)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e385 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e385) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e402 = (1f - layer4_transmit_v);
+    let _e423 = min(max(((vec3((_e402 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e402)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e423 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e423) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e404 = (1f - layer3_transmit_l);
-    let _e422 = min(max(((vec3((_e404 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e404)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e422 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e422) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e439 = (1f - layer3_transmit_v);
-    let _e457 = min(max(((vec3((_e439 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e439)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e457 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e457) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e468 = (1f - layer3_transmit_l);
+    let _e486 = min(max(((vec3((_e468 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e468)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e486 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e486) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e503 = (1f - layer3_transmit_v);
+    let _e521 = min(max(((vec3((_e503 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e503)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e521 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e521) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e497 = (1f - layer2_transmit_l);
-    let _e518 = min(max(((vec3((_e497 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e497)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e518 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e518) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e535 = (1f - layer2_transmit_v);
-    let _e556 = min(max(((vec3((_e535 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e535)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e556 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e556) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e561 = (1f - layer2_transmit_l);
+    let _e582 = min(max(((vec3((_e561 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e561)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e582 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e582) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e599 = (1f - layer2_transmit_v);
+    let _e620 = min(max(((vec3((_e599 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e599)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e620 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e620) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
@@ -502,78 +544,87 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer2_v = four_layer_refract_down(layer1_v, n_4, 1f);
     let layer2_n_dot_v_1 = dot(n_4, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let _e39 = four_layer_slab_transmittance_grey(0.02f, layer2_cos_v_1);
-    let layer1_absorb_l_1 = vec3(_e39);
-    let layer1_absorb_v_1 = vec3(_e39);
+    let _e48 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e48 - 1f) + 1f));
+    let _e64 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e64 - 1f) + 1f));
+    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l_1);
+    let layer1_absorb_l_1 = vec3(_e71);
+    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
+    let layer1_absorb_v_1 = vec3(_e74);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
-    let _e46 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
-    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e46), 0f), 1f);
+    let _e80 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
+    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1f);
     let layer3_n_dot_v_1 = dot(n_4, layer3_v);
     let layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001f);
-    let _e64 = four_layer_coat_path_curve(layer2_n_dot_v_1);
-    let layer3_path_cos_l_1 = (layer3_cos_v_1 / _e64);
-    let layer3_path_cos_v_1 = (layer3_cos_v_1 / _e64);
+    let _e108 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e110 = (_e108 - 1f);
+    let _e111 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    let layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e111 + _e110));
+    let _e126 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e128 = (_e126 - 1f);
+    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e111 + _e128));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
-    let _e75 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
-    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e75), 0f), 1f);
+    let _e141 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
+    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2f);
     let layer4_n_dot_v_1 = dot(n_4, layer4_v);
     let layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001f);
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v_1);
-    let _e99 = four_layer_coat_path_curve_b(layer3_n_dot_v_1);
-    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e99);
-    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e99);
-    let _e107 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
-    let _e109 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
-    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e109)) * vec3(0.18698311f)) / max(_e107, vec3(0.000001f))));
+    let _e165 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e165);
+    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e165);
+    let _e173 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
+    let _e175 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
+    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e175)) * vec3(0.18698311f)) / max(_e173, vec3(0.000001f))));
     let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e144 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
-    let _e146 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
-    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e146)) * vec3(0.18698311f)) / max(_e144, vec3(0.000001f))));
+    let _e210 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
+    let _e212 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
+    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e212)) * vec3(0.18698311f)) / max(_e210, vec3(0.000001f))));
     let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
-    let _e191 = (1f - layer4_transmit_l_1);
-    let _e212 = min(max(((vec3((_e191 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e191)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e212 / vec3(0.80973125f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e212) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e229 = (1f - layer4_transmit_v_1);
-    let _e250 = min(max(((vec3((_e229 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e229)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e250 / vec3(0.80973125f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e250) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e257 = (1f - layer4_transmit_l_1);
+    let _e278 = min(max(((vec3((_e257 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e278 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e278) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e295 = (1f - layer4_transmit_v_1);
+    let _e316 = min(max(((vec3((_e295 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e295)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e316 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e316) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
-    let _e281 = (1f - layer3_transmit_l_1);
-    let _e299 = min(max(((vec3((_e281 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e281)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l_1 = (_e299 / vec3(0.9999998f));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e299) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e316 = (1f - layer3_transmit_v_1);
-    let _e334 = min(max(((vec3((_e316 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e316)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v_1 = (_e334 / vec3(0.9999998f));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e334) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e347 = (1f - layer3_transmit_l_1);
+    let _e365 = min(max(((vec3((_e347 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e347)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l_1 = (_e365 / vec3(0.9999998f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e365) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e382 = (1f - layer3_transmit_v_1);
+    let _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e400 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e400) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e361 = (1f - layer2_transmit_l_1);
-    let _e382 = min(max(((vec3((_e361 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e361)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e382 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e382) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e399 = (1f - layer2_transmit_v_1);
-    let _e420 = min(max(((vec3((_e399 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e399)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e420 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e420) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e427 = (1f - layer2_transmit_l_1);
+    let _e448 = min(max(((vec3((_e427 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e427)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e448 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e448) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e465 = (1f - layer2_transmit_v_1);
+    let _e486 = min(max(((vec3((_e465 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e465)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e486 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e486) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_l_1, first_return_l_1);
     let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e465 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e465))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e465)));
+    let _e531 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e531))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e531)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

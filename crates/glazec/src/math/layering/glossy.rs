@@ -508,7 +508,7 @@ pub(super) fn glossy_level<F: Real>(
     want_albedo: bool,
 ) -> Level<F> {
     let Stack { coats, inputs, approx, .. } = *stack;
-    let Depth { k, n_medium, blur } = at;
+    let Depth { k, n_medium, blur, .. } = at;
     let coat = &coats[k];
     let eta = inputs.scalar(coat.ior);
     let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));

@@ -72,18 +72,20 @@ pub(super) struct Stack<'s, F: Real> {
 
 /// Where a walk down the stack is: at coat `k` (the body when `k` is the number of coats), in a
 /// medium of absolute IOR `n_medium` (`None`: air), under coats whose roughness widens the lobes
-/// below by `blur` (see `level::BLUR_WIDTH`).
+/// below by `blur` (see `level::BLUR_WIDTH`) and spread the light's Snell invariant by
+/// `spread` (`CoatInterface::p_spread`; `None` under smooth coats only).
 #[derive(Clone, Copy)]
 pub(super) struct Depth<F: Real> {
     pub(super) k: usize,
     pub(super) n_medium: Option<F>,
     pub(super) blur: Blur<F>,
+    pub(super) spread: Option<F>,
 }
 
 impl<F: Real> Depth<F> {
     /// The top of the stack, in air.
     pub(super) fn top() -> Self {
-        Depth { k: 0, n_medium: None, blur: Blur::none() }
+        Depth { k: 0, n_medium: None, blur: Blur::none(), spread: None }
     }
 }
 

@@ -157,14 +157,55 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// `mu_refracted`) is absorbed: Snell's for a smooth coat, shortened by the tabulated path
     /// factor for a rough one.
     pub(super) fn path_cosine(&self, mu: F, mu_refracted: F, side: &str) -> F {
-        match self.roughness {
+        match self.path_factor(mu) {
             None => mu_refracted,
-            Some(r) => {
-                let q = tables::lookup(self.tables.path, &[mu, r, self.eta]);
-                self.unless_below_one(|| mu_refracted, mu_refracted / q, F::select)
-                    .named(&self.name(&format!("path_cos_{side}")))
-            }
+            Some(q) => (mu_refracted / q).named(&self.name(&format!("path_cos_{side}"))),
         }
+    }
+
+    /// The tabulated path factor q(μ; r, η) ≥ 1 of a rough coat (1 for η < 1, where the smooth
+    /// interface's path is taken); `None` for a smooth coat.
+    fn path_factor(&self, mu: F) -> Option<F> {
+        let r = self.roughness?;
+        let q = tables::lookup(self.tables.path, &[mu, r, self.eta]);
+        Some(self.unless_below_one(|| q.lit(1.0), q, F::select))
+    }
+
+    /// The spread of Snell's invariant p = n sin θ that this coat's roughness gives the light it
+    /// transmits, |n_below − n_above|·m with `n_above` the absolute IOR above it (`None`: air)
+    /// and m the median slope of its microfacet normals (as [`Self::blur_below`]); `None` for a
+    /// smooth coat. A facet tilted by δ turns a transmitted ray by about (1 − 1/η)δ, which is a
+    /// change of p by (n_below − n_above)δ; smooth interfaces below keep p, so spreads in p
+    /// from coats at different depths add up without regard to the IORs between them.
+    pub(super) fn p_spread(&self, n_above: Option<F>) -> Option<F> {
+        let r = self.roughness?;
+        let median_slope = if self.tables == CoatTables::GTR1 { r } else { r * r };
+        let n_below = n_above.map_or(self.eta, |n| n * self.eta);
+        let contrast = n_above.map_or(n_below.lit(1.0) - n_below, |n| n - n_below).abs();
+        Some(contrast * median_slope)
+    }
+
+    /// [`Self::path_cosine`] for a slab under rough coats, which have spread the light's Snell
+    /// invariant by `spread_above` (see [`Self::p_spread`]) before this coat spreads it again.
+    /// The path factor grows with the variance of the directions in the slab, and variances of
+    /// independent spreads add, so the factors' excesses add: q = q_own + q_above − 1. q_above
+    /// is that of one GGX interface from air into the slab's absolute IOR n = `n_above`·η that
+    /// spreads p as much: median slope α = spread/(n − 1), looked up at roughness √α and the
+    /// outside cosine μ₀ = √(1 − n_above²(1 − μ²)) (Snell's invariant). Guards: n − 1 ≥ 0.05 (a
+    /// slab of nearly the outside IOR would need an infinitely rough interface; the roughness is
+    /// at most 1 either way), and no excess for n < 1. Without it a rough coat over an
+    /// index-matched absorbing slab came out 1.06–1.26× the reference at 60°/60° (GGX 0.3 and
+    /// 0.6, GTR1 0.2); with it 0.97–1.03× (the same coat with the absorption in its own slab:
+    /// 0.92–0.99×). Adding the spreads instead of the excesses made two GGX 0.6
+    /// coats over an absorbing slab 0.90× the reference there (this: 0.97×).
+    pub(super) fn path_cosine_spread(&self, mu: F, mu_refracted: F, n_above: F, spread_above: F, side: &str) -> F {
+        let n = n_above * self.eta;
+        let mu_outside = (n_above.sq() * mu.sq().one_minus()).one_minus().at_least(0.0).sqrt();
+        let roughness = (spread_above / (n - 1.0).at_least(0.05)).sqrt().min(n.lit(1.0));
+        let q_above = tables::lookup(TableId::CoatPath, &[mu_outside, roughness, n]);
+        let excess = F::select(n.lt_lit(1.0), n.lit(0.0), q_above - 1.0);
+        let q = self.path_factor(mu).map_or(excess + 1.0, |q_own| q_own + excess);
+        (mu_refracted / q).named(&self.name(&format!("path_cos_{side}")))
     }
 
     /// The coat's reflection lobe with the light it reflects after more than one microfacet event:

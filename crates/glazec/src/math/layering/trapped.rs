@@ -47,7 +47,8 @@ pub(super) fn trapped_shares<F: Real>(
 /// The light a glossy body of GGX α under a coat sends outside the escape cone (`trapped_lobe`,
 /// from its `shares`, [`trapped_shares`]), spread over the azimuth about the forward direction
 /// like the glossy level's own remainder (`forward_azimuth_weight`, κ from `glossy_spread` at
-/// the body's α and the coat's roughness and IOR: total internal reflection and a glossy
+/// the body's α and the coat's IOR and roughness, a GTR1 coat's equivalent one as the level
+/// looks it up (`CoatInterface::glossy_roughness`): total internal reflection and a glossy
 /// reflection both keep the light going on) and tilted per channel like it
 /// (`forward_azimuth_tilt`); `above` the directions above the coat.
 pub(super) fn trapped<F: Real>(
@@ -62,7 +63,7 @@ pub(super) fn trapped<F: Real>(
     let eta = interface.eta;
     let Trapped { mu_c, p_l, p_v, round_trip, q } = *shares;
     let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
-    let roughness = interface.roughness.unwrap_or(inputs.lit(0.0));
+    let roughness = interface.glossy_roughness().unwrap_or(inputs.lit(0.0));
     let kappa = |mu: F| tables::lookup(TableId::GlossySpread, &[mu, alpha.sqrt(), roughness, eta]);
     // Over the event counts this lobe assumes: a geometric count of retention 1 − q.
     let none = inputs.lit(0.0);
