@@ -15,10 +15,12 @@ const vec3 four_layer_layer4_r_return = vec3(0.32233894, 0.32233894, 0.32233894)
 const vec3 four_layer_layer2_rho_returned = vec3(0.830791, 0.8345674, 0.7756857);
 const vec3 four_layer_layer3_r_return = vec3(0.020748317, 0.056278825, 0.1484741);
 const vec3 four_layer_layer1_rho_returned = vec3(0.2431215, 0.39278597, 0.6227643);
-const vec3 four_layer_layer2_r_return = vec3(2.327917e-14, 2.327917e-14, 2.327917e-14);
+const vec3 four_layer_layer1_r_series = vec3(1.7025476e-19, 2.3719262e-19, 3.286415e-19);
 const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
+const vec3 four_layer_layer1_e_series = vec3(0.9619359, 0.9619359, 0.9619359);
 const vec3 four_layer_rho_returned = vec3(0.24368028, 0.3821679, 0.5949716);
-const vec3 four_layer_layer1_r_return = vec3(0.58001065, 0.58001065, 0.58001065);
+const vec3 four_layer_r_series = vec3(0.49796903, 0.5271532, 0.55981696);
+const vec3 four_layer_e_series = vec3(0.47112322, 0.45165533, 0.4318018);
 const uint four_layer_ibl_specular_lobes = 1u;
 
 layout(binding = 33) uniform sampler2D four_layer_radiance;
@@ -576,19 +578,19 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 _e593 = min(max(((vec3((_e575 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e575)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_v = (_e593 / vec3(0.9999998));
     vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e593) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
+    vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l, layer1_first_return_l);
-    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v, layer1_first_return_v);
-    float _e633 = (1.0 - layer2_transmit_l);
-    vec3 _e654 = min(max(((vec3((_e633 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e633)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e654 / vec3(0.41998938));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e654) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e671 = (1.0 - layer2_transmit_v);
-    vec3 _e692 = min(max(((vec3((_e671 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e671)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e692 / vec3(0.41998938));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e692) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
+    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
+    float _e631 = (1.0 - layer2_transmit_l);
+    vec3 _e652 = min(max(((vec3((_e631 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e631)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e652 / vec3(0.41998938));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e652) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e669 = (1.0 - layer2_transmit_v);
+    vec3 _e690 = min(max(((vec3((_e669 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e669)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e690 / vec3(0.41998938));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e690) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : vec3(0.0));
 }
@@ -708,24 +710,24 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
     vec3 layer1_first_escape_v_1 = (_e400 / vec3(0.9999998));
     vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e400) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_l_1, layer1_first_return_l_1);
-    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359), layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e427 = (1.0 - layer2_transmit_l_1);
-    vec3 _e448 = min(max(((vec3((_e427 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e427)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l_1 = (_e448 / vec3(0.41998938));
-    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e448) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e465 = (1.0 - layer2_transmit_v_1);
-    vec3 _e486 = min(max(((vec3((_e465 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e465)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v_1 = (_e486 / vec3(0.41998938));
-    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e486) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938), first_escape_l_1, first_return_l_1);
-    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938), first_escape_v_1, first_return_v_1);
+    vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
+    vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
+    float _e425 = (1.0 - layer2_transmit_l_1);
+    vec3 _e446 = min(max(((vec3((_e425 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e425)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l_1 = (_e446 / vec3(0.41998938));
+    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e446) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e463 = (1.0 - layer2_transmit_v_1);
+    vec3 _e484 = min(max(((vec3((_e463 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e463)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v_1 = (_e484 / vec3(0.41998938));
+    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e484) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
+    vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e531 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e531 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e531 ? under_albedo : vec3(0.0))));
+    bool _e527 = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e527 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e527 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -18,10 +18,12 @@ static const float3 four_layer_layer4_r_return = float3(0.32233894, 0.32233894, 
 static const float3 four_layer_layer2_rho_returned = float3(0.830791, 0.8345674, 0.7756857);
 static const float3 four_layer_layer3_r_return = float3(0.020748317, 0.056278825, 0.1484741);
 static const float3 four_layer_layer1_rho_returned = float3(0.2431215, 0.39278597, 0.6227643);
-static const float3 four_layer_layer2_r_return = float3(2.327917e-14, 2.327917e-14, 2.327917e-14);
+static const float3 four_layer_layer1_r_series = float3(1.7025476e-19, 2.3719262e-19, 3.286415e-19);
 static const float3 four_layer_layer1_specular = float3(0.0, 0.0, 0.0);
+static const float3 four_layer_layer1_e_series = float3(0.9619359, 0.9619359, 0.9619359);
 static const float3 four_layer_rho_returned = float3(0.24368028, 0.3821679, 0.5949716);
-static const float3 four_layer_layer1_r_return = float3(0.58001065, 0.58001065, 0.58001065);
+static const float3 four_layer_r_series = float3(0.49796903, 0.5271532, 0.55981696);
+static const float3 four_layer_e_series = float3(0.47112322, 0.45165533, 0.4318018);
 static const uint four_layer_ibl_specular_lobes = 1u;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
@@ -622,19 +624,19 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 _e593 = min(max(((((_e575 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e575).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_v = (_e593 / (0.9999998).xxx);
     float3 layer1_first_return_v = min(max((((1.0).xxx - _e593) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
+    const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     const float3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
-    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l, layer1_first_return_l);
-    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v, layer1_first_return_v);
-    float _e633 = (1.0 - layer2_transmit_l);
-    float3 _e654 = min(max(((((_e633 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e633).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e654 / (0.41998938).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e654) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    float _e671 = (1.0 - layer2_transmit_v);
-    float3 _e692 = min(max(((((_e671 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e671).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e692 / (0.41998938).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e692) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9795071).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
+    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
+    float _e631 = (1.0 - layer2_transmit_l);
+    float3 _e652 = min(max(((((_e631 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e631).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e652 / (0.41998938).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e652) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e669 = (1.0 - layer2_transmit_v);
+    float3 _e690 = min(max(((((_e669 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e669).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e690 / (0.41998938).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e690) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9795071).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : (0.0).xxx);
 }
@@ -791,24 +793,24 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 _e400 = min(max(((((_e382 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e382).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_v_1 = (_e400 / (0.9999998).xxx);
     float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e400) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
-    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, (0.9619359).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e427 = (1.0 - layer2_transmit_l_1);
-    float3 _e448 = min(max(((((_e427 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e427).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e448 / (0.41998938).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e448) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    float _e465 = (1.0 - layer2_transmit_v_1);
-    float3 _e486 = min(max(((((_e465 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e465).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e486 / (0.41998938).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e486) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, (0.41998938).xxx, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, (0.41998938).xxx, first_escape_v_1, first_return_v_1);
+    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
+    const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
+    float _e425 = (1.0 - layer2_transmit_l_1);
+    float3 _e446 = min(max(((((_e425 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e425).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e446 / (0.41998938).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e446) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e463 = (1.0 - layer2_transmit_v_1);
+    float3 _e484 = min(max(((((_e463 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e463).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e484 / (0.41998938).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e484) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
+    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     const float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e531 = (dot(n_4, v_4) > 0.0);
-    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e531 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e531 ? under_albedo : (0.0).xxx)));
+    bool _e527 = (dot(n_4, v_4) > 0.0);
+    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e527 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e527 ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
 }
 

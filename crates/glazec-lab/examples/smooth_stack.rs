@@ -14,7 +14,7 @@ use glazec_lab::reference::smooth_stack::SmoothStack;
 /// A stack: its label, its coats as (IOR, absorption) at thickness 1, and the Lambert albedo.
 type Probe = (&'static str, &'static [(f64, f64)], f64);
 
-const STACKS: [Probe; 15] = [
+const STACKS: [Probe; 17] = [
     ("one coat 1.5", &[(1.5, 0.0)], 0.8),
     ("one coat 0.8", &[(0.8, 0.0)], 0.8),
     ("two coats 2.0 / 0.8, white", &[(2.0, 0.0), (0.8, 0.0)], 1.0),
@@ -28,6 +28,8 @@ const STACKS: [Probe; 15] = [
     ("three coats 1.5 / 1.4 / 1.5", &[(1.5, 0.0), (1.4, 0.0), (1.5, 0.0)], 0.8),
     ("three coats 1.3 / 1.4 / 1.5", &[(1.3, 0.0), (1.4, 0.0), (1.5, 0.0)], 0.8),
     ("three coats 1.5 / 1.4 / 1.3", &[(1.5, 0.0), (1.4, 0.0), (1.3, 0.0)], 0.8),
+    ("two coats 1.5 / 1.0 absorbing 0.3", &[(1.5, 0.0), (1.0, 0.3)], 0.8),
+    ("two coats 1.5 / 1.1 absorbing 0.3", &[(1.5, 0.0), (1.1, 0.3)], 0.8),
     ("three coats 1.5 / 1.4 absorbing 0.3 / 1.5", &[(1.5, 0.0), (1.4, 0.3), (1.5, 0.0)], 0.8),
     ("four coats 1.5 / 1.5 / 1.5 / 1.5", &[(1.5, 0.0), (1.5, 0.0), (1.5, 0.0), (1.5, 0.0)], 0.8),
 ];

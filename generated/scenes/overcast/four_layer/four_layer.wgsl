@@ -17,10 +17,12 @@ const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.32233894f, 0.32233894f
 const four_layer_layer2_rho_returned: vec3<f32> = vec3<f32>(0.830791f, 0.8345674f, 0.7756857f);
 const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.020748317f, 0.056278825f, 0.1484741f);
 const four_layer_layer1_rho_returned: vec3<f32> = vec3<f32>(0.2431215f, 0.39278597f, 0.6227643f);
-const four_layer_layer2_r_return: vec3<f32> = vec3<f32>(0.00000000000002327917f, 0.00000000000002327917f, 0.00000000000002327917f);
+const four_layer_layer1_r_series: vec3<f32> = vec3<f32>(0.00000000000000000017025476f, 0.00000000000000000023719262f, 0.0000000000000000003286415f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
+const four_layer_layer1_e_series: vec3<f32> = vec3<f32>(0.9619359f, 0.9619359f, 0.9619359f);
 const four_layer_rho_returned: vec3<f32> = vec3<f32>(0.24368028f, 0.3821679f, 0.5949716f);
-const four_layer_layer1_r_return: vec3<f32> = vec3<f32>(0.58001065f, 0.58001065f, 0.58001065f);
+const four_layer_r_series: vec3<f32> = vec3<f32>(0.49796903f, 0.5271532f, 0.55981696f);
+const four_layer_e_series: vec3<f32> = vec3<f32>(0.47112322f, 0.45165533f, 0.4318018f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -475,19 +477,19 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let _e521 = min(max(((vec3((_e503 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e503)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_v = (_e521 / vec3(0.9999998f));
     let layer1_first_return_v = min(max(((vec3(1f) - _e521) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer2_r_return);
+    let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
-    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l, layer1_first_return_l);
-    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v, layer1_first_return_v);
-    let _e561 = (1f - layer2_transmit_l);
-    let _e582 = min(max(((vec3((_e561 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e561)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e582 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e582) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e599 = (1f - layer2_transmit_v);
-    let _e620 = min(max(((vec3((_e599 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e599)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e620 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e620) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_layer1_r_return);
+    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
+    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
+    let _e559 = (1f - layer2_transmit_l);
+    let _e580 = min(max(((vec3((_e559 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e559)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e580 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e580) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e597 = (1f - layer2_transmit_v);
+    let _e618 = min(max(((vec3((_e597 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e597)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e618 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e618) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
 }
@@ -607,24 +609,24 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_v_1 = (_e400 / vec3(0.9999998f));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - _e400) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_l_1, layer1_first_return_l_1);
-    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer2_r_return, vec3(0.9619359f), layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e427 = (1f - layer2_transmit_l_1);
-    let _e448 = min(max(((vec3((_e427 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e427)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e448 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e448) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e465 = (1f - layer2_transmit_v_1);
-    let _e486 = min(max(((vec3((_e465 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e465)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e486 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e486) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_layer1_r_return, vec3(0.41998938f), first_escape_v_1, first_return_v_1);
+    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let _e425 = (1f - layer2_transmit_l_1);
+    let _e446 = min(max(((vec3((_e425 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e425)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e446 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e446) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e463 = (1f - layer2_transmit_v_1);
+    let _e484 = min(max(((vec3((_e463 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e463)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e484 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e484) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e531 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e531))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e531)));
+    let _e527 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e527))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e527)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

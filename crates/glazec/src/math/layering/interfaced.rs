@@ -97,6 +97,23 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         }
         _ => albedo.mean,
     };
+    // The coat's return and escape as the series over a coated layer takes them: scaled for the
+    // obliquity of the light through the absorbing slabs below (`selected_absorption`).
+    let (r_series, e_series) = match &first {
+        Some(FirstPass { recirculated: Some(_), .. }) => {
+            let below: Vec<(F, F::Vec)> = coats[k + 1..]
+                .iter()
+                .map(|c| (inputs.scalar(c.ior), inputs.color(c.absorption) * inputs.scalar(c.thickness)))
+                .collect();
+            if below.iter().all(|(_, tau)| tau.is_known_zero()) {
+                (r_return, e_escape)
+            } else {
+                let (c_r, c_e) = selected_absorption(eta, &below);
+                ((r_return * c_r).named(&name("r_series")), (e_escape * c_e).named(&name("e_series")))
+            }
+        }
+        _ => (r_return, e_escape),
+    };
     // Over a glossy body: the shares of its reflections towards l and v that leave the escape
     // cone, trapped (none without total internal reflection, η ≤ 1), and what becomes of them.
     let trapped_at = match (lower.glossy, lower.alpha) {
@@ -122,7 +139,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         // and on the viewer's side is divided by the return factor of diffuse light through the
         // escape cone, so that what returns eventually escapes (reciprocal: symmetric in l, v).
         let e_v = albedo.e_v * first.return_v / first.return_mean.max(first.return_l.min(first.return_v));
-        interfaced_diffuse_under::<F>(lower.f, albedo.e_l * first.return_l, e_v, returned, r_return)
+        interfaced_diffuse_under::<F>(lower.f, albedo.e_l * first.return_l, e_v, returned, r_series)
     } else {
         unreachable!("a layer that is not glossy has its first pass")
     };
@@ -144,7 +161,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         };
         let directional =
             |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, (p, out): (F, F::Vec)| match first {
-                Some((escape, back)) => interfaced_albedo_dir(t, a, e, returned, r_return, e_escape, escape, back),
+                Some((escape, back)) => interfaced_albedo_dir(t, a, e, returned, r_series, e_series, escape, back),
                 None => interfaced_albedo_glossy::<F>(t, a, e, p, out),
             };
         let (first_l, first_v) = first.as_ref().map(|p| ((p.escape_l, p.return_l), (p.escape_v, p.return_v))).unzip();
@@ -152,7 +169,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         let e_v = directional(t_v, a_v, albedo.e_v, first_v, trapped_v).named(&name("albedo_v"));
         let e_escape_clear = clear().1.x();
         let mean =
-            interfaced_albedo(eta, e_escape_clear, e_escape, r_return, albedo.mean, returned).named(&name("rho"));
+            interfaced_albedo(eta, e_escape_clear, e_series, r_series, albedo.mean, returned).named(&name("rho"));
         Albedo { e_l, e_v, mean }
     });
     Level { f, albedo, glossy: lower.glossy, alpha: lower.alpha, boost, transmission: Some((t_l, t_v)) }

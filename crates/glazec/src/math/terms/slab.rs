@@ -219,6 +219,63 @@ pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Ve
     sum
 }
 
+/// How the absorbing slabs under a coat (relative IOR `eta`) treat the light the coat returns
+/// and the light that escapes through it, against diffuse light: (c_r, c_e) =
+/// ((N/M)/(P/Q)², (N_e/M_e)/(P/Q)). N/M is the mean of a(μ)² over the light the coat returns
+/// (weighted by its internal reflectance F(μ), total beyond its escape cone), N_e/M_e the mean
+/// of a(μ) over the light it lets out (1 − F(μ)), and P/Q the mean of a(μ) over diffuse light;
+/// a(μ) = e^{−Σ τⱼ/μⱼ} along the refracted cosines μⱼ in the slabs `below` (each its relative
+/// IOR and optical depth, from the top; a slab beyond a critical angle is not reached), all
+/// weighted by the transmission T′(μ) of the first interface below. The coat returns light
+/// mostly beyond its escape cone, which crosses the slabs below obliquely, and lets out light
+/// near the normal, which crosses them steeply; the light the layer below sends up was chosen
+/// by the same obliquity on its way. The series of the coat above takes the layer's albedo,
+/// whose absorption is that of diffuse light, so its return is scaled by c_r ≤ 1 and what
+/// escapes by c_e ≥ 1 (both 1 for clear slabs). Under an index-matched layer (η′ = 1) over a
+/// body both are exact: c_r·R(0)·E_esc′(τ)² is the absorbing slab's own return R(τ), and
+/// c_e·E_esc(0)·E_esc′(τ) its own escape E_esc(τ). By the nodes of [`slab_integral`] on the
+/// coat's cone. Guards: the sums ≥ 10⁻⁶, μⱼ ≥ 10⁻⁴.
+pub fn selected_absorption<F: Real>(eta: F, below: &[(F, F::Vec)]) -> (F::Vec, F::Vec) {
+    let mu_c = escape_cone_cosine(eta);
+    let inv_eta = eta.recip();
+    let zero = eta.lit(0.0);
+    let (mut n, mut n_e, mut p) = (zero.splat(), zero.splat(), zero.splat());
+    let (mut m, mut m_e, mut q) = (zero, zero, zero);
+    let mut add = |mu: F, fresnel: F, weight: F| {
+        let Some(&(eta_first, _)) = below.first() else { return };
+        let entering = fr_dielectric(mu, eta_first).one_minus();
+        // Σ τⱼ/μⱼ down the slabs the light reaches: sin²θ falls by the relative IOR at each.
+        let (mut sin2, mut depth, mut reached) = (mu.sq().one_minus(), zero.splat(), mu.lit(1.0));
+        for &(eta_j, tau_j) in below {
+            sin2 = sin2 / eta_j.sq();
+            reached = F::select(sin2.lt_lit(1.0), reached, zero);
+            let mu_j = sin2.one_minus().at_least(1e-8).sqrt().at_least(1e-4);
+            depth = depth + tau_j * (reached / mu_j);
+        }
+        let a = (-depth).exp();
+        let w = mu * entering * weight;
+        n = n + a * a * (w * fresnel);
+        m = m + w * fresnel;
+        n_e = n_e + a * (w * fresnel.one_minus());
+        m_e = m_e + w * fresnel.one_minus();
+        p = p + a * w;
+        q = q + w;
+    };
+    for (t, w) in GAUSS_LEGENDRE_12 {
+        let (t, w) = (mu_c.lit(t as f32), mu_c.lit(w as f32));
+        add(mu_c * t * t, mu_c.lit(1.0), mu_c * t * w);
+    }
+    for (x, w) in GAUSS_LEGENDRE_12 {
+        let (x, w) = (mu_c.lit(x as f32), mu_c.lit(w as f32));
+        let mu = mu_c + mu_c.one_minus() * x * x;
+        add(mu, fr_dielectric(mu, inv_eta), mu_c.one_minus() * x * w);
+    }
+    let diffuse = (p / q.at_least(1e-6)).max(eta.lit(1e-6).splat());
+    let returned = n / m.at_least(1e-6) / (diffuse * diffuse);
+    let escaped = n_e / m_e.at_least(1e-6) / diffuse;
+    (returned, escaped)
+}
+
 /// The smooth rest ∫ (p − h) du of `trapped_escape` over the cone, u = μc² + d, d ∈ [0, 1 − μc²]:
 /// the trapped share p (`trapped_share`) minus its edge profile h(d) = ½(1 − d/√(w² + d²)),
 /// by 4-point Gauss–Legendre quadrature.
@@ -283,6 +340,34 @@ mod tests {
                 assert!((e - e_ref).abs() < SLAB_ABS_TOLERANCE, "E eta {eta} tau {tau}: {e} vs {e_ref}");
             }
         }
+    }
+
+    /// Largest relative difference tolerated between two f32 evaluations of the same integral.
+    const F32_REL_TOLERANCE: f32 = 1e-5;
+
+    #[test]
+    fn selected_absorption_is_exact_under_an_index_matched_layer() {
+        for eta in [1.2_f32, 1.5, 2.0] {
+            let r_clear = slab_integral(eta, Vec3::ZERO, SlabIntegral::Return).x;
+            let e_clear = slab_integral(eta, Vec3::ZERO, SlabIntegral::Escape).x;
+            for tau in [0.0_f32, 0.05, 0.36, 1.0, 3.0] {
+                let tau = Vec3::splat(tau);
+                let (c_r, c_e) = selected_absorption(eta, &[(1.0, tau)]);
+                let r = slab_integral(eta, tau, SlabIntegral::Return).x;
+                let e = slab_integral(eta, tau, SlabIntegral::Escape).x;
+                let e_below = slab_integral(1.0, tau, SlabIntegral::Escape).x;
+                let series = c_r.x * r_clear * e_below * e_below;
+                let escape = c_e.x * e_clear * e_below;
+                assert!((series - r).abs() <= F32_REL_TOLERANCE * r.max(1e-6), "η {eta} τ {tau}: {series} vs R(τ) {r}");
+                assert!((escape - e).abs() <= F32_REL_TOLERANCE * e.max(1e-6), "η {eta} τ {tau}: {escape} vs E(τ) {e}");
+                assert!(c_r.x <= 1.0 + F32_REL_TOLERANCE && c_e.x >= 1.0 - F32_REL_TOLERANCE, "η {eta} τ {tau}");
+            }
+        }
+        // Clear slabs below: no change; absorbing ones under a real interface: less returned.
+        let (c_r, c_e) = selected_absorption(1.5_f32, &[(1.3, Vec3::ZERO), (1.2, Vec3::ZERO)]);
+        assert!((c_r.x - 1.0).abs() < 1e-6 && (c_e.x - 1.0).abs() < 1e-6);
+        let (c_r, c_e) = selected_absorption(1.5_f32, &[(1.3, Vec3::ZERO), (1.2, Vec3::splat(0.5))]);
+        assert!(c_r.x < 1.0 && c_r.x > 0.5 && c_e.x > 1.0, "{c_r} {c_e}");
     }
 
     #[test]
