@@ -233,7 +233,9 @@ pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Ve
 /// whose absorption is that of diffuse light, so its return is scaled by c_r ≤ 1 and what
 /// escapes by c_e ≥ 1 (both 1 for clear slabs). Under an index-matched layer (η′ = 1) over a
 /// body both are exact: c_r·R(0)·E_esc′(τ)² is the absorbing slab's own return R(τ), and
-/// c_e·E_esc(0)·E_esc′(τ) its own escape E_esc(τ). By the nodes of [`slab_integral`] on the
+/// c_e·E_esc(0)·E_esc′(τ) its own escape E_esc(τ). Rough interfaces take the smooth ones'
+/// Fresnel factors and Snell's directions here (checked against the reference on `four_layer`
+/// and the multi-coat set, not derived for them). By the nodes of [`slab_integral`] on the
 /// coat's cone. Guards: the sums ≥ 10⁻⁶, μⱼ ≥ 10⁻⁴.
 pub fn selected_absorption<F: Real>(eta: F, below: &[(F, F::Vec)]) -> (F::Vec, F::Vec) {
     let mu_c = escape_cone_cosine(eta);
