@@ -150,15 +150,39 @@ fn stored_reference_is_reproducible() {
 // ----- the whole BRDF, in bands (issue 31) ------------------------------------------------
 
 /// The published whole-BRDF tables (docs/results/accuracy-full.md, quoted in docs/accuracy.md)
-/// are what the stored references and today's math give. (The bands' targets are not asserted
-/// yet: the default method misses them at grazing angles and over conductors; the tables mark
-/// each miss.)
+/// are what the stored references and today's math give. (The bands' targets are asserted for
+/// the shipped materials, below; in the standard and multi-coat sets the default method still
+/// misses them for some stacks over conductors and some GTR1 stacks, and the tables mark each
+/// miss.)
 #[test]
 fn the_whole_brdf_tables_are_current() {
     let table = glazec_lab::accuracy::full::report().unwrap_or_else(|e| panic!("{e}"));
     let docs = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/results/accuracy-full.md"))
         .expect("docs/results/accuracy-full.md");
     assert_eq!(table, docs, "docs/results/accuracy-full.md is out of date: run `glazec accuracy`");
+}
+
+/// Every shipped material meets the bands' targets (issue 31: body p90 ≤ 2%, ≤ 10% over a
+/// conductor; grazing worst ≤ 25%, beyond the reference's noise) on the CPU; on the device the
+/// bands agree with the CPU's (`whole_brdf_bands_hold_on_the_gpu`).
+#[test]
+fn every_shipped_material_meets_the_whole_brdf_targets() {
+    use glazec::model::Method;
+    use glazec_lab::accuracy::full::{self, FullReference};
+    let sets = full::sets().unwrap_or_else(|e| panic!("{e}"));
+    let shipped = sets.iter().find(|s| s.name == "shipped").expect("the shipped set");
+    let reference =
+        FullReference::read(&full::stored_reference(shipped.name), &shipped.subjects).unwrap_or_else(|e| panic!("{e}"));
+    let misses: Vec<String> = shipped
+        .subjects
+        .iter()
+        .zip(&reference.values)
+        .filter_map(|(subject, estimates)| {
+            let m = full::measure(&subject.probes(), &full::cpu_values(subject, Method::INTERFACED), estimates);
+            (!full::meets_targets(subject, &m)).then(|| format!("{}: {m:?}", subject.label))
+        })
+        .collect();
+    assert!(misses.is_empty(), "shipped materials outside the bands' targets:\n{}", misses.join("\n"));
 }
 
 /// (Deep tier.) The first material of each whole-BRDF set recomputes to its stored reference.
