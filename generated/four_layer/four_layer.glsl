@@ -15,12 +15,12 @@ const vec3 four_layer_layer4_r_return = vec3(0.32233894, 0.32233894, 0.32233894)
 const vec3 four_layer_layer2_rho_returned = vec3(0.830791, 0.8345674, 0.7756857);
 const vec3 four_layer_layer3_r_return = vec3(0.020748317, 0.056278825, 0.1484741);
 const vec3 four_layer_layer1_rho_returned = vec3(0.2431215, 0.39278597, 0.6227643);
-const vec3 four_layer_layer1_r_series = vec3(1.7025476e-19, 2.3719262e-19, 3.286415e-19);
+const vec3 four_layer_layer1_r_series = vec3(1.19023996e-20, 1.6581034e-20, 2.2972549e-20);
 const vec3 four_layer_layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 four_layer_layer1_e_series = vec3(0.9619359, 0.9619359, 0.9619359);
 const vec3 four_layer_rho_returned = vec3(0.24368028, 0.3821679, 0.5949716);
-const vec3 four_layer_r_series = vec3(0.49796903, 0.5271532, 0.55981696);
-const vec3 four_layer_e_series = vec3(0.47112322, 0.45165533, 0.4318018);
+const vec3 four_layer_r_series = vec3(0.49797082, 0.5271556, 0.55982053);
+const vec3 four_layer_e_series = vec3(0.47112292, 0.4516549, 0.43180135);
 const uint four_layer_ibl_specular_lobes = 1u;
 
 layout(binding = 33) uniform sampler2D four_layer_radiance;

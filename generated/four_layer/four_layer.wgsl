@@ -17,12 +17,12 @@ const four_layer_layer4_r_return: vec3<f32> = vec3<f32>(0.32233894f, 0.32233894f
 const four_layer_layer2_rho_returned: vec3<f32> = vec3<f32>(0.830791f, 0.8345674f, 0.7756857f);
 const four_layer_layer3_r_return: vec3<f32> = vec3<f32>(0.020748317f, 0.056278825f, 0.1484741f);
 const four_layer_layer1_rho_returned: vec3<f32> = vec3<f32>(0.2431215f, 0.39278597f, 0.6227643f);
-const four_layer_layer1_r_series: vec3<f32> = vec3<f32>(0.00000000000000000017025476f, 0.00000000000000000023719262f, 0.0000000000000000003286415f);
+const four_layer_layer1_r_series: vec3<f32> = vec3<f32>(0.0000000000000000000119023996f, 0.000000000000000000016581034f, 0.000000000000000000022972549f);
 const four_layer_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const four_layer_layer1_e_series: vec3<f32> = vec3<f32>(0.9619359f, 0.9619359f, 0.9619359f);
 const four_layer_rho_returned: vec3<f32> = vec3<f32>(0.24368028f, 0.3821679f, 0.5949716f);
-const four_layer_r_series: vec3<f32> = vec3<f32>(0.49796903f, 0.5271532f, 0.55981696f);
-const four_layer_e_series: vec3<f32> = vec3<f32>(0.47112322f, 0.45165533f, 0.4318018f);
+const four_layer_r_series: vec3<f32> = vec3<f32>(0.49797082f, 0.5271556f, 0.55982053f);
+const four_layer_e_series: vec3<f32> = vec3<f32>(0.47112292f, 0.4516549f, 0.43180135f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 

@@ -12,6 +12,16 @@ pub const GAUSS_LEGENDRE_4: [(f32, f32); 4] = [
     (0.930_568_16, 0.173_927_42),
 ];
 
+/// The `k`-th node (k = 0…3, a whole number) and weight of [`GAUSS_LEGENDRE_4`], chosen by `k`
+/// as a value: the loop counter of a quadrature that [`crate::math::Real::sum_over`] builds once.
+pub fn gauss_legendre_4_at<F: crate::math::Real>(k: F) -> (F, F) {
+    let pick = |of: fn((f32, f32)) -> f32| {
+        let [a, b, c, d] = GAUSS_LEGENDRE_4.map(|node| k.lit(of(node)));
+        F::select(k.lt_lit(1.5), F::select(k.lt_lit(0.5), a, b), F::select(k.lt_lit(2.5), c, d))
+    };
+    (pick(|(x, _)| x), pick(|(_, w)| w))
+}
+
 /// 12-point Gauss–Legendre nodes and weights on [0, 1] (rounded to f32 where used in
 /// shaders).
 pub const GAUSS_LEGENDRE_12: [(f64, f64); 12] = [

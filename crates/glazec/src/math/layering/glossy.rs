@@ -50,7 +50,7 @@ use super::interface::{CoatInterface, interfaced_lobe};
 use super::level::{Albedo, Level};
 use super::trapped::forward_spread;
 use crate::math::Sum;
-use crate::math::quadrature::GAUSS_LEGENDRE_4;
+use crate::math::quadrature::{GAUSS_LEGENDRE_4, gauss_legendre_4_at};
 use crate::math::tables::{self, Axis, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
@@ -65,16 +65,6 @@ pub const GLOSSY_GRAZING: f64 = 0.005;
 
 /// Panels of [`Glossy::hemispherical`]'s quadrature: [0, μ_b] and [μ_b, 1], the wider halved.
 const PANELS: u32 = 3;
-
-/// The `k`-th node (k = 0…3, a whole number) and weight of [`GAUSS_LEGENDRE_4`], chosen by `k`
-/// as a value (the loop counter of [`Glossy::hemispherical`]).
-fn gauss_legendre_4<F: Real>(k: F) -> (F, F) {
-    let pick = |of: fn((f32, f32)) -> f32| {
-        let [a, b, c, d] = GAUSS_LEGENDRE_4.map(|node| k.lit(of(node)));
-        F::select(k.lt_lit(1.5), F::select(k.lt_lit(0.5), a, b), F::select(k.lt_lit(2.5), c, d))
-    };
-    (pick(|(x, _)| x), pick(|(_, w)| w))
-}
 
 /// The band of outer cosines [0, μ_b] whose light the conductor sends largely out of the escape
 /// cone ends where the refracted mirror direction lies this many GGX α (conductor's plus
@@ -417,7 +407,7 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
         F::sum_over(self.inputs.ctx, &sum, &|i| {
             // Node i: panel ⌊i/4⌋, Gauss–Legendre node i mod 4.
             let panel = (i * 0.25).floor();
-            let (x, w) = gauss_legendre_4(i - panel * 4.0);
+            let (x, w) = gauss_legendre_4_at(i - panel * 4.0);
             let (is_first, is_second) = (panel.lt_lit(0.5), panel.lt_lit(1.5));
             let from = F::select(is_first, self.inputs.lit(0.0), F::select(is_second, first, second));
             let width = F::select(is_first, first, F::select(is_second, second - first, second.one_minus()));

@@ -108,7 +108,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
             if below.iter().all(|(_, tau)| tau.is_known_zero()) {
                 (r_return, e_escape)
             } else {
-                let (c_r, c_e) = selected_absorption(eta, &below);
+                let (c_r, c_e) = selected_absorption(eta, &below, &|base| level_name(base, k));
                 ((r_return * c_r).named(&name("r_series")), (e_escape * c_e).named(&name("e_series")))
             }
         }
