@@ -131,8 +131,9 @@ impl SumKey {
 struct Sums(Vec<(SumKey, Vec<Vec3>)>);
 
 impl Sums {
-    /// Sums kept per thread: a material's f, its albedo-only pass and a few materials in turn.
-    const KEPT: usize = 8;
+    /// Sums kept per thread: a material's f, its albedo-only pass and a few materials in turn
+    /// (a stack's glossy level and each coat over an absorbing coated layer keep their own).
+    const KEPT: usize = 16;
 
     fn find(&self, key: &SumKey) -> Option<Vec<Vec3>> {
         self.0.iter().rev().find(|(k, _)| k == key).map(|(_, totals)| totals.clone())

@@ -250,13 +250,17 @@ pub fn selected_absorption<F: Real>(eta: F, below: &[(F, F::Vec)], name: &dyn Fn
     let totals =
         [name("selection_returned"), name("selection_escaped"), name("selection_diffuse"), name("selection_weights")];
     let totals: Vec<&str> = totals.iter().map(String::as_str).collect();
-    let sum = Sum {
-        count: 2 * SELECTION_PANELS * GAUSS_LEGENDRE_4.len() as u32,
-        index: &index,
-        totals: &totals,
-        fold,
-        key: &[],
+    // On the CPU the sums are kept under their inputs, as numbers: one material's are summed once.
+    let number = |x: F| x.known().unwrap_or(f32::NAN);
+    let key: Vec<f32> = if F::IMMEDIATE {
+        std::iter::once(number(eta))
+            .chain(below.iter().flat_map(|&(e, tau)| [number(e), number(tau.x()), number(tau.y()), number(tau.z())]))
+            .collect()
+    } else {
+        Vec::new()
     };
+    let count = 2 * SELECTION_PANELS * GAUSS_LEGENDRE_4.len() as u32;
+    let sum = Sum { count, index: &index, totals: &totals, fold, key: &key };
     let sums = F::sum_over(eta.ctx(), &sum, &|i| {
         // Node i: the part beyond the escape cone (μ = μc t²) for i < 12, else the cone
         // (μ = μc + (1 − μc) s²); in each, panel ⌊j/4⌋ of three and Gauss–Legendre node j mod 4.
