@@ -501,7 +501,7 @@ pub(super) fn glossy_level<F: Real>(
     let Depth { k, n_medium, blur, .. } = at;
     let coat = &coats[k];
     let eta = inputs.scalar(coat.ior);
-    let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&level_name("tau", k));
+    let tau = inputs.optical_depth(coat).named(&level_name("tau", k));
     let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
     let coat_roughness = interface.glossy_roughness().unwrap_or(inputs.lit(0.0));
     let glossy = Glossy {

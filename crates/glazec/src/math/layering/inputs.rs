@@ -55,6 +55,11 @@ impl<F: Real> Inputs<F> {
         }
     }
 
+    /// A coat's slab's optical depth τ = absorption × thickness (per channel).
+    pub(super) fn optical_depth(&self, coat: &Coat) -> F::Vec {
+        self.color(coat.absorption) * self.scalar(coat.thickness)
+    }
+
     pub(super) fn zero(&self) -> F::Vec {
         self.lit(0.0).splat()
     }

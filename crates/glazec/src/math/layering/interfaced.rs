@@ -42,7 +42,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     }
     let name = |base| level_name(base, k);
     let eta = inputs.scalar(coat.ior);
-    let tau = (inputs.color(coat.absorption) * inputs.scalar(coat.thickness)).named(&name("tau"));
+    let tau = inputs.optical_depth(coat).named(&name("tau"));
     let interface = CoatInterface::new(&coat.lobe, eta, inputs, k, approx);
     let f_top = if g.albedo_only {
         inputs.zero()
@@ -101,10 +101,8 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     // obliquity of the light through the absorbing slabs below (`selected_absorption`).
     let (r_series, e_series) = match &first {
         Some(FirstPass { recirculated: Some(_), .. }) => {
-            let below: Vec<(F, F::Vec)> = coats[k + 1..]
-                .iter()
-                .map(|c| (inputs.scalar(c.ior), inputs.color(c.absorption) * inputs.scalar(c.thickness)))
-                .collect();
+            let below: Vec<(F, F::Vec)> =
+                coats[k + 1..].iter().map(|c| (inputs.scalar(c.ior), inputs.optical_depth(c))).collect();
             if below.iter().all(|(_, tau)| tau.is_known_zero()) {
                 (r_return, e_escape)
             } else {

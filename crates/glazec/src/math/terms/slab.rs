@@ -239,8 +239,8 @@ pub fn slab_integral<F: Real>(eta: F, tau: F::Vec, which: SlabIntegral) -> F::Ve
 /// coat's cone and beyond it, three panels of 4-point Gauss–Legendre on each, as one loop in a
 /// shader ([`Real::sum_over`], folded to constants for literal arguments, and on the CPU summed
 /// once per material: unrolled, the deep tier's random stacks with runtime parameters ran for
-/// over 20 minutes instead of 2). Its sums are
-/// named by `name` (`selection_node`, `selection_returned`, …). Guards: the sums ≥ 10⁻⁶, μⱼ ≥ 10⁻⁴.
+/// over 20 minutes instead of 2). Its sums are named by `name` (`selection_node`,
+/// `selection_returned`, …). Guards: the sums ≥ 10⁻⁶, μⱼ ≥ 10⁻⁴.
 pub fn selected_absorption<F: Real>(eta: F, below: &[(F, F::Vec)], name: &dyn Fn(&str) -> String) -> (F::Vec, F::Vec) {
     let mu_c = escape_cone_cosine(eta);
     let inv_eta = eta.recip();
