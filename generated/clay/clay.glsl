@@ -252,9 +252,9 @@ ClayIblLobes clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     vec3 _e25 = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
-    vec3 base_albedo = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
+    vec3 layer1_albedo_l = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
     bool _e40 = (dot(n_4, v_4) > 0.0);
-    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * _e25) * base_albedo) : vec3(0.0))));
+    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * _e25) * layer1_albedo_l) : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -163,9 +163,9 @@ float four_layer_lambda_ggx(float n_dot_x_1, float alpha_4) {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float alpha_5) {
-    float alpha_8 = max(alpha_5, 0.001);
-    float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_8);
-    float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_8);
+    float alpha_10 = max(alpha_5, 0.001);
+    float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_10);
+    float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_10);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -421,6 +421,42 @@ vec3 four_layer_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+float four_layer_trapped_share(float mu_4, float mu_c, float alpha_7) {
+    float sin_t = sqrt(max((1.0 - (mu_4 * mu_4)), 0.0));
+    float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
+    float near = (((sin_t * mu_c) - (mu_4 * sin_c)) / (((mu_4 * mu_c) + (sin_t * sin_c)) + 1.0));
+    float far = (((sin_t * mu_c) + (mu_4 * sin_c)) / max((((mu_4 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
+    float a2_ = (alpha_7 * alpha_7);
+    float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
+    return ((cos_beta + 1.0) * 0.5);
+}
+
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+float four_layer_glossy_trapped_share(float mu_5, float mu_c_1, float alpha_8) {
+    float beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_8);
+    float below_horizon = four_layer_trapped_share(mu_5, 0.0, alpha_8);
+    return max((beyond_cone - below_horizon), 0.0);
+}
+
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float n_dot_v_5 = dot(n_1, v_1);
@@ -559,37 +595,43 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l, layer4_first_return_l);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v, layer4_first_return_v);
     float _e436 = (1.0 - layer4_transmit_l);
-    vec3 _e457 = min(max(((vec3((_e436 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e457 / vec3(0.80973125));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e457) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e474 = (1.0 - layer4_transmit_v);
-    vec3 _e495 = min(max(((vec3((_e474 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e474)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e495 / vec3(0.80973125));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e495) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
+    float _e439 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784, 0.25);
+    float layer2_first_cone_share_l = (1.0 - _e439);
+    vec3 _e463 = min(max(((vec3(((_e436 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e463 / vec3(0.80973125));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e463) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e480 = (1.0 - layer4_transmit_v);
+    float _e483 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784, 0.25);
+    float layer2_first_cone_share_v = (1.0 - _e483);
+    vec3 _e507 = min(max(((vec3(((_e480 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e480)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e507 / vec3(0.80973125));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e507) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9442068, 0.9442068, 0.9441075), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
-    float _e540 = (1.0 - layer3_transmit_l);
-    vec3 _e558 = min(max(((vec3((_e540 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e540)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e558 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e558) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e575 = (1.0 - layer3_transmit_v);
-    vec3 _e593 = min(max(((vec3((_e575 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e575)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e593 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e593) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e552 = (1.0 - layer3_transmit_l);
+    float _e555 = four_layer_glossy_trapped_share(layer2_cos_l, 0.0, 0.09);
+    vec3 _e575 = min(max(((vec3((_e552 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e552)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e575 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e575) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e592 = (1.0 - layer3_transmit_v);
+    float _e595 = four_layer_glossy_trapped_share(layer2_cos_v, 0.0, 0.09);
+    vec3 _e615 = min(max(((vec3((_e592 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e592)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e615 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e615) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
-    float _e631 = (1.0 - layer2_transmit_l);
-    vec3 _e652 = min(max(((vec3((_e631 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e631)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e652 / vec3(0.41998938));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e652) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e669 = (1.0 - layer2_transmit_v);
-    vec3 _e690 = min(max(((vec3((_e669 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e669)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e690 / vec3(0.41998938));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e690) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e653 = (1.0 - layer2_transmit_l);
+    vec3 _e674 = min(max(((vec3((_e653 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e653)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e674 / vec3(0.41998938));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e674) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e691 = (1.0 - layer2_transmit_v);
+    vec3 _e712 = min(max(((vec3((_e691 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e691)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e712 / vec3(0.41998938));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e712) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : vec3(0.0));
@@ -606,10 +648,10 @@ vec3 four_layer_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_7) {
+vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_9) {
     vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_7), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_7));
+    float smoothness = min(max((1.0 - alpha_9), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_9));
     vec3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 1e-12))));
 }
@@ -693,41 +735,45 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l_1, layer4_first_return_l_1);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v_1, layer4_first_return_v_1);
     float _e257 = (1.0 - layer4_transmit_l_1);
-    vec3 _e278 = min(max(((vec3((_e257 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l_1 = (_e278 / vec3(0.80973125));
-    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e278) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e295 = (1.0 - layer4_transmit_v_1);
-    vec3 _e316 = min(max(((vec3((_e295 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e295)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v_1 = (_e316 / vec3(0.80973125));
-    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e316) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e260 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
+    float layer2_first_cone_share_l_1 = (1.0 - _e260);
+    vec3 _e284 = min(max(((vec3(((_e257 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l_1 = (_e284 / vec3(0.80973125));
+    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e284) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e301 = (1.0 - layer4_transmit_v_1);
+    float layer2_first_cone_share_v_1 = (1.0 - _e260);
+    vec3 _e325 = min(max(((vec3(((_e301 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e301)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v_1 = (_e325 / vec3(0.80973125));
+    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e325) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e347 = (1.0 - layer3_transmit_l_1);
-    vec3 _e365 = min(max(((vec3((_e347 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e347)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l_1 = (_e365 / vec3(0.9999998));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e365) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e382 = (1.0 - layer3_transmit_v_1);
-    vec3 _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v_1 = (_e400 / vec3(0.9999998));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e400) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e356 = (1.0 - layer3_transmit_l_1);
+    float _e359 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0.0, 0.09);
+    vec3 _e379 = min(max(((vec3((_e356 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e356)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l_1 = (_e379 / vec3(0.9999998));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e379) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e396 = (1.0 - layer3_transmit_v_1);
+    vec3 _e416 = min(max(((vec3((_e396 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e396)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v_1 = (_e416 / vec3(0.9999998));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e416) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e425 = (1.0 - layer2_transmit_l_1);
-    vec3 _e446 = min(max(((vec3((_e425 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e425)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l_1 = (_e446 / vec3(0.41998938));
-    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e446) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e463 = (1.0 - layer2_transmit_v_1);
-    vec3 _e484 = min(max(((vec3((_e463 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e463)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v_1 = (_e484 / vec3(0.41998938));
-    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e484) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e441 = (1.0 - layer2_transmit_l_1);
+    vec3 _e462 = min(max(((vec3((_e441 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e441)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l_1 = (_e462 / vec3(0.41998938));
+    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e462) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e479 = (1.0 - layer2_transmit_v_1);
+    vec3 _e500 = min(max(((vec3((_e479 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e479)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v_1 = (_e500 / vec3(0.41998938));
+    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e500) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
     vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e527 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e527 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e527 ? under_albedo : vec3(0.0))));
+    bool _e543 = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e543 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e543 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -191,9 +191,9 @@ float four_layer_lambda_ggx(float n_dot_x_1, float alpha_4)
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float alpha_5)
 {
-    float alpha_8 = max(alpha_5, 0.001);
-    const float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_8);
-    const float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_8);
+    float alpha_10 = max(alpha_5, 0.001);
+    const float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_10);
+    const float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_10);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -466,6 +466,44 @@ float3 four_layer_interfaced_albedo_dir(float t, float3 a, float3 e_below, float
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+float four_layer_trapped_share(float mu_4, float mu_c, float alpha_7)
+{
+    float sin_t = sqrt(max((1.0 - (mu_4 * mu_4)), 0.0));
+    float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
+    float near = (((sin_t * mu_c) - (mu_4 * sin_c)) / (((mu_4 * mu_c) + (sin_t * sin_c)) + 1.0));
+    float far = (((sin_t * mu_c) + (mu_4 * sin_c)) / max((((mu_4 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
+    float a2_ = (alpha_7 * alpha_7);
+    float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
+    return ((cos_beta + 1.0) * 0.5);
+}
+
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+float four_layer_glossy_trapped_share(float mu_5, float mu_c_1, float alpha_8)
+{
+    const float beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_8);
+    const float below_horizon = four_layer_trapped_share(mu_5, 0.0, alpha_8);
+    return max((beyond_cone - below_horizon), 0.0);
+}
+
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
 {
@@ -605,37 +643,43 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l, layer4_first_return_l);
     const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, (1.0).xxx, layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v, layer4_first_return_v);
     float _e436 = (1.0 - layer4_transmit_l);
-    float3 _e457 = min(max(((((_e436 * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e436).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l = (_e457 / (0.80973125).xxx);
-    float3 layer2_first_return_l = min(max((((1.0).xxx - _e457) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    float _e474 = (1.0 - layer4_transmit_v);
-    float3 _e495 = min(max(((((_e474 * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e474).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v = (_e495 / (0.80973125).xxx);
-    float3 layer2_first_return_v = min(max((((1.0).xxx - _e495) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.93280673, 0.93280673, 0.93172693), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
+    const float _e439 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784, 0.25);
+    float layer2_first_cone_share_l = (1.0 - _e439);
+    float3 _e463 = min(max((((((_e436 * layer2_first_cone_share_l) * layer3_transmit_l)).xxx + (max((layer3_albedo_l - (_e436).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l = (_e463 / (0.80973125).xxx);
+    float3 layer2_first_return_l = min(max((((1.0).xxx - _e463) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    float _e480 = (1.0 - layer4_transmit_v);
+    const float _e483 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784, 0.25);
+    float layer2_first_cone_share_v = (1.0 - _e483);
+    float3 _e507 = min(max((((((_e480 * layer2_first_cone_share_v) * layer3_transmit_v)).xxx + (max((layer3_albedo_v - (_e480).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v = (_e507 / (0.80973125).xxx);
+    float3 layer2_first_return_v = min(max((((1.0).xxx - _e507) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(float3(0.9442068, 0.9442068, 0.9441075), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     const float3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
-    float _e540 = (1.0 - layer3_transmit_l);
-    float3 _e558 = min(max(((((_e540 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e540).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_l = (_e558 / (0.9999998).xxx);
-    float3 layer1_first_return_l = min(max((((1.0).xxx - _e558) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    float _e575 = (1.0 - layer3_transmit_v);
-    float3 _e593 = min(max(((((_e575 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e575).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_v = (_e593 / (0.9999998).xxx);
-    float3 layer1_first_return_v = min(max((((1.0).xxx - _e593) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e552 = (1.0 - layer3_transmit_l);
+    const float _e555 = four_layer_glossy_trapped_share(layer2_cos_l, 0.0, 0.09);
+    float3 _e575 = min(max(((((_e552 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e552).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l = (_e575 / (0.9999998).xxx);
+    float3 layer1_first_return_l = min(max((((1.0).xxx - _e575) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e592 = (1.0 - layer3_transmit_v);
+    const float _e595 = four_layer_glossy_trapped_share(layer2_cos_v, 0.0, 0.09);
+    float3 _e615 = min(max(((((_e592 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e592).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v = (_e615 / (0.9999998).xxx);
+    float3 layer1_first_return_v = min(max((((1.0).xxx - _e615) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max((0.001).xxx, min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     const float3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
-    float _e631 = (1.0 - layer2_transmit_l);
-    float3 _e652 = min(max(((((_e631 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e631).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e652 / (0.41998938).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e652) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    float _e669 = (1.0 - layer2_transmit_v);
-    float3 _e690 = min(max(((((_e669 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e669).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e690 / (0.41998938).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e690) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e653 = (1.0 - layer2_transmit_l);
+    float3 _e674 = min(max(((((_e653 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e653).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l = (_e674 / (0.41998938).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - _e674) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e691 = (1.0 - layer2_transmit_v);
+    float3 _e712 = min(max(((((_e691 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e691).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e712 / (0.41998938).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - _e712) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
     const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9795071).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : (0.0).xxx);
@@ -653,11 +697,11 @@ float3 four_layer_eval(float3 n_2, float3 v_2, float3 l_2)
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_7)
+float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_9)
 {
     float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_7), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_7));
+    float smoothness = min(max((1.0 - alpha_9), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_9));
     float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
 }
@@ -776,41 +820,45 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
     const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
     float _e257 = (1.0 - layer4_transmit_l_1);
-    float3 _e278 = min(max(((((_e257 * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e257).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l_1 = (_e278 / (0.80973125).xxx);
-    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e278) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    float _e295 = (1.0 - layer4_transmit_v_1);
-    float3 _e316 = min(max(((((_e295 * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e295).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v_1 = (_e316 / (0.80973125).xxx);
-    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e316) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    const float _e260 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
+    float layer2_first_cone_share_l_1 = (1.0 - _e260);
+    float3 _e284 = min(max((((((_e257 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e257).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_l_1 = (_e284 / (0.80973125).xxx);
+    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e284) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
+    float _e301 = (1.0 - layer4_transmit_v_1);
+    float layer2_first_cone_share_v_1 = (1.0 - _e260);
+    float3 _e325 = min(max((((((_e301 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e301).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v_1 = (_e325 / (0.80973125).xxx);
+    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e325) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
     const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e347 = (1.0 - layer3_transmit_l_1);
-    float3 _e365 = min(max(((((_e347 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e347).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_l_1 = (_e365 / (0.9999998).xxx);
-    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - _e365) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    float _e382 = (1.0 - layer3_transmit_v_1);
-    float3 _e400 = min(max(((((_e382 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e382).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_v_1 = (_e400 / (0.9999998).xxx);
-    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e400) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e356 = (1.0 - layer3_transmit_l_1);
+    const float _e359 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0.0, 0.09);
+    float3 _e379 = min(max(((((_e356 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e356).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_l_1 = (_e379 / (0.9999998).xxx);
+    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - _e379) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
+    float _e396 = (1.0 - layer3_transmit_v_1);
+    float3 _e416 = min(max(((((_e396 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e396).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v_1 = (_e416 / (0.9999998).xxx);
+    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e416) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e425 = (1.0 - layer2_transmit_l_1);
-    float3 _e446 = min(max(((((_e425 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e425).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e446 / (0.41998938).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e446) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    float _e463 = (1.0 - layer2_transmit_v_1);
-    float3 _e484 = min(max(((((_e463 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e463).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e484 / (0.41998938).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e484) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e441 = (1.0 - layer2_transmit_l_1);
+    float3 _e462 = min(max(((((_e441 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e441).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_l_1 = (_e462 / (0.41998938).xxx);
+    float3 first_return_l_1 = min(max((((1.0).xxx - _e462) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float _e479 = (1.0 - layer2_transmit_v_1);
+    float3 _e500 = min(max(((((_e479 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e479).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v_1 = (_e500 / (0.41998938).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e500) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
     const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
     const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     const float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e527 = (dot(n_4, v_4) > 0.0);
-    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e527 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e527 ? under_albedo : (0.0).xxx)));
+    bool _e543 = (dot(n_4, v_4) > 0.0);
+    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e543 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e543 ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
 }
 

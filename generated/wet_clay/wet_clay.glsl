@@ -10,8 +10,6 @@ struct WetClayIblLobes {
 };
 const vec3 wet_clay_layer1_rho = vec3(0.5876322, 0.34278542, 0.24484675);
 const vec3 wet_clay_layer1_r_return = vec3(0.116561234, 0.116561234, 0.116561234);
-const vec3 wet_clay_layer1_albedo_l = vec3(0.5876322, 0.34278542, 0.24484675);
-const vec3 wet_clay_layer1_albedo_v = vec3(0.5876322, 0.34278542, 0.24484675);
 const uint wet_clay_ibl_specular_lobes = 1u;
 
 layout(binding = 33) uniform sampler2D wet_clay_radiance;
@@ -206,6 +204,24 @@ vec3 wet_clay_fd_oren_nayar(vec3 albedo, float sigma, float n_dot_v_2, float n_d
     return (albedo * (((b * s_over_t) + a_3) / 3.1415927));
 }
 
+// Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
+// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
+// integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
+// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
+// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). Guard: μ ≥ 10⁻⁴ (tan θ; the
+// second term tends to cos θ/2 → 0 at grazing).
+vec3 wet_clay_albedo_oren_nayar(vec3 albedo_1, float sigma_1, float mu_1) {
+    float sigma_sq_1 = (sigma_1 * sigma_1);
+    float a_4 = (1.0 - ((sigma_sq_1 / (sigma_sq_1 + 0.33)) * 0.5));
+    float b_1 = ((sigma_sq_1 / (sigma_sq_1 + 0.09)) * 0.45);
+    float cos_t_1 = min(max(mu_1, 0.0001), 1.0);
+    float theta = acos(cos_t_1);
+    float sin_t = sqrt(max((1.0 - (cos_t_1 * cos_t_1)), 0.0));
+    float below = (sin_t * ((theta * 0.5) - ((sin_t * cos_t_1) * 0.5)));
+    float above = (((sin_t / cos_t_1) * (1.0 - ((sin_t * sin_t) * sin_t))) * 0.33333334);
+    return (albedo_1 * (((b_1 * (below + above)) * 0.63661975) + a_4));
+}
+
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
 // `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
 // back down (R, the slab's diffuse return reflectance) and that then bounces between body
@@ -272,8 +288,12 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 absorb_l = vec3(_e91);
     float _e94 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
     vec3 absorb_v = vec3(_e94);
+    float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
+    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     vec3 layer1_f_base = wet_clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, vec3(0.5876322, 0.34278542, 0.24484675), vec3(0.5876322, 0.34278542, 0.24484675), wet_clay_layer1_rho, wet_clay_layer1_r_return);
+    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
+    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
+    vec3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return);
     vec3 f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
 }
@@ -335,20 +355,24 @@ WetClayIblLobes wet_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
+    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
+    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
+    float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_2);
     vec3 absorb_l_1 = vec3(_e31);
-    float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
+    float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_2);
     vec3 absorb_v_1 = vec3(_e34);
-    vec3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
-    vec3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
+    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
+    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
+    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_3);
+    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_3);
+    vec3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
+    vec3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e71 = (dot(n_4, v_4) > 0.0);
-    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e71 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e71 ? under_albedo : vec3(0.0))));
+    bool _e83 = (dot(n_4, v_4) > 0.0);
+    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e83 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e83 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

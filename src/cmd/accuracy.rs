@@ -8,6 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use glazec::output::{self, OutputFile};
 use glazec_lab::accuracy::full::{self, FullReference};
+use glazec_lab::accuracy::stated;
 use glazec_lab::accuracy::{self, ReferenceData};
 use glazec_lab::reference::InterfaceMode;
 
@@ -38,10 +39,13 @@ pub struct Args {
     /// Recompute only the whole-BRDF references (the standard metrics read the stored one)
     #[arg(long)]
     regenerate_full_reference: bool,
+    /// Recompute only the reference albedos the stated albedos are measured against
+    #[arg(long)]
+    regenerate_albedo_reference: bool,
     /// Reference samples per value of the whole-BRDF bands (with --regenerate-reference)
     #[arg(long, default_value_t = 16_384)]
     full_samples: u32,
-    /// Directory for `accuracy.md` and `accuracy.csv`.
+    /// Directory for `accuracy.md`, `accuracy.csv`, `accuracy-full.md` and `stated-albedo.md`.
     #[arg(long, short, default_value = "docs/results")]
     out: PathBuf,
 }
@@ -68,22 +72,26 @@ pub fn run(args: Args) -> Result<(), Failure> {
     };
     let methods = accuracy::measure_methods(&cases, &reference);
     let markdown = accuracy::markdown(&cases, &methods, &reference);
-    let full_markdown = whole_brdf(args.regenerate_reference || args.regenerate_full_reference, args.full_samples)?;
+    let full = args.regenerate_reference || args.regenerate_full_reference;
+    let (full_markdown, stated_markdown) =
+        whole_brdf(full, full || args.regenerate_albedo_reference, args.full_samples)?;
     let files = [
         OutputFile { path: args.out.join("accuracy.md"), contents: markdown.clone().into_bytes() },
         OutputFile { path: args.out.join("accuracy.csv"), contents: accuracy::csv(&cases, &methods).into_bytes() },
         OutputFile { path: args.out.join("accuracy-full.md"), contents: full_markdown.clone().into_bytes() },
+        OutputFile { path: args.out.join("stated-albedo.md"), contents: stated_markdown.clone().into_bytes() },
     ];
     output::write_all(&files).with_context(|| format!("cannot write to {}", args.out.display()))?;
-    println!("{markdown}\n{full_markdown}");
+    println!("{markdown}\n{full_markdown}\n{stated_markdown}");
     Ok(())
 }
 
-/// The whole-BRDF bands of the standard set, the multi-coat set and the shipped materials,
-/// against their stored references (computed first with `regenerate`).
-fn whole_brdf(regenerate: bool, samples: u32) -> Result<String, Failure> {
-    if regenerate {
-        for full::Set { name, subjects, .. } in full::sets().map_err(|e| anyhow::anyhow!(e))? {
+/// The whole-BRDF bands and the stated albedos of the standard set, the multi-coat set and the
+/// shipped materials, against their stored references (computed first with `bands` and
+/// `albedos`).
+fn whole_brdf(bands: bool, albedos: bool, samples: u32) -> Result<(String, String), Failure> {
+    for full::Set { name, subjects, .. } in full::sets().map_err(|e| anyhow::anyhow!(e))? {
+        if bands {
             let path = full::stored_reference(name);
             let start = Instant::now();
             let done = AtomicUsize::new(0);
@@ -95,8 +103,17 @@ fn whole_brdf(regenerate: bool, samples: u32) -> Result<String, Failure> {
             eprintln!(" in {:.0} s", start.elapsed().as_secs_f64());
             data.write(&path).with_context(|| format!("cannot write {}", path.display()))?;
         }
+        if albedos {
+            let path = stated::stored_albedo_reference(name);
+            let start = Instant::now();
+            let data = stated::compute(&subjects, stated::ALBEDO_WALKS, &|_| {});
+            eprintln!("reference albedos, {name}: {:.0} s", start.elapsed().as_secs_f64());
+            data.write(&path).with_context(|| format!("cannot write {}", path.display()))?;
+        }
     }
     // (Read back even when just computed: the file stores f32, and the tables must not depend on
     // whether the reference was recomputed.)
-    Ok(full::report().map_err(|e| anyhow::anyhow!(e))?)
+    let bands_md = full::report().map_err(|e| anyhow::anyhow!(e))?;
+    let albedos_md = stated::report(&full::sets().map_err(|e| anyhow::anyhow!(e))?).map_err(|e| anyhow::anyhow!(e))?;
+    Ok((bands_md, albedos_md))
 }

@@ -344,6 +344,18 @@ impl FullReference {
     /// # Errors
     /// I/O errors, or a file that does not match the subjects' probes.
     pub fn read(path: &Path, subjects: &[Subject]) -> Result<FullReference, super::DataError> {
+        Self::read_counted(path, subjects, &|s| s.probes().len())
+    }
+
+    /// Reads a file written by [`Self::write`] with `count(subject)` values per subject.
+    ///
+    /// # Errors
+    /// I/O errors, or a file that does not match those counts.
+    pub fn read_counted(
+        path: &Path,
+        subjects: &[Subject],
+        expected: &dyn Fn(&Subject) -> usize,
+    ) -> Result<FullReference, super::DataError> {
         let mut bytes = Vec::new();
         std::fs::File::open(path)?.read_to_end(&mut bytes)?;
         let bad = |m: &str| super::DataError::Format(format!("{}: {m}", path.display()));
@@ -351,7 +363,7 @@ impl FullReference {
             bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])).ok_or_else(|| bad("truncated"))
         };
         if bytes.len() < 16 || &bytes[..8] != MAGIC {
-            return Err(bad("not a glazec full-BRDF reference file"));
+            return Err(bad("not a glazec reference file of the whole-BRDF sets"));
         }
         let samples = word(8)?;
         if word(12)? as usize != subjects.len() {
@@ -362,8 +374,8 @@ impl FullReference {
         for subject in subjects {
             let count = word(at)? as usize;
             at += 4;
-            if count != subject.probes().len() {
-                return Err(bad(&format!("{}: its probe count does not match", subject.label)));
+            if count != expected(subject) {
+                return Err(bad(&format!("{}: its value count does not match", subject.label)));
             }
             let mut estimates = Vec::with_capacity(count);
             for _ in 0..count {

@@ -14,6 +14,7 @@
 
 pub mod full;
 pub mod quadrature;
+pub mod stated;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};

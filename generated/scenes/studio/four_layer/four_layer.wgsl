@@ -168,9 +168,9 @@ fn four_layer_lambda_ggx(n_dot_x_1: f32, alpha_4: f32) -> f32 {
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f32) -> f32 {
-    let alpha_7 = max(alpha_5, 0.001f);
-    let _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_7);
-    let _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_7);
+    let alpha_9 = max(alpha_5, 0.001f);
+    let _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_9);
+    let _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_9);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -350,6 +350,42 @@ fn four_layer_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
+// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
+// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
+// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
+// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
+// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
+// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
+// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
+// β = atan(t₂/α) − atan(t₁/α): the share trapped is
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
+// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
+// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
+// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+fn four_layer_trapped_share(mu_4: f32, mu_c: f32, alpha_6: f32) -> f32 {
+    let sin_t = sqrt(max((1f - (mu_4 * mu_4)), 0f));
+    let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
+    let near = (((sin_t * mu_c) - (mu_4 * sin_c)) / (((mu_4 * mu_c) + (sin_t * sin_c)) + 1f));
+    let far = (((sin_t * mu_c) + (mu_4 * sin_c)) / max((((mu_4 * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
+    let a2_ = (alpha_6 * alpha_6);
+    let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
+    return ((cos_beta + 1f) * 0.5f);
+}
+
+// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
+// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
+// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
+// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
+// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
+// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+fn four_layer_glossy_trapped_share(mu_5: f32, mu_c_1: f32, alpha_7: f32) -> f32 {
+    let beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_7);
+    let below_horizon = four_layer_trapped_share(mu_5, 0f, alpha_7);
+    return max((beyond_cone - below_horizon), 0f);
+}
+
 // The BRDF f(l, v) of material `four_layer` (Interfaced layering), without the cosine. n, v, l: unit vectors, v and l pointing away from the surface.
 fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let n_dot_v_5 = dot(n_1, v_1);
@@ -458,37 +494,43 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
     let _e364 = (1f - layer4_transmit_l);
-    let _e385 = min(max(((vec3((_e364 * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e364)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e385 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e385) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e402 = (1f - layer4_transmit_v);
-    let _e423 = min(max(((vec3((_e402 * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e402)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e423 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e423) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.93280673f, 0.93280673f, 0.93172693f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
+    let _e367 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_l = (1f - _e367);
+    let _e391 = min(max(((vec3(((_e364 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e364)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e391 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e391) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e408 = (1f - layer4_transmit_v);
+    let _e411 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_v = (1f - _e411);
+    let _e435 = min(max(((vec3(((_e408 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e408)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e435 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e435) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9442068f, 0.9442068f, 0.9441075f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e468 = (1f - layer3_transmit_l);
-    let _e486 = min(max(((vec3((_e468 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e468)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e486 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e486) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e503 = (1f - layer3_transmit_v);
-    let _e521 = min(max(((vec3((_e503 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e503)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e521 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e521) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e480 = (1f - layer3_transmit_l);
+    let _e483 = four_layer_glossy_trapped_share(layer2_cos_l, 0f, 0.09f);
+    let _e503 = min(max(((vec3((_e480 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e480)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e503 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e503) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e520 = (1f - layer3_transmit_v);
+    let _e523 = four_layer_glossy_trapped_share(layer2_cos_v, 0f, 0.09f);
+    let _e543 = min(max(((vec3((_e520 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e520)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e543 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e543) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
-    let _e559 = (1f - layer2_transmit_l);
-    let _e580 = min(max(((vec3((_e559 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e559)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e580 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e580) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e597 = (1f - layer2_transmit_v);
-    let _e618 = min(max(((vec3((_e597 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e597)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e618 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e618) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e581 = (1f - layer2_transmit_l);
+    let _e602 = min(max(((vec3((_e581 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e581)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e602 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e602) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e619 = (1f - layer2_transmit_v);
+    let _e640 = min(max(((vec3((_e619 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e619)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e640 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e640) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
@@ -505,10 +547,10 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_6: f32) -> vec3<f32> {
+fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_8: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_6), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_6));
+    let smoothness = min(max((1f - alpha_8), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_8));
     let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
 }
@@ -592,41 +634,45 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
     let _e257 = (1f - layer4_transmit_l_1);
-    let _e278 = min(max(((vec3((_e257 * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e278 / vec3(0.80973125f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e278) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e295 = (1f - layer4_transmit_v_1);
-    let _e316 = min(max(((vec3((_e295 * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e295)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e316 / vec3(0.80973125f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e316) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e260 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_l_1 = (1f - _e260);
+    let _e284 = min(max(((vec3(((_e257 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e284 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e284) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e301 = (1f - layer4_transmit_v_1);
+    let layer2_first_cone_share_v_1 = (1f - _e260);
+    let _e325 = min(max(((vec3(((_e301 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e301)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e325 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e325) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
-    let _e347 = (1f - layer3_transmit_l_1);
-    let _e365 = min(max(((vec3((_e347 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e347)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l_1 = (_e365 / vec3(0.9999998f));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e365) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e382 = (1f - layer3_transmit_v_1);
-    let _e400 = min(max(((vec3((_e382 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e382)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v_1 = (_e400 / vec3(0.9999998f));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e400) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e356 = (1f - layer3_transmit_l_1);
+    let _e359 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0f, 0.09f);
+    let _e379 = min(max(((vec3((_e356 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e356)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l_1 = (_e379 / vec3(0.9999998f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e379) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e396 = (1f - layer3_transmit_v_1);
+    let _e416 = min(max(((vec3((_e396 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e396)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e416 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e416) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e425 = (1f - layer2_transmit_l_1);
-    let _e446 = min(max(((vec3((_e425 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e425)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e446 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e446) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e463 = (1f - layer2_transmit_v_1);
-    let _e484 = min(max(((vec3((_e463 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e463)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e484 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e484) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e441 = (1f - layer2_transmit_l_1);
+    let _e462 = min(max(((vec3((_e441 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e441)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e462 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e462) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e479 = (1f - layer2_transmit_v_1);
+    let _e500 = min(max(((vec3((_e479 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e479)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e500 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e500) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
     let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e527 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e527))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e527)));
+    let _e543 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e543))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e543)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

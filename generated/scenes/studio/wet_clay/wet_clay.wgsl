@@ -12,8 +12,6 @@ struct WetClayIblLobes {
 
 const wet_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.116561234f, 0.116561234f, 0.116561234f);
-const wet_clay_layer1_albedo_l: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
-const wet_clay_layer1_albedo_v: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f);
 const wet_clay_ibl_specular_lobes: u32 = 1u;
 
 @group(2) @binding(0) 
@@ -211,6 +209,24 @@ fn wet_clay_fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v_2: f32, n_dot_l
     return (albedo * (((b * s_over_t) + a_3) / 3.1415927f));
 }
 
+// Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
+// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
+// integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
+// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
+// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). Guard: μ ≥ 10⁻⁴ (tan θ; the
+// second term tends to cos θ/2 → 0 at grazing).
+fn wet_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu_1: f32) -> vec3<f32> {
+    let sigma_sq_1 = (sigma_1 * sigma_1);
+    let a_4 = (1f - ((sigma_sq_1 / (sigma_sq_1 + 0.33f)) * 0.5f));
+    let b_1 = ((sigma_sq_1 / (sigma_sq_1 + 0.09f)) * 0.45f);
+    let cos_t_1 = min(max(mu_1, 0.0001f), 1f);
+    let theta = acos(cos_t_1);
+    let sin_t = sqrt(max((1f - (cos_t_1 * cos_t_1)), 0f));
+    let below = (sin_t * ((theta * 0.5f) - ((sin_t * cos_t_1) * 0.5f)));
+    let above = (((sin_t / cos_t_1) * (1f - ((sin_t * sin_t) * sin_t))) * 0.33333334f);
+    return (albedo_1 * (((b_1 * (below + above)) * 0.63661975f) + a_4));
+}
+
 // glazec's interfaced layering, a diffusing layer below a coat: the single reflection
 // `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
 // back down (R, the slab's diffuse return reflectance) and that then bounces between body
@@ -277,8 +293,12 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let absorb_l = vec3(_e91);
     let _e94 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
     let absorb_v = vec3(_e94);
+    let layer1_path_cos_l_1 = (layer1_cos_l / _e86);
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let under = wet_clay_interfaced_diffuse_under(layer1_f_base, vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), vec3<f32>(0.5876322f, 0.34278542f, 0.24484675f), wet_clay_layer1_rho, wet_clay_layer1_r_return);
+    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_1);
+    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
+    let under = wet_clay_interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return);
     let f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
@@ -340,20 +360,24 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
+    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
+    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_2);
     let absorb_l_1 = vec3(_e31);
-    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
+    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_2);
     let absorb_v_1 = vec3(_e34);
-    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, wet_clay_layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
-    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, wet_clay_layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
+    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
+    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_3);
+    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_3);
+    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
+    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
     let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
-    let _e71 = (dot(n_4, v_4) > 0f);
-    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e71))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e71)));
+    let _e83 = (dot(n_4, v_4) > 0f);
+    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e83))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e83)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

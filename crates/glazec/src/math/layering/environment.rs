@@ -157,16 +157,10 @@ fn seed_lobes<F: Real>(
             g = below;
         }
     }
-    let base = match body {
-        // The seed's Oren–Nayar body (the clay paper's) weighs its own directional albedo towards
-        // the view, not the mean the interfaced method's series uses: it is most of the seed's
-        // clay under an environment (its split sum missed the brute force by 10% RMS with the
-        // mean).
-        Body::OrenNayar(albedo, sigma) => {
-            albedo_oren_nayar(inputs.color(*albedo), inputs.scalar(*sigma), g.n_dot_v).named("base_albedo")
-        }
-        _ => body_albedo(body, inputs, &g, None, None).e_v,
-    };
+    // The body's directional albedo towards the view (an Oren–Nayar body's own, not its mean: it
+    // is most of the seed's clay under an environment, whose split sum missed the brute force by
+    // 10% RMS with the mean).
+    let base = body_albedo(body, inputs, &g, None, None, None).e_v.named("base_albedo");
     // The seed's methods evaluate the base at the outer directions (Additive) or refract both
     // (WeidlichWilkie) without η² compression: no widening is applied to their lobes.
     let alpha = match body {

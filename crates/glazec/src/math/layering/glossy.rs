@@ -347,13 +347,10 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
     }
 
     /// The share of a GGX lobe (α) from Snell's cosine μ′ that stays inside the coat's escape
-    /// cone, 1 − `glossy_trapped_share` (1 without total internal reflection, η ≤ 1). The lobe's
-    /// tail beyond the cone grows like α², which no multilinear table in √r_c follows.
+    /// cone (`CoatInterface::cone_share`). The lobe's tail beyond the cone grows like α², which
+    /// no multilinear table in √r_c follows.
     fn cone_share(&self, mu_refracted: F, alpha: F, side: &str) -> F {
-        let mu_c = escape_cone_cosine(self.eta);
-        let trapped = glossy_trapped_share(mu_refracted, mu_c, alpha);
-        F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0))
-            .named(&self.name(&format!("cone_share_{side}")))
+        self.interface.cone_share(mu_refracted, alpha).named(&self.name(&format!("cone_share_{side}")))
     }
 
     /// c: the survival of one more event of trapped light, F(μ*) e^(−2τ/μ*); and F(μ*) alone.

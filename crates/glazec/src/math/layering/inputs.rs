@@ -85,12 +85,16 @@ pub(super) struct Depth<F: Real> {
     pub(super) n_medium: Option<F>,
     pub(super) blur: Blur<F>,
     pub(super) spread: Option<F>,
+    /// The cosines (towards l and v) along which the light of the coat directly above meets an
+    /// Oren–Nayar body, whose directional albedo follows them: the coat's path cosines
+    /// (`CoatInterface::path_cosine`), as for EON's first pass; `None` elsewhere.
+    pub(super) incidence: Option<(F, F)>,
 }
 
 impl<F: Real> Depth<F> {
     /// The top of the stack, in air.
     pub(super) fn top() -> Self {
-        Depth { k: 0, n_medium: None, blur: Blur::none(), spread: None }
+        Depth { k: 0, n_medium: None, blur: Blur::none(), spread: None, incidence: None }
     }
 }
 

@@ -58,6 +58,21 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         coat_blur(median_slope, gtr1, self.eta, above, k)
     }
 
+    /// The GGX α of a GGX coat's reflection lobe, r² (`None` for a smooth or a GTR1 coat).
+    pub(super) fn ggx_lobe_alpha(&self) -> Option<F> {
+        let r = self.roughness?;
+        (self.tables == CoatTables::GGX).then(|| r.sq())
+    }
+
+    /// The share of a GGX reflection lobe (α) about the mirror direction of Snell's cosine μ′
+    /// under this coat that stays inside its escape cone: 1 − `glossy_trapped_share` (1 without
+    /// total internal reflection, η ≤ 1).
+    pub(super) fn cone_share(&self, mu_refracted: F, alpha: F) -> F {
+        let mu_c = escape_cone_cosine(self.eta);
+        let trapped = glossy_trapped_share(mu_refracted, mu_c, alpha);
+        F::select(mu_c.gt_lit(0.0), trapped.one_minus(), self.inputs.lit(1.0))
+    }
+
     /// The roughness the glossy level looks its tables up at (`None` for a smooth coat): a GGX
     /// coat's own, a GTR1 coat's [`GTR1_GLOSSY_SCALE`]·r^[`GTR1_GLOSSY_POWER`], at most 1.
     /// Guard: r ≥ 10⁻⁶ under the logarithm (a rough coat's r is above 0).
