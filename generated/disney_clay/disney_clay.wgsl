@@ -175,14 +175,18 @@ fn disney_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
 // [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
 // integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
 // E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
-// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). Guard: μ ≥ 10⁻⁴ (tan θ; the
-// second term tends to cos θ/2 → 0 at grazing).
+// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). θ = acos μ by Abramowitz &
+// Stegun 1964, eq. 4.4.45: √(1 − μ)(1.5707288 − 0.2121144μ + 0.0742610μ² − 0.0187293μ³),
+// within 5·10⁻⁵ rad (E within 10⁻⁵ of ρ), a square root and three multiply-adds where `acos`
+// is a transcendental call (the directional albedo is in the kernel of every coated
+// Oren–Nayar body). Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
+// grazing).
 fn disney_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> vec3<f32> {
     let sigma_sq_1 = (sigma_1 * sigma_1);
     let a_2 = (1f - ((sigma_sq_1 / (sigma_sq_1 + 0.33f)) * 0.5f));
     let b_1 = ((sigma_sq_1 / (sigma_sq_1 + 0.09f)) * 0.45f);
     let cos_t = min(max(mu, 0.0001f), 1f);
-    let theta = acos(cos_t);
+    let theta = (sqrt((1f - cos_t)) * ((((((cos_t * -0.0187293f) + 0.074261f) * cos_t) - 0.2121144f) * cos_t) + 1.5707288f));
     let sin_t = sqrt(max((1f - (cos_t * cos_t)), 0f));
     let below = (sin_t * ((theta * 0.5f) - ((sin_t * cos_t) * 0.5f)));
     let above = (((sin_t / cos_t) * (1f - ((sin_t * sin_t) * sin_t))) * 0.33333334f);

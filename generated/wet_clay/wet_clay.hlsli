@@ -237,15 +237,19 @@ float3 wet_clay_fd_oren_nayar(float3 albedo, float sigma, float n_dot_v_2, float
 // [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
 // integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
 // E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
-// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). Guard: μ ≥ 10⁻⁴ (tan θ; the
-// second term tends to cos θ/2 → 0 at grazing).
+// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). θ = acos μ by Abramowitz &
+// Stegun 1964, eq. 4.4.45: √(1 − μ)(1.5707288 − 0.2121144μ + 0.0742610μ² − 0.0187293μ³),
+// within 5·10⁻⁵ rad (E within 10⁻⁵ of ρ), a square root and three multiply-adds where `acos`
+// is a transcendental call (the directional albedo is in the kernel of every coated
+// Oren–Nayar body). Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
+// grazing).
 float3 wet_clay_albedo_oren_nayar(float3 albedo_1, float sigma_1, float mu_1)
 {
     float sigma_sq_1 = (sigma_1 * sigma_1);
     float a_4 = (1.0 - ((sigma_sq_1 / (sigma_sq_1 + 0.33)) * 0.5));
     float b_1 = ((sigma_sq_1 / (sigma_sq_1 + 0.09)) * 0.45);
     float cos_t_1 = min(max(mu_1, 0.0001), 1.0);
-    float theta = acos(cos_t_1);
+    float theta = (sqrt((1.0 - cos_t_1)) * ((((((cos_t_1 * -0.0187293) + 0.074261) * cos_t_1) - 0.2121144) * cos_t_1) + 1.5707288));
     float sin_t = sqrt(max((1.0 - (cos_t_1 * cos_t_1)), 0.0));
     float below = (sin_t * ((theta * 0.5) - ((sin_t * cos_t_1) * 0.5)));
     float above = (((sin_t / cos_t_1) * (1.0 - ((sin_t * sin_t) * sin_t))) * 0.33333334);
