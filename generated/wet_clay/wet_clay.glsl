@@ -292,11 +292,9 @@ vec3 wet_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 absorb_l = vec3(_e91);
     float _e94 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
     vec3 absorb_v = vec3(_e94);
-    float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     vec3 layer1_f_base = wet_clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
-    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
+    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l);
+    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v);
     vec3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return);
     vec3 f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : vec3(0.0));
@@ -359,24 +357,22 @@ WetClayIblLobes wet_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_2);
+    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
+    float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
     vec3 absorb_l_1 = vec3(_e31);
-    float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_2);
+    float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
     vec3 absorb_v_1 = vec3(_e34);
-    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_3);
-    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_3);
+    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
+    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
     vec3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
     vec3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e83 = (dot(n_4, v_4) > 0.0);
-    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e83 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e83 ? under_albedo : vec3(0.0))));
+    bool _e81 = (dot(n_4, v_4) > 0.0);
+    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e81 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e81 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -325,11 +325,9 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     float3 absorb_l = (_e91).xxx;
     const float _e94 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
     float3 absorb_v = (_e94).xxx;
-    float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     const float3 layer1_f_base = wet_clay_fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
-    const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
+    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l);
+    const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v);
     const float3 under = wet_clay_interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return);
     const float3 f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33);
     return (((n_dot_v_4 > 0.0) && (n_dot_l_3 > 0.0)) ? f : (0.0).xxx);
@@ -430,24 +428,22 @@ WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     const float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    const float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_2);
+    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
+    const float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
     float3 absorb_l_1 = (_e31).xxx;
-    const float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_2);
+    const float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
     float3 absorb_v_1 = (_e34).xxx;
-    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_3);
-    const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_3);
+    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
+    const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
     const float3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
     const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     const float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e83 = (dot(n_4, v_4) > 0.0);
-    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e83 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e83 ? under_albedo : (0.0).xxx)));
+    bool _e81 = (dot(n_4, v_4) > 0.0);
+    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e81 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e81 ? under_albedo : (0.0).xxx)));
     return wetclayibllobes;
 }
 

@@ -297,11 +297,9 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let absorb_l = vec3(_e91);
     let _e94 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
     let absorb_v = vec3(_e94);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
-    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_1);
-    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
+    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l);
+    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v);
     let under = wet_clay_interfaced_diffuse_under(layer1_f_base, layer1_albedo_l, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return);
     let f = wet_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
@@ -364,24 +362,22 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_2);
+    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
+    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
     let absorb_l_1 = vec3(_e31);
-    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_2);
+    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
     let absorb_v_1 = vec3(_e34);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_3);
-    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_3);
+    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_1);
+    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
     let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
     let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
-    let _e83 = (dot(n_4, v_4) > 0f);
-    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e83))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e83)));
+    let _e81 = (dot(n_4, v_4) > 0f);
+    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e81))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e81)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

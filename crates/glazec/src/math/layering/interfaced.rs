@@ -59,24 +59,34 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         (Some(above), Some(own)) => Some((above.sq() + own.sq()).sqrt()),
         (above, own) => above.or(own),
     };
-    let path = |mu: F, mu_refracted: F, side: &str| match (spread, n_medium) {
-        (Some(above), Some(n_above)) => interface.path_cosine_spread(mu, mu_refracted, n_above, above, side),
-        _ => interface.path_cosine(mu, mu_refracted, side),
+    // The coat's own path cosines towards l and v (`CoatInterface::path_cosine`), built once when
+    // first asked for: the slab's absorption takes them (without rough coats above) and so does
+    // an Oren–Nayar body right under the coat.
+    let own_paths = OnceCell::new();
+    let own_path = || {
+        *own_paths.get_or_init(|| {
+            (
+                interface.path_cosine(g.raw_n_dot_l, below.n_dot_l, "l"),
+                interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v"),
+            )
+        })
     };
     // A clear slab (τ = 0) transmits everything: e^0 = 1, so the calls are skipped.
     let (a_l, a_v) = if tau.is_known_zero() {
         (inputs.lit(1.0).splat(), inputs.lit(1.0).splat())
     } else {
-        let path_l = path(g.raw_n_dot_l, below.n_dot_l, "l");
-        let path_v = path(g.raw_n_dot_v, below.n_dot_v, "v");
+        let (path_l, path_v) = match (spread, n_medium) {
+            (Some(above), Some(n_above)) => (
+                interface.path_cosine_spread(g.raw_n_dot_l, below.n_dot_l, n_above, above, "l"),
+                interface.path_cosine_spread(g.raw_n_dot_v, below.n_dot_v, n_above, above, "v"),
+            ),
+            _ => own_path(),
+        };
         (absorbed(tau, path_l).named(&name("absorb_l")), absorbed(tau, path_v).named(&name("absorb_v")))
     };
     // An Oren–Nayar body right under this coat: the cosines its directional albedo is taken at.
     let incidence = match (coats.get(k + 1), body) {
-        (None, Body::OrenNayar(..)) => Some((
-            interface.path_cosine(g.raw_n_dot_l, below.n_dot_l, "l"),
-            interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v"),
-        )),
+        (None, Body::OrenNayar(..)) => Some(own_path()),
         _ => None,
     };
     let deeper = Depth {
