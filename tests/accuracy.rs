@@ -32,6 +32,10 @@ const STORED_REL_TOL: f64 = 1e-6;
 /// over a diffusing body (measured up to 4.2%, `four ggx` at normal incidence; docs/accuracy.md,
 /// "The stated albedo against the reference").
 const STATED_ALBEDO_TOLERANCE: f64 = 0.05;
+/// The same for every stack over a conductor (measured up to 9.0%, `gtr1 0.1 / smooth / ggx
+/// 0.35 over copper` at 30°; 21.8% before the light a coated conductor sends beyond the escape
+/// cone of the coat above was split by its parts and its lobe widened by the refraction out).
+const STATED_ALBEDO_TOLERANCE_CONDUCTOR: f64 = 0.10;
 
 fn reference() -> (Vec<Case>, ReferenceData) {
     let cases = accuracy::standard_set();
@@ -182,28 +186,46 @@ fn the_stated_albedo_table_is_current() {
 /// noise, at every angle. (Where the first pass let all of a coated GGX layer's lobe out, the
 /// part beyond the escape cone of the coat above included, `ggx 0.2 / ggx 0.4 over Lambert 0.8`
 /// stated 10% too much; with an Oren–Nayar body's mean albedo in every direction, `wet_clay` 8%.)
-/// GTR1 and conductor stacks are reported in the table, not held to this.
+/// GTR1 stacks over diffusing bodies are reported in the table, not held to this; conductor
+/// stacks are held to their own tolerance (`stacks_over_conductors_state_their_albedo`).
 #[test]
 fn stacks_over_diffusing_bodies_state_their_albedo() {
     use glazec::model::{Base, Lobe};
+    let checked = check_stated_albedo(STATED_ALBEDO_TOLERANCE, &|m| {
+        !matches!(m.base, Base::Conductor { .. }) && !m.coats.iter().any(|c| matches!(c.lobe, Lobe::Gtr1 { .. }))
+    });
+    assert!(checked >= 10, "only {checked} materials checked");
+}
+
+/// Every material of the multi-coat and shipped sets over a conductor, GTR1 coats and coats
+/// over coated conductors included, states its directional albedo within
+/// [`STATED_ALBEDO_TOLERANCE_CONDUCTOR`] of the reference's beyond noise, at every angle.
+#[test]
+fn stacks_over_conductors_state_their_albedo() {
+    use glazec::model::Base;
+    let checked = check_stated_albedo(STATED_ALBEDO_TOLERANCE_CONDUCTOR, &|m| matches!(m.base, Base::Conductor { .. }));
+    assert!(checked >= 6, "only {checked} materials checked");
+}
+
+/// Holds the stated albedo of the multi-coat and shipped materials that `pick` picks within
+/// `tolerance` of the stored reference's; returns how many it checked.
+fn check_stated_albedo(tolerance: f64, pick: &dyn Fn(&glazec::model::Material) -> bool) -> usize {
     use glazec_lab::accuracy::{full, stated};
     let mut checked = 0;
     for set in full::sets().unwrap_or_else(|e| panic!("{e}")).iter().filter(|s| s.name != "standard") {
         let reference =
             stated::read(&stated::stored_albedo_reference(set.name), &set.subjects).unwrap_or_else(|e| panic!("{e}"));
         for (subject, values) in set.subjects.iter().zip(&reference.values) {
-            let m = &subject.material;
-            let diffusing = !matches!(m.base, Base::Conductor { .. });
-            if !diffusing || m.coats.iter().any(|c| matches!(c.lobe, Lobe::Gtr1 { .. })) {
+            if !pick(&subject.material) {
                 continue;
             }
             checked += 1;
             let errors = stated::errors(subject, values);
             let worst = errors.iter().fold(0.0_f64, |w, e| w.max(e.abs()));
-            assert!(worst <= STATED_ALBEDO_TOLERANCE, "{}: stated albedo off by {errors:?}", subject.label);
+            assert!(worst <= tolerance, "{}: stated albedo off by {errors:?}", subject.label);
         }
     }
-    assert!(checked >= 10, "only {checked} materials checked");
+    checked
 }
 
 /// Every shipped material meets the bands' targets (issue 31: body p90 ≤ 2%, ≤ 10% over a

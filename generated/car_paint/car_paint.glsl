@@ -20,9 +20,10 @@ const vec3 car_paint_layer1_remainder_avg = vec3(0.0025565596, 1.3872456e-8, 1.6
 const float car_paint_layer1_mu_c = 0.745356;
 const vec3 car_paint_layer1_rho = vec3(0.7408726, 0.06705919, 0.031262197);
 const float car_paint_layer1_trapped_escape = 0.15678635;
+const float car_paint_layer1_transmit_cone = 0.9489286;
 const vec3 car_paint_trapped_out = vec3(0.29371282, 0.010574966, 0.0047770874);
 const uint car_paint_ibl_specular_lobes = 2u;
-const float car_paint_base_roughness = 0.37185615;
+const float car_paint_base_roughness = 0.45542893;
 
 layout(binding = 33) uniform sampler2D car_paint_radiance;
 
@@ -46,8 +47,8 @@ vec3 car_paint_half_vector(vec3 v, vec3 l) {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float car_paint_d_ggx(float cos_h, float sin2_h, float alpha) {
-    float a_3 = max(alpha, 0.001);
-    float a_sq = (a_3 * a_3);
+    float a_4 = max(alpha, 0.001);
+    float a_sq = (a_4 * a_4);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -80,8 +81,8 @@ float car_paint_fr_dielectric(float cos_i, float eta) {
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
     float r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     float r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    float fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
-    return ((sin2_t < 1.0) ? fresnel_3 : 1.0);
+    float fresnel_4 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
+    return ((sin2_t < 1.0) ? fresnel_4 : 1.0);
 }
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
@@ -126,8 +127,8 @@ float car_paint_coat_scale_curve(float cos_theta) {
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 float car_paint_d_ggx_mirrored_tail(float z, float across, float alpha_3) {
-    float a_4 = max(alpha_3, 0.001);
-    float a_sq_1 = (a_4 * a_4);
+    float a_5 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_5 * a_5);
     float h_sq = ((z * z) + across);
     float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
@@ -287,10 +288,10 @@ float car_paint_ggx_albedo_curve_b(float cos_theta_7) {
 float car_paint_trapped_share(float mu_1, float mu_c, float alpha_4) {
     float sin_t = sqrt(max((1.0 - (mu_1 * mu_1)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
-    float near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1.0));
+    float near_1 = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1.0));
     float far = (((sin_t * mu_c) + (mu_1 * sin_c)) / max((((mu_1 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
     float a2_ = (alpha_4 * alpha_4);
-    float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
+    float cos_beta = ((a2_ + (near_1 * far)) / sqrt(max(((a2_ + (near_1 * near_1)) * (a2_ + (far * far))), 1e-24)));
     return ((cos_beta + 1.0) * 0.5);
 }
 
@@ -473,9 +474,9 @@ vec3 car_paint_forward_azimuth_tilt(float rho_2, vec3 rho_c, float cos_phi_1) {
     vec3 mean_weight = ((car_paint_one + x) / (car_paint_one - x));
     vec3 denominator = max(((r_b + vec3(r_2)) - (r_c * (car_paint_one + x))), vec3(1e-6));
     vec3 least = (((car_paint_one - r_b) / (car_paint_one + r_b)) * vec3(-0.999));
-    vec3 a_5 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
+    vec3 a_6 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
     vec3 weight_1 = ((car_paint_one - (r_b * r_b)) / ((car_paint_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2.0))));
-    return ((car_paint_one + (a_5 * weight_1)) / (car_paint_one + (a_5 * mean_weight)));
+    return ((car_paint_one + (a_6 * weight_1)) / (car_paint_one + (a_6 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -501,9 +502,15 @@ vec3 car_paint_glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
 // leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
 // own paths) and the remainder (`glossy_remainder`).
 vec3 car_paint_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
-    vec3 near_1 = ((a_lobe * a_lobe) * once);
+    vec3 near_2 = ((a_lobe * a_lobe) * once);
     vec3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
-    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1.0 - t_1)));
+    return (((fresnel_2 * (near_2 + far_1)) * t_1) + vec3((1.0 - t_1)));
+}
+
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O.
+vec3 car_paint_glossy_albedo_lobe(float t_2, vec3 fresnel_3, vec3 a_lobe_1, vec3 once_1) {
+    return ((((fresnel_3 * a_lobe_1) * a_lobe_1) * once_1) * t_2);
 }
 
 // glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
@@ -525,17 +532,17 @@ vec3 car_paint_interfaced_glossy_under(vec3 f_below, vec3 e_i, vec3 k_i, vec3 e_
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again, which (mean
-// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
-// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
-// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
-// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
-// all trapped light.
+// cone (Pᵢ, Pₒ of its albedos towards i and o, `trapped_shares`): trapped by total internal
+// reflection, it comes back with the slab's round-trip transmittance g and meets the body
+// again, which (mean albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and
+// keeps the rest trapped. By reciprocity the body sends Pₒ/(π μc²) of trapped light
+// (projected solid angle π μc²) towards o: Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in
+// i and o. Its albedo is Pᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Pₒ ≈ ρ̄ over the cone): a white
+// body returns all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-vec3 car_paint_trapped_lobe(vec3 e_i_1, float p_i, vec3 e_o_1, float p_o, float mu_c_2, vec3 round_trip, vec3 rho_3, float q) {
-    vec3 _e21 = ((rho_3 * round_trip) * (1.0 - q));
-    return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - _e21));
+vec3 car_paint_trapped_lobe(vec3 trapped_i, vec3 trapped_o, float mu_c_2, vec3 round_trip, vec3 rho_3, float q) {
+    vec3 _e18 = ((rho_3 * round_trip) * (1.0 - q));
+    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - _e18));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -664,23 +671,31 @@ vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     vec3 layer1_f = (_e235 + layer1_later);
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
-    float layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    float layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    float _e271 = (1.0 - layer2_transmit_l);
+    vec3 _e272 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    float _e280 = (1.0 - layer2_transmit_v);
+    vec3 _e281 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 layer1_trapped_l = ((_e272 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e271)) - _e272), vec3(0.0)) * vec3(0.5555556)));
+    vec3 layer1_near_l = ((_e272 * (1.0 - layer1_trapped_share_l)) + vec3(_e271));
+    float layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 layer1_trapped_v = ((_e281 * layer1_trapped_share_v) + (max(((layer1_albedo_v - vec3(_e280)) - _e281), vec3(0.0)) * vec3(0.5555556)));
+    vec3 layer1_near_v = ((_e281 * (1.0 - layer1_trapped_share_v)) + vec3(_e280));
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e292 = car_paint_interfaced_glossy_under(layer1_f, (layer1_albedo_l * (1.0 - layer1_trapped_l)), inner_l, (layer1_albedo_v * (1.0 - layer1_trapped_v)), inner_v);
-    vec3 _e298 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    float _e299 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    float _e300 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    vec3 _e326 = car_paint_interfaced_glossy_under(layer1_f, (layer1_albedo_l - layer1_trapped_l), inner_l, (layer1_albedo_v - layer1_trapped_v), inner_v);
+    vec3 _e332 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    float _e333 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    float _e334 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    float layer1_trapped_spread_rho = min((sqrt(max((_e299 * _e300), 0.0)) * layer1_trapped_sines), 0.95);
-    vec3 _e314 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0.0, 0.0, 0.0, 0.8432137, car_paint_layer1_rho);
-    float _e315 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    float layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e315);
-    vec3 _e317 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e314, _e315);
-    vec3 layer1_trapped_spread = (_e317 * layer1_trapped_spread_weight);
-    vec3 trapped = (_e298 * layer1_trapped_spread);
-    vec3 under = (_e292 + trapped);
+    float layer1_trapped_spread_rho = min((sqrt(max((_e333 * _e334), 0.0)) * layer1_trapped_sines), 0.95);
+    vec3 _e348 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0.0, 0.0, 0.0, 0.8432137, car_paint_layer1_rho);
+    float _e349 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    float layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e349);
+    vec3 _e351 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e348, _e349);
+    vec3 layer1_trapped_spread = (_e351 * layer1_trapped_spread_weight);
+    vec3 trapped_1 = (_e332 * layer1_trapped_spread);
+    vec3 under = (_e326 + trapped_1);
     vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
@@ -691,19 +706,27 @@ vec3 car_paint_eval(vec3 n_4, vec3 v_4, vec3 l_4) {
     return (f * max(dot(n_4, l_4), 0.0));
 }
 
+// What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
+// out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
+vec3 car_paint_interfaced_glossy_bounced(float t_3, vec3 a_2, vec3 kept, vec3 leaving) {
+    vec3 k = ((a_2 * a_2) * (1.0 - t_3));
+    vec3 _e8 = (kept * k);
+    return (leaving / max((vec3(1.0) - _e8), vec3(1e-6)));
+}
+
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E (1 − p) k)
-// + p X), k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves
-// with T or comes back (k) to be reflected again, except its share p outside the escape
-// cone, trapped, of which X leaves (`trapped_return`).
-// Guard: 1 − E (1 − p) k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + (K − N) T̄ + P X)/(1 − K k),
+// k = (1 − T) a²: of the body's reflection E, K = E − P stays inside the escape cone; its
+// part N near the mirror direction leaves with T, the rest, spread over the cone, with the
+// coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
+// reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
+// trapped, and X of it leaves (`trapped_return`).
+// Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
-vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below, float p, vec3 trapped_out) {
-    vec3 k = ((a_2 * a_2) * (1.0 - t_2));
-    vec3 kept = ((trapped_out * p) + vec3((t_2 * (1.0 - p))));
-    vec3 _e19 = ((e_below * k) * (1.0 - p));
-    vec3 bounced = ((e_below * kept) / max((vec3(1.0) - _e19), vec3(1e-6)));
-    return ((((a_2 * a_2) * bounced) * t_2) + vec3((1.0 - t_2)));
+vec3 car_paint_interfaced_albedo_glossy(float t_4, float t_cone, vec3 a_3, vec3 kept_1, vec3 near, vec3 trapped, vec3 trapped_out) {
+    vec3 leaving_1 = (((near * t_4) + ((kept_1 - near) * t_cone)) + (trapped * trapped_out));
+    vec3 _e14 = car_paint_interfaced_glossy_bounced(t_4, a_3, kept_1, leaving_1);
+    return ((((a_3 * a_3) * _e14) * t_4) + vec3((1.0 - t_4)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -714,8 +737,8 @@ vec3 car_paint_interfaced_albedo_glossy(float t_2, vec3 a_2, vec3 e_below, float
 vec3 car_paint_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_6) {
     vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
-    float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
-    vec3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
+    float t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
+    vec3 d_2 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
 
@@ -771,16 +794,23 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
     vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 1e-6)));
     vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    float layer1_trapped_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
-    vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1.0), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
+    float _e94 = (1.0 - layer2_transmit_l_1);
+    vec3 _e95 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    float _e103 = (1.0 - layer2_transmit_l_1);
+    float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e94)) - _e95), vec3(0.0)) * vec3(0.5555556)));
+    vec3 layer1_near_l_1 = ((_e95 * (1.0 - layer1_trapped_share_l)) + vec3(_e94));
+    vec3 layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e103)) - _e95), vec3(0.0)) * vec3(0.5555556)));
+    vec3 layer1_near_v_1 = ((_e95 * (1.0 - layer1_trapped_share_l)) + vec3(_e103));
+    vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1.0), (layer1_albedo_l - layer1_trapped_l_1), layer1_near_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1.0), (layer1_albedo_l - layer1_trapped_v_1), layer1_near_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
-    vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e121 = (dot(n_6, v_6) > 0.0);
-    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e121 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e121 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
+    vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.2074155);
+    bool _e162 = (dot(n_6, v_6) > 0.0);
+    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e162 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e162 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -30,16 +30,16 @@ cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
 cbuffer light : register(b3) { PreviewLight light; }
 
 struct VertexOutput_preview_vs {
-    float2 p_3 : LOC0;
+    float2 p_2 : LOC0;
     float4 position : SV_Position;
 };
 
 struct FragmentInput_preview_fs {
-    float2 p_4 : LOC0;
+    float2 p_3 : LOC0;
 };
 
 struct FragmentInput_preview_ibl_fs {
-    float2 p_5 : LOC0;
+    float2 p_4 : LOC0;
 };
 
 float3 ZeroValuefloat3() {
@@ -95,7 +95,7 @@ VertexOutput_preview_vs preview_vs(float2 corner : LOC0)
 
 float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target0
 {
-    float2 p = fragmentinput_preview_fs.p_4;
+    float2 p = fragmentinput_preview_fs.p_3;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
     float3 n_8 = float3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
     float4 _e14 = light.direction;
@@ -108,7 +108,7 @@ float4 preview_fs(FragmentInput_preview_fs fragmentinput_preview_fs) : SV_Target
 
 float4 preview_ibl_fs(FragmentInput_preview_ibl_fs fragmentinput_preview_ibl_fs) : SV_Target0
 {
-    float2 p_1 = fragmentinput_preview_ibl_fs.p_5;
+    float2 p_1 = fragmentinput_preview_ibl_fs.p_4;
     float r2_1 = ((p_1.x * p_1.x) + (p_1.y * p_1.y));
     float3 n_9 = float3(p_1.x, p_1.y, sqrt(max((1.0 - r2_1), 0.0)));
     const float3 reflected = car_paint_ibl(n_9, float3(0.0, 0.0, 1.0));

@@ -24,9 +24,10 @@ const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0025565596f, 0.000
 const car_paint_layer1_mu_c: f32 = 0.745356f;
 const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7408726f, 0.06705919f, 0.031262197f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
+const car_paint_layer1_transmit_cone: f32 = 0.9489286f;
 const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371282f, 0.010574966f, 0.0047770874f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
-const car_paint_base_roughness: f32 = 0.37185615f;
+const car_paint_base_roughness: f32 = 0.45542893f;
 
 @group(2) @binding(0) 
 var car_paint_environment_sampler: sampler;
@@ -53,8 +54,8 @@ fn car_paint_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn car_paint_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a_3 = max(alpha, 0.001f);
-    let a_sq = (a_3 * a_3);
+    let a_4 = max(alpha, 0.001f);
+    let a_sq = (a_4 * a_4);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -87,8 +88,8 @@ fn car_paint_fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_t = sqrt(max((1f - sin2_t), 0f));
     let r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     let r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    let fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
-    return select(1f, fresnel_3, (sin2_t < 1f));
+    let fresnel_4 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
+    return select(1f, fresnel_4, (sin2_t < 1f));
 }
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
@@ -133,8 +134,8 @@ fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 fn car_paint_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
-    let a_4 = max(alpha_3, 0.001f);
-    let a_sq_1 = (a_4 * a_4);
+    let a_5 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_5 * a_5);
     let h_sq = ((z * z) + across);
     let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
@@ -294,10 +295,10 @@ fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
 fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_4: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu_1 * mu_1)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
-    let near = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1f));
+    let near_1 = (((sin_t * mu_c) - (mu_1 * sin_c)) / (((mu_1 * mu_c) + (sin_t * sin_c)) + 1f));
     let far = (((sin_t * mu_c) + (mu_1 * sin_c)) / max((((mu_1 * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
     let a2_ = (alpha_4 * alpha_4);
-    let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
+    let cos_beta = ((a2_ + (near_1 * far)) / sqrt(max(((a2_ + (near_1 * near_1)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
     return ((cos_beta + 1f) * 0.5f);
 }
 
@@ -480,9 +481,9 @@ fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) 
     let mean_weight = ((car_paint_one + x) / (car_paint_one - x));
     let denominator = max(((r_b + vec3(r_2)) - (r_c * (car_paint_one + x))), vec3(0.000001f));
     let least = (((car_paint_one - r_b) / (car_paint_one + r_b)) * vec3(-0.999f));
-    let a_5 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
+    let a_6 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
     let weight_1 = ((car_paint_one - (r_b * r_b)) / ((car_paint_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2f))));
-    return ((car_paint_one + (a_5 * weight_1)) / (car_paint_one + (a_5 * mean_weight)));
+    return ((car_paint_one + (a_6 * weight_1)) / (car_paint_one + (a_6 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -508,9 +509,15 @@ fn car_paint_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f
 // leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
 // own paths) and the remainder (`glossy_remainder`).
 fn car_paint_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_1: vec3<f32>, once: vec3<f32>, single_2: f32, later_1: vec3<f32>) -> vec3<f32> {
-    let near_1 = ((a_lobe * a_lobe) * once);
+    let near_2 = ((a_lobe * a_lobe) * once);
     let far_1 = (((a_1 * a_1) * later_1) * (1f - single_2));
-    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1f - t_1)));
+    return (((fresnel_2 * (near_2 + far_1)) * t_1) + vec3((1f - t_1)));
+}
+
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O.
+fn car_paint_glossy_albedo_lobe(t_2: f32, fresnel_3: vec3<f32>, a_lobe_1: vec3<f32>, once_1: vec3<f32>) -> vec3<f32> {
+    return ((((fresnel_3 * a_lobe_1) * a_lobe_1) * once_1) * t_2);
 }
 
 // glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
@@ -532,17 +539,17 @@ fn car_paint_interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: ve
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-// back with the slab's round-trip transmittance g and meets the body again, which (mean
-// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
-// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
-// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
-// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
-// all trapped light.
+// cone (Pᵢ, Pₒ of its albedos towards i and o, `trapped_shares`): trapped by total internal
+// reflection, it comes back with the slab's round-trip transmittance g and meets the body
+// again, which (mean albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and
+// keeps the rest trapped. By reciprocity the body sends Pₒ/(π μc²) of trapped light
+// (projected solid angle π μc²) towards o: Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in
+// i and o. Its albedo is Pᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Pₒ ≈ ρ̄ over the cone): a white
+// body returns all trapped light.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-fn car_paint_trapped_lobe(e_i_1: vec3<f32>, p_i: f32, e_o_1: vec3<f32>, p_o: f32, mu_c_2: f32, round_trip: vec3<f32>, rho_3: vec3<f32>, q: f32) -> vec3<f32> {
-    let _e21 = ((rho_3 * round_trip) * (1f - q));
-    return ((((e_i_1 * e_o_1) * round_trip) * ((p_i * p_o) / (max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e21));
+fn car_paint_trapped_lobe(trapped_i: vec3<f32>, trapped_o: vec3<f32>, mu_c_2: f32, round_trip: vec3<f32>, rho_3: vec3<f32>, q: f32) -> vec3<f32> {
+    let _e18 = ((rho_3 * round_trip) * (1f - q));
+    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e18));
 }
 
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
@@ -671,23 +678,31 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let layer1_f = (_e235 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
-    let layer1_trapped_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let _e271 = (1f - layer2_transmit_l);
+    let _e272 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    let _e280 = (1f - layer2_transmit_v);
+    let _e281 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let layer1_trapped_l = ((_e272 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e271)) - _e272), vec3(0f)) * vec3(0.5555556f)));
+    let layer1_near_l = ((_e272 * (1f - layer1_trapped_share_l)) + vec3(_e271));
+    let layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let layer1_trapped_v = ((_e281 * layer1_trapped_share_v) + (max(((layer1_albedo_v - vec3(_e280)) - _e281), vec3(0f)) * vec3(0.5555556f)));
+    let layer1_near_v = ((_e281 * (1f - layer1_trapped_share_v)) + vec3(_e280));
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e292 = car_paint_interfaced_glossy_under(layer1_f, (layer1_albedo_l * (1f - layer1_trapped_l)), inner_l, (layer1_albedo_v * (1f - layer1_trapped_v)), inner_v);
-    let _e298 = car_paint_trapped_lobe(layer1_albedo_l, layer1_trapped_l, layer1_albedo_v, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let _e299 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e300 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    let _e326 = car_paint_interfaced_glossy_under(layer1_f, (layer1_albedo_l - layer1_trapped_l), inner_l, (layer1_albedo_v - layer1_trapped_v), inner_v);
+    let _e332 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e333 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e334 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    let layer1_trapped_spread_rho = min((sqrt(max((_e299 * _e300), 0f)) * layer1_trapped_sines), 0.95f);
-    let _e314 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
-    let _e315 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e315);
-    let _e317 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e314, _e315);
-    let layer1_trapped_spread = (_e317 * layer1_trapped_spread_weight);
-    let trapped = (_e298 * layer1_trapped_spread);
-    let under = (_e292 + trapped);
+    let layer1_trapped_spread_rho = min((sqrt(max((_e333 * _e334), 0f)) * layer1_trapped_sines), 0.95f);
+    let _e348 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
+    let _e349 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e349);
+    let _e351 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e348, _e349);
+    let layer1_trapped_spread = (_e351 * layer1_trapped_spread_weight);
+    let trapped_1 = (_e332 * layer1_trapped_spread);
+    let under = (_e326 + trapped_1);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -698,19 +713,27 @@ fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
     return (f * max(dot(n_4, l_4), 0f));
 }
 
+// What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
+// out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
+fn car_paint_interfaced_glossy_bounced(t_3: f32, a_2: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
+    let k = ((a_2 * a_2) * (1f - t_3));
+    let _e8 = (kept * k);
+    return (leaving / max((vec3(1f) - _e8), vec3(0.000001f)));
+}
+
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E (1 − p) k)
-// + p X), k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves
-// with T or comes back (k) to be reflected again, except its share p outside the escape
-// cone, trapped, of which X leaves (`trapped_return`).
-// Guard: 1 − E (1 − p) k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + (K − N) T̄ + P X)/(1 − K k),
+// k = (1 − T) a²: of the body's reflection E, K = E − P stays inside the escape cone; its
+// part N near the mirror direction leaves with T, the rest, spread over the cone, with the
+// coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
+// reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
+// trapped, and X of it leaves (`trapped_return`).
+// Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
-fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f32>, p: f32, trapped_out: vec3<f32>) -> vec3<f32> {
-    let k = ((a_2 * a_2) * (1f - t_2));
-    let kept = ((trapped_out * p) + vec3((t_2 * (1f - p))));
-    let _e19 = ((e_below * k) * (1f - p));
-    let bounced = ((e_below * kept) / max((vec3(1f) - _e19), vec3(0.000001f)));
-    return ((((a_2 * a_2) * bounced) * t_2) + vec3((1f - t_2)));
+fn car_paint_interfaced_albedo_glossy(t_4: f32, t_cone: f32, a_3: vec3<f32>, kept_1: vec3<f32>, near: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
+    let leaving_1 = (((near * t_4) + ((kept_1 - near) * t_cone)) + (trapped * trapped_out));
+    let _e14 = car_paint_interfaced_glossy_bounced(t_4, a_3, kept_1, leaving_1);
+    return ((((a_3 * a_3) * _e14) * t_4) + vec3((1f - t_4)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -721,8 +744,8 @@ fn car_paint_interfaced_albedo_glossy(t_2: f32, a_2: vec3<f32>, e_below: vec3<f3
 fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_6), 0f), 1f);
-    let t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
-    let d_2 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
+    let t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
+    let d_2 = ((n_5 * (1f - t_5)) + (r_3 * t_5));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -778,16 +801,23 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
     let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    let layer1_trapped_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
-    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, vec3(1f), layer1_albedo_l, layer1_trapped_l, car_paint_trapped_out);
+    let _e94 = (1f - layer2_transmit_l_1);
+    let _e95 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    let _e103 = (1f - layer2_transmit_l_1);
+    let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e94)) - _e95), vec3(0f)) * vec3(0.5555556f)));
+    let layer1_near_l_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3(_e94));
+    let layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e103)) - _e95), vec3(0f)) * vec3(0.5555556f)));
+    let layer1_near_v_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3(_e103));
+    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1f), (layer1_albedo_l - layer1_trapped_l_1), layer1_near_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1f), (layer1_albedo_l - layer1_trapped_v_1), layer1_near_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
     let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
-    let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
-    let _e121 = (dot(n_6, v_6) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e121)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e121))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
+    let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.2074155f);
+    let _e162 = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e162)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e162))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

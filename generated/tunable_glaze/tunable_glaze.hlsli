@@ -662,27 +662,27 @@ float3 tunable_glaze_eval(float3 n_2, float3 v_2, float3 l_2, TunableGlazeParams
     return (f * max(dot(n_2, l_2), 0.0));
 }
 
-// The directional albedo seen above a coat over a diffusing layer (same model as
-// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
-// and c scale the first reflection's escape and return against diffuse light's (both 1 for
-// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
-float3 tunable_glaze_interfaced_albedo_dir(float t_1, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
-{
-    float3 _e10 = (rho_below_1 * r_return_1);
-    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
-    return (((((a * e_below) * e_escape) * (first_escape + series)) * t_1) + ((1.0 - t_1)).xxx);
-}
-
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ᵣ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)) and ρ̄ᵣ the albedo
 // for the light the coat returns (`returned_albedo`).
-float3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, float3 e_escape_1, float3 r_return_2, float3 rho_below_2, float3 rho_returned)
+float3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, float3 e_escape, float3 r_return_1, float3 rho_below_1, float3 rho_returned)
 {
     float eta_sq = (eta_13 * eta_13);
     float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
-    float3 _e13 = (rho_returned * r_return_2);
-    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / ((1.0).xxx - _e13)) + (e_fresnel).xxx);
+    float3 _e13 = (rho_returned * r_return_1);
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / ((1.0).xxx - _e13)) + (e_fresnel).xxx);
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+float3 tunable_glaze_interfaced_albedo_dir(float t_1, float3 a, float3 e_below, float3 rho_below_2, float3 r_return_2, float3 e_escape_1, float3 first_escape, float3 first_return)
+{
+    float3 _e10 = (rho_below_2 * r_return_2);
+    float3 series = (((first_return * rho_below_2) * r_return_2) / ((1.0).xxx - _e10));
+    return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t_1) + ((1.0 - t_1)).xxx);
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -818,9 +818,9 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlaz
     const float _e238 = tunable_glaze_e_fon(_e236, params_2.body_roughness);
     float3 layer1_first_escape_cone_1 = ((1.0).xxx + (((layer1_rho_ms * (1.0 - _e238)) * (layer1_eon_escape_shape - 1.0)) / max(_e237, (1e-6).xxx)));
     float3 layer1_first_return_cone_1 = min(max((((1.0).xxx - (layer1_first_escape_cone_1 * _e140.x)) / (max(layer1_r_return_3.x, 0.0001)).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
     const float3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_v_1, layer1_first_return_v_1);
-    const float3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));

@@ -609,25 +609,25 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
     return (f * max(dot(n_2, l_2), 0f));
 }
 
-// The directional albedo seen above a coat over a diffusing layer (same model as
-// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
-// and c scale the first reflection's escape and return against diffuse light's (both 1 for
-// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
-fn tunable_glaze_interfaced_albedo_dir(t_1: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_1 * r_return_1);
-    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
-    return (((((a * e_below) * e_escape) * (first_escape + series)) * t_1) + vec3((1f - t_1)));
-}
-
 // The hemispherical-average albedo seen above a coat (same model as `interfaced_layer`):
 // ⟨E⟩ = E_F + η² E_esc(τ)² ρ̄ / (1 − ρ̄ᵣ R(τ)), where E_F = 1 − η² E_esc(0) is the coat's
 // own average Fresnel reflectance (the flux identity 1 − E_F = η²(1 − K)) and ρ̄ᵣ the albedo
 // for the light the coat returns (`returned_albedo`).
-fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape_1: vec3<f32>, r_return_2: vec3<f32>, rho_below_2: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
+fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape: vec3<f32>, r_return_1: vec3<f32>, rho_below_1: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_13 * eta_13);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
-    let _e13 = (rho_returned * r_return_2);
-    return (((((e_escape_1 * e_escape_1) * rho_below_2) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
+    let _e13 = (rho_returned * r_return_1);
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
+}
+
+// The directional albedo seen above a coat over a diffusing layer (same model as
+// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
+// and c scale the first reflection's escape and return against diffuse light's (both 1 for
+// a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
+fn tunable_glaze_interfaced_albedo_dir(t_1: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_2: vec3<f32>, r_return_2: vec3<f32>, e_escape_1: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
+    let _e10 = (rho_below_2 * r_return_2);
+    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - _e10));
+    return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t_1) + vec3((1f - t_1)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -727,9 +727,9 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let _e238 = tunable_glaze_e_fon(_e236, params_2.body_roughness);
     let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e238)) * (layer1_eon_escape_shape - 1f)) / max(_e237, vec3(0.000001f))));
     let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
     let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_l_1, layer1_first_return_l_1);
     let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));

@@ -108,7 +108,7 @@ pub(super) fn body_albedo<F: Real>(
         Some(ratio) => e_l * ratio,
         None => e_l,
     };
-    Albedo { e_l: e_l.named(&name("albedo_l")), e_v: e_v.named(&name("albedo_v")), mean }
+    Albedo { e_l: e_l.named(&name("albedo_l")), e_v: e_v.named(&name("albedo_v")), mean, split: None }
 }
 
 pub(super) fn conductor_fresnel<F: Real>(

@@ -47,7 +47,7 @@ use super::base::conductor_fresnel;
 use super::geometry::{COS_EPSILON, Geometry, level_name};
 use super::inputs::{Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
-use super::level::{Albedo, Level};
+use super::level::{Albedo, Level, Split};
 use super::trapped::forward_spread;
 use crate::math::Sum;
 use crate::math::quadrature::{GAUSS_LEGENDRE_4, gauss_legendre_4_at};
@@ -579,7 +579,19 @@ pub(super) fn glossy_level<F: Real>(
         let e_v = directional_albedo(v_side).named(&level_name("albedo_v", k));
         let mean =
             means.next().unwrap_or_else(|| unreachable!("the mean albedo is summed")).named(&level_name("rho", k));
-        Albedo { e_l, e_v, mean }
+        // Under a coat (a medium above), that coat lets out of each part what its escape cone
+        // holds: the coat's own reflection, the lobe and the remainder.
+        let split = n_medium.is_some().then(|| {
+            let alpha = glossy.interface.ggx_lobe_alpha();
+            let part = |side: &Side<F>, e: F::Vec| {
+                let specular = side.transmission.one_minus();
+                let lobe = glossy_albedo_lobe(side.transmission, side.fresnel, side.absorb_lobe, side.once);
+                let spread = (e - specular.splat() - lobe).max(inputs.zero());
+                Split { specular, alpha, lobe, spread }
+            };
+            (part(&l, e_l), part(v_side, e_v))
+        });
+        Albedo { e_l, e_v, mean, split }
     });
     Level {
         f,

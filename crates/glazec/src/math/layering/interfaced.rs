@@ -9,7 +9,7 @@ use super::geometry::{Geometry, level_name};
 use super::glossy::glossy_level;
 use super::inputs::{Body, Depth, Inputs, Stack};
 use super::interface::{CoatInterface, interfaced_lobe};
-use super::level::{Albedo, Level};
+use super::level::{Albedo, Level, Split};
 use super::trapped::{trapped, trapped_shares};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
@@ -97,7 +97,12 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         incidence,
     };
     let lower = interfaced(stack, &below, deeper, true);
-    let albedo = lower.albedo.unwrap_or_else(|| Albedo { e_l: inputs.zero(), e_v: inputs.zero(), mean: inputs.zero() });
+    let albedo = lower.albedo.unwrap_or_else(|| Albedo {
+        e_l: inputs.zero(),
+        e_v: inputs.zero(),
+        mean: inputs.zero(),
+        split: None,
+    });
     let (r_return, e_escape) = interface.slab(tau);
     // The clear slab's (R(0), E_esc(0)), built when first needed.
     let clear = OnceCell::new();
@@ -131,25 +136,23 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         }
         _ => (r_return, e_escape),
     };
-    // Over a glossy body: the shares of its reflections towards l and v that leave the escape
-    // cone, trapped (none without total internal reflection, η ≤ 1), and what becomes of them.
+    // Over a glossy body: the light of its reflections towards l and v that leaves the escape
+    // cone, trapped (none without total internal reflection, η ≤ 1), and what becomes of it.
     let trapped_at = match (lower.glossy, lower.alpha) {
         (true, Some(alpha)) => {
-            let t = trapped_shares(&interface, &below, alpha, (r_return, clear().0), inputs);
-            let share = |p: F| F::select(t.mu_c.gt_lit(0.0), p, inputs.lit(0.0));
-            Some((alpha, share(t.p_l), share(t.p_v), t))
+            Some((alpha, trapped_shares(&interface, &below, (alpha, &albedo), (r_return, clear().0), inputs)))
         }
         _ => None,
     };
     let f_under: F::Vec = if g.albedo_only {
         inputs.zero()
-    } else if let Some((alpha, p_l, p_v, shares)) = &trapped_at {
+    } else if let Some((alpha, shares)) = &trapped_at {
         let k_l = (a_l * a_l * t_l.one_minus()).named(&name("inner_l"));
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         // Only what the body keeps inside the escape cone comes back up to the coat; what it
         // sends beyond is the trapped lobe's.
-        let kept = |e: F::Vec, p: F| e * p.one_minus();
-        let glossy = interfaced_glossy_under::<F>(lower.f, kept(albedo.e_l, *p_l), k_l, kept(albedo.e_v, *p_v), k_v);
+        let (kept_l, kept_v) = (albedo.e_l - shares.trapped_l, albedo.e_v - shares.trapped_v);
+        let glossy = interfaced_glossy_under::<F>(lower.f, kept_l, k_l, kept_v, k_v);
         glossy + trapped(&interface, g, &below, &albedo, *alpha, shares, inputs).named(&name("trapped"))
     } else if let Some(first) = &first {
         // The series starts from what the first pass returns, E·c (c = 1 for a diffusing body),
@@ -166,30 +169,51 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         interfaced_layer(f_top, t_l, t_v, a_l, a_v, f_under.named(&name("under")), eta).named(&name("f"))
     };
     let albedo = want_albedo.then(|| {
-        // Over a glossy body: the shares it sends outside the escape cone towards l and v, and
-        // what of trapped light leaves (none of either without a glossy body).
-        let (trapped_l, trapped_v) = match &trapped_at {
-            Some((_, p_l, p_v, t)) => {
-                let out = trapped_return(t.round_trip, albedo.mean, t.q, interface.transmission_from_cone())
-                    .named(&name("trapped_out"));
-                ((*p_l, out), (*p_v, out))
-            }
-            None => ((inputs.lit(0.0), inputs.zero()), (inputs.lit(0.0), inputs.zero())),
-        };
-        let directional =
-            |t: F, a: F::Vec, e: F::Vec, first: Option<(F::Vec, F::Vec)>, (p, out): (F, F::Vec)| match first {
-                Some((escape, back)) => interfaced_albedo_dir(t, a, e, returned, r_series, e_series, escape, back),
-                None => interfaced_albedo_glossy::<F>(t, a, e, p, out),
-            };
         let (first_l, first_v) = first.as_ref().map(|p| ((p.escape_l, p.return_l), (p.escape_v, p.return_v))).unzip();
-        let e_l = directional(t_l, a_l, albedo.e_l, first_l, trapped_l).named(&name("albedo_l"));
-        let e_v = directional(t_v, a_v, albedo.e_v, first_v, trapped_v).named(&name("albedo_v"));
         let e_escape_clear = clear().1.x();
         let mean =
             interfaced_albedo(eta, e_escape_clear, e_series, r_series, albedo.mean, returned).named(&name("rho"));
-        Albedo { e_l, e_v, mean }
+        let Some((_, shares)) = &trapped_at else {
+            let directional = |t: F, a: F::Vec, e: F::Vec, (escape, back): (F::Vec, F::Vec)| {
+                interfaced_albedo_dir(t, a, e, returned, r_series, e_series, escape, back)
+            };
+            let (Some(first_l), Some(first_v)) = (first_l, first_v) else {
+                unreachable!("a layer that is not glossy has its first pass")
+            };
+            let e_l = directional(t_l, a_l, albedo.e_l, first_l).named(&name("albedo_l"));
+            let e_v = directional(t_v, a_v, albedo.e_v, first_v).named(&name("albedo_v"));
+            return Albedo { e_l, e_v, mean, split: None };
+        };
+        // Over a glossy body: of what it keeps inside the escape cone, what leaves with T, and
+        // of what it traps, what leaves after all (`trapped_return`).
+        let t_cone = interface.transmission_from_cone();
+        let out = trapped_return(shares.round_trip, albedo.mean, shares.q, t_cone).named(&name("trapped_out"));
+        let directional = |t: F, a: F::Vec, e: F::Vec, trapped: F::Vec, near: F::Vec| {
+            interfaced_albedo_glossy::<F>(t, t_cone, a, e - trapped, near, trapped, out)
+        };
+        let e_l = directional(t_l, a_l, albedo.e_l, shares.trapped_l, shares.near_l).named(&name("albedo_l"));
+        let e_v = directional(t_v, a_v, albedo.e_v, shares.trapped_v, shares.near_v).named(&name("albedo_v"));
+        // Under a coat, this level's light splits as the glossy level's does: this coat's own
+        // reflection, what leaves near the mirror direction, and the rest (the trapped light
+        // let out, and the spread light kept in the cone).
+        let split = n_medium.is_some().then(|| {
+            let part = |t: F, a: F::Vec, e: F::Vec, trapped: F::Vec, near: F::Vec, total: F::Vec| {
+                let specular = t.one_minus();
+                let lobe = a * a * interfaced_glossy_bounced(t, a, e - trapped, near * t) * t;
+                let spread = (total - specular.splat() - lobe).max(inputs.zero());
+                Split { specular, alpha: interface.ggx_lobe_alpha(), lobe, spread }
+            };
+            (
+                part(t_l, a_l, albedo.e_l, shares.trapped_l, shares.near_l, e_l),
+                part(t_v, a_v, albedo.e_v, shares.trapped_v, shares.near_v, e_v),
+            )
+        });
+        Albedo { e_l, e_v, mean, split }
     });
-    Level { f, albedo, glossy: lower.glossy, alpha: lower.alpha, boost, transmission: Some((t_l, t_v)) }
+    // The lobe of a glossy body under this coat, as wide as it looks above the coat: refraction
+    // out of the coat (relative IOR η) widens its angles by η about the normal.
+    let alpha = lower.alpha.map(|a| (a * eta).named(&name("alpha_above")));
+    Level { f, albedo, glossy: lower.glossy, alpha, boost, transmission: Some((t_l, t_v)) }
 }
 
 /// How the first reflection off the layer under coat `k` differs from a diffusing body's, per

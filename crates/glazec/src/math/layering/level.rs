@@ -12,7 +12,8 @@ pub(super) struct Level<F: Real> {
     pub(super) albedo: Option<Albedo<F>>,
     /// A bare conductor: its reflection stays a lobe (see `interfaced_glossy_under`).
     pub(super) glossy: bool,
-    /// The GGX α of that lobe (a bare conductor only).
+    /// The GGX α of that lobe, as wide as it looks from above this level (a conductor, and the
+    /// levels over one).
     pub(super) alpha: Option<F>,
     /// How much more easily than diffuse light the light this level sends up escapes the coats
     /// above it (see [`first_pass`]); 1 for the body.
@@ -27,6 +28,25 @@ pub(super) struct Albedo<F: Real> {
     pub(super) e_l: F::Vec,
     pub(super) e_v: F::Vec,
     pub(super) mean: F::Vec,
+    /// Over a conductor: where the light of `e_l` and `e_v` goes (`None` for a diffusing layer).
+    pub(super) split: Option<(Split<F>, Split<F>)>,
+}
+
+/// Where the light a coated conductor reflects towards one side goes, at the directions under
+/// the coat above it, which lets out of each part only what its escape cone holds
+/// (`trapped::trapped_shares`). The parts add up to the side's directional albedo.
+#[derive(Clone, Copy)]
+pub(super) struct Split<F: Real> {
+    /// The level's top coat's own reflection, 1 − T(μ): a mirror's (`alpha` `None`; a GTR1
+    /// lobe's too) or a GGX lobe of α `alpha` about the mirror direction.
+    pub(super) specular: F,
+    pub(super) alpha: Option<F>,
+    /// What leaves near the mirror direction as the conductor's lobe (GGX α the level's
+    /// [`Level::alpha`]).
+    pub(super) lobe: F::Vec,
+    /// The rest, spread over the hemisphere like diffuse light: the glossy level's remainder,
+    /// and what a coat above has trapped and let out.
+    pub(super) spread: F::Vec,
 }
 
 /// How much a rough coat widens a lobe under it (a conductor's, or a coat's own reflection seen

@@ -5,43 +5,74 @@
 use super::geometry::{Geometry, level_name};
 use super::inputs::Inputs;
 use super::interface::CoatInterface;
-use super::level::Albedo;
+use super::level::{Albedo, Split};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
 
 /// What a glossy body under a coat sends outside the coat's escape cone, at the directions
-/// `below` (under the coat): the trapped shares of its reflections towards l and v, and what
-/// becomes of trapped light.
+/// `below` (under the coat): the light of its reflections towards l and v that is trapped, and
+/// what becomes of trapped light.
 #[derive(Clone, Copy)]
 pub(super) struct Trapped<F: Real> {
     /// μc, the escape cone's cosine inside (0 without total internal reflection).
     pub(super) mu_c: F,
-    pub(super) p_l: F,
-    pub(super) p_v: F,
+    /// P: the light of the body's directional albedos towards l and v that leaves the cone.
+    pub(super) trapped_l: F::Vec,
+    pub(super) trapped_v: F::Vec,
+    /// Of what stays inside the cone, the part near the mirror direction (the body's coat's
+    /// reflection and its lobe; the rest is spread), towards l and v.
+    pub(super) near_l: F::Vec,
+    pub(super) near_v: F::Vec,
     /// The slab's round trip for trapped light, R(τ)/R(0).
     pub(super) round_trip: F::Vec,
     /// q, the share of trapped light the body sends into the cone at each bounce.
     pub(super) q: F,
 }
 
-/// The trapped shares of the glossy body of GGX α under `interface` (see [`Trapped`]);
-/// `r_clear` is the clear slab's return R(0).
+/// The light the glossy body of GGX α and albedos `albedo` under `interface` sends beyond the
+/// escape cone (see [`Trapped`]); `r_clear` is the clear slab's return R(0). Each part of the
+/// body's reflection (`Albedo::split`) is trapped by its own share: of its coat's GGX lobe
+/// `glossy_trapped_share` (a mirror's stays in the cone), of the conductor's lobe
+/// `trapped_share`, and of the light spread like diffuse light the share of projected solid
+/// angle beyond the cone, μc². Without the split all of the albedo counts as the lobe, which
+/// had let a coat over a coated conductor state 4–22% more albedo than the reference and its f
+/// lose what the body's coat and remainder send beyond the cone (docs/accuracy.md, "The stated
+/// albedo against the reference").
 pub(super) fn trapped_shares<F: Real>(
     interface: &CoatInterface<'_, F>,
     below: &Geometry<F>,
-    alpha: F,
+    (alpha, albedo): (F, &Albedo<F>),
     (r_return, r_clear): (F::Vec, F::Vec),
     inputs: &Inputs<F>,
 ) -> Trapped<F> {
     let name = |base: &str| level_name(base, below.level);
     let mu_c = escape_cone_cosine(interface.eta).named(&name("mu_c"));
-    let p_l = trapped_share(below.n_dot_l, mu_c, alpha).named(&name("trapped_l"));
-    let p_v = trapped_share(below.n_dot_v, mu_c, alpha).named(&name("trapped_v"));
+    let side = |mu: F, e: F::Vec, split: Option<Split<F>>, s: &str| {
+        // Without total internal reflection (μc = 0) nothing is trapped; `trapped_share` alone
+        // would give the lobe's share below the horizon there.
+        let p = trapped_share(mu, mu_c, alpha);
+        let p = F::select(mu_c.gt_lit(0.0), p, inputs.lit(0.0)).named(&name(&format!("trapped_share_{s}")));
+        match split {
+            Some(Split { specular, alpha: specular_alpha, lobe, spread }) => {
+                let specular_trapped = match specular_alpha {
+                    Some(a) => specular * glossy_trapped_share(mu, mu_c, a),
+                    None => inputs.lit(0.0),
+                };
+                let trapped = lobe * p + spread * mu_c.sq() + specular_trapped.splat();
+                let near = lobe * p.one_minus() + (specular - specular_trapped).splat();
+                (trapped.named(&name(&format!("trapped_{s}"))), near.named(&name(&format!("near_{s}"))))
+            }
+            None => ((e * p).named(&name(&format!("trapped_{s}"))), e * p.one_minus()),
+        }
+    };
+    let (split_l, split_v) = albedo.split.unzip();
+    let (trapped_l, near_l) = side(below.n_dot_l, albedo.e_l, split_l, "l");
+    let (trapped_v, near_v) = side(below.n_dot_v, albedo.e_v, split_v, "v");
     // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
     let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
     let q = trapped_escape(mu_c, alpha).named(&name("trapped_escape"));
-    Trapped { mu_c, p_l, p_v, round_trip, q }
+    Trapped { mu_c, trapped_l, trapped_v, near_l, near_v, round_trip, q }
 }
 
 /// The light a glossy body of GGX α under a coat sends outside the escape cone (`trapped_lobe`,
@@ -61,8 +92,8 @@ pub(super) fn trapped<F: Real>(
     inputs: &Inputs<F>,
 ) -> F::Vec {
     let eta = interface.eta;
-    let Trapped { mu_c, p_l, p_v, round_trip, q } = *shares;
-    let lobe = trapped_lobe(albedo.e_l, p_l, albedo.e_v, p_v, mu_c, round_trip, albedo.mean, q);
+    let Trapped { mu_c, trapped_l, trapped_v, round_trip, q, .. } = *shares;
+    let lobe = trapped_lobe(trapped_l, trapped_v, mu_c, round_trip, albedo.mean, q);
     let roughness = interface.glossy_roughness().unwrap_or(inputs.lit(0.0));
     let kappa = |mu: F| tables::lookup(TableId::GlossySpread, &[mu, alpha.sqrt(), roughness, eta]);
     // Over the event counts this lobe assumes: a geometric count of retention 1 − q.

@@ -107,16 +107,16 @@ shading_fn! {
 
 shading_fn! {
     /// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-    /// cone (shares pᵢ, pₒ of its albedos Eᵢ, Eₒ): trapped by total internal reflection, it comes
-    /// back with the slab's round-trip transmittance g and meets the body again, which (mean
-    /// albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and keeps the rest
-    /// trapped. By reciprocity the body sends Eₒpₒ/(π μc²) of trapped light (projected solid
-    /// angle π μc²) towards o: Eᵢpᵢ Eₒpₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in i and o. Its
-    /// albedo is Eᵢpᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Eₒ ≈ ρ̄ over the cone): a white body returns
-    /// all trapped light.
+    /// cone (Pᵢ, Pₒ of its albedos towards i and o, `trapped_shares`): trapped by total internal
+    /// reflection, it comes back with the slab's round-trip transmittance g and meets the body
+    /// again, which (mean albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and
+    /// keeps the rest trapped. By reciprocity the body sends Pₒ/(π μc²) of trapped light
+    /// (projected solid angle π μc²) towards o: Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in
+    /// i and o. Its albedo is Pᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Pₒ ≈ ρ̄ over the cone): a white
+    /// body returns all trapped light.
     /// Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
-    pub fn trapped_lobe(e_i: V, p_i: S, e_o: V, p_o: S, mu_c: S, round_trip: V, rho: V, q: S) -> V {
-        e_i * e_o * round_trip * (p_i * p_o / (mu_c.sq().at_least(1e-4) * PI)) / (rho * round_trip * q.one_minus()).one_minus()
+    pub fn trapped_lobe(trapped_i: V, trapped_o: V, mu_c: S, round_trip: V, rho: V, q: S) -> V {
+        trapped_i * trapped_o * round_trip / (mu_c.sq().at_least(1e-4) * PI) / (rho * round_trip * q.one_minus()).one_minus()
     }
 }
 
@@ -288,6 +288,14 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+    /// T F a₁² O.
+    pub fn glossy_albedo_lobe(t: S, fresnel: V, a_lobe: V, once: V) -> V {
+        fresnel * a_lobe * a_lobe * once * t
+    }
+}
+
+shading_fn! {
     /// The directional albedo seen above a coat over a diffusing layer (same model as
     /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
     /// and c scale the first reflection's escape and return against diffuse light's (both 1 for
@@ -300,23 +308,32 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a glossy body (same model as
-    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² E (T (1 − p)/(1 − E (1 − p) k)
-    /// + p X), k = (1 − T) a²: the body's reflection stays near the mirror direction and leaves
-    /// with T or comes back (k) to be reflected again, except its share p outside the escape
-    /// cone, trapped, of which X leaves (`trapped_return`).
-    /// Guard: 1 − E (1 − p) k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
+    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + (K − N) T̄ + P X)/(1 − K k),
+    /// k = (1 − T) a²: of the body's reflection E, K = E − P stays inside the escape cone; its
+    /// part N near the mirror direction leaves with T, the rest, spread over the cone, with the
+    /// coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
+    /// reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
+    /// trapped, and X of it leaves (`trapped_return`).
+    /// Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
     /// `interfaced_glossy_under`; the numerator is 0 there too).
-    pub fn interfaced_albedo_glossy(t: S, a: V, e_below: V, p: S, trapped_out: V) -> V {
+    pub fn interfaced_albedo_glossy(t: S, t_cone: S, a: V, kept: V, near: V, trapped: V, trapped_out: V) -> V {
+        let leaving = near * t + (kept - near) * t_cone + trapped * trapped_out;
+        a * a * interfaced_glossy_bounced(t, a, kept, leaving) * t + t.one_minus().splat()
+    }
+}
+
+shading_fn! {
+    /// What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
+    /// out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
+    pub fn interfaced_glossy_bounced(t: S, a: V, kept: V, leaving: V) -> V {
         let k = a * a * t.one_minus();
-        let kept = trapped_out * p + (t * p.one_minus()).splat();
-        let bounced = e_below * kept / (e_below * k * p.one_minus()).one_minus().max(t.lit(1e-6).splat());
-        a * a * bounced * t + t.one_minus().splat()
+        leaving / (kept * k).one_minus().max(t.lit(1e-6).splat())
     }
 }
 
 shading_fn! {
     /// glazec's interfaced layering, what leaves of the light a glossy body traps under a coat,
-    /// per unit trapped (`trapped_lobe`'s albedo over Eᵢpᵢ): g ρ̄ q T̄/(1 − ρ̄ g (1 − q)), the body
+    /// per unit trapped (`trapped_lobe`'s albedo over Pᵢ): g ρ̄ q T̄/(1 − ρ̄ g (1 − q)), the body
     /// sending q of it into the cone at each bounce, and T̄ the coat's transmission out of the
     /// cone (at its mean cosine).
     pub fn trapped_return(round_trip: V, rho: V, q: S, t_cone: S) -> V {
