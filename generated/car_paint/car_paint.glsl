@@ -23,7 +23,7 @@ const float car_paint_layer1_trapped_escape = 0.15678635;
 const float car_paint_layer1_transmit_cone = 0.9489286;
 const vec3 car_paint_trapped_out = vec3(0.29371282, 0.010574966, 0.0047770874);
 const uint car_paint_ibl_specular_lobes = 2u;
-const float car_paint_base_roughness = 0.45542893;
+const float car_paint_base_roughness = 0.37185615;
 
 layout(binding = 33) uniform sampler2D car_paint_radiance;
 
@@ -808,7 +808,7 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
-    vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.2074155);
+    vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
     bool _e162 = (dot(n_6, v_6) > 0.0);
     return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e162 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e162 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
 }

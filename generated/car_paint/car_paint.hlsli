@@ -26,7 +26,7 @@ static const float car_paint_layer1_trapped_escape = 0.15678635;
 static const float car_paint_layer1_transmit_cone = 0.9489286;
 static const float3 car_paint_trapped_out = float3(0.29371282, 0.010574966, 0.0047770874);
 static const uint car_paint_ibl_specular_lobes = 2u;
-static const float car_paint_base_roughness = 0.45542893;
+static const float car_paint_base_roughness = 0.37185615;
 
 #ifndef GLAZEC_NAGASAMPLERHEAP
 #define GLAZEC_NAGASAMPLERHEAP
@@ -901,7 +901,7 @@ CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     const float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
-    const float3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.2074155);
+    const float3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
     bool _e162 = (dot(n_6, v_6) > 0.0);
     const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e162 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e162 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
     return carpaintibllobes;

@@ -25,7 +25,7 @@ const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
 const car_paint_layer1_transmit_cone: f32 = 0.9489286f;
 const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371282f, 0.010574966f, 0.0047770874f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
-const car_paint_base_roughness: f32 = 0.45542893f;
+const car_paint_base_roughness: f32 = 0.37185615f;
 
 @group(2) @binding(0) 
 var car_paint_environment_sampler: sampler;
@@ -813,7 +813,7 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
     let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
-    let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.2074155f);
+    let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
     let _e162 = (dot(n_6, v_6) > 0f);
     return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e162)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e162))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }

@@ -210,10 +210,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         });
         Albedo { e_l, e_v, mean, split }
     });
-    // The lobe of a glossy body under this coat, as wide as it looks above the coat: refraction
-    // out of the coat (relative IOR η) widens its angles by η about the normal.
-    let alpha = lower.alpha.map(|a| (a * eta).named(&name("alpha_above")));
-    Level { f, albedo, glossy: lower.glossy, alpha, boost, transmission: Some((t_l, t_v)) }
+    Level { f, albedo, glossy: lower.glossy, alpha: lower.alpha, boost, transmission: Some((t_l, t_v)) }
 }
 
 /// How the first reflection off the layer under coat `k` differs from a diffusing body's, per

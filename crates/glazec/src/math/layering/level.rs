@@ -12,8 +12,7 @@ pub(super) struct Level<F: Real> {
     pub(super) albedo: Option<Albedo<F>>,
     /// A bare conductor: its reflection stays a lobe (see `interfaced_glossy_under`).
     pub(super) glossy: bool,
-    /// The GGX α of that lobe, as wide as it looks from above this level (a conductor, and the
-    /// levels over one).
+    /// The GGX α of that lobe (a conductor, and the levels over one).
     pub(super) alpha: Option<F>,
     /// How much more easily than diffuse light the light this level sends up escapes the coats
     /// above it (see [`first_pass`]); 1 for the body.
