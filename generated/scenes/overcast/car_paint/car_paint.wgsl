@@ -52,8 +52,8 @@ fn car_paint_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn car_paint_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a_4 = max(alpha, 0.001f);
-    let a_sq = (a_4 * a_4);
+    let a_5 = max(alpha, 0.001f);
+    let a_sq = (a_5 * a_5);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -86,8 +86,8 @@ fn car_paint_fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_t = sqrt(max((1f - sin2_t), 0f));
     let r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     let r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    let fresnel_4 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
-    return select(1f, fresnel_4, (sin2_t < 1f));
+    let fresnel_5 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
+    return select(1f, fresnel_5, (sin2_t < 1f));
 }
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
@@ -423,9 +423,9 @@ fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) 
     let mean_weight = ((car_paint_one + x) / (car_paint_one - x));
     let denominator = max(((r_b + vec3(r_2)) - (r_c * (car_paint_one + x))), vec3(0.000001f));
     let least = (((car_paint_one - r_b) / (car_paint_one + r_b)) * vec3(-0.999f));
-    let a_5 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
+    let a_6 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
     let weight_1 = ((car_paint_one - (r_b * r_b)) / ((car_paint_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2f))));
-    return ((car_paint_one + (a_5 * weight_1)) / (car_paint_one + (a_5 * mean_weight)));
+    return ((car_paint_one + (a_6 * weight_1)) / (car_paint_one + (a_6 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -460,6 +460,11 @@ fn car_paint_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_
 // T F a₁² O.
 fn car_paint_glossy_albedo_lobe(t_2: f32, fresnel_3: vec3<f32>, a_lobe_1: vec3<f32>, once_1: vec3<f32>) -> vec3<f32> {
     return ((((fresnel_3 * a_lobe_1) * a_lobe_1) * once_1) * t_2);
+}
+
+// The rest of `glossy_albedo`, spread over the hemisphere (the remainder), T F a² (1 − P₁) Ŷ.
+fn car_paint_glossy_albedo_remainder(t_3: f32, fresnel_4: vec3<f32>, a_2: vec3<f32>, single_3: f32, later_2: vec3<f32>) -> vec3<f32> {
+    return (((((fresnel_4 * a_2) * a_2) * later_2) * (1f - single_3)) * t_3);
 }
 
 // glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
@@ -606,31 +611,33 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let layer1_f = (_e201 + layer1_later);
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
     let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
-    let _e237 = (1f - layer2_transmit_l);
     let _e238 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    let _e246 = (1f - layer2_transmit_v);
-    let _e247 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    let _e239 = car_paint_glossy_albedo_remainder(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l, layer2_later_l);
+    let _e242 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    let _e243 = car_paint_glossy_albedo_remainder(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_single_v, layer2_later_v);
     let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_l = ((_e238 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e237)) - _e238), vec3(0f)) * vec3(0.5555556f)));
-    let layer1_near_l = ((_e238 * (1f - layer1_trapped_share_l)) + vec3(_e237));
+    let layer1_trapped_l = ((_e238 * layer1_trapped_share_l) + (_e239 * vec3(0.5555556f)));
+    let layer1_near_l = ((_e238 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l)));
+    let layer1_spread_kept_l = (_e239 * vec3(0.44444442f));
     let layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_v = ((_e247 * layer1_trapped_share_v) + (max(((layer1_albedo_v - vec3(_e246)) - _e247), vec3(0f)) * vec3(0.5555556f)));
-    let layer1_near_v = ((_e247 * (1f - layer1_trapped_share_v)) + vec3(_e246));
+    let layer1_trapped_v = ((_e242 * layer1_trapped_share_v) + (_e243 * vec3(0.5555556f)));
+    let layer1_near_v = ((_e242 * (1f - layer1_trapped_share_v)) + vec3((1f - layer2_transmit_v)));
+    let layer1_spread_kept_v = (_e243 * vec3(0.44444442f));
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e292 = car_paint_interfaced_glossy_under(layer1_f, (layer1_albedo_l - layer1_trapped_l), inner_l, (layer1_albedo_v - layer1_trapped_v), inner_v);
-    let _e298 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let _e299 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e300 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    let _e288 = car_paint_interfaced_glossy_under(layer1_f, (layer1_near_l + layer1_spread_kept_l), inner_l, (layer1_near_v + layer1_spread_kept_v), inner_v);
+    let _e294 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e295 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e296 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    let layer1_trapped_spread_rho = min((sqrt(max((_e299 * _e300), 0f)) * layer1_trapped_sines), 0.95f);
-    let _e314 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
-    let _e315 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e315);
-    let _e317 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e314, _e315);
-    let layer1_trapped_spread = (_e317 * layer1_trapped_spread_weight);
-    let trapped_1 = (_e298 * layer1_trapped_spread);
-    let under = (_e292 + trapped_1);
+    let layer1_trapped_spread_rho = min((sqrt(max((_e295 * _e296), 0f)) * layer1_trapped_sines), 0.95f);
+    let _e310 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
+    let _e311 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e311);
+    let _e313 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e310, _e311);
+    let layer1_trapped_spread = (_e313 * layer1_trapped_spread_weight);
+    let trapped_1 = (_e294 * layer1_trapped_spread);
+    let under = (_e288 + trapped_1);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -643,25 +650,25 @@ fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
 
 // What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
 // out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
-fn car_paint_interfaced_glossy_bounced(t_3: f32, a_2: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
-    let k = ((a_2 * a_2) * (1f - t_3));
+fn car_paint_interfaced_glossy_bounced(t_4: f32, a_3: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
+    let k = ((a_3 * a_3) * (1f - t_4));
     let _e8 = (kept * k);
     return (leaving / max((vec3(1f) - _e8), vec3(0.000001f)));
 }
 
 // The directional albedo seen above a coat over a glossy body (same model as
-// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + (K − N) T̄ + P X)/(1 − K k),
-// k = (1 − T) a²: of the body's reflection E, K = E − P stays inside the escape cone; its
-// part N near the mirror direction leaves with T, the rest, spread over the cone, with the
+// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + S T̄ + P X)/(1 − K k),
+// k = (1 − T) a²: of the body's reflection E, K = N + S stays inside the escape cone; its
+// part N near the mirror direction leaves with T, the part S spread over the cone with the
 // coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
 // reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
 // trapped, and X of it leaves (`trapped_return`).
 // Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
-fn car_paint_interfaced_albedo_glossy(t_4: f32, t_cone: f32, a_3: vec3<f32>, kept_1: vec3<f32>, near: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
-    let leaving_1 = (((near * t_4) + ((kept_1 - near) * t_cone)) + (trapped * trapped_out));
-    let _e14 = car_paint_interfaced_glossy_bounced(t_4, a_3, kept_1, leaving_1);
-    return ((((a_3 * a_3) * _e14) * t_4) + vec3((1f - t_4)));
+fn car_paint_interfaced_albedo_glossy(t_5: f32, t_cone: f32, a_4: vec3<f32>, near: vec3<f32>, spread: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
+    let leaving_1 = (((near * t_5) + (spread * t_cone)) + (trapped * trapped_out));
+    let _e14 = car_paint_interfaced_glossy_bounced(t_5, a_4, (near + spread), leaving_1);
+    return ((((a_4 * a_4) * _e14) * t_5) + vec3((1f - t_5)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -672,8 +679,8 @@ fn car_paint_interfaced_albedo_glossy(t_4: f32, t_cone: f32, a_3: vec3<f32>, kep
 fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
-    let t_5 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_5 * (1f - t_5)) + (r_3 * t_5));
+    let t_6 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let d_2 = ((n_5 * (1f - t_6)) + (r_3 * t_6));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -729,23 +736,24 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
     let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
     let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    let _e94 = (1f - layer2_transmit_l_1);
     let _e95 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    let _e103 = (1f - layer2_transmit_l_1);
+    let _e96 = car_paint_glossy_albedo_remainder(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l_1, layer2_later_l);
     let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e94)) - _e95), vec3(0f)) * vec3(0.5555556f)));
-    let layer1_near_l_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3(_e94));
-    let layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (max(((layer1_albedo_l - vec3(_e103)) - _e95), vec3(0f)) * vec3(0.5555556f)));
-    let layer1_near_v_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3(_e103));
-    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1f), (layer1_albedo_l - layer1_trapped_l_1), layer1_near_l_1, layer1_trapped_l_1, car_paint_trapped_out);
-    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1f), (layer1_albedo_l - layer1_trapped_v_1), layer1_near_v_1, layer1_trapped_v_1, car_paint_trapped_out);
+    let layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556f)));
+    let layer1_near_l_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
+    let layer1_spread_kept_l_1 = (_e96 * vec3(0.44444442f));
+    let layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556f)));
+    let layer1_near_v_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
+    let layer1_spread_kept_v_1 = (_e96 * vec3(0.44444442f));
+    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
     let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
     let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
-    let _e162 = (dot(n_6, v_6) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e162)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e162))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
+    let _e155 = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e155)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e155))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

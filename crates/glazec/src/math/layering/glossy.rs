@@ -583,13 +583,14 @@ pub(super) fn glossy_level<F: Real>(
         // holds: the coat's own reflection, the lobe and the remainder.
         let split = n_medium.is_some().then(|| {
             let alpha = glossy.interface.ggx_lobe_alpha();
-            let part = |side: &Side<F>, e: F::Vec| {
+            let part = |side: &Side<F>| {
                 let specular = side.transmission.one_minus();
                 let lobe = glossy_albedo_lobe(side.transmission, side.fresnel, side.absorb_lobe, side.once);
-                let spread = (e - specular.splat() - lobe).max(inputs.zero());
+                let spread =
+                    glossy_albedo_remainder(side.transmission, side.fresnel, side.absorb, side.single, side.later);
                 Split { specular, alpha, lobe, spread }
             };
-            (part(&l, e_l), part(v_side, e_v))
+            (part(&l), part(v_side))
         });
         Albedo { e_l, e_v, mean, split }
     });

@@ -151,7 +151,7 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         let k_v = (a_v * a_v * t_v.one_minus()).named(&name("inner_v"));
         // Only what the body keeps inside the escape cone comes back up to the coat; what it
         // sends beyond is the trapped lobe's.
-        let (kept_l, kept_v) = (albedo.e_l - shares.trapped_l, albedo.e_v - shares.trapped_v);
+        let (kept_l, kept_v) = (shares.near_l + shares.spread_l, shares.near_v + shares.spread_v);
         let glossy = interfaced_glossy_under::<F>(lower.f, kept_l, k_l, kept_v, k_v);
         glossy + trapped(&interface, g, &below, &albedo, *alpha, shares, inputs).named(&name("trapped"))
     } else if let Some(first) = &first {
@@ -188,25 +188,24 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         // of what it traps, what leaves after all (`trapped_return`).
         let t_cone = interface.transmission_from_cone();
         let out = trapped_return(shares.round_trip, albedo.mean, shares.q, t_cone).named(&name("trapped_out"));
-        let directional = |t: F, a: F::Vec, e: F::Vec, trapped: F::Vec, near: F::Vec| {
-            interfaced_albedo_glossy::<F>(t, t_cone, a, e - trapped, near, trapped, out)
+        let directional = |t: F, a: F::Vec, (near, spread, trapped): (F::Vec, F::Vec, F::Vec)| {
+            interfaced_albedo_glossy::<F>(t, t_cone, a, near, spread, trapped, out)
         };
-        let e_l = directional(t_l, a_l, albedo.e_l, shares.trapped_l, shares.near_l).named(&name("albedo_l"));
-        let e_v = directional(t_v, a_v, albedo.e_v, shares.trapped_v, shares.near_v).named(&name("albedo_v"));
+        let side_l = (shares.near_l, shares.spread_l, shares.trapped_l);
+        let side_v = (shares.near_v, shares.spread_v, shares.trapped_v);
+        let e_l = directional(t_l, a_l, side_l).named(&name("albedo_l"));
+        let e_v = directional(t_v, a_v, side_v).named(&name("albedo_v"));
         // Under a coat, this level's light splits as the glossy level's does: this coat's own
         // reflection, what leaves near the mirror direction, and the rest (the trapped light
         // let out, and the spread light kept in the cone).
         let split = n_medium.is_some().then(|| {
-            let part = |t: F, a: F::Vec, e: F::Vec, trapped: F::Vec, near: F::Vec, total: F::Vec| {
-                let specular = t.one_minus();
-                let lobe = a * a * interfaced_glossy_bounced(t, a, e - trapped, near * t) * t;
-                let spread = (total - specular.splat() - lobe).max(inputs.zero());
-                Split { specular, alpha: interface.ggx_lobe_alpha(), lobe, spread }
+            let part = |t: F, a: F::Vec, (near, spread, trapped): (F::Vec, F::Vec, F::Vec)| {
+                let through = |leaving: F::Vec| a * a * interfaced_glossy_bounced(t, a, near + spread, leaving) * t;
+                let lobe = through(near * t);
+                let spread = through(spread * t_cone + trapped * out);
+                Split { specular: t.one_minus(), alpha: interface.ggx_lobe_alpha(), lobe, spread }
             };
-            (
-                part(t_l, a_l, albedo.e_l, shares.trapped_l, shares.near_l, e_l),
-                part(t_v, a_v, albedo.e_v, shares.trapped_v, shares.near_v, e_v),
-            )
+            (part(t_l, a_l, side_l), part(t_v, a_v, side_v))
         });
         Albedo { e_l, e_v, mean, split }
     });

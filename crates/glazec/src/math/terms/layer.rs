@@ -296,6 +296,13 @@ shading_fn! {
 }
 
 shading_fn! {
+    /// The rest of `glossy_albedo`, spread over the hemisphere (the remainder), T F a² (1 − P₁) Ŷ.
+    pub fn glossy_albedo_remainder(t: S, fresnel: V, a: V, single: S, later: V) -> V {
+        fresnel * a * a * later * single.one_minus() * t
+    }
+}
+
+shading_fn! {
     /// The directional albedo seen above a coat over a diffusing layer (same model as
     /// `interfaced_diffuse_under`): (1 − T) + T a E_below E_esc (x + c ρ̄ R / (1 − ρ̄ R)), where x
     /// and c scale the first reflection's escape and return against diffuse light's (both 1 for
@@ -308,17 +315,17 @@ shading_fn! {
 
 shading_fn! {
     /// The directional albedo seen above a coat over a glossy body (same model as
-    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + (K − N) T̄ + P X)/(1 − K k),
-    /// k = (1 − T) a²: of the body's reflection E, K = E − P stays inside the escape cone; its
-    /// part N near the mirror direction leaves with T, the rest, spread over the cone, with the
+    /// `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + S T̄ + P X)/(1 − K k),
+    /// k = (1 − T) a²: of the body's reflection E, K = N + S stays inside the escape cone; its
+    /// part N near the mirror direction leaves with T, the part S spread over the cone with the
     /// coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
     /// reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
     /// trapped, and X of it leaves (`trapped_return`).
     /// Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
     /// `interfaced_glossy_under`; the numerator is 0 there too).
-    pub fn interfaced_albedo_glossy(t: S, t_cone: S, a: V, kept: V, near: V, trapped: V, trapped_out: V) -> V {
-        let leaving = near * t + (kept - near) * t_cone + trapped * trapped_out;
-        a * a * interfaced_glossy_bounced(t, a, kept, leaving) * t + t.one_minus().splat()
+    pub fn interfaced_albedo_glossy(t: S, t_cone: S, a: V, near: V, spread: V, trapped: V, trapped_out: V) -> V {
+        let leaving = near * t + spread * t_cone + trapped * trapped_out;
+        a * a * interfaced_glossy_bounced(t, a, near + spread, leaving) * t + t.one_minus().splat()
     }
 }
 
