@@ -18,10 +18,10 @@ const vec3 car_paint_layer1_specular = vec3(0.0, 0.0, 0.0);
 const vec3 car_paint_layer2_pool_fresnel = vec3(0.88051546, 0.8935001, 0.8935001);
 const vec3 car_paint_layer1_remainder_avg = vec3(0.0025565596, 1.3872456e-8, 1.6960744e-10);
 const float car_paint_layer1_mu_c = 0.745356;
-const vec3 car_paint_layer1_rho = vec3(0.7408726, 0.06705919, 0.031262197);
+const vec3 car_paint_layer1_rho = vec3(0.74087256, 0.06705919, 0.031262197);
 const float car_paint_layer1_trapped_escape = 0.15678635;
 const float car_paint_layer1_transmit_cone = 0.9489286;
-const vec3 car_paint_trapped_out = vec3(0.29371282, 0.010574966, 0.0047770874);
+const vec3 car_paint_trapped_out = vec3(0.29371276, 0.010574966, 0.0047770874);
 const uint car_paint_ibl_specular_lobes = 2u;
 const float car_paint_base_roughness = 0.37185615;
 
@@ -47,8 +47,8 @@ vec3 car_paint_half_vector(vec3 v, vec3 l) {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float car_paint_d_ggx(float cos_h, float sin2_h, float alpha) {
-    float a_5 = max(alpha, 0.001);
-    float a_sq = (a_5 * a_5);
+    float a_3 = max(alpha, 0.001);
+    float a_sq = (a_3 * a_3);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -81,8 +81,8 @@ float car_paint_fr_dielectric(float cos_i, float eta) {
     float cos_t = sqrt(max((1.0 - sin2_t), 0.0));
     float r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     float r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    float fresnel_5 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
-    return ((sin2_t < 1.0) ? fresnel_5 : 1.0);
+    float fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5);
+    return ((sin2_t < 1.0) ? fresnel_3 : 1.0);
 }
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
@@ -127,8 +127,8 @@ float car_paint_coat_scale_curve(float cos_theta) {
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 float car_paint_d_ggx_mirrored_tail(float z, float across, float alpha_3) {
-    float a_6 = max(alpha_3, 0.001);
-    float a_sq_1 = (a_6 * a_6);
+    float a_4 = max(alpha_3, 0.001);
+    float a_sq_1 = (a_4 * a_4);
     float h_sq = ((z * z) + across);
     float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
@@ -474,9 +474,9 @@ vec3 car_paint_forward_azimuth_tilt(float rho_2, vec3 rho_c, float cos_phi_1) {
     vec3 mean_weight = ((car_paint_one + x) / (car_paint_one - x));
     vec3 denominator = max(((r_b + vec3(r_2)) - (r_c * (car_paint_one + x))), vec3(1e-6));
     vec3 least = (((car_paint_one - r_b) / (car_paint_one + r_b)) * vec3(-0.999));
-    vec3 a_7 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
+    vec3 a_5 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
     vec3 weight_1 = ((car_paint_one - (r_b * r_b)) / ((car_paint_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2.0))));
-    return ((car_paint_one + (a_7 * weight_1)) / (car_paint_one + (a_7 * mean_weight)));
+    return ((car_paint_one + (a_5 * weight_1)) / (car_paint_one + (a_5 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -497,25 +497,19 @@ vec3 car_paint_glossy_remainder_lobe(vec3 m_i, vec3 m_o, vec3 m_avg) {
     return ((m_i * m_o) / (max(m_avg, vec3(1e-6)) * vec3(3.1415927)));
 }
 
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+// attenuated by a₁² along its own paths.
+vec3 car_paint_glossy_albedo_lobe(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 once) {
+    return ((((fresnel_2 * a_lobe) * a_lobe) * once) * t_1);
+}
+
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-// own paths) and the remainder (`glossy_remainder`).
-vec3 car_paint_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
-    vec3 near_2 = ((a_lobe * a_lobe) * once);
-    vec3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
-    return (((fresnel_2 * (near_2 + far_1)) * t_1) + vec3((1.0 - t_1)));
-}
-
-// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
-// T F a₁² O.
-vec3 car_paint_glossy_albedo_lobe(float t_2, vec3 fresnel_3, vec3 a_lobe_1, vec3 once_1) {
-    return ((((fresnel_3 * a_lobe_1) * a_lobe_1) * once_1) * t_2);
-}
-
-// The rest of `glossy_albedo`, spread over the hemisphere (the remainder), T F a² (1 − P₁) Ŷ.
-vec3 car_paint_glossy_albedo_remainder(float t_3, vec3 fresnel_4, vec3 a_2, float single_3, vec3 later_2) {
-    return (((((fresnel_4 * a_2) * a_2) * later_2) * (1.0 - single_3)) * t_3);
+// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+// (`glossy_remainder`).
+vec3 car_paint_glossy_albedo(float t_2, vec3 lobe, vec3 remainder) {
+    return ((lobe + remainder) + vec3((1.0 - t_2)));
 }
 
 // glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
@@ -674,35 +668,33 @@ vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     vec3 _e265 = car_paint_glossy_remainder_lobe(_e262, _e263, car_paint_layer1_remainder_avg);
     vec3 layer1_later = (_e265 * layer1_spread);
     vec3 layer1_f = (_e235 + layer1_later);
-    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
-    vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
-    vec3 _e272 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    vec3 _e273 = car_paint_glossy_albedo_remainder(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l, layer2_later_l);
-    vec3 _e276 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
-    vec3 _e277 = car_paint_glossy_albedo_remainder(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_single_v, layer2_later_v);
+    vec3 _e268 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    vec3 _e269 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, _e268, _e262);
+    vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, _e269, _e263);
     float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    vec3 layer1_trapped_l = ((_e272 * layer1_trapped_share_l) + (_e273 * vec3(0.5555556)));
-    vec3 layer1_near_l = ((_e272 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l)));
-    vec3 layer1_spread_kept_l = (_e273 * vec3(0.44444442));
+    vec3 layer1_trapped_l = ((_e268 * layer1_trapped_share_l) + (_e262 * vec3(0.5555556)));
+    vec3 layer1_near_l = ((_e268 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l)));
+    vec3 layer1_spread_kept_l = (_e262 * vec3(0.44444442));
     float layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    vec3 layer1_trapped_v = ((_e276 * layer1_trapped_share_v) + (_e277 * vec3(0.5555556)));
-    vec3 layer1_near_v = ((_e276 * (1.0 - layer1_trapped_share_v)) + vec3((1.0 - layer2_transmit_v)));
-    vec3 layer1_spread_kept_v = (_e277 * vec3(0.44444442));
+    vec3 layer1_trapped_v = ((_e269 * layer1_trapped_share_v) + (_e263 * vec3(0.5555556)));
+    vec3 layer1_near_v = ((_e269 * (1.0 - layer1_trapped_share_v)) + vec3((1.0 - layer2_transmit_v)));
+    vec3 layer1_spread_kept_v = (_e263 * vec3(0.44444442));
     vec3 inner_l = (vec3(1.0) * (1.0 - layer1_transmit_l));
     vec3 inner_v = (vec3(1.0) * (1.0 - layer1_transmit_v));
-    vec3 _e322 = car_paint_interfaced_glossy_under(layer1_f, (layer1_near_l + layer1_spread_kept_l), inner_l, (layer1_near_v + layer1_spread_kept_v), inner_v);
-    vec3 _e328 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    float _e329 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    float _e330 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    vec3 _e320 = car_paint_interfaced_glossy_under(layer1_f, (layer1_near_l + layer1_spread_kept_l), inner_l, (layer1_near_v + layer1_spread_kept_v), inner_v);
+    vec3 _e326 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1.0), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    float _e327 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    float _e328 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     float layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    float layer1_trapped_spread_rho = min((sqrt(max((_e329 * _e330), 0.0)) * layer1_trapped_sines), 0.95);
-    vec3 _e344 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0.0, 0.0, 0.0, 0.8432137, car_paint_layer1_rho);
-    float _e345 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    float layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e345);
-    vec3 _e347 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e344, _e345);
-    vec3 layer1_trapped_spread = (_e347 * layer1_trapped_spread_weight);
-    vec3 trapped_1 = (_e328 * layer1_trapped_spread);
-    vec3 under = (_e322 + trapped_1);
+    float layer1_trapped_spread_rho = min((sqrt(max((_e327 * _e328), 0.0)) * layer1_trapped_sines), 0.95);
+    vec3 _e342 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0.0, 0.0, 0.0, 0.8432137, car_paint_layer1_rho);
+    float _e343 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    float layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e343);
+    vec3 _e345 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e342, _e343);
+    vec3 layer1_trapped_spread = (_e345 * layer1_trapped_spread_weight);
+    vec3 trapped_1 = (_e326 * layer1_trapped_spread);
+    vec3 under = (_e320 + trapped_1);
     vec3 f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
@@ -715,8 +707,8 @@ vec3 car_paint_eval(vec3 n_4, vec3 v_4, vec3 l_4) {
 
 // What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
 // out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
-vec3 car_paint_interfaced_glossy_bounced(float t_4, vec3 a_3, vec3 kept, vec3 leaving) {
-    vec3 k = ((a_3 * a_3) * (1.0 - t_4));
+vec3 car_paint_interfaced_glossy_bounced(float t_3, vec3 a_1, vec3 kept, vec3 leaving) {
+    vec3 k = ((a_1 * a_1) * (1.0 - t_3));
     vec3 _e8 = (kept * k);
     return (leaving / max((vec3(1.0) - _e8), vec3(1e-6)));
 }
@@ -730,10 +722,10 @@ vec3 car_paint_interfaced_glossy_bounced(float t_4, vec3 a_3, vec3 kept, vec3 le
 // trapped, and X of it leaves (`trapped_return`).
 // Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
-vec3 car_paint_interfaced_albedo_glossy(float t_5, float t_cone, vec3 a_4, vec3 near, vec3 spread, vec3 trapped, vec3 trapped_out) {
-    vec3 leaving_1 = (((near * t_5) + (spread * t_cone)) + (trapped * trapped_out));
-    vec3 _e14 = car_paint_interfaced_glossy_bounced(t_5, a_4, (near + spread), leaving_1);
-    return ((((a_4 * a_4) * _e14) * t_5) + vec3((1.0 - t_5)));
+vec3 car_paint_interfaced_albedo_glossy(float t_4, float t_cone, vec3 a_2, vec3 near, vec3 spread, vec3 trapped, vec3 trapped_out) {
+    vec3 leaving_1 = (((near * t_4) + (spread * t_cone)) + (trapped * trapped_out));
+    vec3 _e14 = car_paint_interfaced_glossy_bounced(t_4, a_2, (near + spread), leaving_1);
+    return ((((a_2 * a_2) * _e14) * t_4) + vec3((1.0 - t_4)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -744,8 +736,8 @@ vec3 car_paint_interfaced_albedo_glossy(float t_5, float t_cone, vec3 a_4, vec3 
 vec3 car_paint_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_6) {
     vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
-    float t_6 = (smoothness * (sqrt(smoothness) + alpha_6));
-    vec3 d_2 = ((n_5 * (1.0 - t_6)) + (r_3 * t_6));
+    float t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
+    vec3 d_2 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
 
@@ -800,16 +792,16 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
     vec3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
     vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 1e-6)));
-    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    vec3 _e95 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    vec3 _e96 = car_paint_glossy_albedo_remainder(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l_1, layer2_later_l);
+    vec3 _e92 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    vec3 _e93 = car_paint_glossy_remainder(layer2_transmit_l_1, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l_1, layer2_later_l);
+    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, _e92, _e93);
     float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    vec3 layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556)));
-    vec3 layer1_near_l_1 = ((_e95 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
-    vec3 layer1_spread_kept_l_1 = (_e96 * vec3(0.44444442));
-    vec3 layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556)));
-    vec3 layer1_near_v_1 = ((_e95 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
-    vec3 layer1_spread_kept_v_1 = (_e96 * vec3(0.44444442));
+    vec3 layer1_trapped_l_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556)));
+    vec3 layer1_near_l_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
+    vec3 layer1_spread_kept_l_1 = (_e93 * vec3(0.44444442));
+    vec3 layer1_trapped_v_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556)));
+    vec3 layer1_near_v_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
+    vec3 layer1_spread_kept_v_1 = (_e93 * vec3(0.44444442));
     vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1.0), layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
     vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1.0), layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);

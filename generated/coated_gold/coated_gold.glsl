@@ -92,8 +92,8 @@ vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
     vec3 t0_ = ((eta2_ - k2_) - vec3(sin2_));
     vec3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4.0))));
     vec3 t1_ = (a2_plus_b2_ + vec3(cos2_));
-    vec3 a_2 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5)));
-    vec3 t2_ = (a_2 * (sqrt(cos2_) * 2.0));
+    vec3 a_1 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5)));
+    vec3 t2_ = (a_1 * (sqrt(cos2_) * 2.0));
     vec3 r_s = ((t1_ - t2_) / (t1_ + t2_));
     vec3 t3_ = ((a2_plus_b2_ * cos2_) + vec3((sin2_ * sin2_)));
     vec3 t4_ = (t2_ * sin2_);
@@ -299,8 +299,8 @@ vec3 coated_gold_half_vector(vec3 v, vec3 l) {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float coated_gold_d_ggx(float cos_h, float sin2_h, float alpha_2) {
-    float a_3 = max(alpha_2, 0.001);
-    float a_sq = (a_3 * a_3);
+    float a_2 = max(alpha_2, 0.001);
+    float a_sq = (a_2 * a_2);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -365,8 +365,8 @@ float coated_gold_coat_scale_curve(float cos_theta_10) {
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 float coated_gold_d_ggx_mirrored_tail(float z, float across, float alpha_5) {
-    float a_4 = max(alpha_5, 0.001);
-    float a_sq_1 = (a_4 * a_4);
+    float a_3 = max(alpha_5, 0.001);
+    float a_sq_1 = (a_3 * a_3);
     float h_sq = ((z * z) + across);
     float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
@@ -531,9 +531,9 @@ vec3 coated_gold_forward_azimuth_tilt(float rho_2, vec3 rho_c, float cos_phi_1) 
     vec3 mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
     vec3 denominator = max(((r_b + vec3(r_2)) - (r_c * (coated_gold_one + x))), vec3(1e-6));
     vec3 least = (((coated_gold_one - r_b) / (coated_gold_one + r_b)) * vec3(-0.999));
-    vec3 a_5 = max((((r_c - vec3(r_2)) * (coated_gold_one - x)) / denominator), least);
+    vec3 a_4 = max((((r_c - vec3(r_2)) * (coated_gold_one - x)) / denominator), least);
     vec3 weight_1 = ((coated_gold_one - (r_b * r_b)) / ((coated_gold_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2.0))));
-    return ((coated_gold_one + (a_5 * weight_1)) / (coated_gold_one + (a_5 * mean_weight)));
+    return ((coated_gold_one + (a_4 * weight_1)) / (coated_gold_one + (a_4 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -673,8 +673,8 @@ vec3 coated_gold_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     vec3 _e354 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1.0), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
     vec3 _e357 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1.0), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
     vec3 _e359 = coated_gold_glossy_remainder_lobe(_e354, _e357, coated_gold_remainder_avg);
-    vec3 later_2 = (_e359 * spread_1);
-    vec3 f_55 = (_e325 + later_2);
+    vec3 later_1 = (_e359 * spread_1);
+    vec3 f_55 = (_e325 + later_1);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : vec3(0.0));
 }
 
@@ -684,14 +684,19 @@ vec3 coated_gold_eval(vec3 n_4, vec3 v_4, vec3 l_4) {
     return (f * max(dot(n_4, l_4), 0.0));
 }
 
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+// attenuated by a₁² along its own paths.
+vec3 coated_gold_glossy_albedo_lobe(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 once) {
+    return ((((fresnel_2 * a_lobe) * a_lobe) * once) * t_1);
+}
+
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-// own paths) and the remainder (`glossy_remainder`).
-vec3 coated_gold_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1, vec3 once, float single_2, vec3 later_1) {
-    vec3 near_1 = ((a_lobe * a_lobe) * once);
-    vec3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
-    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1.0 - t_1)));
+// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+// (`glossy_remainder`).
+vec3 coated_gold_glossy_albedo(float t_2, vec3 lobe, vec3 remainder) {
+    return ((lobe + remainder) + vec3((1.0 - t_2)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -702,8 +707,8 @@ vec3 coated_gold_glossy_albedo(float t_1, vec3 fresnel_2, vec3 a_lobe, vec3 a_1,
 vec3 coated_gold_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_6) {
     vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
-    float t_2 = (smoothness * (sqrt(smoothness) + alpha_6));
-    vec3 d_2 = ((n_5 * (1.0 - t_2)) + (r_3 * t_2));
+    float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
+    vec3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
 }
 
@@ -762,15 +767,17 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(vec3 n_6, vec3 v_6) {
     float layer1_blur_l_4 = (_e113 * 0.010000001);
     float layer1_blur_v_4 = (_e113 * 0.010000001);
     float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    vec3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1.0), vec3(1.0), layer1_once_l, layer1_single_l_1, layer1_later_l);
+    vec3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1.0), layer1_once_l);
+    vec3 _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, vec3(1.0), layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
+    vec3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
     float coat_albedo = (1.0 - layer1_transmit_l_1);
     vec3 under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
     float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
     vec3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    bool _e151 = (dot(n_6, v_6) > 0.0);
-    return CoatedGoldIblLobes(CoatedGoldIblLobe[2](CoatedGoldIblLobe(reflected, lookup_roughness, (_e151 ? vec3(coat_albedo) : vec3(0.0))), CoatedGoldIblLobe(reflected_1, base_roughness, (_e151 ? under_albedo : vec3(0.0)))), CoatedGoldIblLobe(n_6, 1.0, vec3(0.0)));
+    bool _e153 = (dot(n_6, v_6) > 0.0);
+    return CoatedGoldIblLobes(CoatedGoldIblLobe[2](CoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? vec3(coat_albedo) : vec3(0.0))), CoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : vec3(0.0)))), CoatedGoldIblLobe(n_6, 1.0, vec3(0.0)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -112,8 +112,8 @@ float3 coated_gold_fr_conductor(float cos_i_1, float3 eta_2, float3 k)
     float3 t0_ = ((eta2_ - k2_) - (sin2_).xxx);
     float3 a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * (4.0).xxx)));
     float3 t1_ = (a2_plus_b2_ + (cos2_).xxx);
-    float3 a_2 = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
-    float3 t2_ = (a_2 * (sqrt(cos2_) * 2.0));
+    float3 a_1 = sqrt(((a2_plus_b2_ + t0_) * (0.5).xxx));
+    float3 t2_ = (a_1 * (sqrt(cos2_) * 2.0));
     float3 r_s = ((t1_ - t2_) / (t1_ + t2_));
     float3 t3_ = ((a2_plus_b2_ * cos2_) + ((sin2_ * sin2_)).xxx);
     float3 t4_ = (t2_ * sin2_);
@@ -333,8 +333,8 @@ float3 coated_gold_half_vector(float3 v, float3 l)
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 float coated_gold_d_ggx(float cos_h, float sin2_h, float alpha_2)
 {
-    float a_3 = max(alpha_2, 0.001);
-    float a_sq = (a_3 * a_3);
+    float a_2 = max(alpha_2, 0.001);
+    float a_sq = (a_2 * a_2);
     float denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12);
     return (a_sq / ((denom * denom) * 3.1415927));
 }
@@ -404,8 +404,8 @@ float coated_gold_coat_scale_curve(float cos_theta_10)
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 float coated_gold_d_ggx_mirrored_tail(float z, float across, float alpha_5)
 {
-    float a_4 = max(alpha_5, 0.001);
-    float a_sq_1 = (a_4 * a_4);
+    float a_3 = max(alpha_5, 0.001);
+    float a_sq_1 = (a_3 * a_3);
     float h_sq = ((z * z) + across);
     float denom_1 = max((((z * z) * a_sq_1) + across), 1e-12);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
@@ -579,9 +579,9 @@ float3 coated_gold_forward_azimuth_tilt(float rho_2, float3 rho_c, float cos_phi
     float3 mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
     float3 denominator = max(((r_b + (r_2).xxx) - (r_c * (coated_gold_one + x))), (1e-6).xxx);
     float3 least = (((coated_gold_one - r_b) / (coated_gold_one + r_b)) * (-0.999).xxx);
-    float3 a_5 = max((((r_c - (r_2).xxx) * (coated_gold_one - x)) / denominator), least);
+    float3 a_4 = max((((r_c - (r_2).xxx) * (coated_gold_one - x)) / denominator), least);
     float3 weight_1 = ((coated_gold_one - (r_b * r_b)) / ((coated_gold_one + (r_b * r_b)) - ((r_b * cos_phi_1) * (2.0).xxx)));
-    return ((coated_gold_one + (a_5 * weight_1)) / (coated_gold_one + (a_5 * mean_weight)));
+    return ((coated_gold_one + (a_4 * weight_1)) / (coated_gold_one + (a_4 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -724,8 +724,8 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 _e354 = coated_gold_glossy_remainder(layer1_transmit_l, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
     const float3 _e357 = coated_gold_glossy_remainder(layer1_transmit_v, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
     const float3 _e359 = coated_gold_glossy_remainder_lobe(_e354, _e357, coated_gold_remainder_avg);
-    float3 later_2 = (_e359 * spread_1);
-    float3 f_55 = (_e325 + later_2);
+    float3 later_1 = (_e359 * spread_1);
+    float3 f_55 = (_e325 + later_1);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f_55 : (0.0).xxx);
 }
 
@@ -736,15 +736,21 @@ float3 coated_gold_eval(float3 n_4, float3 v_4, float3 l_4)
     return (f * max(dot(n_4, l_4), 0.0));
 }
 
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+// attenuated by a₁² along its own paths.
+float3 coated_gold_glossy_albedo_lobe(float t_1, float3 fresnel_2, float3 a_lobe, float3 once)
+{
+    return ((((fresnel_2 * a_lobe) * a_lobe) * once) * t_1);
+}
+
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-// own paths) and the remainder (`glossy_remainder`).
-float3 coated_gold_glossy_albedo(float t_1, float3 fresnel_2, float3 a_lobe, float3 a_1, float3 once, float single_2, float3 later_1)
+// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+// (`glossy_remainder`).
+float3 coated_gold_glossy_albedo(float t_2, float3 lobe, float3 remainder)
 {
-    float3 near_1 = ((a_lobe * a_lobe) * once);
-    float3 far_1 = (((a_1 * a_1) * later_1) * (1.0 - single_2));
-    return (((fresnel_2 * (near_1 + far_1)) * t_1) + ((1.0 - t_1)).xxx);
+    return ((lobe + remainder) + ((1.0 - t_2)).xxx);
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -756,8 +762,8 @@ float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alp
 {
     float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
-    float t_2 = (smoothness * (sqrt(smoothness) + alpha_6));
-    float3 d_2 = ((n_5 * (1.0 - t_2)) + (r_3 * t_2));
+    float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
+    float3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
     return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
@@ -851,15 +857,17 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     float layer1_blur_l_4 = (_e113 * 0.010000001);
     float layer1_blur_v_4 = (_e113 * 0.010000001);
     float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    const float3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, (1.0).xxx, (1.0).xxx, layer1_once_l, layer1_single_l_1, layer1_later_l);
+    const float3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, (1.0).xxx, layer1_once_l);
+    const float3 _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
+    const float3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
     float coat_albedo = (1.0 - layer1_transmit_l_1);
     float3 under_albedo = max((albedo_l - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
     const float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
     const float3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    bool _e151 = (dot(n_6, v_6) > 0.0);
-    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (_e151 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e151 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
+    bool _e153 = (dot(n_6, v_6) > 0.0);
+    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
     return coatedgoldibllobes;
 }
 

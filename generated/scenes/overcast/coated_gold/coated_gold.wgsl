@@ -97,8 +97,8 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
     let t0_ = ((eta2_ - k2_) - vec3(sin2_));
     let a2_plus_b2_ = sqrt(((t0_ * t0_) + ((eta2_ * k2_) * vec3(4f))));
     let t1_ = (a2_plus_b2_ + vec3(cos2_));
-    let a_2 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5f)));
-    let t2_ = (a_2 * (sqrt(cos2_) * 2f));
+    let a_1 = sqrt(((a2_plus_b2_ + t0_) * vec3(0.5f)));
+    let t2_ = (a_1 * (sqrt(cos2_) * 2f));
     let r_s = ((t1_ - t2_) / (t1_ + t2_));
     let t3_ = ((a2_plus_b2_ * cos2_) + vec3((sin2_ * sin2_)));
     let t4_ = (t2_ * sin2_);
@@ -304,8 +304,8 @@ fn coated_gold_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn coated_gold_d_ggx(cos_h: f32, sin2_h: f32, alpha_2: f32) -> f32 {
-    let a_3 = max(alpha_2, 0.001f);
-    let a_sq = (a_3 * a_3);
+    let a_2 = max(alpha_2, 0.001f);
+    let a_sq = (a_2 * a_2);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -480,9 +480,9 @@ fn coated_gold_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32
     let mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
     let denominator = max(((r_b + vec3(r_2)) - (r_c * (coated_gold_one + x))), vec3(0.000001f));
     let least = (((coated_gold_one - r_b) / (coated_gold_one + r_b)) * vec3(-0.999f));
-    let a_4 = max((((r_c - vec3(r_2)) * (coated_gold_one - x)) / denominator), least);
+    let a_3 = max((((r_c - vec3(r_2)) * (coated_gold_one - x)) / denominator), least);
     let weight_1 = ((coated_gold_one - (r_b * r_b)) / ((coated_gold_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2f))));
-    return ((coated_gold_one + (a_4 * weight_1)) / (coated_gold_one + (a_4 * mean_weight)));
+    return ((coated_gold_one + (a_3 * weight_1)) / (coated_gold_one + (a_3 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -608,8 +608,8 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let _e320 = coated_gold_glossy_remainder(layer1_transmit_l, vec3(1f), layer1_fresnel_cond_l, layer1_single_l, layer1_later_l);
     let _e323 = coated_gold_glossy_remainder(layer1_transmit_v, vec3(1f), layer1_fresnel_cond_v, layer1_single_v, layer1_later_v);
     let _e325 = coated_gold_glossy_remainder_lobe(_e320, _e323, coated_gold_remainder_avg);
-    let later_2 = (_e325 * spread_1);
-    let f_48 = (_e291 + later_2);
+    let later_1 = (_e325 * spread_1);
+    let f_48 = (_e291 + later_1);
     return select(vec3(0f), f_48, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
 
@@ -619,14 +619,19 @@ fn coated_gold_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32>
     return (f * max(dot(n_4, l_4), 0f));
 }
 
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+// attenuated by a₁² along its own paths.
+fn coated_gold_glossy_albedo_lobe(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, once: vec3<f32>) -> vec3<f32> {
+    return ((((fresnel_2 * a_lobe) * a_lobe) * once) * t_1);
+}
+
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-// own paths) and the remainder (`glossy_remainder`).
-fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_1: vec3<f32>, once: vec3<f32>, single_2: f32, later_1: vec3<f32>) -> vec3<f32> {
-    let near_1 = ((a_lobe * a_lobe) * once);
-    let far_1 = (((a_1 * a_1) * later_1) * (1f - single_2));
-    return (((fresnel_2 * (near_1 + far_1)) * t_1) + vec3((1f - t_1)));
+// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+// (`glossy_remainder`).
+fn coated_gold_glossy_albedo(t_2: f32, lobe: vec3<f32>, remainder: vec3<f32>) -> vec3<f32> {
+    return ((lobe + remainder) + vec3((1f - t_2)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -637,8 +642,8 @@ fn coated_gold_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, 
 fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_5: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_5), 0f), 1f);
-    let t_2 = (smoothness * (sqrt(smoothness) + alpha_5));
-    let d_2 = ((n_5 * (1f - t_2)) + (r_3 * t_2));
+    let t_3 = (smoothness * (sqrt(smoothness) + alpha_5));
+    let d_2 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -697,15 +702,17 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let layer1_blur_l_4 = (_e113 * 0.010000001f);
     let layer1_blur_v_4 = (_e113 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), vec3(1f), layer1_once_l, layer1_single_l_1, layer1_later_l);
+    let _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), layer1_once_l);
+    let _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, vec3(1f), layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
+    let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
     let coat_albedo = (1f - layer1_transmit_l_1);
     let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
     let reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001f);
     let lookup_roughness = coated_gold_grazing_lookup_roughness(0.1f, dot(n_6, v_6));
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
     let reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    let _e151 = (dot(n_6, v_6) > 0f);
-    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e151)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e151))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
+    let _e153 = (dot(n_6, v_6) > 0f);
+    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e153)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e153))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

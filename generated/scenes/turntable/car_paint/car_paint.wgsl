@@ -20,10 +20,10 @@ const car_paint_layer1_specular: vec3<f32> = vec3<f32>(0f, 0f, 0f);
 const car_paint_layer2_pool_fresnel: vec3<f32> = vec3<f32>(0.88051546f, 0.8935001f, 0.8935001f);
 const car_paint_layer1_remainder_avg: vec3<f32> = vec3<f32>(0.0025565596f, 0.000000013872456f, 0.00000000016960744f);
 const car_paint_layer1_mu_c: f32 = 0.745356f;
-const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.7408726f, 0.06705919f, 0.031262197f);
+const car_paint_layer1_rho: vec3<f32> = vec3<f32>(0.74087256f, 0.06705919f, 0.031262197f);
 const car_paint_layer1_trapped_escape: f32 = 0.15678635f;
 const car_paint_layer1_transmit_cone: f32 = 0.9489286f;
-const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371282f, 0.010574966f, 0.0047770874f);
+const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371276f, 0.010574966f, 0.0047770874f);
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
@@ -52,8 +52,8 @@ fn car_paint_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // zero half vector (two zero directions under total internal reflection), where it would
 // be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
 fn car_paint_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    let a_5 = max(alpha, 0.001f);
-    let a_sq = (a_5 * a_5);
+    let a_3 = max(alpha, 0.001f);
+    let a_sq = (a_3 * a_3);
     let denom = max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f);
     return (a_sq / ((denom * denom) * 3.1415927f));
 }
@@ -86,8 +86,8 @@ fn car_paint_fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let cos_t = sqrt(max((1f - sin2_t), 0f));
     let r_parl = (((eta * cos_i_1) - cos_t) / ((eta * cos_i_1) + cos_t));
     let r_perp = ((cos_i_1 - (eta * cos_t)) / (cos_i_1 + (eta * cos_t)));
-    let fresnel_5 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
-    return select(1f, fresnel_5, (sin2_t < 1f));
+    let fresnel_3 = (((r_parl * r_parl) + (r_perp * r_perp)) * 0.5f);
+    return select(1f, fresnel_3, (sin2_t < 1f));
 }
 
 // Cook & Torrance 1982 (Bowsher 2022, eq. 4): the microfacet reflection
@@ -132,8 +132,8 @@ fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
 fn car_paint_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
-    let a_6 = max(alpha_3, 0.001f);
-    let a_sq_1 = (a_6 * a_6);
+    let a_4 = max(alpha_3, 0.001f);
+    let a_sq_1 = (a_4 * a_4);
     let h_sq = ((z * z) + across);
     let denom_1 = max((((z * z) * a_sq_1) + across), 0.000000000001f);
     return ((((a_sq_1 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
@@ -479,9 +479,9 @@ fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) 
     let mean_weight = ((car_paint_one + x) / (car_paint_one - x));
     let denominator = max(((r_b + vec3(r_2)) - (r_c * (car_paint_one + x))), vec3(0.000001f));
     let least = (((car_paint_one - r_b) / (car_paint_one + r_b)) * vec3(-0.999f));
-    let a_7 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
+    let a_5 = max((((r_c - vec3(r_2)) * (car_paint_one - x)) / denominator), least);
     let weight_1 = ((car_paint_one - (r_b * r_b)) / ((car_paint_one + (r_b * r_b)) - ((r_b * cos_phi_1) * vec3(2f))));
-    return ((car_paint_one + (a_7 * weight_1)) / (car_paint_one + (a_7 * mean_weight)));
+    return ((car_paint_one + (a_5 * weight_1)) / (car_paint_one + (a_5 * mean_weight)));
 }
 
 // glazec's glossy level, the directional albedo of the remainder, what leaves after more
@@ -502,25 +502,19 @@ fn car_paint_glossy_remainder_lobe(m_i: vec3<f32>, m_o: vec3<f32>, m_avg: vec3<f
     return ((m_i * m_o) / (max(m_avg, vec3(0.000001f)) * vec3(3.1415927f)));
 }
 
+// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
+// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+// attenuated by a₁² along its own paths.
+fn car_paint_glossy_albedo_lobe(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, once: vec3<f32>) -> vec3<f32> {
+    return ((((fresnel_2 * a_lobe) * a_lobe) * once) * t_1);
+}
+
 // The directional albedo seen above a coat over a conductor (glazec's glossy level):
 // (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-// own paths) and the remainder (`glossy_remainder`).
-fn car_paint_glossy_albedo(t_1: f32, fresnel_2: vec3<f32>, a_lobe: vec3<f32>, a_1: vec3<f32>, once: vec3<f32>, single_2: f32, later_1: vec3<f32>) -> vec3<f32> {
-    let near_2 = ((a_lobe * a_lobe) * once);
-    let far_1 = (((a_1 * a_1) * later_1) * (1f - single_2));
-    return (((fresnel_2 * (near_2 + far_1)) * t_1) + vec3((1f - t_1)));
-}
-
-// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
-// T F a₁² O.
-fn car_paint_glossy_albedo_lobe(t_2: f32, fresnel_3: vec3<f32>, a_lobe_1: vec3<f32>, once_1: vec3<f32>) -> vec3<f32> {
-    return ((((fresnel_3 * a_lobe_1) * a_lobe_1) * once_1) * t_2);
-}
-
-// The rest of `glossy_albedo`, spread over the hemisphere (the remainder), T F a² (1 − P₁) Ŷ.
-fn car_paint_glossy_albedo_remainder(t_3: f32, fresnel_4: vec3<f32>, a_2: vec3<f32>, single_3: f32, later_2: vec3<f32>) -> vec3<f32> {
-    return (((((fresnel_4 * a_2) * a_2) * later_2) * (1f - single_3)) * t_3);
+// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+// (`glossy_remainder`).
+fn car_paint_glossy_albedo(t_2: f32, lobe: vec3<f32>, remainder: vec3<f32>) -> vec3<f32> {
+    return ((lobe + remainder) + vec3((1f - t_2)));
 }
 
 // glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
@@ -679,35 +673,33 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let _e265 = car_paint_glossy_remainder_lobe(_e262, _e263, car_paint_layer1_remainder_avg);
     let layer1_later = (_e265 * layer1_spread);
     let layer1_f = (_e235 + layer1_later);
-    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l, layer2_later_l);
-    let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_absorb_v, layer2_once_v, layer2_single_v, layer2_later_v);
-    let _e272 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    let _e273 = car_paint_glossy_albedo_remainder(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l, layer2_later_l);
-    let _e276 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
-    let _e277 = car_paint_glossy_albedo_remainder(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_single_v, layer2_later_v);
+    let _e268 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    let _e269 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, _e268, _e262);
+    let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, _e269, _e263);
     let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_l = ((_e272 * layer1_trapped_share_l) + (_e273 * vec3(0.5555556f)));
-    let layer1_near_l = ((_e272 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l)));
-    let layer1_spread_kept_l = (_e273 * vec3(0.44444442f));
+    let layer1_trapped_l = ((_e268 * layer1_trapped_share_l) + (_e262 * vec3(0.5555556f)));
+    let layer1_near_l = ((_e268 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l)));
+    let layer1_spread_kept_l = (_e262 * vec3(0.44444442f));
     let layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_v = ((_e276 * layer1_trapped_share_v) + (_e277 * vec3(0.5555556f)));
-    let layer1_near_v = ((_e276 * (1f - layer1_trapped_share_v)) + vec3((1f - layer2_transmit_v)));
-    let layer1_spread_kept_v = (_e277 * vec3(0.44444442f));
+    let layer1_trapped_v = ((_e269 * layer1_trapped_share_v) + (_e263 * vec3(0.5555556f)));
+    let layer1_near_v = ((_e269 * (1f - layer1_trapped_share_v)) + vec3((1f - layer2_transmit_v)));
+    let layer1_spread_kept_v = (_e263 * vec3(0.44444442f));
     let inner_l = (vec3(1f) * (1f - layer1_transmit_l));
     let inner_v = (vec3(1f) * (1f - layer1_transmit_v));
-    let _e322 = car_paint_interfaced_glossy_under(layer1_f, (layer1_near_l + layer1_spread_kept_l), inner_l, (layer1_near_v + layer1_spread_kept_v), inner_v);
-    let _e328 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
-    let _e329 = car_paint_glossy_spread_curve_b(n_dot_l_2);
-    let _e330 = car_paint_glossy_spread_curve_b(n_dot_v_3);
+    let _e320 = car_paint_interfaced_glossy_under(layer1_f, (layer1_near_l + layer1_spread_kept_l), inner_l, (layer1_near_v + layer1_spread_kept_v), inner_v);
+    let _e326 = car_paint_trapped_lobe(layer1_trapped_l, layer1_trapped_v, car_paint_layer1_mu_c, vec3(1f), car_paint_layer1_rho, car_paint_layer1_trapped_escape);
+    let _e327 = car_paint_glossy_spread_curve_b(n_dot_l_2);
+    let _e328 = car_paint_glossy_spread_curve_b(n_dot_v_3);
     let layer1_trapped_sines = car_paint_forward_sines(n_3, v_3, l_3);
-    let layer1_trapped_spread_rho = min((sqrt(max((_e329 * _e330), 0f)) * layer1_trapped_sines), 0.95f);
-    let _e344 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
-    let _e345 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
-    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e345);
-    let _e347 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e344, _e345);
-    let layer1_trapped_spread = (_e347 * layer1_trapped_spread_weight);
-    let trapped_1 = (_e328 * layer1_trapped_spread);
-    let under = (_e322 + trapped_1);
+    let layer1_trapped_spread_rho = min((sqrt(max((_e327 * _e328), 0f)) * layer1_trapped_sines), 0.95f);
+    let _e342 = car_paint_glossy_spread_colour(layer1_trapped_spread_rho, 0f, 0f, 0f, 0.8432137f, car_paint_layer1_rho);
+    let _e343 = car_paint_forward_cosine(n_3, v_3, l_3, layer1_trapped_sines);
+    let layer1_trapped_spread_weight = car_paint_forward_azimuth_weight(layer1_trapped_spread_rho, _e343);
+    let _e345 = car_paint_forward_azimuth_tilt(layer1_trapped_spread_rho, _e342, _e343);
+    let layer1_trapped_spread = (_e345 * layer1_trapped_spread_weight);
+    let trapped_1 = (_e326 * layer1_trapped_spread);
+    let under = (_e320 + trapped_1);
     let f = car_paint_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -720,8 +712,8 @@ fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
 
 // What of `leaving`, light a glossy body sends up inside a coat's escape cone, comes back
 // out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
-fn car_paint_interfaced_glossy_bounced(t_4: f32, a_3: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
-    let k = ((a_3 * a_3) * (1f - t_4));
+fn car_paint_interfaced_glossy_bounced(t_3: f32, a_1: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
+    let k = ((a_1 * a_1) * (1f - t_3));
     let _e8 = (kept * k);
     return (leaving / max((vec3(1f) - _e8), vec3(0.000001f)));
 }
@@ -735,10 +727,10 @@ fn car_paint_interfaced_glossy_bounced(t_4: f32, a_3: vec3<f32>, kept: vec3<f32>
 // trapped, and X of it leaves (`trapped_return`).
 // Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
-fn car_paint_interfaced_albedo_glossy(t_5: f32, t_cone: f32, a_4: vec3<f32>, near: vec3<f32>, spread: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
-    let leaving_1 = (((near * t_5) + (spread * t_cone)) + (trapped * trapped_out));
-    let _e14 = car_paint_interfaced_glossy_bounced(t_5, a_4, (near + spread), leaving_1);
-    return ((((a_4 * a_4) * _e14) * t_5) + vec3((1f - t_5)));
+fn car_paint_interfaced_albedo_glossy(t_4: f32, t_cone: f32, a_2: vec3<f32>, near: vec3<f32>, spread: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
+    let leaving_1 = (((near * t_4) + (spread * t_cone)) + (trapped * trapped_out));
+    let _e14 = car_paint_interfaced_glossy_bounced(t_4, a_2, (near + spread), leaving_1);
+    return ((((a_2 * a_2) * _e14) * t_4) + vec3((1f - t_4)));
 }
 
 // Lagarde & de Rousiers 2014, "Moving Frostbite to Physically Based Rendering", listing 22:
@@ -749,8 +741,8 @@ fn car_paint_interfaced_albedo_glossy(t_5: f32, t_cone: f32, a_4: vec3<f32>, nea
 fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6: f32) -> vec3<f32> {
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_6), 0f), 1f);
-    let t_6 = (smoothness * (sqrt(smoothness) + alpha_6));
-    let d_2 = ((n_5 * (1f - t_6)) + (r_3 * t_6));
+    let t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
+    let d_2 = ((n_5 * (1f - t_5)) + (r_3 * t_5));
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
@@ -805,16 +797,16 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
     let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
     let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
-    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_absorb_l, layer2_once_l, layer2_single_l_1, layer2_later_l);
-    let _e95 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    let _e96 = car_paint_glossy_albedo_remainder(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_single_l_1, layer2_later_l);
+    let _e92 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
+    let _e93 = car_paint_glossy_remainder(layer2_transmit_l_1, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l_1, layer2_later_l);
+    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, _e92, _e93);
     let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_l_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556f)));
-    let layer1_near_l_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
-    let layer1_spread_kept_l_1 = (_e96 * vec3(0.44444442f));
-    let layer1_trapped_v_1 = ((_e95 * layer1_trapped_share_l) + (_e96 * vec3(0.5555556f)));
-    let layer1_near_v_1 = ((_e95 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
-    let layer1_spread_kept_v_1 = (_e96 * vec3(0.44444442f));
+    let layer1_trapped_l_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556f)));
+    let layer1_near_l_1 = ((_e92 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
+    let layer1_spread_kept_l_1 = (_e93 * vec3(0.44444442f));
+    let layer1_trapped_v_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556f)));
+    let layer1_near_v_1 = ((_e92 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
+    let layer1_spread_kept_v_1 = (_e93 * vec3(0.44444442f));
     let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
     let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);

@@ -457,8 +457,13 @@ fn remainder<F: Real>(side: &Side<F>) -> F::Vec {
     glossy_remainder(side.transmission, side.absorb, side.fresnel, side.single, side.later)
 }
 
+/// The part of a side's directional albedo that leaves near the mirror direction as the lobe.
+fn albedo_lobe<F: Real>(side: &Side<F>) -> F::Vec {
+    glossy_albedo_lobe(side.transmission, side.fresnel, side.absorb_lobe, side.once)
+}
+
 fn directional_albedo<F: Real>(side: &Side<F>) -> F::Vec {
-    glossy_albedo(side.transmission, side.fresnel, side.absorb_lobe, side.absorb, side.once, side.single, side.later)
+    glossy_albedo(side.transmission, albedo_lobe(side), remainder(side))
 }
 
 /// The conductor's microfacet lobe (without the cosine) at the level's directions with the
@@ -575,22 +580,20 @@ pub(super) fn glossy_level<F: Real>(
         (once + later).named(&level_name("f", k))
     };
     let albedo = want_albedo.then(|| {
-        let e_l = directional_albedo(&l).named(&level_name("albedo_l", k));
-        let e_v = directional_albedo(v_side).named(&level_name("albedo_v", k));
+        let parts = |side: &Side<F>| (albedo_lobe(side), remainder(side));
+        let (lobe_l, spread_l) = parts(&l);
+        let (lobe_v, spread_v) = parts(v_side);
+        let e_l = glossy_albedo(l.transmission, lobe_l, spread_l).named(&level_name("albedo_l", k));
+        let e_v = glossy_albedo(v_side.transmission, lobe_v, spread_v).named(&level_name("albedo_v", k));
         let mean =
             means.next().unwrap_or_else(|| unreachable!("the mean albedo is summed")).named(&level_name("rho", k));
         // Under a coat (a medium above), that coat lets out of each part what its escape cone
         // holds: the coat's own reflection, the lobe and the remainder.
         let split = n_medium.is_some().then(|| {
             let alpha = glossy.interface.ggx_lobe_alpha();
-            let part = |side: &Side<F>| {
-                let specular = side.transmission.one_minus();
-                let lobe = glossy_albedo_lobe(side.transmission, side.fresnel, side.absorb_lobe, side.once);
-                let spread =
-                    glossy_albedo_remainder(side.transmission, side.fresnel, side.absorb, side.single, side.later);
-                Split { specular, alpha, lobe, spread }
-            };
-            (part(&l), part(v_side))
+            let part =
+                |side: &Side<F>, lobe, spread| Split { specular: side.transmission.one_minus(), alpha, lobe, spread };
+            (part(&l, lobe_l, spread_l), part(v_side, lobe_v, spread_v))
         });
         Albedo { e_l, e_v, mean, split }
     });

@@ -278,27 +278,19 @@ shading_fn! {
 shading_fn! {
     /// The directional albedo seen above a coat over a conductor (glazec's glossy level):
     /// (1 − T) + T F (a₁² O + a² (1 − P₁) Ŷ): the coat's reflection, the lobe of light that
-    /// leaves after one or two conductor events (O, `glossy_once`; attenuated by a₁² along its
-    /// own paths) and the remainder (`glossy_remainder`).
-    pub fn glossy_albedo(t: S, fresnel: V, a_lobe: V, a: V, once: V, single: S, later: V) -> V {
-        let near = a_lobe * a_lobe * once;
-        let far = a * a * later * single.one_minus();
-        fresnel * (near + far) * t + t.one_minus().splat()
+    /// leaves after one or two conductor events (`glossy_albedo_lobe`) and the remainder
+    /// (`glossy_remainder`).
+    pub fn glossy_albedo(t: S, lobe: V, remainder: V) -> V {
+        lobe + remainder + t.one_minus().splat()
     }
 }
 
 shading_fn! {
     /// The part of `glossy_albedo` that leaves near the mirror direction as the lobe,
-    /// T F a₁² O.
+    /// T F a₁² O: light that leaves after one or two conductor events (O, `glossy_once`),
+    /// attenuated by a₁² along its own paths.
     pub fn glossy_albedo_lobe(t: S, fresnel: V, a_lobe: V, once: V) -> V {
         fresnel * a_lobe * a_lobe * once * t
-    }
-}
-
-shading_fn! {
-    /// The rest of `glossy_albedo`, spread over the hemisphere (the remainder), T F a² (1 − P₁) Ŷ.
-    pub fn glossy_albedo_remainder(t: S, fresnel: V, a: V, single: S, later: V) -> V {
-        fresnel * a * a * later * single.one_minus() * t
     }
 }
 
