@@ -136,36 +136,51 @@ float four_layer_slab_transmittance_grey(float tau, float mu) {
     return exp(-((tau / mu)));
 }
 
-// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-float four_layer_d_ggx(float cos_h_1, float sin2_h_1, float alpha_3) {
-    float a_3 = max(alpha_3, 0.001);
-    float a_sq_2 = (a_3 * a_3);
-    float denom = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 1e-12);
-    return (a_sq_2 / ((denom * denom) * 3.1415927));
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
+// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
+// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
+// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
+// a direction's horizontal part by μδ in its plane, by δ across it):
+// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
+// With s = h_t/cos θh the half vector's slope,
+//
+// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
+//
+// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
+// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
+// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
+// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
+// [`d_ggx`]. `base` is α², `twist_sq` t².
+// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
+// zero half vector, as in `d_ggx`.
+float four_layer_d_ggx_crossed(float cos_h_1, float sin2_h_1, float l_dot_h, float mu_l, float mu_v, float twist_sq, float base, float beta_l, float beta_v) {
+    float base_1 = max(base, 1.0000001e-6);
+    float across_1 = ((base_1 + beta_l) + beta_v);
+    float along = ((base_1 + ((beta_l * mu_l) * mu_l)) + ((beta_v * mu_v) * mu_v));
+    float det = max(((across_1 * along) + ((beta_l * beta_v) * twist_sq)), 1e-12);
+    float off_l = (l_dot_h - (mu_l * cos_h_1));
+    float off_v = (l_dot_h - (mu_v * cos_h_1));
+    float spread = (((along * sin2_h_1) + ((beta_l * off_l) * off_l)) + ((beta_v * off_v) * off_v));
+    float bracket = max(((cos_h_1 * cos_h_1) + (spread / det)), 1e-12);
+    return (1.0 / (((sqrt(det) * bracket) * bracket) * 3.1415927));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-float four_layer_lambda_ggx(float n_dot_x_1, float alpha_4) {
+float four_layer_lambda_ggx(float n_dot_x_1, float alpha_3) {
     float mu_sq = max((n_dot_x_1 * n_dot_x_1), 1e-12);
     float tan_sq = ((1.0 - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_4 * alpha_4) * tan_sq) + 1.0)) - 1.0) * 0.5);
+    return ((sqrt((((alpha_3 * alpha_3) * tan_sq) + 1.0)) - 1.0) * 0.5);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float alpha_5) {
-    float alpha_10 = max(alpha_5, 0.001);
-    float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_10);
-    float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_10);
+float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float alpha_4) {
+    float alpha_9 = max(alpha_4, 0.001);
+    float _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_9);
+    float _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_9);
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
@@ -204,12 +219,12 @@ float four_layer_coat_scale_curve(float cos_theta_2) {
 // Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
-float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_6) {
-    float a_4 = max(alpha_6, 0.001);
-    float a_sq_3 = (a_4 * a_4);
+float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_5) {
+    float a_3 = max(alpha_5, 0.001);
+    float a_sq_2 = (a_3 * a_3);
     float h_sq = ((z * z) + across);
-    float denom_1 = max((((z * z) * a_sq_3) + across), 1e-12);
-    return ((((a_sq_3 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927));
+    float denom = max((((z * z) * a_sq_2) + across), 1e-12);
+    return ((((a_sq_2 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927));
 }
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
@@ -434,12 +449,12 @@ vec3 four_layer_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-float four_layer_trapped_share(float mu_4, float mu_c, float alpha_7) {
+float four_layer_trapped_share(float mu_4, float mu_c, float alpha_6) {
     float sin_t = sqrt(max((1.0 - (mu_4 * mu_4)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
     float near = (((sin_t * mu_c) - (mu_4 * sin_c)) / (((mu_4 * mu_c) + (sin_t * sin_c)) + 1.0));
     float far = (((sin_t * mu_c) + (mu_4 * sin_c)) / max((((mu_4 * mu_c) - (sin_t * sin_c)) + 1.0), 1e-6));
-    float a2_ = (alpha_7 * alpha_7);
+    float a2_ = (alpha_6 * alpha_6);
     float cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 1e-24)));
     return ((cos_beta + 1.0) * 0.5);
 }
@@ -451,9 +466,9 @@ float four_layer_trapped_share(float mu_4, float mu_c, float alpha_7) {
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
 // would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
-float four_layer_glossy_trapped_share(float mu_5, float mu_c_1, float alpha_8) {
-    float beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_8);
-    float below_horizon = four_layer_trapped_share(mu_5, 0.0, alpha_8);
+float four_layer_glossy_trapped_share(float mu_5, float mu_c_1, float alpha_7) {
+    float beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_7);
+    float below_horizon = four_layer_trapped_share(mu_5, 0.0, alpha_7);
     return max((beyond_cone - below_horizon), 0.0);
 }
 
@@ -481,6 +496,8 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
+    float blur_l = ((abs((1.0 - (cos_l / (1.5 * max(layer1_cos_l, 0.05))))) * 0.2) * 0.70710677);
+    float blur_v = ((abs((1.0 - (cos_v / (1.5 * max(layer1_cos_v, 0.05))))) * 0.2) * 0.70710677);
     float layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_l, 1.0);
     float layer2_transmit_l = (1.0 - layer2_fresnel_l);
     float layer2_fresnel_v = four_layer_fr_dielectric(layer1_n_dot_v, 1.0);
@@ -491,20 +508,29 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer2_n_dot_l = dot(n_1, layer2_l);
     float layer2_cos_v = max(layer2_n_dot_v, 0.0001);
     float layer2_cos_l = max(layer2_n_dot_l, 0.0001);
-    float _e80 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_l * layer1_n_dot_l)))), 0.0)));
-    float layer2_path_cos_l = (layer2_cos_l / ((_e80 - 1.0) + 1.0));
-    float _e96 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v * layer1_n_dot_v)))), 0.0)));
-    float layer2_path_cos_v = (layer2_cos_v / ((_e96 - 1.0) + 1.0));
-    float _e103 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l);
-    vec3 layer1_absorb_l = vec3(_e103);
-    float _e106 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v);
-    vec3 layer1_absorb_v = vec3(_e106);
+    float _e104 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_l * layer1_n_dot_l)))), 0.0)));
+    float layer2_path_cos_l = (layer2_cos_l / ((_e104 - 1.0) + 1.0));
+    float _e120 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v * layer1_n_dot_v)))), 0.0)));
+    float layer2_path_cos_v = (layer2_cos_v / ((_e120 - 1.0) + 1.0));
+    float _e127 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l);
+    vec3 layer1_absorb_l = vec3(_e127);
+    float _e130 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v);
+    vec3 layer1_absorb_v = vec3(_e130);
+    float layer2_lobe_alpha_l = (0.09 + blur_l);
+    float layer2_lobe_alpha_v = (0.09 + blur_v);
+    float layer2_lobe_alpha = sqrt((((layer2_lobe_alpha_l * layer2_lobe_alpha_l) + (layer2_lobe_alpha_v * layer2_lobe_alpha_v)) * 0.5));
     vec3 layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     vec3 layer2_n_cross_h = cross(n_1, layer2_h);
-    float layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.13714045);
-    float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.13714045);
-    float layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1);
-    vec3 _e120 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    float _e146 = dot(layer2_v, layer2_h);
+    float _e148 = dot(n_1, cross(layer2_l, layer2_v));
+    float _e158 = max(layer2_cos_l, 0.05);
+    float layer2_crossing_l = (max((((layer2_lobe_alpha_l * layer2_lobe_alpha_l) - 0.0081) * 0.5), 0.0) / (_e158 * _e158));
+    float _e169 = max(layer2_cos_v, 0.05);
+    float layer2_crossing_v = (max((((layer2_lobe_alpha_v * layer2_lobe_alpha_v) - 0.0081) * 0.5), 0.0) / (_e169 * _e169));
+    float layer2_d = four_layer_d_ggx_crossed(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), _e146, layer2_cos_l, layer2_cos_v, (_e148 * _e148), 0.0081, layer2_crossing_l, layer2_crossing_v);
+    float layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_lobe_alpha);
+    float layer2_fresnel = four_layer_fr_dielectric(_e146, 1.1);
+    vec3 _e178 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     float layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
     float layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     vec3 layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
@@ -517,37 +543,48 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1);
     float layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09);
     float layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09);
-    float _e146 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e146);
-    float _e149 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
-    float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e149) / ((layer2_cos_v * layer2_cos_l) * 4.0));
-    vec3 layer2_specular = ((_e120 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    float _e163 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e163), 0.0), 1.0);
-    float _e171 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e171), 0.0), 1.0);
+    float _e204 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    float layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e204);
+    float _e207 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09);
+    float layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e207) / ((layer2_cos_v * layer2_cos_l) * 4.0));
+    vec3 layer2_specular = ((_e178 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    float _e221 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    float layer3_transmit_l = min(max(((1.0 - layer3_fresnel_l) + _e221), 0.0), 1.0);
+    float _e229 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    float layer3_transmit_v = min(max(((1.0 - layer3_fresnel_v) + _e229), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1);
     vec3 layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1);
     float layer3_n_dot_v = dot(n_1, layer3_v);
     float layer3_n_dot_l = dot(n_1, layer3_l);
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
-    float _e197 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_l * layer2_n_dot_l)))), 0.0)));
-    float _e199 = (_e197 - 1.0);
-    float _e200 = four_layer_coat_path_curve_c(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / (_e200 + _e199));
-    float _e215 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v * layer2_n_dot_v)))), 0.0)));
-    float _e217 = (_e215 - 1.0);
-    float _e218 = four_layer_coat_path_curve_c(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / (_e218 + _e217));
+    float _e255 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_l * layer2_n_dot_l)))), 0.0)));
+    float _e257 = (_e255 - 1.0);
+    float _e258 = four_layer_coat_path_curve_c(layer2_n_dot_l);
+    float layer3_path_cos_l = (layer3_cos_l / (_e258 + _e257));
+    float _e273 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v * layer2_n_dot_v)))), 0.0)));
+    float _e275 = (_e273 - 1.0);
+    float _e276 = four_layer_coat_path_curve_c(layer2_n_dot_v);
+    float layer3_path_cos_v = (layer3_cos_v / (_e276 + _e275));
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
+    float layer2_blur_l = ((abs((1.0 - (layer2_cos_l / (1.1 * max(layer3_cos_l, 0.05))))) * 0.09) * 0.70710677);
+    float layer2_blur_v = ((abs((1.0 - (layer2_cos_v / (1.1 * max(layer3_cos_v, 0.05))))) * 0.09) * 0.70710677);
+    float layer3_lobe_alpha_l = (sqrt(((0.0625 + (0.25 * layer2_blur_l)) + (layer2_blur_l * layer2_blur_l))) + blur_l);
+    float layer3_lobe_alpha_v = (sqrt(((0.0625 + (0.25 * layer2_blur_v)) + (layer2_blur_v * layer2_blur_v))) + blur_v);
+    float layer3_lobe_alpha = sqrt((((layer3_lobe_alpha_l * layer3_lobe_alpha_l) + (layer3_lobe_alpha_v * layer3_lobe_alpha_v)) * 0.5));
     vec3 layer3_h = four_layer_half_vector(layer3_v, layer3_l);
     vec3 layer3_n_cross_h = cross(n_1, layer3_h);
-    float layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828);
-    float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828);
-    float layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2);
-    vec3 _e239 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    float _e335 = dot(layer3_v, layer3_h);
+    float _e337 = dot(n_1, cross(layer3_l, layer3_v));
+    float _e347 = max(layer3_cos_l, 0.05);
+    float layer3_crossing_l = (max((((layer3_lobe_alpha_l * layer3_lobe_alpha_l) - 0.0625) * 0.5), 0.0) / (_e347 * _e347));
+    float _e358 = max(layer3_cos_v, 0.05);
+    float layer3_crossing_v = (max((((layer3_lobe_alpha_v * layer3_lobe_alpha_v) - 0.0625) * 0.5), 0.0) / (_e358 * _e358));
+    float layer3_d = four_layer_d_ggx_crossed(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), _e335, layer3_cos_l, layer3_cos_v, (_e337 * _e337), 0.0625, layer3_crossing_l, layer3_crossing_v);
+    float layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, layer3_lobe_alpha);
+    float layer3_fresnel = four_layer_fr_dielectric(_e335, 1.2);
+    vec3 _e367 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     float layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
     float layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     vec3 layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
@@ -560,15 +597,15 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2);
     float layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25);
     float layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25);
-    float _e265 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e265);
-    float _e268 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
-    float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e268) / ((layer3_cos_v * layer3_cos_l) * 4.0));
-    vec3 layer3_specular = ((_e239 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    float _e282 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e282), 0.0), 1.0);
-    float _e290 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e290), 0.0), 1.0);
+    float _e393 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    float layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e393);
+    float _e396 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25);
+    float layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e396) / ((layer3_cos_v * layer3_cos_l) * 4.0));
+    vec3 layer3_specular = ((_e367 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    float _e410 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    float layer4_transmit_l = min(max(((1.0 - layer4_fresnel_l) + _e410), 0.0), 1.0);
+    float _e418 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    float layer4_transmit_v = min(max(((1.0 - layer4_fresnel_v) + _e418), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2);
     vec3 layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2);
     float layer4_n_dot_v = dot(n_1, layer4_v);
@@ -578,60 +615,60 @@ vec3 four_layer_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer4_f_base = four_layer_fd_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_l);
     vec3 layer4_albedo_v = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
-    float _e325 = four_layer_coat_path_curve_d(layer3_n_dot_l);
-    float layer4_path_cos_l = (layer4_cos_l / _e325);
-    float _e327 = four_layer_coat_path_curve_d(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e327);
-    vec3 _e334 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    float _e336 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e336)) * vec3(0.18698311)) / max(_e334, vec3(1e-6))));
+    float _e453 = four_layer_coat_path_curve_d(layer3_n_dot_l);
+    float layer4_path_cos_l = (layer4_cos_l / _e453);
+    float _e455 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e455);
+    vec3 _e462 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    float _e464 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    vec3 layer4_first_escape_l = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e464)) * vec3(0.18698311)) / max(_e462, vec3(1e-6))));
     vec3 layer4_first_return_l = min(max(((vec3(1.0) - (layer4_first_escape_l * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
-    vec3 _e371 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
-    float _e373 = four_layer_e_fon(layer4_path_cos_v, 0.4);
-    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e373)) * vec3(0.18698311)) / max(_e371, vec3(1e-6))));
+    vec3 _e499 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
+    float _e501 = four_layer_e_fon(layer4_path_cos_v, 0.4);
+    vec3 layer4_first_escape_v = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e501)) * vec3(0.18698311)) / max(_e499, vec3(1e-6))));
     vec3 layer4_first_return_v = min(max(((vec3(1.0) - (layer4_first_escape_v * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
     vec3 layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3(0.9671044, 0.9671044, 0.9689054), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     vec3 layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1.0), vec3(1.0), layer3_under, 1.2);
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l, layer4_first_return_l);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1.0), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v, layer4_first_return_v);
-    float _e436 = (1.0 - layer4_transmit_l);
-    float _e439 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784, 0.25);
-    float layer2_first_cone_share_l = (1.0 - _e439);
-    vec3 _e463 = min(max(((vec3(((_e436 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l = (_e463 / vec3(0.80973125));
-    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e463) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e480 = (1.0 - layer4_transmit_v);
-    float _e483 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784, 0.25);
-    float layer2_first_cone_share_v = (1.0 - _e483);
-    vec3 _e507 = min(max(((vec3(((_e480 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e480)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v = (_e507 / vec3(0.80973125));
-    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e507) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e564 = (1.0 - layer4_transmit_l);
+    float _e567 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784, 0.25);
+    float layer2_first_cone_share_l = (1.0 - _e567);
+    vec3 _e591 = min(max(((vec3(((_e564 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e564)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l = (_e591 / vec3(0.80973125));
+    vec3 layer2_first_return_l = min(max(((vec3(1.0) - _e591) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e608 = (1.0 - layer4_transmit_v);
+    float _e611 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784, 0.25);
+    float layer2_first_cone_share_v = (1.0 - _e611);
+    vec3 _e635 = min(max(((vec3(((_e608 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e608)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v = (_e635 / vec3(0.80973125));
+    vec3 layer2_first_return_v = min(max(((vec3(1.0) - _e635) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
     vec3 layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3(0.9442068, 0.9442068, 0.9441075), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     vec3 layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1);
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
-    float _e552 = (1.0 - layer3_transmit_l);
-    float _e555 = four_layer_glossy_trapped_share(layer2_cos_l, 0.0, 0.09);
-    vec3 _e575 = min(max(((vec3((_e552 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e552)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l = (_e575 / vec3(0.9999998));
-    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e575) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e592 = (1.0 - layer3_transmit_v);
-    float _e595 = four_layer_glossy_trapped_share(layer2_cos_v, 0.0, 0.09);
-    vec3 _e615 = min(max(((vec3((_e592 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e592)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v = (_e615 / vec3(0.9999998));
-    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e615) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e680 = (1.0 - layer3_transmit_l);
+    float _e683 = four_layer_glossy_trapped_share(layer2_cos_l, 0.0, 0.09);
+    vec3 _e703 = min(max(((vec3((_e680 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e680)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l = (_e703 / vec3(0.9999998));
+    vec3 layer1_first_return_l = min(max(((vec3(1.0) - _e703) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e720 = (1.0 - layer3_transmit_v);
+    float _e723 = four_layer_glossy_trapped_share(layer2_cos_v, 0.0, 0.09);
+    vec3 _e743 = min(max(((vec3((_e720 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e720)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v = (_e743 / vec3(0.9999998));
+    vec3 layer1_first_return_v = min(max(((vec3(1.0) - _e743) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     vec3 layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1.0);
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
-    float _e653 = (1.0 - layer2_transmit_l);
-    vec3 _e674 = min(max(((vec3((_e653 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e653)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l = (_e674 / vec3(0.41998938));
-    vec3 first_return_l = min(max(((vec3(1.0) - _e674) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e691 = (1.0 - layer2_transmit_v);
-    vec3 _e712 = min(max(((vec3((_e691 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e691)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v = (_e712 / vec3(0.41998938));
-    vec3 first_return_v = min(max(((vec3(1.0) - _e712) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e781 = (1.0 - layer2_transmit_l);
+    vec3 _e802 = min(max(((vec3((_e781 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e781)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l = (_e802 / vec3(0.41998938));
+    vec3 first_return_l = min(max(((vec3(1.0) - _e802) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e819 = (1.0 - layer2_transmit_v);
+    vec3 _e840 = min(max(((vec3((_e819 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e819)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v = (_e840 / vec3(0.41998938));
+    vec3 first_return_v = min(max(((vec3(1.0) - _e840) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     vec3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : vec3(0.0));
@@ -648,10 +685,10 @@ vec3 four_layer_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_9) {
+vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_8) {
     vec3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
-    float smoothness = min(max((1.0 - alpha_9), 0.0), 1.0);
-    float t_1 = (smoothness * (sqrt(smoothness) + alpha_9));
+    float smoothness = min(max((1.0 - alpha_8), 0.0), 1.0);
+    float t_1 = (smoothness * (sqrt(smoothness) + alpha_8));
     vec3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 1e-12))));
 }
@@ -683,97 +720,101 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
+    float blur_l_1 = ((abs((1.0 - (cos_v_1 / (1.5 * max(layer1_cos_v_1, 0.05))))) * 0.2) * 0.70710677);
+    float blur_v_1 = ((abs((1.0 - (cos_v_1 / (1.5 * max(layer1_cos_v_1, 0.05))))) * 0.2) * 0.70710677);
     float layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_v_1, 1.0);
     float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
     float layer2_transmit_v_1 = (1.0 - layer2_fresnel_l);
     vec3 layer2_v = four_layer_refract_down(layer1_v, n_4, 1.0);
     float layer2_n_dot_v_1 = dot(n_4, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    float _e48 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
-    float layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e48 - 1.0) + 1.0));
-    float _e64 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
-    float layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e64 - 1.0) + 1.0));
-    float _e71 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l_1);
-    vec3 layer1_absorb_l_1 = vec3(_e71);
-    float _e74 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v_1);
-    vec3 layer1_absorb_v_1 = vec3(_e74);
+    float _e72 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
+    float layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e72 - 1.0) + 1.0));
+    float _e88 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
+    float layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e88 - 1.0) + 1.0));
+    float _e95 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l_1);
+    vec3 layer1_absorb_l_1 = vec3(_e95);
+    float _e98 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v_1);
+    vec3 layer1_absorb_v_1 = vec3(_e98);
     float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
-    float _e80 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e80), 0.0), 1.0);
-    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e80), 0.0), 1.0);
+    float _e104 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e104), 0.0), 1.0);
+    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e104), 0.0), 1.0);
     vec3 layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1);
     float layer3_n_dot_v_1 = dot(n_4, layer3_v);
     float layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001);
-    float _e108 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
-    float _e110 = (_e108 - 1.0);
-    float _e111 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
-    float layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e111 + _e110));
-    float _e126 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
-    float _e128 = (_e126 - 1.0);
-    float layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e111 + _e128));
+    float _e132 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
+    float _e134 = (_e132 - 1.0);
+    float _e135 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    float layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e135 + _e134));
+    float _e150 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
+    float _e152 = (_e150 - 1.0);
+    float layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e135 + _e152));
     vec3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     vec3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
+    float layer2_blur_l_1 = ((abs((1.0 - (layer2_cos_v_1 / (1.1 * max(layer3_cos_v_1, 0.05))))) * 0.09) * 0.70710677);
+    float layer2_blur_v_1 = ((abs((1.0 - (layer2_cos_v_1 / (1.1 * max(layer3_cos_v_1, 0.05))))) * 0.09) * 0.70710677);
     float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
-    float _e141 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e141), 0.0), 1.0);
-    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e141), 0.0), 1.0);
+    float _e189 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e189), 0.0), 1.0);
+    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e189), 0.0), 1.0);
     vec3 layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2);
     float layer4_n_dot_v_1 = dot(n_4, layer4_v);
     float layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001);
     vec3 layer4_albedo_l = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_cos_v_1);
-    float _e165 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
-    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e165);
-    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e165);
-    vec3 _e173 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
-    float _e175 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
-    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e175)) * vec3(0.18698311)) / max(_e173, vec3(1e-6))));
+    float _e213 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e213);
+    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e213);
+    vec3 _e221 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
+    float _e223 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
+    vec3 layer4_first_escape_l_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e223)) * vec3(0.18698311)) / max(_e221, vec3(1e-6))));
     vec3 layer4_first_return_l_1 = min(max(((vec3(1.0) - (layer4_first_escape_l_1 * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
-    vec3 _e210 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
-    float _e212 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
-    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e212)) * vec3(0.18698311)) / max(_e210, vec3(1e-6))));
+    vec3 _e258 = four_layer_albedo_eon(vec3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
+    float _e260 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
+    vec3 layer4_first_escape_v_1 = (vec3(1.0) + (((four_layer_layer4_rho_ms * (1.0 - _e260)) * vec3(0.18698311)) / max(_e258, vec3(1e-6))));
     vec3 layer4_first_return_v_1 = min(max(((vec3(1.0) - (layer4_first_escape_v_1 * vec3(0.67766106))) / vec3(0.32233894)), vec3(0.0)), vec3(1.0));
     vec3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_l_1, layer4_first_return_l_1);
     vec3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1.0), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106), layer4_first_escape_v_1, layer4_first_return_v_1);
-    float _e257 = (1.0 - layer4_transmit_l_1);
-    float _e260 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
-    float layer2_first_cone_share_l_1 = (1.0 - _e260);
-    vec3 _e284 = min(max(((vec3(((_e257 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_l_1 = (_e284 / vec3(0.80973125));
-    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e284) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
-    float _e301 = (1.0 - layer4_transmit_v_1);
-    float layer2_first_cone_share_v_1 = (1.0 - _e260);
-    vec3 _e325 = min(max(((vec3(((_e301 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e301)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer2_first_escape_v_1 = (_e325 / vec3(0.80973125));
-    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e325) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e305 = (1.0 - layer4_transmit_l_1);
+    float _e308 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
+    float layer2_first_cone_share_l_1 = (1.0 - _e308);
+    vec3 _e332 = min(max(((vec3(((_e305 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e305)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_l_1 = (_e332 / vec3(0.80973125));
+    vec3 layer2_first_return_l_1 = min(max(((vec3(1.0) - _e332) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
+    float _e349 = (1.0 - layer4_transmit_v_1);
+    float layer2_first_cone_share_v_1 = (1.0 - _e308);
+    vec3 _e373 = min(max(((vec3(((_e349 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e349)), vec3(0.0)) * vec3(0.8201269))) / max(layer3_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer2_first_escape_v_1 = (_e373 / vec3(0.80973125));
+    vec3 layer2_first_return_v_1 = min(max(((vec3(1.0) - _e373) / vec3(0.19026875)), vec3(0.0)), vec3(1.0));
     vec3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
     vec3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e356 = (1.0 - layer3_transmit_l_1);
-    float _e359 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0.0, 0.09);
-    vec3 _e379 = min(max(((vec3((_e356 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e356)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_l_1 = (_e379 / vec3(0.9999998));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e379) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
-    float _e396 = (1.0 - layer3_transmit_v_1);
-    vec3 _e416 = min(max(((vec3((_e396 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e396)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 layer1_first_escape_v_1 = (_e416 / vec3(0.9999998));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e416) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e404 = (1.0 - layer3_transmit_l_1);
+    float _e407 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0.0, 0.09);
+    vec3 _e427 = min(max(((vec3((_e404 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e404)), vec3(0.0))) / max(layer2_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_l_1 = (_e427 / vec3(0.9999998));
+    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - _e427) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
+    float _e444 = (1.0 - layer3_transmit_v_1);
+    vec3 _e464 = min(max(((vec3((_e444 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e444)), vec3(0.0))) / max(layer2_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 layer1_first_escape_v_1 = (_e464 / vec3(0.9999998));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - _e464) / vec3(0.0001)), vec3(0.0)), vec3(1.0));
     vec3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e441 = (1.0 - layer2_transmit_l_1);
-    vec3 _e462 = min(max(((vec3((_e441 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e441)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_l_1 = (_e462 / vec3(0.41998938));
-    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e462) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
-    float _e479 = (1.0 - layer2_transmit_v_1);
-    vec3 _e500 = min(max(((vec3((_e479 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e479)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
-    vec3 first_escape_v_1 = (_e500 / vec3(0.41998938));
-    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e500) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e489 = (1.0 - layer2_transmit_l_1);
+    vec3 _e510 = min(max(((vec3((_e489 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e489)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_l, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_l_1 = (_e510 / vec3(0.41998938));
+    vec3 first_return_l_1 = min(max(((vec3(1.0) - _e510) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
+    float _e527 = (1.0 - layer2_transmit_v_1);
+    vec3 _e548 = min(max(((vec3((_e527 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e527)), vec3(0.0)) * vec3(0.43187544))) / max(layer1_albedo_v, vec3(1e-6))), vec3(0.0)), vec3(1.0));
+    vec3 first_escape_v_1 = (_e548 / vec3(0.41998938));
+    vec3 first_return_v_1 = min(max(((vec3(1.0) - _e548) / vec3(0.58001065)), vec3(0.0)), vec3(1.0));
     vec3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
     vec3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e543 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e543 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e543 ? under_albedo : vec3(0.0))));
+    bool _e591 = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e591 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e591 ? under_albedo : vec3(0.0))));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -143,36 +143,51 @@ fn four_layer_slab_transmittance_grey(tau: f32, mu: f32) -> f32 {
     return exp(-((tau / mu)));
 }
 
-// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
-fn four_layer_d_ggx(cos_h_1: f32, sin2_h_1: f32, alpha_3: f32) -> f32 {
-    let a_3 = max(alpha_3, 0.001f);
-    let a_sq_2 = (a_3 * a_3);
-    let denom = max((((cos_h_1 * cos_h_1) * a_sq_2) + sin2_h_1), 0.000000000001f);
-    return (a_sq_2 / ((denom * denom) * 3.1415927f));
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
+// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
+// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
+// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
+// a direction's horizontal part by μδ in its plane, by δ across it):
+// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
+// With s = h_t/cos θh the half vector's slope,
+//
+// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
+//
+// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
+// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
+// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
+// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
+// [`d_ggx`]. `base` is α², `twist_sq` t².
+// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
+// zero half vector, as in `d_ggx`.
+fn four_layer_d_ggx_crossed(cos_h_1: f32, sin2_h_1: f32, l_dot_h: f32, mu_l: f32, mu_v: f32, twist_sq: f32, base: f32, beta_l: f32, beta_v: f32) -> f32 {
+    let base_1 = max(base, 0.0000010000001f);
+    let across_1 = ((base_1 + beta_l) + beta_v);
+    let along = ((base_1 + ((beta_l * mu_l) * mu_l)) + ((beta_v * mu_v) * mu_v));
+    let det = max(((across_1 * along) + ((beta_l * beta_v) * twist_sq)), 0.000000000001f);
+    let off_l = (l_dot_h - (mu_l * cos_h_1));
+    let off_v = (l_dot_h - (mu_v * cos_h_1));
+    let spread = (((along * sin2_h_1) + ((beta_l * off_l) * off_l)) + ((beta_v * off_v) * off_v));
+    let bracket = max(((cos_h_1 * cos_h_1) + (spread / det)), 0.000000000001f);
+    return (1f / (((sqrt(det) * bracket) * bracket) * 3.1415927f));
 }
 
 // Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
 // eq. 72: the GGX Smith auxiliary function Λ(μ) = (√(1 + α² tan²θ) − 1) / 2.
 // Guard: μ² ≥ TINY (the caller clamps μ; this keeps the division defined at μ = 0).
-fn four_layer_lambda_ggx(n_dot_x_1: f32, alpha_4: f32) -> f32 {
+fn four_layer_lambda_ggx(n_dot_x_1: f32, alpha_3: f32) -> f32 {
     let mu_sq = max((n_dot_x_1 * n_dot_x_1), 0.000000000001f);
     let tan_sq = ((1f - mu_sq) / mu_sq);
-    return ((sqrt((((alpha_4 * alpha_4) * tan_sq) + 1f)) - 1f) * 0.5f);
+    return ((sqrt((((alpha_3 * alpha_3) * tan_sq) + 1f)) - 1f) * 0.5f);
 }
 
 // Heitz 2014, eq. 99: the exact height-correlated Smith masking-shadowing for GGX,
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
-fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_5: f32) -> f32 {
-    let alpha_10 = max(alpha_5, 0.001f);
-    let _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_10);
-    let _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_10);
+fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_4: f32) -> f32 {
+    let alpha_9 = max(alpha_4, 0.001f);
+    let _e5 = four_layer_lambda_ggx(n_dot_v_2, alpha_9);
+    let _e6 = four_layer_lambda_ggx(n_dot_l_2, alpha_9);
     return (1f / ((_e5 + _e6) + 1f));
 }
 
@@ -211,12 +226,12 @@ fn four_layer_coat_scale_curve(cos_theta_2: f32) -> f32 {
 // Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
 // l and v at one elevation on opposite sides, or both normal) the half vector does not exist
 // and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
-fn four_layer_d_ggx_mirrored_tail(z: f32, across: f32, alpha_6: f32) -> f32 {
-    let a_4 = max(alpha_6, 0.001f);
-    let a_sq_3 = (a_4 * a_4);
+fn four_layer_d_ggx_mirrored_tail(z: f32, across: f32, alpha_5: f32) -> f32 {
+    let a_3 = max(alpha_5, 0.001f);
+    let a_sq_2 = (a_3 * a_3);
     let h_sq = ((z * z) + across);
-    let denom_1 = max((((z * z) * a_sq_3) + across), 0.000000000001f);
-    return ((((a_sq_3 * h_sq) * h_sq) * across) / (((denom_1 * denom_1) * denom_1) * 3.1415927f));
+    let denom = max((((z * z) * a_sq_2) + across), 0.000000000001f);
+    return ((((a_sq_2 * h_sq) * h_sq) * across) / (((denom * denom) * denom) * 3.1415927f));
 }
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
@@ -441,12 +456,12 @@ fn four_layer_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rh
 // in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
 // written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
 // Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
-fn four_layer_trapped_share(mu_4: f32, mu_c: f32, alpha_7: f32) -> f32 {
+fn four_layer_trapped_share(mu_4: f32, mu_c: f32, alpha_6: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu_4 * mu_4)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
     let near = (((sin_t * mu_c) - (mu_4 * sin_c)) / (((mu_4 * mu_c) + (sin_t * sin_c)) + 1f));
     let far = (((sin_t * mu_c) + (mu_4 * sin_c)) / max((((mu_4 * mu_c) - (sin_t * sin_c)) + 1f), 0.000001f));
-    let a2_ = (alpha_7 * alpha_7);
+    let a2_ = (alpha_6 * alpha_6);
     let cos_beta = ((a2_ + (near * far)) / sqrt(max(((a2_ + (near * near)) * (a2_ + (far * far))), 0.000000000000000000000001f)));
     return ((cos_beta + 1f) * 0.5f);
 }
@@ -458,9 +473,9 @@ fn four_layer_trapped_share(mu_4: f32, mu_c: f32, alpha_7: f32) -> f32 {
 // share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
 // would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
 // Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
-fn four_layer_glossy_trapped_share(mu_5: f32, mu_c_1: f32, alpha_8: f32) -> f32 {
-    let beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_8);
-    let below_horizon = four_layer_trapped_share(mu_5, 0f, alpha_8);
+fn four_layer_glossy_trapped_share(mu_5: f32, mu_c_1: f32, alpha_7: f32) -> f32 {
+    let beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_7);
+    let below_horizon = four_layer_trapped_share(mu_5, 0f, alpha_7);
     return max((beyond_cone - below_horizon), 0f);
 }
 
@@ -488,6 +503,8 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
+    let blur_l = ((abs((1f - (cos_l / (1.5f * max(layer1_cos_l, 0.05f))))) * 0.2f) * 0.70710677f);
+    let blur_v = ((abs((1f - (cos_v / (1.5f * max(layer1_cos_v, 0.05f))))) * 0.2f) * 0.70710677f);
     let layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_l, 1f);
     let layer2_transmit_l = (1f - layer2_fresnel_l);
     let layer2_fresnel_v = four_layer_fr_dielectric(layer1_n_dot_v, 1f);
@@ -498,20 +515,29 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_n_dot_l = dot(n_1, layer2_l);
     let layer2_cos_v = max(layer2_n_dot_v, 0.0001f);
     let layer2_cos_l = max(layer2_n_dot_l, 0.0001f);
-    let _e80 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_l * layer1_n_dot_l)))), 0f)));
-    let layer2_path_cos_l = (layer2_cos_l / ((_e80 - 1f) + 1f));
-    let _e96 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v * layer1_n_dot_v)))), 0f)));
-    let layer2_path_cos_v = (layer2_cos_v / ((_e96 - 1f) + 1f));
-    let _e103 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l);
-    let layer1_absorb_l = vec3(_e103);
-    let _e106 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v);
-    let layer1_absorb_v = vec3(_e106);
+    let _e104 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_l * layer1_n_dot_l)))), 0f)));
+    let layer2_path_cos_l = (layer2_cos_l / ((_e104 - 1f) + 1f));
+    let _e120 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v * layer1_n_dot_v)))), 0f)));
+    let layer2_path_cos_v = (layer2_cos_v / ((_e120 - 1f) + 1f));
+    let _e127 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l);
+    let layer1_absorb_l = vec3(_e127);
+    let _e130 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v);
+    let layer1_absorb_v = vec3(_e130);
+    let layer2_lobe_alpha_l = (0.09f + blur_l);
+    let layer2_lobe_alpha_v = (0.09f + blur_v);
+    let layer2_lobe_alpha = sqrt((((layer2_lobe_alpha_l * layer2_lobe_alpha_l) + (layer2_lobe_alpha_v * layer2_lobe_alpha_v)) * 0.5f));
     let layer2_h = four_layer_half_vector(layer2_v, layer2_l);
     let layer2_n_cross_h = cross(n_1, layer2_h);
-    let layer2_d = four_layer_d_ggx(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), 0.13714045f);
-    let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.13714045f);
-    let layer2_fresnel = four_layer_fr_dielectric(dot(layer2_v, layer2_h), 1.1f);
-    let _e120 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
+    let _e146 = dot(layer2_v, layer2_h);
+    let _e148 = dot(n_1, cross(layer2_l, layer2_v));
+    let _e158 = max(layer2_cos_l, 0.05f);
+    let layer2_crossing_l = (max((((layer2_lobe_alpha_l * layer2_lobe_alpha_l) - 0.0081f) * 0.5f), 0f) / (_e158 * _e158));
+    let _e169 = max(layer2_cos_v, 0.05f);
+    let layer2_crossing_v = (max((((layer2_lobe_alpha_v * layer2_lobe_alpha_v) - 0.0081f) * 0.5f), 0f) / (_e169 * _e169));
+    let layer2_d = four_layer_d_ggx_crossed(dot(n_1, layer2_h), dot(layer2_n_cross_h, layer2_n_cross_h), _e146, layer2_cos_l, layer2_cos_v, (_e148 * _e148), 0.0081f, layer2_crossing_l, layer2_crossing_v);
+    let layer2_g = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, layer2_lobe_alpha);
+    let layer2_fresnel = four_layer_fr_dielectric(_e146, 1.1f);
+    let _e178 = four_layer_f_cook_torrance(layer2_d, layer2_g, vec3(layer2_fresnel), layer2_cos_v, layer2_cos_l);
     let layer3_scale_l = four_layer_coat_scale_curve(layer2_n_dot_l);
     let layer3_scale_v = four_layer_coat_scale_curve(layer2_n_dot_v);
     let layer3_mirrored_along = cross(n_1, (layer2_v + layer2_l));
@@ -524,37 +550,48 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v, 1.1f);
     let layer3_lambda_l = four_layer_lambda_ggx(layer2_cos_l, 0.09f);
     let layer3_lambda_v = four_layer_lambda_ggx(layer2_cos_v, 0.09f);
-    let _e146 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
-    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e146);
-    let _e149 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
-    let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e149) / ((layer2_cos_v * layer2_cos_l) * 4f));
-    let layer2_specular = ((_e120 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
-    let _e163 = four_layer_coat_deficit_curve(layer2_n_dot_l);
-    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e163), 0f), 1f);
-    let _e171 = four_layer_coat_deficit_curve(layer2_n_dot_v);
-    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e171), 0f), 1f);
+    let _e204 = four_layer_second_event_share(max(layer3_lambda_l, layer3_lambda_v));
+    let layer3_first_event = (max(layer3_fresnel_l, layer3_fresnel_v) * _e204);
+    let _e207 = four_layer_g_smith_ggx_correlated(layer2_cos_v, layer2_cos_l, 0.09f);
+    let layer3_second_event = ((((layer3_first_event * layer3_mirrored_d) * layer3_mirrored_fresnel) * _e207) / ((layer2_cos_v * layer2_cos_l) * 4f));
+    let layer2_specular = ((_e178 + vec3(layer3_second_event)) * (layer3_scale_l * layer3_scale_v));
+    let _e221 = four_layer_coat_deficit_curve(layer2_n_dot_l);
+    let layer3_transmit_l = min(max(((1f - layer3_fresnel_l) + _e221), 0f), 1f);
+    let _e229 = four_layer_coat_deficit_curve(layer2_n_dot_v);
+    let layer3_transmit_v = min(max(((1f - layer3_fresnel_v) + _e229), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_1, 1.1f);
     let layer3_l = four_layer_refract_down(layer2_l, n_1, 1.1f);
     let layer3_n_dot_v = dot(n_1, layer3_v);
     let layer3_n_dot_l = dot(n_1, layer3_l);
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
-    let _e197 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_l * layer2_n_dot_l)))), 0f)));
-    let _e199 = (_e197 - 1f);
-    let _e200 = four_layer_coat_path_curve_c(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / (_e200 + _e199));
-    let _e215 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v * layer2_n_dot_v)))), 0f)));
-    let _e217 = (_e215 - 1f);
-    let _e218 = four_layer_coat_path_curve_c(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / (_e218 + _e217));
+    let _e255 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_l * layer2_n_dot_l)))), 0f)));
+    let _e257 = (_e255 - 1f);
+    let _e258 = four_layer_coat_path_curve_c(layer2_n_dot_l);
+    let layer3_path_cos_l = (layer3_cos_l / (_e258 + _e257));
+    let _e273 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v * layer2_n_dot_v)))), 0f)));
+    let _e275 = (_e273 - 1f);
+    let _e276 = four_layer_coat_path_curve_c(layer2_n_dot_v);
+    let layer3_path_cos_v = (layer3_cos_v / (_e276 + _e275));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
+    let layer2_blur_l = ((abs((1f - (layer2_cos_l / (1.1f * max(layer3_cos_l, 0.05f))))) * 0.09f) * 0.70710677f);
+    let layer2_blur_v = ((abs((1f - (layer2_cos_v / (1.1f * max(layer3_cos_v, 0.05f))))) * 0.09f) * 0.70710677f);
+    let layer3_lobe_alpha_l = (sqrt(((0.0625f + (0.25f * layer2_blur_l)) + (layer2_blur_l * layer2_blur_l))) + blur_l);
+    let layer3_lobe_alpha_v = (sqrt(((0.0625f + (0.25f * layer2_blur_v)) + (layer2_blur_v * layer2_blur_v))) + blur_v);
+    let layer3_lobe_alpha = sqrt((((layer3_lobe_alpha_l * layer3_lobe_alpha_l) + (layer3_lobe_alpha_v * layer3_lobe_alpha_v)) * 0.5f));
     let layer3_h = four_layer_half_vector(layer3_v, layer3_l);
     let layer3_n_cross_h = cross(n_1, layer3_h);
-    let layer3_d = four_layer_d_ggx(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), 0.3000828f);
-    let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.3000828f);
-    let layer3_fresnel = four_layer_fr_dielectric(dot(layer3_v, layer3_h), 1.2f);
-    let _e239 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
+    let _e335 = dot(layer3_v, layer3_h);
+    let _e337 = dot(n_1, cross(layer3_l, layer3_v));
+    let _e347 = max(layer3_cos_l, 0.05f);
+    let layer3_crossing_l = (max((((layer3_lobe_alpha_l * layer3_lobe_alpha_l) - 0.0625f) * 0.5f), 0f) / (_e347 * _e347));
+    let _e358 = max(layer3_cos_v, 0.05f);
+    let layer3_crossing_v = (max((((layer3_lobe_alpha_v * layer3_lobe_alpha_v) - 0.0625f) * 0.5f), 0f) / (_e358 * _e358));
+    let layer3_d = four_layer_d_ggx_crossed(dot(n_1, layer3_h), dot(layer3_n_cross_h, layer3_n_cross_h), _e335, layer3_cos_l, layer3_cos_v, (_e337 * _e337), 0.0625f, layer3_crossing_l, layer3_crossing_v);
+    let layer3_g = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, layer3_lobe_alpha);
+    let layer3_fresnel = four_layer_fr_dielectric(_e335, 1.2f);
+    let _e367 = four_layer_f_cook_torrance(layer3_d, layer3_g, vec3(layer3_fresnel), layer3_cos_v, layer3_cos_l);
     let layer4_scale_l = four_layer_coat_scale_curve_b(layer3_n_dot_l);
     let layer4_scale_v = four_layer_coat_scale_curve_b(layer3_n_dot_v);
     let layer4_mirrored_along = cross(n_1, (layer3_v + layer3_l));
@@ -567,15 +604,15 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v, 1.2f);
     let layer4_lambda_l = four_layer_lambda_ggx(layer3_cos_l, 0.25f);
     let layer4_lambda_v = four_layer_lambda_ggx(layer3_cos_v, 0.25f);
-    let _e265 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
-    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e265);
-    let _e268 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
-    let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e268) / ((layer3_cos_v * layer3_cos_l) * 4f));
-    let layer3_specular = ((_e239 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
-    let _e282 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
-    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e282), 0f), 1f);
-    let _e290 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
-    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e290), 0f), 1f);
+    let _e393 = four_layer_second_event_share(max(layer4_lambda_l, layer4_lambda_v));
+    let layer4_first_event = (max(layer4_fresnel_l, layer4_fresnel_v) * _e393);
+    let _e396 = four_layer_g_smith_ggx_correlated(layer3_cos_v, layer3_cos_l, 0.25f);
+    let layer4_second_event = ((((layer4_first_event * layer4_mirrored_d) * layer4_mirrored_fresnel) * _e396) / ((layer3_cos_v * layer3_cos_l) * 4f));
+    let layer3_specular = ((_e367 + vec3(layer4_second_event)) * (layer4_scale_l * layer4_scale_v));
+    let _e410 = four_layer_coat_deficit_curve_b(layer3_n_dot_l);
+    let layer4_transmit_l = min(max(((1f - layer4_fresnel_l) + _e410), 0f), 1f);
+    let _e418 = four_layer_coat_deficit_curve_b(layer3_n_dot_v);
+    let layer4_transmit_v = min(max(((1f - layer4_fresnel_v) + _e418), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_1, 1.2f);
     let layer4_l = four_layer_refract_down(layer3_l, n_1, 1.2f);
     let layer4_n_dot_v = dot(n_1, layer4_v);
@@ -585,60 +622,60 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_f_base = four_layer_fd_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v, layer4_cos_l, dot(layer4_v, layer4_l));
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_l);
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
-    let _e325 = four_layer_coat_path_curve_d(layer3_n_dot_l);
-    let layer4_path_cos_l = (layer4_cos_l / _e325);
-    let _e327 = four_layer_coat_path_curve_d(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e327);
-    let _e334 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e336 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e336)) * vec3(0.18698311f)) / max(_e334, vec3(0.000001f))));
+    let _e453 = four_layer_coat_path_curve_d(layer3_n_dot_l);
+    let layer4_path_cos_l = (layer4_cos_l / _e453);
+    let _e455 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e455);
+    let _e462 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e464 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e464)) * vec3(0.18698311f)) / max(_e462, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e371 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
-    let _e373 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
-    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e373)) * vec3(0.18698311f)) / max(_e371, vec3(0.000001f))));
+    let _e499 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
+    let _e501 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
+    let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e501)) * vec3(0.18698311f)) / max(_e499, vec3(0.000001f))));
     let layer4_first_return_v = min(max(((vec3(1f) - (layer4_first_escape_v * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_under = four_layer_interfaced_diffuse_under(layer4_f_base, (layer4_albedo_l * layer4_first_return_l), ((layer4_albedo_v * layer4_first_return_v) / max(vec3<f32>(0.9671044f, 0.9671044f, 0.9689054f), min(layer4_first_return_l, layer4_first_return_v))), four_layer_layer4_rho, four_layer_layer4_r_return);
     let layer3_f = four_layer_interfaced_layer(layer3_specular, layer4_transmit_l, layer4_transmit_v, vec3(1f), vec3(1f), layer3_under, 1.2f);
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l, layer4_first_return_l);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v, vec3(1f), layer4_albedo_v, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v, layer4_first_return_v);
-    let _e436 = (1f - layer4_transmit_l);
-    let _e439 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784f, 0.25f);
-    let layer2_first_cone_share_l = (1f - _e439);
-    let _e463 = min(max(((vec3(((_e436 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e436)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l = (_e463 / vec3(0.80973125f));
-    let layer2_first_return_l = min(max(((vec3(1f) - _e463) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e480 = (1f - layer4_transmit_v);
-    let _e483 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784f, 0.25f);
-    let layer2_first_cone_share_v = (1f - _e483);
-    let _e507 = min(max(((vec3(((_e480 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e480)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v = (_e507 / vec3(0.80973125f));
-    let layer2_first_return_v = min(max(((vec3(1f) - _e507) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e564 = (1f - layer4_transmit_l);
+    let _e567 = four_layer_glossy_trapped_share(layer3_cos_l, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_l = (1f - _e567);
+    let _e591 = min(max(((vec3(((_e564 * layer2_first_cone_share_l) * layer3_transmit_l)) + (max((layer3_albedo_l - vec3(_e564)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l = (_e591 / vec3(0.80973125f));
+    let layer2_first_return_l = min(max(((vec3(1f) - _e591) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e608 = (1f - layer4_transmit_v);
+    let _e611 = four_layer_glossy_trapped_share(layer3_cos_v, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_v = (1f - _e611);
+    let _e635 = min(max(((vec3(((_e608 * layer2_first_cone_share_v) * layer3_transmit_v)) + (max((layer3_albedo_v - vec3(_e608)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v = (_e635 / vec3(0.80973125f));
+    let layer2_first_return_v = min(max(((vec3(1f) - _e635) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_under = four_layer_interfaced_diffuse_under(layer3_f, (layer3_albedo_l * layer2_first_return_l), ((layer3_albedo_v * layer2_first_return_v) / max(vec3<f32>(0.9442068f, 0.9442068f, 0.9441075f), min(layer2_first_return_l, layer2_first_return_v))), four_layer_layer2_rho_returned, four_layer_layer3_r_return);
     let layer2_f = four_layer_interfaced_layer(layer2_specular, layer3_transmit_l, layer3_transmit_v, layer2_absorb_l, layer2_absorb_v, layer2_under, 1.1f);
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
-    let _e552 = (1f - layer3_transmit_l);
-    let _e555 = four_layer_glossy_trapped_share(layer2_cos_l, 0f, 0.09f);
-    let _e575 = min(max(((vec3((_e552 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e552)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l = (_e575 / vec3(0.9999998f));
-    let layer1_first_return_l = min(max(((vec3(1f) - _e575) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e592 = (1f - layer3_transmit_v);
-    let _e595 = four_layer_glossy_trapped_share(layer2_cos_v, 0f, 0.09f);
-    let _e615 = min(max(((vec3((_e592 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e592)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v = (_e615 / vec3(0.9999998f));
-    let layer1_first_return_v = min(max(((vec3(1f) - _e615) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e680 = (1f - layer3_transmit_l);
+    let _e683 = four_layer_glossy_trapped_share(layer2_cos_l, 0f, 0.09f);
+    let _e703 = min(max(((vec3((_e680 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e680)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l = (_e703 / vec3(0.9999998f));
+    let layer1_first_return_l = min(max(((vec3(1f) - _e703) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e720 = (1f - layer3_transmit_v);
+    let _e723 = four_layer_glossy_trapped_share(layer2_cos_v, 0f, 0.09f);
+    let _e743 = min(max(((vec3((_e720 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e720)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v = (_e743 / vec3(0.9999998f));
+    let layer1_first_return_v = min(max(((vec3(1f) - _e743) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_under = four_layer_interfaced_diffuse_under(layer2_f, (layer2_albedo_l * layer1_first_return_l), ((layer2_albedo_v * layer1_first_return_v) / max(vec3(0.001f), min(layer1_first_return_l, layer1_first_return_v))), four_layer_layer1_rho_returned, four_layer_layer1_r_series);
     let layer1_f = four_layer_interfaced_layer(four_layer_layer1_specular, layer2_transmit_l, layer2_transmit_v, layer1_absorb_l, layer1_absorb_v, layer1_under, 1f);
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
-    let _e653 = (1f - layer2_transmit_l);
-    let _e674 = min(max(((vec3((_e653 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e653)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e674 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e674) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e691 = (1f - layer2_transmit_v);
-    let _e712 = min(max(((vec3((_e691 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e691)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e712 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e712) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e781 = (1f - layer2_transmit_l);
+    let _e802 = min(max(((vec3((_e781 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e781)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l = (_e802 / vec3(0.41998938f));
+    let first_return_l = min(max(((vec3(1f) - _e802) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e819 = (1f - layer2_transmit_v);
+    let _e840 = min(max(((vec3((_e819 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e819)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e840 / vec3(0.41998938f));
+    let first_return_v = min(max(((vec3(1f) - _e840) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
@@ -655,10 +692,10 @@ fn four_layer_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // reflects most light from, pulled towards n as α grows: normalize(mix(n, r, s(√s + α))),
 // s = 1 − α. Guards: n·v ≥ 0 (a view below the horizon reflects nothing; its weight is zero)
 // and |mix| ≥ TINY.
-fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_9: f32) -> vec3<f32> {
+fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_8: f32) -> vec3<f32> {
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
-    let smoothness = min(max((1f - alpha_9), 0f), 1f);
-    let t_1 = (smoothness * (sqrt(smoothness) + alpha_9));
+    let smoothness = min(max((1f - alpha_8), 0f), 1f);
+    let t_1 = (smoothness * (sqrt(smoothness) + alpha_8));
     let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
 }
@@ -690,97 +727,101 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let layer1_v = four_layer_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
+    let blur_l_1 = ((abs((1f - (cos_v_1 / (1.5f * max(layer1_cos_v_1, 0.05f))))) * 0.2f) * 0.70710677f);
+    let blur_v_1 = ((abs((1f - (cos_v_1 / (1.5f * max(layer1_cos_v_1, 0.05f))))) * 0.2f) * 0.70710677f);
     let layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_v_1, 1f);
     let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
     let layer2_transmit_v_1 = (1f - layer2_fresnel_l);
     let layer2_v = four_layer_refract_down(layer1_v, n_4, 1f);
     let layer2_n_dot_v_1 = dot(n_4, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let _e48 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
-    let layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e48 - 1f) + 1f));
-    let _e64 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
-    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e64 - 1f) + 1f));
-    let _e71 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l_1);
-    let layer1_absorb_l_1 = vec3(_e71);
-    let _e74 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
-    let layer1_absorb_v_1 = vec3(_e74);
+    let _e72 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e72 - 1f) + 1f));
+    let _e88 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e88 - 1f) + 1f));
+    let _e95 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l_1);
+    let layer1_absorb_l_1 = vec3(_e95);
+    let _e98 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
+    let layer1_absorb_v_1 = vec3(_e98);
     let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
-    let _e80 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
-    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e80), 0f), 1f);
+    let _e104 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e104), 0f), 1f);
+    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e104), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1f);
     let layer3_n_dot_v_1 = dot(n_4, layer3_v);
     let layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001f);
-    let _e108 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
-    let _e110 = (_e108 - 1f);
-    let _e111 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
-    let layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e111 + _e110));
-    let _e126 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
-    let _e128 = (_e126 - 1f);
-    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e111 + _e128));
+    let _e132 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e134 = (_e132 - 1f);
+    let _e135 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    let layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e135 + _e134));
+    let _e150 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e152 = (_e150 - 1f);
+    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e135 + _e152));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
+    let layer2_blur_l_1 = ((abs((1f - (layer2_cos_v_1 / (1.1f * max(layer3_cos_v_1, 0.05f))))) * 0.09f) * 0.70710677f);
+    let layer2_blur_v_1 = ((abs((1f - (layer2_cos_v_1 / (1.1f * max(layer3_cos_v_1, 0.05f))))) * 0.09f) * 0.70710677f);
     let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
-    let _e141 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
-    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e141), 0f), 1f);
+    let _e189 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e189), 0f), 1f);
+    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e189), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2f);
     let layer4_n_dot_v_1 = dot(n_4, layer4_v);
     let layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001f);
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v_1);
-    let _e165 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
-    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e165);
-    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e165);
-    let _e173 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
-    let _e175 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
-    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e175)) * vec3(0.18698311f)) / max(_e173, vec3(0.000001f))));
+    let _e213 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e213);
+    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e213);
+    let _e221 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
+    let _e223 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
+    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e223)) * vec3(0.18698311f)) / max(_e221, vec3(0.000001f))));
     let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e210 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
-    let _e212 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
-    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e212)) * vec3(0.18698311f)) / max(_e210, vec3(0.000001f))));
+    let _e258 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
+    let _e260 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
+    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e260)) * vec3(0.18698311f)) / max(_e258, vec3(0.000001f))));
     let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
     let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
-    let _e257 = (1f - layer4_transmit_l_1);
-    let _e260 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784f, 0.25f);
-    let layer2_first_cone_share_l_1 = (1f - _e260);
-    let _e284 = min(max(((vec3(((_e257 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e257)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e284 / vec3(0.80973125f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e284) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e301 = (1f - layer4_transmit_v_1);
-    let layer2_first_cone_share_v_1 = (1f - _e260);
-    let _e325 = min(max(((vec3(((_e301 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e301)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e325 / vec3(0.80973125f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e325) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e305 = (1f - layer4_transmit_l_1);
+    let _e308 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_l_1 = (1f - _e308);
+    let _e332 = min(max(((vec3(((_e305 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e305)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_l_1 = (_e332 / vec3(0.80973125f));
+    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e332) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
+    let _e349 = (1f - layer4_transmit_v_1);
+    let layer2_first_cone_share_v_1 = (1f - _e308);
+    let _e373 = min(max(((vec3(((_e349 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e349)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e373 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e373) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
-    let _e356 = (1f - layer3_transmit_l_1);
-    let _e359 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0f, 0.09f);
-    let _e379 = min(max(((vec3((_e356 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e356)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l_1 = (_e379 / vec3(0.9999998f));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e379) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e396 = (1f - layer3_transmit_v_1);
-    let _e416 = min(max(((vec3((_e396 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e396)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v_1 = (_e416 / vec3(0.9999998f));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e416) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e404 = (1f - layer3_transmit_l_1);
+    let _e407 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0f, 0.09f);
+    let _e427 = min(max(((vec3((_e404 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e404)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_l_1 = (_e427 / vec3(0.9999998f));
+    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e427) / vec3(0.0001f)), vec3(0f)), vec3(1f));
+    let _e444 = (1f - layer3_transmit_v_1);
+    let _e464 = min(max(((vec3((_e444 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e444)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e464 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e464) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e441 = (1f - layer2_transmit_l_1);
-    let _e462 = min(max(((vec3((_e441 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e441)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e462 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e462) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e479 = (1f - layer2_transmit_v_1);
-    let _e500 = min(max(((vec3((_e479 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e479)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e500 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e500) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e489 = (1f - layer2_transmit_l_1);
+    let _e510 = min(max(((vec3((_e489 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e489)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_l_1 = (_e510 / vec3(0.41998938f));
+    let first_return_l_1 = min(max(((vec3(1f) - _e510) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let _e527 = (1f - layer2_transmit_v_1);
+    let _e548 = min(max(((vec3((_e527 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e527)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v_1 = (_e548 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e548) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
     let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e543 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e543))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e543)));
+    let _e591 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e591))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e591)));
 }
 
 // Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.

@@ -52,10 +52,10 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     /// The blur of the coats above, `above`, with this coat's added (`level::coat_blur`), from
     /// the median slope of its microfacet normals: GGX's α = r², GTR1's √α = r (none for a
     /// smooth coat).
-    pub(super) fn blur_below(&self, above: Blur<F>, k: usize) -> Blur<F> {
+    pub(super) fn blur_below(&self, above: Blur<F>, k: usize, cosines: Option<((F, F), (F, F))>) -> Blur<F> {
         let gtr1 = self.tables == CoatTables::GTR1;
         let median_slope = self.roughness.map(|r| if gtr1 { r } else { r * r });
-        coat_blur(median_slope, gtr1, self.eta, above, k)
+        coat_blur(median_slope, gtr1, self.eta, above, k, cosines)
     }
 
     /// The GGX α of a GGX coat's reflection lobe, r² (`None` for a smooth or a GTR1 coat).
@@ -316,6 +316,36 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     }
 }
 
+/// A GGX lobe of its own α `own` seen through rough coats that widen it to `alpha_l` at the
+/// light's direction and `alpha_v` at the view's (`Blur::widen`), spread as the glossy level
+/// spreads a conductor's lobe (`d_ggx_crossed`): each crossing's share of the widening, half
+/// the slope variance α² − α_own² at its direction, along that direction's plane of incidence
+/// and 1/μ² as much across it. To first order a crossing spreads the ray isotropically
+/// (`coat_blur`), but this fits the reference better: under a `Gtr1(0.15)` coat over
+/// `Ggx(0.25)` over Plastic the body p90 is 2.7% against 3.9% for the isotropic GGX of
+/// α² = (α_l² + α_v²)/2 (3.6% with the blur along the normal); that lobe at 55° is 0.90× the
+/// reference at its peak and 1.1–1.3× it 9°–20° across the plane, where the isotropic one is
+/// 1.03× at the peak and 1.13–1.34× 10°–20° off it in the plane.
+fn crossed_lobe<F: Real>(g: &Geometry<F>, own: F, (alpha_l, alpha_v): (F, F), name: &str) -> F {
+    let half = g.half();
+    let across = |alpha: F, mu: F, side: &str| {
+        let per_crossing = ((alpha.sq() - own.sq()) * 0.5).at_least(0.0);
+        (per_crossing / mu.at_least(CROSSED_COSINE_MIN).sq()).named(&format!("{name}_{side}"))
+    };
+    let twist = g.n.dot(g.l.cross(g.v));
+    d_ggx_crossed(
+        half.n_dot_h,
+        half.sin2_h,
+        half.v_dot_h,
+        g.n_dot_l,
+        g.n_dot_v,
+        twist.sq(),
+        own.sq(),
+        across(alpha_l, g.n_dot_l, "l"),
+        across(alpha_v, g.n_dot_v, "v"),
+    )
+}
+
 /// A coat's own reflection lobe in the interfaced method: exact dielectric Fresnel at the
 /// microfacet normal and the exact height-correlated Smith term of its distribution (GGX's, or
 /// GTR1's own for a `Gtr1` coat: the reference walks a GTR1 microsurface, and Burley's GGX term
@@ -339,12 +369,26 @@ pub(super) fn interfaced_lobe<F: Real>(
         Lobe::Smooth => return inputs.zero(),
         Lobe::Ggx { roughness } => {
             let r = inputs.scalar(*roughness);
-            let alpha = blur.widen(r * r, &name("lobe_alpha"));
-            (d_ggx(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha))
+            let own = r * r;
+            let (alpha, distribution) = match blur.widen(own, &name("lobe_alpha")) {
+                Some((alpha_l, alpha_v)) => (
+                    ((alpha_l.sq() + alpha_v.sq()) * 0.5).sqrt().named(&name("lobe_alpha")),
+                    crossed_lobe(g, own, (alpha_l, alpha_v), &name("crossing")),
+                ),
+                None => {
+                    // Named where it is computed at run time (a literal α stays inline).
+                    let own = if own.known().is_some() { own } else { own.named(&name("lobe_alpha")) };
+                    (own, d_ggx(g.half().n_dot_h, g.half().sin2_h, own))
+                }
+            };
+            (distribution, g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
         Lobe::Gtr1 { roughness } => {
             let r = inputs.scalar(*roughness);
-            let alpha = blur.widen(r, &name("lobe_slope")).sq();
+            let alpha = match blur.widen(r, &name("lobe_slope")) {
+                Some((slope_l, slope_v)) => (slope_l * slope_v).named(&name("lobe_alpha")),
+                None => r.sq(),
+            };
             (d_gtr1(g.half().n_dot_h, g.half().sin2_h, alpha), g_smith_gtr1_correlated(g.n_dot_v, g.n_dot_l, alpha))
         }
     };

@@ -14,7 +14,7 @@ use super::trapped::{trapped, trapped_shares};
 use crate::math::tables::{self, TableId};
 use crate::math::terms::*;
 use crate::math::{Named, Real, Vector};
-use crate::model::{Color, Scalar};
+use crate::model::{Color, Lobe, Scalar};
 
 /// The interfaced method from depth `at` down, at the directions `g` of that level; the level's
 /// albedos too when `want_albedo`.
@@ -89,10 +89,16 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         (None, Body::OrenNayar(..)) => Some(own_path()),
         _ => None,
     };
+    // The blur at the directions is built only for the lobe of a rough coat further down.
+    let rough_below = coats[k + 1..].iter().any(|c| !matches!(c.lobe, Lobe::Smooth));
     let deeper = Depth {
         k: k + 1,
         n_medium: Some(n_medium.map_or(eta, |n| n * eta)),
-        blur: interface.blur_below(blur, k),
+        blur: interface.blur_below(
+            blur,
+            k,
+            rough_below.then_some(((g.n_dot_l, below.n_dot_l), (g.n_dot_v, below.n_dot_v))),
+        ),
         spread: spread_below,
         incidence,
     };
