@@ -701,12 +701,12 @@ float3 coated_gold_brdf(float3 n_3, float3 v_3, float3 l_3)
     const float3 layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     float3 layer1_n_cross_h = cross(n_3, layer1_h);
     float _e290 = dot(layer1_v, layer1_h);
-    float _e292 = dot(n_3, cross(layer1_l, layer1_v));
-    float _e296 = max(layer1_cos_l, 0.05);
-    float layer1_across_l = ((layer1_blur_l_2 * layer1_blur_l_2) / (_e296 * _e296));
+    float _e294 = dot(n_3, cross(layer1_l, layer1_v));
+    float _e297 = max(layer1_cos_l, 0.05);
+    float layer1_across_l = ((layer1_blur_l_2 * layer1_blur_l_2) / (_e297 * _e297));
     float _e301 = max(layer1_cos_v, 0.05);
     float layer1_across_v = ((layer1_blur_v_2 * layer1_blur_v_2) / (_e301 * _e301));
-    const float layer1_d = coated_gold_d_ggx_crossed(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), _e290, layer1_cos_l, layer1_cos_v, (_e292 * _e292), 0.00390625, layer1_across_l, layer1_across_v);
+    const float layer1_d = coated_gold_d_ggx_crossed(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), _e290, layer1_cos_l, layer1_cos_v, (_e294 * _e294), 0.00390625, layer1_across_l, layer1_across_v);
     const float layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     const float3 layer1_fresnel = coated_gold_fr_conductor(_e290, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
     const float3 _e316 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);

@@ -655,12 +655,12 @@ fn coated_gold_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32>
     let layer1_h = coated_gold_half_vector(layer1_v, layer1_l);
     let layer1_n_cross_h = cross(n_3, layer1_h);
     let _e290 = dot(layer1_v, layer1_h);
-    let _e292 = dot(n_3, cross(layer1_l, layer1_v));
-    let _e296 = max(layer1_cos_l, 0.05f);
-    let layer1_across_l = ((layer1_blur_l_2 * layer1_blur_l_2) / (_e296 * _e296));
+    let _e294 = dot(n_3, cross(layer1_l, layer1_v));
+    let _e297 = max(layer1_cos_l, 0.05f);
+    let layer1_across_l = ((layer1_blur_l_2 * layer1_blur_l_2) / (_e297 * _e297));
     let _e301 = max(layer1_cos_v, 0.05f);
     let layer1_across_v = ((layer1_blur_v_2 * layer1_blur_v_2) / (_e301 * _e301));
-    let layer1_d = coated_gold_d_ggx_crossed(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), _e290, layer1_cos_l, layer1_cos_v, (_e292 * _e292), 0.00390625f, layer1_across_l, layer1_across_v);
+    let layer1_d = coated_gold_d_ggx_crossed(dot(n_3, layer1_h), dot(layer1_n_cross_h, layer1_n_cross_h), _e290, layer1_cos_l, layer1_cos_v, (_e294 * _e294), 0.00390625f, layer1_across_l, layer1_across_v);
     let layer1_g = coated_gold_g_smith_ggx_correlated(layer1_cos_v, layer1_cos_l, layer1_alpha_2);
     let layer1_fresnel = coated_gold_fr_conductor(_e290, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
     let _e316 = coated_gold_f_cook_torrance(layer1_d, layer1_g, layer1_fresnel, layer1_cos_v, layer1_cos_l);

@@ -160,6 +160,27 @@ impl<F: Real> Geometry<F> {
         })
     }
 
+    /// A GGX lobe of slope variance `base` (α²) at these directions, each crossing of a rough
+    /// coat spreading it by `along` (σ², towards l and towards v) along its direction's plane of
+    /// incidence and σ²/μ² across it (`d_ggx_crossed`; μ ≥ CROSSED_COSINE_MIN), the two
+    /// across-plane spreads named `names`.
+    pub(super) fn d_ggx_crossed(&self, base: F, along: (F, F), names: (&str, &str)) -> F {
+        let half = self.half();
+        let across = |sigma_sq: F, mu: F, name: &str| (sigma_sq / mu.at_least(CROSSED_COSINE_MIN).sq()).named(name);
+        let twist = self.n.dot(self.l.cross(self.v));
+        d_ggx_crossed(
+            half.n_dot_h,
+            half.sin2_h,
+            half.v_dot_h,
+            self.n_dot_l,
+            self.n_dot_v,
+            twist.sq(),
+            base,
+            across(along.0, self.n_dot_l, names.0),
+            across(along.1, self.n_dot_v, names.1),
+        )
+    }
+
     /// The directions one layer down, under an interface of relative IOR `eta`.
     pub(super) fn refracted(&self, eta: F) -> Geometry<F> {
         let level = self.level + 1;

@@ -185,20 +185,8 @@ impl<'a, 'i, F: Real> Glossy<'a, 'i, F> {
             Some(b) => (alpha_c + b).sq(),
             None => alpha_c.sq(),
         };
-        let across = |sigma: F, mu: F| sigma.sq() / mu.at_least(CROSSED_COSINE_MIN).sq();
-        let twist = below.n.dot(below.l.cross(below.v));
-        d_ggx_crossed(
-            half.n_dot_h,
-            half.sin2_h,
-            half.v_dot_h,
-            below.n_dot_l,
-            below.n_dot_v,
-            twist.sq(),
-            base,
-            across(sigma_l, below.n_dot_l).named(&self.name("across_l")),
-            across(sigma_v, below.n_dot_v).named(&self.name("across_v")),
-        )
-        .named(&name)
+        let names = (self.name("across_l"), self.name("across_v"));
+        below.d_ggx_crossed(base, (sigma_l.sq(), sigma_v.sq()), (&names.0, &names.1)).named(&name)
     }
 
     /// Attenuation of light that leaves after one event, per crossing: e^(−τ q/μ_eff), μ_eff the

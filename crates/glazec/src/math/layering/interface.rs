@@ -327,23 +327,9 @@ impl<'i, F: Real> CoatInterface<'i, F> {
 /// reference at its peak and 1.1–1.3× it 9°–20° across the plane, where the isotropic one is
 /// 1.03× at the peak and 1.13–1.34× 10°–20° off it in the plane.
 fn crossed_lobe<F: Real>(g: &Geometry<F>, own: F, (alpha_l, alpha_v): (F, F), name: &str) -> F {
-    let half = g.half();
-    let across = |alpha: F, mu: F, side: &str| {
-        let per_crossing = ((alpha.sq() - own.sq()) * 0.5).at_least(0.0);
-        (per_crossing / mu.at_least(CROSSED_COSINE_MIN).sq()).named(&format!("{name}_{side}"))
-    };
-    let twist = g.n.dot(g.l.cross(g.v));
-    d_ggx_crossed(
-        half.n_dot_h,
-        half.sin2_h,
-        half.v_dot_h,
-        g.n_dot_l,
-        g.n_dot_v,
-        twist.sq(),
-        own.sq(),
-        across(alpha_l, g.n_dot_l, "l"),
-        across(alpha_v, g.n_dot_v, "v"),
-    )
+    let per_crossing = |alpha: F| ((alpha.sq() - own.sq()) * 0.5).at_least(0.0);
+    let names = (format!("{name}_l"), format!("{name}_v"));
+    g.d_ggx_crossed(own.sq(), (per_crossing(alpha_l), per_crossing(alpha_v)), (&names.0, &names.1))
 }
 
 /// A coat's own reflection lobe in the interfaced method: exact dielectric Fresnel at the
