@@ -46,14 +46,11 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
     return select(1f, fresnel_3, (sin2_t < 1f));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * -0.032026023f) + -0.00037076068f);
@@ -70,13 +67,12 @@ fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     return f_10;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_coat_path_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_11 = ((u_1 * -0.00927484f) + 1.0023464f);
@@ -108,14 +104,14 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
     return ((r_p + r_s) * vec3(0.5f));
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
-// 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
     let f_16 = (1.0610528f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036816f, -1.0432777f, -0.4499693f)));
@@ -124,11 +120,11 @@ fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     return f_18;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
     let f_19 = ((u_3 * -0.035583183f) + -0.6395629f);
@@ -136,14 +132,14 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
     return f_20;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
-// 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_21 = ((u_4 * -0.85115623f) + 0.89909506f);
@@ -153,13 +149,13 @@ fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     return f_24;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // σ(μ; r_c, r, η)/r²: how much a rough coat (α = r²) widens the conductor's lobe under it,
 // per crossing (α² = α_c² + σ_l² + σ_v²): the GGX width whose peak matches the conductor's
 // peak seen through the coat's transmission from μ, tapered towards grazing.
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 6 of the table's
-// 6 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 6 of the table's 6 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
     let u_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
     let f_25 = ((u_5 * 0.5371948f) + 0.70036405f);
@@ -168,11 +164,10 @@ fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
     return f_27;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.21777777 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.21777777 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_28 = ((u_6 * -0.03918707f) + 0.9841455f);
@@ -185,11 +180,10 @@ fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     return f_34;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_35 = ((u_7 * -0.02538353f) + 0.9516745f);
@@ -202,19 +196,11 @@ fn coated_gold_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     return f_41;
 }
 
-// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
-// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
-// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
-// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
-// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
-// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
-// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
-// β = atan(t₂/α) − atan(t₁/α): the share trapped is
-// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
-// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
-// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
-// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at cosine μ
+// that leaves the coat's escape cone (cosine μc), trapped by total internal reflection:
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2, t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2)
+// (Walter et al. 2007 eq. 33; Heitz 2014 §5.2). Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at
+// 90°), the root's argument ≥ 10⁻²⁴.
 fn coated_gold_trapped_share(mu: f32, mu_c: f32, alpha: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu * mu)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
@@ -226,23 +212,20 @@ fn coated_gold_trapped_share(mu: f32, mu_c: f32, alpha: f32) -> f32 {
 }
 
 // glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
-// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
-// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
-// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
-// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
-// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon:
+// `trapped_share` beyond the cone minus `trapped_share` beyond the horizon (μc = 0). Guard: ≥ 0
+// (the disc approximation is not monotonic in μc to the last bit).
 fn coated_gold_glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32 {
     let beyond_cone = coated_gold_trapped_share(mu_1, mu_c_1, alpha_1);
     let below_horizon = coated_gold_trapped_share(mu_1, 0f, alpha_1);
     return max((beyond_cone - below_horizon), 0f);
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let f_42 = ((u_8 * 0.5028753f) + 0.48326114f);
@@ -250,12 +233,12 @@ fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     return f_43;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_44 = ((u_9 * -0.01998204f) + 0.39283627f);
@@ -263,15 +246,10 @@ fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     return f_45;
 }
 
-// glazec's glossy level (a conductor under a coat), the light trapped after the first
-// conductor event, per unit of it, that does not leave at the second: the generating
-// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
-// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
-// slab's round trip): a mixture of geometric event counts (B: the share that stays per
-// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
-// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
-// 1 − w₀: a white conductor under a clear coat returns all of it.
-// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+// glazec's glossy level (a conductor under a coat): the light trapped after the first conductor
+// event that does not leave at the second, w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c),
+// γ(B, c) = c(1 − B)/(1 − Bc), c the per-event survival. Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by
+// construction; c ≤ 1).
 fn coated_gold_glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
     let quick_rate = ((c * vec3(0.5f)) / (coated_gold_one - (c * vec3(0.5f))));
     let steady_rate = ((c * vec3(0.2f)) / (coated_gold_one - (c * vec3(0.8f))));
@@ -298,13 +276,9 @@ fn coated_gold_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz distribution D(h) = α² / (π (α² cos²θh +
+// sin²θh)²), sin²θh = |n × h|² passed in. Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the
+// denominator ≥ TINY for a zero half vector (two zero directions under total internal reflection).
 fn coated_gold_d_ggx(cos_h: f32, sin2_h: f32, alpha_2: f32) -> f32 {
     let a_2 = max(alpha_2, 0.001f);
     let a_sq = (a_2 * a_2);
@@ -336,14 +310,13 @@ fn coated_gold_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_coat_scale_curve(cos_theta_10: f32) -> f32 {
     let u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_46 = ((u_10 * 0.060539242f) + 0.99981815f);
@@ -356,21 +329,11 @@ fn coated_gold_coat_scale_curve(cos_theta_10: f32) -> f32 {
     return f_52;
 }
 
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
 fn coated_gold_d_ggx_mirrored_tail(z: f32, across: f32, alpha_5: f32) -> f32 {
     let a_3 = max(alpha_5, 0.001f);
     let a_sq_1 = (a_3 * a_3);
@@ -381,35 +344,17 @@ fn coated_gold_d_ggx_mirrored_tail(z: f32, across: f32, alpha_5: f32) -> f32 {
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
 // through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+// et al. 2016 microsurface walks.
 fn coated_gold_second_event_share(lambda: f32) -> f32 {
     return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
-// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
-// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
-// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
-// a direction's horizontal part by μδ in its plane, by δ across it):
-// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
-// With s = h_t/cos θh the half vector's slope,
-//
-// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
-//
-// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
-// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
-// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
-// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
-// [`d_ggx`]. `base` is α², `twist_sq` t².
-// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
-// zero half vector, as in `d_ggx`.
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", §5.3–5.4:
+// GGX with the slope covariance A = α² I + Σ_l + Σ_v, each coat crossing spreading the slopes by
+// σ² along its direction's plane of incidence and β = σ²/μ² across it;
+// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²). Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it
+// ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a zero half vector, as in `d_ggx`.
 fn coated_gold_d_ggx_crossed(cos_h_1: f32, sin2_h_1: f32, l_dot_h: f32, mu_l: f32, mu_v: f32, twist_sq: f32, base: f32, beta_l: f32, beta_v: f32) -> f32 {
     let base_1 = max(base, 0.0000010000001f);
     let across_1 = ((base_1 + beta_l) + beta_v);
@@ -422,24 +367,21 @@ fn coated_gold_d_ggx_crossed(cos_h_1: f32, sin2_h_1: f32, l_dot_h: f32, mu_l: f3
     return (1f / (((sqrt(det) * bracket) * bracket) * 3.1415927f));
 }
 
-// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
-// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
-// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
-// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
-// (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
+// f_top + f_under aᵢ aₒ Tᵢ Tₒ / η², symmetric in i and o, so reciprocal.
 fn coated_gold_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_3: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_3 * eta_3))));
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
 // leaves as the level's remainder (after three or more conductor events, or at the second
 // after total internal reflection): the mean cosine of its azimuth about the forward
 // direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
 // reflection keeps the direction's horizontal part).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn coated_gold_glossy_spread_curve(cos_theta_11: f32) -> f32 {
     let u_11 = sqrt(min(max(cos_theta_11, 0f), 1f));
     let f_53 = ((u_11 * 0.058451414f) + 0.9806291f);
@@ -457,21 +399,11 @@ fn coated_gold_forward_sines(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> 
     return sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
 }
 
-// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
-// every conductor event keeps a share c of it, given the white light's ρ (the walks').
-// Each event keeps a direction's horizontal part with some scatter, so light that has taken
-// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
-// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
-// going forward more than white light: under copper, light leaving backwards has taken the
-// most events and is the darkest. With the later events' generating function L
-// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
-// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
-// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
-// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
-// κ drops more slowly with the count than ρ₁ⁿ); it drives [`forward_azimuth_tilt`], and
-// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
-// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
-// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+// glazec's glossy level: the forward spread's mean resultant length of light whose every
+// conductor event keeps a share c of it, ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)], ρ₁ = ρ^(1/n̄), L
+// the later events' generating function (`glossy_later`) and n̄ their white mean count. Guards:
+// n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and L(ρ₁) ≥ 10⁻⁶
+// (a black channel has no remainder to spread).
 fn coated_gold_glossy_spread_colour(rho: f32, next_2: f32, quick_1: f32, steady_1: f32, slow_1: f32, c_2: vec3<f32>) -> vec3<f32> {
     let rest_1 = max((1f - ((next_2 + quick_1) + steady_1)), 0f);
     let weight = max(((quick_1 + steady_1) + rest_1), 0.000001f);
@@ -494,38 +426,20 @@ fn coated_gold_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, si
     return (-(dot(l_t_1, v_t_1)) / sines);
 }
 
-// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
-// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
-// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
-// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
-// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia & Jupp
+// 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf). Guard: ρ ≤ 0.95 (a
+// narrower spread would need finer azimuths than a lobe has).
 fn coated_gold_forward_azimuth_weight(rho_1: f32, cos_phi: f32) -> f32 {
     let r_1 = min(rho_1, 0.95f);
     return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi) * 2f)));
 }
 
-// glazec's glossy level, after Mardia & Jupp 2000, "Directional Statistics", §3.5.7 (the
-// wrapped Cauchy's Fourier coefficients): the wrapped Cauchy weight W of mean resultant
-// length ρ ([`forward_azimuth_weight`], what the caller multiplies by) reweighted per
-// channel to mean resultant lengths ρ_c, by (1 + aV)/(1 + a⟨V⟩) with V the wrapped Cauchy
-// weight of ρ_b at the same azimuth: the light that took few conductor events, which a
-// coloured conductor darkens least, is the light that kept going forward. Its mean over W
-// is 1 (albedo unchanged), with ⟨V⟩ = E_W[V] = (1 + x)/(1 − x), x = ρρ_b, and the mean
-// resultant length of W(1 + aV)/(1 + a⟨V⟩) is (ρ + a(ρ + ρ_b)/(1 − x))/(1 + a⟨V⟩)
-// (W's and V's Fourier coefficients are ρ^|k| and ρ_b^|k|): equal to ρ_c for
-// a = (ρ_c − ρ)(1 − x)/(ρ + ρ_b − ρ_c(1 + x)). ρ_b = ρ² (V is W's own azimuth after a
-// second, independent spread): measured against white walks weighed by cⁿ (`glazec-lab`
-// example `spread_colour`), it darkens the sides and the back alike and keeps the boost
-// within 45° of forward, as the walks do (coated_gold's conductor under its coat at 85°/75°,
-// c 0.9: share of the coloured light per bin 1.14, 0.75, 0.58, 0.53, 0.52, 0.51 from forward
-// to behind, the walks' 1.17, 0.82, 0.55, 0.46, 0.44, 0.44), where V = W (tilting towards W
-// itself) kept 0.55 at the side and behind. A tilt towards V reaches at most
-// (ρ + ρ_b)/(1 + x); where ρ_c needs more (low ρ, strong colour: in the body under η 2
-// coats) ρ_b grows to (ρ_t − ρ)/(1 − ρρ_t), the least that reaches ρ_t = ρ_c + 0.01.
-// Guards: ρ ≤ 0.95 (as [`forward_azimuth_weight`]), hence ρ_b ≤ 0.95: ρ_c below the reach
-// at ρ_b = 0.95 less 10⁻³, ρ_t at most that reach; the denominator ≥ 10⁻⁶;
-// a ≥ −0.999(1 − ρ_b)/(1 + ρ_b), which keeps 1 + aV > 0 where V is largest,
-// (1 + ρ_b)/(1 − ρ_b).
+// glazec's glossy level, after Mardia & Jupp 2000, §3.5.7 (the wrapped Cauchy's Fourier
+// coefficients): the weight W of [`forward_azimuth_weight`] reweighted per channel to mean
+// resultant lengths ρ_c by (1 + aV)/(1 + a⟨V⟩), V the wrapped Cauchy weight of ρ_b = ρ²,
+// a = (ρ_c − ρ)(1 − x)/(ρ + ρ_b − ρ_c(1 + x)), x = ρρ_b. Guards: ρ ≤ 0.95, hence ρ_b ≤ 0.95; ρ_c
+// below the reach at ρ_b = 0.95 less 10⁻³; the denominator ≥ 10⁻⁶; a ≥ −0.999(1 − ρ_b)/(1 + ρ_b),
+// which keeps 1 + aV > 0 where V is largest.
 fn coated_gold_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) -> vec3<f32> {
     let r_2 = min(rho_2, 0.95f);
     let top = ((r_2 + 0.95f) / ((r_2 * 0.95f) + 1f));
@@ -719,15 +633,9 @@ fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 fn coated_gold_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
     return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }

@@ -81,13 +81,12 @@ vec3 four_layer_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1,
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // `coat_deficit` of a GTR1 microsurface (GTR1 normals, GTR1's own Smith masking) for its
 // unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
 // reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
-// Here roughness = 0.2, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.2, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_gtr1_coat_deficit_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f = ((u * -0.028372109) + -0.0009624428);
@@ -112,13 +111,12 @@ vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_1) {
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.4472136, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.4472136, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_path_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_11 = ((u_1 * 0.85441303) + 1.298795);
@@ -136,24 +134,11 @@ float four_layer_slab_transmittance_grey(float tau, float mu) {
     return exp(-((tau / mu)));
 }
 
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
-// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
-// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
-// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
-// a direction's horizontal part by μδ in its plane, by δ across it):
-// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
-// With s = h_t/cos θh the half vector's slope,
-//
-// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
-//
-// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
-// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
-// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
-// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
-// [`d_ggx`]. `base` is α², `twist_sq` t².
-// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
-// zero half vector, as in `d_ggx`.
+// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", §5.3–5.4:
+// GGX with the slope covariance A = α² I + Σ_l + Σ_v, each coat crossing spreading the slopes by
+// σ² along its direction's plane of incidence and β = σ²/μ² across it;
+// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²). Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it
+// ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a zero half vector, as in `d_ggx`.
 float four_layer_d_ggx_crossed(float cos_h_1, float sin2_h_1, float l_dot_h, float mu_l, float mu_v, float twist_sq, float base, float beta_l, float beta_v) {
     float base_1 = max(base, 1.0000001e-6);
     float across_1 = ((base_1 + beta_l) + beta_v);
@@ -184,14 +169,13 @@ float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float 
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_scale_curve(float cos_theta_2) {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_16 = ((u_2 * -0.01585722) + 1.0037742);
@@ -204,21 +188,11 @@ float four_layer_coat_scale_curve(float cos_theta_2) {
     return f_22;
 }
 
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
 float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_5) {
     float a_3 = max(alpha_5, 0.001);
     float a_sq_2 = (a_3 * a_3);
@@ -229,25 +203,17 @@ float four_layer_d_ggx_mirrored_tail(float z, float across, float alpha_5) {
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
 // through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+// et al. 2016 microsurface walks.
 float four_layer_second_event_share(float lambda) {
     return ((1.0 / ((lambda * ((lambda * 2.0) + 4.0)) + 1.0)) * 1.1);
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_deficit_curve(float cos_theta_3) {
     float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_23 = ((u_3 * -0.020166278) + -0.003592166);
@@ -264,13 +230,12 @@ float four_layer_coat_deficit_curve(float cos_theta_3) {
     return f_33;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.39223224, eta = 1.6500001 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.39223224, eta = 1.6500001 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_path_curve_b(float cos_theta_4) {
     float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_34 = ((u_4 * 0.6249771) + 1.2128764);
@@ -281,13 +246,12 @@ float four_layer_coat_path_curve_b(float cos_theta_4) {
     return f_38;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.3, eta = 1.1 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_path_curve_c(float cos_theta_5) {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_39 = ((u_5 * 0.61936736) + 1.0213565);
@@ -304,14 +268,13 @@ vec3 four_layer_slab_transmittance(vec3 tau_1, float mu_1) {
     return exp(-((tau_1 / vec3(mu_1))));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_scale_curve_b(float cos_theta_6) {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_44 = ((u_6 * -0.09836375) + 1.0570874);
@@ -324,14 +287,11 @@ float four_layer_coat_scale_curve_b(float cos_theta_6) {
     return f_50;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_deficit_curve_b(float cos_theta_7) {
     float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_51 = ((u_7 * -0.02334994) + -0.016049497);
@@ -389,13 +349,12 @@ vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_3) {
     return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.5, eta = 1.2 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 float four_layer_coat_path_curve_d(float cos_theta_8) {
     float u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_62 = ((u_8 * 0.9989592) + 1.2154765);
@@ -406,22 +365,15 @@ float four_layer_coat_path_curve_d(float cos_theta_8) {
     return f_66;
 }
 
-// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
-// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
-// back down (R, the slab's diffuse return reflectance) and that then bounces between body
-// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
-// Lambert").
+// glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
+// over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 vec3 four_layer_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
     vec3 _e7 = (rho_below * r_return);
     return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
 }
 
-// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
-// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
-// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
-// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
-// (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
+// f_top + f_under aᵢ aₒ Tᵢ Tₒ / η², symmetric in i and o, so reciprocal.
 vec3 four_layer_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3 a_o, vec3 f_under, float eta_2) {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
@@ -436,19 +388,11 @@ vec3 four_layer_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_be
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
-// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
-// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
-// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
-// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
-// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
-// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
-// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
-// β = atan(t₂/α) − atan(t₁/α): the share trapped is
-// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
-// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
-// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
-// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at cosine μ
+// that leaves the coat's escape cone (cosine μc), trapped by total internal reflection:
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2, t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2)
+// (Walter et al. 2007 eq. 33; Heitz 2014 §5.2). Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at
+// 90°), the root's argument ≥ 10⁻²⁴.
 float four_layer_trapped_share(float mu_4, float mu_c, float alpha_6) {
     float sin_t = sqrt(max((1.0 - (mu_4 * mu_4)), 0.0));
     float sin_c = sqrt(max((1.0 - (mu_c * mu_c)), 0.0));
@@ -460,12 +404,9 @@ float four_layer_trapped_share(float mu_4, float mu_c, float alpha_6) {
 }
 
 // glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
-// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
-// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
-// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
-// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
-// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon:
+// `trapped_share` beyond the cone minus `trapped_share` beyond the horizon (μc = 0). Guard: ≥ 0
+// (the disc approximation is not monotonic in μc to the last bit).
 float four_layer_glossy_trapped_share(float mu_5, float mu_c_1, float alpha_7) {
     float beyond_cone = four_layer_trapped_share(mu_5, mu_c_1, alpha_7);
     float below_horizon = four_layer_trapped_share(mu_5, 0.0, alpha_7);
@@ -693,15 +634,9 @@ vec3 four_layer_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_8) {
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 1e-12))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 float four_layer_grazing_lookup_roughness(float r_4, float n_dot_v_4) {
     return (r_4 * sqrt(max(n_dot_v_4, 0.0001)));
 }

@@ -44,13 +44,9 @@ fn tunable_glaze_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz distribution D(h) = α² / (π (α² cos²θh +
+// sin²θh)²), sin²θh = |n × h|² passed in. Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the
+// denominator ≥ TINY for a zero half vector (two zero directions under total internal reflection).
 fn tunable_glaze_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = max(alpha, 0.001f);
     let a_sq = (a_1 * a_1);
@@ -120,12 +116,11 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
     return ((((((((((code_lll * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * (1f - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1f - weights.y)) * (1f - weights.z)))) + (((code_lul * scale) + offset) * (((1f - weights.x) * weights.y) * (1f - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1f - weights.z)))) + (((code_llu * scale) + offset) * (((1f - weights.x) * (1f - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1f - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1f - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_scale(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 15f);
@@ -143,21 +138,11 @@ fn tunable_glaze_coat_scale(cos_theta: f32, roughness: f32, eta_1: f32) -> f32 {
     return value;
 }
 
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
 fn tunable_glaze_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
     let a_2 = max(alpha_3, 0.001f);
     let a_sq_1 = (a_2 * a_2);
@@ -168,23 +153,15 @@ fn tunable_glaze_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
 // through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+// et al. 2016 microsurface walks.
 fn tunable_glaze_second_event_share(lambda: f32) -> f32 {
     return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_deficit(cos_theta_1: f32, roughness_1: f32, eta_2: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 31f);
@@ -210,11 +187,10 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_3: f32) -> vec3<f3
     return -(refract(-(w), n, (1f / eta_3)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_path(cos_theta_2: f32, roughness_2: f32, eta_4: f32) -> f32 {
     let u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_2 = (u_cos_theta_2 * 11f);
@@ -297,9 +273,8 @@ fn tunable_glaze_table_linear(corner_1: u32, strides_1: u32, weights_1: f32, sca
     return ((((code_l * scale_1) + offset_1) * (1f - weights_1)) + (((code_u * scale_1) + offset_1) * weights_1));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨1 − F⟩(η) = ∫ 2μ (1 − F(μ)) dμ: a smooth interface's hemispherical transmittance.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_fresnel_transmit_avg(eta_5: f32) -> f32 {
     let u_eta_3 = min(max((((eta_5 - 1f) * 2f) / (eta_5 + 1f)), 0f), 1f);
     let node_eta_3 = (u_eta_3 * 63f);
@@ -321,9 +296,8 @@ fn tunable_glaze_table_bilinear(corner_2: u32, strides_2: vec2<u32>, weights_2: 
     return ((((((code_ll * scale_2) + offset_2) * ((1f - weights_2.x) * (1f - weights_2.y))) + (((code_ul * scale_2) + offset_2) * (weights_2.x * (1f - weights_2.y)))) + (((code_lu * scale_2) + offset_2) * ((1f - weights_2.x) * weights_2.y))) + (((code_uu * scale_2) + offset_2) * (weights_2.x * weights_2.y)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // ⟨G⟩(r, η) = ∫ 2μ G(μ) dμ.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_deficit_avg(roughness_3: f32, eta_6: f32) -> f32 {
     let u_roughness_3 = sqrt(min(max(roughness_3, 0f), 1f));
     let node_roughness_3 = (u_roughness_3 * 31f);
@@ -337,12 +311,11 @@ fn tunable_glaze_coat_deficit_avg(roughness_3: f32, eta_6: f32) -> f32 {
     return value;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // (1 − R(τ; r, η))/⟨T_int⟩, R(τ) = ∫ 2μ e^(−2τ/μ) R_int(μ) dμ: the share of diffuse light
 // going up inside the coat that comes back down (internal reflection incl. TIR, absorbed
 // both ways). Normalised by ⟨T_int⟩ = E_esc(0) (1 at τ = 0): the caller multiplies by its
 // own ⟨T⟩/η², so a white body keeps E_esc(0) = 1 − R(0) exactly.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_return(tau_1: f32, roughness_4: f32, eta_7: f32) -> f32 {
     let _e4 = max(tau_1, 0f);
     let u_tau = (_e4 / (_e4 + 1f));
@@ -361,10 +334,9 @@ fn tunable_glaze_coat_return(tau_1: f32, roughness_4: f32, eta_7: f32) -> f32 {
     return value;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E_esc(τ; r, η)/⟨T_int⟩, E_esc(τ) = ∫ 2μ e^(−τ/μ) T_int(μ) dμ: the share of diffuse light
 // leaving the body that escapes through the coat (normalised like coat_return).
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_coat_escape(tau_2: f32, roughness_5: f32, eta_8: f32) -> f32 {
     let _e4 = max(tau_2, 0f);
     let u_tau_1 = (_e4 / (_e4 + 1f));
@@ -399,11 +371,8 @@ fn tunable_glaze_slab_return_node(mu_c_1: f32, inv_eta: f32, tau_4: vec3<f32>, s
     return (exp(-(((tau_4 * vec3(2f)) / vec3(mu_4)))) * (((((mu_4 * (1f - mu_c_1)) * s) * fresnel) * weight_1) * 4f));
 }
 
-// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
-// diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
-// absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
-// Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
-// τ are literals.
+// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ (docs/derivations.md,
+// "Smooth coat over Lambert"), by 24-point Gauss–Legendre quadrature.
 fn tunable_glaze_slab_return(eta_9: f32, tau_5: vec3<f32>) -> vec3<f32> {
     let mu_c_3 = sqrt(max((1f - (1f / (eta_9 * eta_9))), 0f));
     let inv_eta_2 = (1f / eta_9);
@@ -464,10 +433,9 @@ fn tunable_glaze_slab_escape(eta_10: f32, tau_7: vec3<f32>) -> vec3<f32> {
     return (((((((((((node + node_1) + node_2) + node_3) + node_4) + node_5) + node_6) + node_7) + node_8) + node_9) + node_10) + node_11);
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // s(η): how much more of EON's multiple-scattering lobe than of diffuse light leaves a
 // smooth coat through its escape cone (`eon_escape_shape_exact`); 1 at η = 1.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 fn tunable_glaze_eon_escape_shape(eta_11: f32) -> f32 {
     let u_eta_7 = min(max((((eta_11 - 1f) * 2f) / (eta_11 + 1f)), 0f), 1f);
     let node_eta_7 = (u_eta_7 * 31f);
@@ -477,22 +445,15 @@ fn tunable_glaze_eon_escape_shape(eta_11: f32) -> f32 {
     return value;
 }
 
-// glazec's interfaced layering, a diffusing layer below a coat: the single reflection
-// `f_below`, plus the light it reflects (directional albedos Eᵢ, Eₒ) that the coat sends
-// back down (R, the slab's diffuse return reflectance) and that then bounces between body
-// and coat (mean albedo ρ̄): Eᵢ Eₒ R / (π (1 − ρ̄ R)). For a Lambertian body (E = ρ̄ = ρ) the
-// sum is ρ/(π(1 − ρR)), the exact series (docs/derivations.md, "Smooth coat over
-// Lambert").
+// glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
+// over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
     let _e7 = (rho_below * r_return);
     return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
 }
 
-// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
-// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
-// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
-// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
-// (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
+// f_top + f_under aᵢ aₒ Tᵢ Tₒ / η², symmetric in i and o, so reciprocal.
 fn tunable_glaze_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_12: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_12 * eta_12))));
 }
@@ -645,15 +606,9 @@ fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alp
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
     return (r_5 * sqrt(max(n_dot_v_3, 0.0001f)));
 }

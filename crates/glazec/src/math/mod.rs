@@ -46,6 +46,16 @@ pub struct TermDef {
     pub doc: &'static [&'static str],
 }
 
+impl TermDef {
+    /// The doc comment's first paragraph, the comment above the term in generated code: the
+    /// citation, the formula and its guards. The paragraphs after it (why the term has this
+    /// form, what was measured) stay in the Rust docs.
+    pub fn summary(&self) -> &'static [&'static str] {
+        let end = self.doc.iter().position(|line| line.trim().is_empty()).unwrap_or(self.doc.len());
+        &self.doc[..end]
+    }
+}
+
 /// A table as a shader's interpolation helper reads it ([`Real::interpolate_at_runtime`]): its
 /// 16-bit codes, where they start in the catalogue's buffer (the table's identity), its nodes per
 /// axis (first axis fastest in memory) and its quantisation, value = scale·code + offset.

@@ -21,9 +21,7 @@ var disney_clay_irradiance: texture_2d<f32>;
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
 // (Bowsher 2022, eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
-// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
-// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
-// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
+// β = min(θi, θr), written as B max(0, s) / max(μi, μo), s = l·v − μi μo (Fujii 2013).
 fn disney_clay_fd_oren_nayar(albedo: vec3<f32>, sigma: f32, n_dot_v: f32, n_dot_l: f32, v_dot_l: f32) -> vec3<f32> {
     let sigma_sq = (sigma * sigma);
     let a = (1f - ((sigma_sq / (sigma_sq + 0.33f)) * 0.5f));
@@ -102,12 +100,11 @@ fn disney_clay_eval(n_1: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
     return (f * max(dot(n_1, l_2), 0f));
 }
 
-// Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
-// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
-// Here roughness = 0.14 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
+// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_1 = ((u * -0.005037874f) + -0.14839892f);
@@ -124,11 +121,10 @@ fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     return f_11;
 }
 
-// Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,
-// Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
-// Here roughness = 0.14 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
+// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn disney_clay_clearcoat_dfg_bias_curve(cos_theta_2: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_12 = ((u_1 * 0.00024286285f) + 0.0058974912f);
@@ -158,28 +154,17 @@ fn disney_clay_specular_dominant_direction(n_2: vec3<f32>, v_3: vec3<f32>, alpha
     return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 fn disney_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
     return (r * sqrt(max(n_dot_v_3, 0.0001f)));
 }
 
 // Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
-// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
-// integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
-// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
-// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). θ = acos μ by Abramowitz &
-// Stegun 1964, eq. 4.4.45: √(1 − μ)(1.5707288 − 0.2121144μ + 0.0742610μ² − 0.0187293μ³),
-// within 5·10⁻⁵ rad (E within 10⁻⁵ of ρ), a square root and three multiply-adds where `acos`
-// is a transcendental call (the directional albedo is in the kernel of every coated
-// Oren–Nayar body). Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
+// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ:
+// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)], θ = acos μ by Abramowitz &
+// Stegun 1964, eq. 4.4.45. Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
 // grazing).
 fn disney_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> vec3<f32> {
     let sigma_sq_1 = (sigma_1 * sigma_1);

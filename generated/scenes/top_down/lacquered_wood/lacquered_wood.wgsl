@@ -35,13 +35,9 @@ fn lacquered_wood_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz distribution D(h) = α² / (π (α² cos²θh +
+// sin²θh)²), sin²θh = |n × h|² passed in. Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the
+// denominator ≥ TINY for a zero half vector (two zero directions under total internal reflection).
 fn lacquered_wood_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = max(alpha, 0.001f);
     let a_sq = (a_1 * a_1);
@@ -87,14 +83,13 @@ fn lacquered_wood_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1:
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.08, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * 0.051895376f) + 0.99983186f);
@@ -107,21 +102,11 @@ fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
     return f_6;
 }
 
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
 fn lacquered_wood_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
     let a_2 = max(alpha_3, 0.001f);
     let a_sq_1 = (a_2 * a_2);
@@ -132,25 +117,17 @@ fn lacquered_wood_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
 // through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+// et al. 2016 microsurface walks.
 fn lacquered_wood_second_event_share(lambda: f32) -> f32 {
     return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.08, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 32 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn lacquered_wood_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_7 = ((u_1 * -0.0044140294f) + -0.000009304378f);
@@ -175,13 +152,12 @@ fn lacquered_wood_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
 // is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
 // rough interface refracts into; 1 when smooth).
-// Here roughness = 0.08, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 12 of the table's
-// 12 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn lacquered_wood_coat_path_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_18 = ((u_2 * -0.013566732f) + 1.0009205f);
@@ -198,11 +174,8 @@ fn lacquered_wood_slab_transmittance(tau: vec3<f32>, mu: f32) -> vec3<f32> {
     return exp(-((tau / vec3(mu))));
 }
 
-// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
-// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
-// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
-// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
-// (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
+// f_top + f_under aᵢ aₒ Tᵢ Tₒ / η², symmetric in i and o, so reciprocal.
 fn lacquered_wood_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_2: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
@@ -284,15 +257,9 @@ fn lacquered_wood_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, al
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 fn lacquered_wood_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
     return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }

@@ -44,13 +44,9 @@ fn car_paint_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-// zero half vector (two zero directions under total internal reflection), where it would
-// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz distribution D(h) = α² / (π (α² cos²θh +
+// sin²θh)²), sin²θh = |n × h|² passed in. Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the
+// denominator ≥ TINY for a zero half vector (two zero directions under total internal reflection).
 fn car_paint_d_ggx(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_3 = max(alpha, 0.001f);
     let a_sq = (a_3 * a_3);
@@ -96,14 +92,13 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
 // f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
 // microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
 // symmetric scaling); 1 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * -0.1727557f) + 1.0000006f);
@@ -116,21 +111,11 @@ fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
     return f_6;
 }
 
-// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-// `z` = n·l − n·v, so tan²θh = across/z², and
-//
-// D = α² H² / (π (α² z² + across)²),  H = z² + across,
-//
-// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-// alone gave 0.16 and the tail 0.06.
-// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
 fn car_paint_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
     let a_4 = max(alpha_3, 0.001f);
     let a_sq_1 = (a_4 * a_4);
@@ -141,25 +126,17 @@ fn car_paint_d_ggx_mirrored_tail(z: f32, across: f32, alpha_3: f32) -> f32 {
 
 // How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
 // through a second event after a reflection near the mirror direction, per the first event's
-// Fresnel factor and the single-scattering lobe at the mirrored half vector
-// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+// et al. 2016 microsurface walks.
 fn car_paint_second_event_share(lambda: f32) -> f32 {
     return ((1f / ((lambda * ((lambda * 2f) + 4f)) + 1f)) * 1.1f);
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
-// the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet
-// scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;
-// negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.
-// Here roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 28 of the table's
-// 32 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 28 of the table's 32 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_7 = ((u_1 * 0.018868122f) + -0.000009304378f);
@@ -198,14 +175,14 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
     return (f0_ + ((vec3(1f) - f0_) * ((m_sq * m_sq) * m)));
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // s(μ; r_c, r, η): the per-direction scale that makes the widened lobe s_l s_v f(l′, v′)
 // reflect what leaves near the mirror direction (after one conductor event, or at the
 // second from the trapped light's first return), for a white conductor under a clear coat
 // (solved over μ at each node).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
-// 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
     let f_18 = (1.0202721f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45265388f, -0.3683586f, -0.2977934f)));
@@ -214,11 +191,11 @@ fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     return f_20;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_21 = ((u_3 * 0.0019297004f) + 0.2134062f);
@@ -226,14 +203,14 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     return f_22;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // K(μ; r_c, r, η): the white albedo of the level's lobe (scaled, `glossy_scale`) over T(μ),
 // over its scale s(μ)² and over E(μ′; α)·c(μ′) (the white GGX albedo at the lobe's α and the
 // share of the lobe inside the escape cone), so that the remainder, T(1 − s²K·E·c), takes
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 9 of the table's
-// 9 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
     let f_23 = ((u_4 * -29.170326f) + 1.1541525f);
@@ -243,11 +220,10 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     return f_26;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.28444445 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_27 = ((u_5 * -0.02538353f) + 0.9516745f);
@@ -260,11 +236,10 @@ fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     return f_33;
 }
 
-// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);
-// multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
-// Here roughness = 0.36 (literals of the material): the lookup along `cos_theta` is piecewise linear through 16 of the table's
-// 16 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
+// At roughness = 0.36 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_34 = ((u_6 * -0.019831358f) + 0.8686472f);
@@ -277,19 +252,11 @@ fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     return f_40;
 }
 
-// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
-// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
-// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
-// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
-// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
-// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
-// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
-// β = atan(t₂/α) − atan(t₁/α): the share trapped is
-// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
-// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
-// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
-// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at cosine μ
+// that leaves the coat's escape cone (cosine μc), trapped by total internal reflection:
+// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2, t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2)
+// (Walter et al. 2007 eq. 33; Heitz 2014 §5.2). Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at
+// 90°), the root's argument ≥ 10⁻²⁴.
 fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_4: f32) -> f32 {
     let sin_t = sqrt(max((1f - (mu_1 * mu_1)), 0f));
     let sin_c = sqrt(max((1f - (mu_c * mu_c)), 0f));
@@ -301,23 +268,20 @@ fn car_paint_trapped_share(mu_1: f32, mu_c: f32, alpha_4: f32) -> f32 {
 }
 
 // glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
-// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
-// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
-// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
-// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
-// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon:
+// `trapped_share` beyond the cone minus `trapped_share` beyond the horizon (μc = 0). Guard: ≥ 0
+// (the disc approximation is not monotonic in μc to the last bit).
 fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_5: f32) -> f32 {
     let beyond_cone = car_paint_trapped_share(mu_2, mu_c_1, alpha_5);
     let below_horizon = car_paint_trapped_share(mu_2, 0f, alpha_5);
     return max((beyond_cone - below_horizon), 0f);
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let f_41 = ((u_7 * 0.0144017935f) + 0.2634757f);
@@ -325,12 +289,12 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     return f_42;
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // w₂(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = 0.8 (the
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_43 = ((u_8 * 0.02468437f) + 0.24147323f);
@@ -338,15 +302,10 @@ fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     return f_44;
 }
 
-// glazec's glossy level (a conductor under a coat), the light trapped after the first
-// conductor event, per unit of it, that does not leave at the second: the generating
-// function of its events w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c), γ(B, c) =
-// c(1 − B)/(1 − Bc), for a per-event survival c (the conductor's Fresnel factor times the
-// slab's round trip): a mixture of geometric event counts (B: the share that stays per
-// event; w₀ the share that leaves at the second event, `glossy_once`) fitted by
-// `glazec tables` to white walks through the reference's microsurfaces. At c = 1 it is
-// 1 − w₀: a white conductor under a clear coat returns all of it.
-// Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by construction; c ≤ 1).
+// glazec's glossy level (a conductor under a coat): the light trapped after the first conductor
+// event that does not leave at the second, w₁γ(½, c) + w₂γ(0.8, c) + (1 − w₀ − w₁ − w₂)γ(B_s, c),
+// γ(B, c) = c(1 − B)/(1 − Bc), c the per-event survival. Guard: 1 − B_s c ≥ 10⁻⁶ (B_s < 1 by
+// construction; c ≤ 1).
 fn car_paint_glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
     let quick_rate = ((c * vec3(0.5f)) / (car_paint_one - (c * vec3(0.5f))));
     let steady_rate = ((c * vec3(0.2f)) / (car_paint_one - (c * vec3(0.8f))));
@@ -363,24 +322,21 @@ fn car_paint_glossy_once(single: f32, next_1: f32, c_1: vec3<f32>) -> vec3<f32> 
     return ((c_1 * ((1f - single) * next_1)) + vec3(single));
 }
 
-// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert" and
-// "Closed-form layering models compared"): the light under a coat of relative IOR η enters
-// with transmittance Tᵢ, is attenuated on its way down and up (aᵢ, aₒ), is reflected by what
-// lies below (`f_under`, at refracted directions), leaves with Tₒ and is compressed by 1/η²
-// (étendue). Symmetric in i and o, so reciprocal.
+// glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
+// f_top + f_under aᵢ aₒ Tᵢ Tₒ / η², symmetric in i and o, so reciprocal.
 fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f32>, a_o: vec3<f32>, f_under: vec3<f32>, eta_2: f32) -> vec3<f32> {
     return (f_top + (((f_under * a_i) * a_o) * ((t_i * t_o) / (eta_2 * eta_2))));
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
 // leaves as the level's remainder (after three or more conductor events, or at the second
 // after total internal reflection): the mean cosine of its azimuth about the forward
 // direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
 // reflection keeps the direction's horizontal part).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
     let f_45 = ((u_9 * 0.00097328424f) + 0.09675407f);
@@ -398,21 +354,11 @@ fn car_paint_forward_sines(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> f3
     return sqrt(max((dot(l_t, l_t) * dot(v_t, v_t)), 0.000000000001f));
 }
 
-// glazec's glossy level: the forward spread's mean resultant length ρ_c of light whose
-// every conductor event keeps a share c of it, given the white light's ρ (the walks').
-// Each event keeps a direction's horizontal part with some scatter, so light that has taken
-// n events has the azimuth of n steps of a random walk on the circle, of mean resultant
-// length ρ₁ⁿ; coloured light weighs its event counts by cⁿ, short ones more, and so keeps
-// going forward more than white light: under copper, light leaving backwards has taken the
-// most events and is the darkest. With the later events' generating function L
-// (`glossy_later`, a mixture of geometric counts; L(1) its total weight) and n̄ their white
-// mean count, ρ₁ = ρ^(1/n̄) and ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)]: exactly ρ for a
-// white conductor (c = 1), and at most L(cρ₁)/L(c) < 1 (E[ρ₁ⁿ] ≥ ρ₁^E[n], Jensen).
-// This ρ_c overstates the walks' own mean resultant length of coloured light (the walks'
-// κ drops more slowly with the count than ρ₁ⁿ); it drives [`forward_azimuth_tilt`], and
-// together they meet the reference best (docs/accuracy.md, "Coats over conductors").
-// Guards: n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and
-// L(ρ₁) ≥ 10⁻⁶ (a black channel has no remainder to spread).
+// glazec's glossy level: the forward spread's mean resultant length of light whose every
+// conductor event keeps a share c of it, ρ_c = ρ · [L(cρ₁)/L(c)] / [L(ρ₁)/L(1)], ρ₁ = ρ^(1/n̄), L
+// the later events' generating function (`glossy_later`) and n̄ their white mean count. Guards:
+// n̄ from weights ≥ 10⁻⁶ and 1 − B_s ≥ 10⁻⁶; ρ ≥ 10⁻⁶ under the logarithm; L(c) and L(ρ₁) ≥ 10⁻⁶
+// (a black channel has no remainder to spread).
 fn car_paint_glossy_spread_colour(rho: f32, next_2: f32, quick_1: f32, steady_1: f32, slow_1: f32, c_2: vec3<f32>) -> vec3<f32> {
     let rest_1 = max((1f - ((next_2 + quick_1) + steady_1)), 0f);
     let weight = max(((quick_1 + steady_1) + rest_1), 0.000001f);
@@ -435,38 +381,20 @@ fn car_paint_forward_cosine(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, sine
     return (-(dot(l_t_1, v_t_1)) / sines);
 }
 
-// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia &
-// Jupp 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf), of mean
-// resultant length ρ. Its mean over φf is 1 for every ρ ∈ [0, 1), so it moves a lobe's
-// light between azimuths without changing its albedo; symmetric in l and v when ρ is.
-// Guard: ρ ≤ 0.95 (a narrower spread would need finer azimuths than a lobe has).
+// The wrapped Cauchy distribution over the azimuth φf about the forward direction (Mardia & Jupp
+// 2000, "Directional Statistics", §3.5.7): (1 − ρ²)/(1 + ρ² − 2ρ cos φf). Guard: ρ ≤ 0.95 (a
+// narrower spread would need finer azimuths than a lobe has).
 fn car_paint_forward_azimuth_weight(rho_1: f32, cos_phi: f32) -> f32 {
     let r_1 = min(rho_1, 0.95f);
     return ((1f - (r_1 * r_1)) / (((r_1 * r_1) + 1f) - ((r_1 * cos_phi) * 2f)));
 }
 
-// glazec's glossy level, after Mardia & Jupp 2000, "Directional Statistics", §3.5.7 (the
-// wrapped Cauchy's Fourier coefficients): the wrapped Cauchy weight W of mean resultant
-// length ρ ([`forward_azimuth_weight`], what the caller multiplies by) reweighted per
-// channel to mean resultant lengths ρ_c, by (1 + aV)/(1 + a⟨V⟩) with V the wrapped Cauchy
-// weight of ρ_b at the same azimuth: the light that took few conductor events, which a
-// coloured conductor darkens least, is the light that kept going forward. Its mean over W
-// is 1 (albedo unchanged), with ⟨V⟩ = E_W[V] = (1 + x)/(1 − x), x = ρρ_b, and the mean
-// resultant length of W(1 + aV)/(1 + a⟨V⟩) is (ρ + a(ρ + ρ_b)/(1 − x))/(1 + a⟨V⟩)
-// (W's and V's Fourier coefficients are ρ^|k| and ρ_b^|k|): equal to ρ_c for
-// a = (ρ_c − ρ)(1 − x)/(ρ + ρ_b − ρ_c(1 + x)). ρ_b = ρ² (V is W's own azimuth after a
-// second, independent spread): measured against white walks weighed by cⁿ (`glazec-lab`
-// example `spread_colour`), it darkens the sides and the back alike and keeps the boost
-// within 45° of forward, as the walks do (coated_gold's conductor under its coat at 85°/75°,
-// c 0.9: share of the coloured light per bin 1.14, 0.75, 0.58, 0.53, 0.52, 0.51 from forward
-// to behind, the walks' 1.17, 0.82, 0.55, 0.46, 0.44, 0.44), where V = W (tilting towards W
-// itself) kept 0.55 at the side and behind. A tilt towards V reaches at most
-// (ρ + ρ_b)/(1 + x); where ρ_c needs more (low ρ, strong colour: in the body under η 2
-// coats) ρ_b grows to (ρ_t − ρ)/(1 − ρρ_t), the least that reaches ρ_t = ρ_c + 0.01.
-// Guards: ρ ≤ 0.95 (as [`forward_azimuth_weight`]), hence ρ_b ≤ 0.95: ρ_c below the reach
-// at ρ_b = 0.95 less 10⁻³, ρ_t at most that reach; the denominator ≥ 10⁻⁶;
-// a ≥ −0.999(1 − ρ_b)/(1 + ρ_b), which keeps 1 + aV > 0 where V is largest,
-// (1 + ρ_b)/(1 − ρ_b).
+// glazec's glossy level, after Mardia & Jupp 2000, §3.5.7 (the wrapped Cauchy's Fourier
+// coefficients): the weight W of [`forward_azimuth_weight`] reweighted per channel to mean
+// resultant lengths ρ_c by (1 + aV)/(1 + a⟨V⟩), V the wrapped Cauchy weight of ρ_b = ρ²,
+// a = (ρ_c − ρ)(1 − x)/(ρ + ρ_b − ρ_c(1 + x)), x = ρρ_b. Guards: ρ ≤ 0.95, hence ρ_b ≤ 0.95; ρ_c
+// below the reach at ρ_b = 0.95 less 10⁻³; the denominator ≥ 10⁻⁶; a ≥ −0.999(1 − ρ_b)/(1 + ρ_b),
+// which keeps 1 + aV > 0 where V is largest.
 fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) -> vec3<f32> {
     let r_2 = min(rho_2, 0.95f);
     let top = ((r_2 + 0.95f) / ((r_2 * 0.95f) + 1f));
@@ -517,47 +445,33 @@ fn car_paint_glossy_albedo(t_2: f32, lobe: vec3<f32>, remainder: vec3<f32>) -> v
     return ((lobe + remainder) + vec3((1f - t_2)));
 }
 
-// glazec's interfaced layering, a glossy body (a conductor) below a coat: light it reflects
-// stays near the mirror direction, inside the coat's escape cone, so it returns with the
-// coat's directional internal reflectance kᵢ = (1 − Tᵢ) aᵢ² (reciprocity of the interface)
-// rather than the diffuse R, and the bounces keep the lobe's shape: f / (1 − √(Eᵢkᵢ Eₒkₒ)),
-// symmetric in i and o, Eᵢ the share of the body's albedo it keeps inside the cone (the
-// caller's Eᵢ(1 − pᵢ), `trapped_share`: what it sends beyond is trapped, `trapped_lobe`).
-// With the whole albedo instead, two smooth coats (η 1.5 over η 1.02) over a white
-// conductor of roughness 0.3 were 1.40× the reference at 75°/85° forwards and 1.58× at
-// 89°/75°, and ∫f came to 1.015 at 85°: the light the body sends just beyond the cone's
-// edge, where k is largest, was counted in both.
-// Guard: the denominator ≥ 10⁻⁶. Beyond the critical angle of a coat optically thinner
-// than the medium above (T = 0, so k = 1) over a white level (E = 1) it is 0, and so is f
-// (no light enters): 0/0 was NaN under three smooth coats of η 1, 0.7, 0.7 over a conductor.
+// glazec's interfaced layering, a glossy body (a conductor) below a coat:
+// f / (1 − √(Eᵢkᵢ Eₒkₒ)), kᵢ = (1 − Tᵢ) aᵢ² the coat's directional internal reflectance, Eᵢ the
+// share of the body's albedo inside the escape cone. Guard: the denominator ≥ 10⁻⁶ (0 beyond the
+// critical angle of a coat optically thinner than the medium above, T = 0, over a white level,
+// where f is 0 too).
 fn car_paint_interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: vec3<f32>, e_o: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
     let _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
     return (f_below / max((vec3(1f) - _e8), vec3(0.000001f)));
 }
 
-// glazec's interfaced layering, the light a glossy body sends outside the coat's escape
-// cone (Pᵢ, Pₒ of its albedos towards i and o, `trapped_shares`): trapped by total internal
-// reflection, it comes back with the slab's round-trip transmittance g and meets the body
-// again, which (mean albedo ρ̄) sends a share q of it into the cone (`trapped_escape`) and
-// keeps the rest trapped. By reciprocity the body sends Pₒ/(π μc²) of trapped light
-// (projected solid angle π μc²) towards o: Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), symmetric in
-// i and o. Its albedo is Pᵢ g ρ̄ q/(1 − ρ̄ g (1 − q)) (taking Pₒ ≈ ρ̄ over the cone): a white
-// body returns all trapped light.
+// glazec's interfaced layering, the light a glossy body sends outside the coat's escape cone:
+// Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), g the slab's round-trip transmittance, q = `trapped_escape`.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
 fn car_paint_trapped_lobe(trapped_i: vec3<f32>, trapped_o: vec3<f32>, mu_c_2: f32, round_trip: vec3<f32>, rho_3: vec3<f32>, q: f32) -> vec3<f32> {
     let _e18 = ((rho_3 * round_trip) * (1f - q));
     return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e18));
 }
 
-// Tabulated by `glazec tables` from white random walks through the reference's coat and
-// conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
 // leaves as the level's remainder (after three or more conductor events, or at the second
 // after total internal reflection): the mean cosine of its azimuth about the forward
 // direction is κ sin θ sin θₒ (each reflection off the conductor and each total internal
 // reflection keeps the direction's horizontal part).
-// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals of the material): the lookup along `cos_theta` is piecewise linear through 5 of the table's
-// 5 nodes along it, summed as hinges max(u, knot)·(change of slope): no table read.
+// Tabulated by `glazec tables` from white random walks through the reference's coat and
+// conductor microsurfaces (Heitz et al. 2016; f64).
+// At conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
+// as hinges max(u, knot)·(change of slope); no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
     let f_47 = ((u_10 * 0.020996809f) + 0.8990296f);
@@ -718,14 +632,9 @@ fn car_paint_interfaced_glossy_bounced(t_3: f32, a_1: vec3<f32>, kept: vec3<f32>
     return (leaving / max((vec3(1f) - _e8), vec3(0.000001f)));
 }
 
-// The directional albedo seen above a coat over a glossy body (same model as
+// The directional albedo seen above a coat over a glossy body (the model of
 // `interfaced_glossy_under` and `trapped_lobe`): (1 − T) + T a² (N T + S T̄ + P X)/(1 − K k),
-// k = (1 − T) a²: of the body's reflection E, K = N + S stays inside the escape cone; its
-// part N near the mirror direction leaves with T, the part S spread over the cone with the
-// coat's transmission out of the cone T̄ (`transmission_from_cone`), and what the coat
-// reflects comes back (k) to be reflected again. P, beyond the cone (`trapped_shares`), is
-// trapped, and X of it leaves (`trapped_return`).
-// Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
+// k = (1 − T) a². Guard: 1 − K k ≥ 10⁻⁶ (0 where T = 0 over a white level, as in
 // `interfaced_glossy_under`; the numerator is 0 there too).
 fn car_paint_interfaced_albedo_glossy(t_4: f32, t_cone: f32, a_2: vec3<f32>, near: vec3<f32>, spread: vec3<f32>, trapped: vec3<f32>, trapped_out: vec3<f32>) -> vec3<f32> {
     let leaving_1 = (((near * t_4) + (spread * t_cone)) + (trapped * trapped_out));
@@ -746,15 +655,9 @@ fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6
     return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
-// The roughness at which an isotropic prefiltered environment is looked up for the
-// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
 fn car_paint_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
     return (r * sqrt(max(n_dot_v_2, 0.0001f)));
 }

@@ -208,29 +208,29 @@ impl ModuleBuilder {
             .zip(literals)
             .filter_map(|(&(param, _), literal)| literal.map(|x| format!("{param} = {x}")))
             .collect();
-        let mut doc: Vec<String> = def.doc.iter().map(|l| l.to_string()).collect();
+        let mut doc: Vec<String> = def.summary().iter().map(|l| l.to_string()).collect();
         doc.push(match &curve {
             Some((axis, curve)) => format!(
-                "Here {} (literals of the material): the lookup along `{}` is piecewise linear through {} of the table's",
+                "At {} (the material's literals): piecewise linear along `{}` through {} of the table's {} nodes,",
                 fixed.join(", "),
                 def.params[*axis].0,
                 curve.kept(),
+                curve.nodes,
             ),
-            None => format!(
-                "Here {} (literals of the material): this function reads only the slices of the table they select.",
-                fixed.join(", ")
-            ),
+            None => format!("At {} (the material's literals): only the table slices they select.", fixed.join(", ")),
         });
         if let Some((_, curve)) = &curve {
-            doc.push(format!(
-                "{} nodes along it, {}: no table read.",
-                curve.nodes,
+            doc.push(
                 match curve.form {
-                    crate::math::tables::Form::Hinges { .. } => "summed as hinges max(u, knot)·(change of slope)",
-                    crate::math::tables::Form::Pieces { .. } =>
-                        "summed piece by piece, (clamp(u, start, end) − start)·slope (its small values need it)",
+                    crate::math::tables::Form::Hinges { .. } => {
+                        "as hinges max(u, knot)·(change of slope); no table read."
+                    }
+                    crate::math::tables::Form::Pieces { .. } => {
+                        "piece by piece, (clamp(u, start, end) − start)·slope; no table read."
+                    }
                 }
-            ));
+                .to_string(),
+            );
         }
         let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
         let handle = self.add_function(function, &doc);
@@ -273,7 +273,7 @@ impl ModuleBuilder {
         let value = self.slot_handle(out);
         self.statement(Statement::Return { value: Some(value) });
         let function = self.end_function();
-        let handle = self.add_function(function, def.doc);
+        let handle = self.add_function(function, def.summary());
         self.state.borrow_mut().terms.insert(def.name, handle);
         handle
     }

@@ -206,35 +206,41 @@ const GLOSSY_POOL_PARAMS: &[(&str, Kind)] = &[("conductor_roughness", S), ("roug
 
 const GLOSSY_PATH_PARAMS: &[(&str, Kind)] = &[("cos_theta", S), ("tau", S), ("roughness", S), ("eta", S)];
 
-/// The first doc line of every lookup function.
+/// A coat table's lookup doc: what it holds (its first paragraph, the generated code's comment,
+/// ends with where the table comes from), then how it is sampled.
 macro_rules! table_doc {
     ($($line:literal),* $(,)?) => {
         &[
-            "Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64);",
-            "multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.",
-            $($line),*
+            $($line,)*
+            "Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).",
+            "",
+            "Multilinear in u ∝ μ^¼ (from μ = 1e-4), √r, 2(η − 1)/(η + 1), τ/(1 + τ), clamped to the range.",
         ]
     };
 }
 
-/// The first doc lines of the glossy level's lookup functions.
+/// A glossy level's lookup doc, as [`table_doc`].
 macro_rules! glossy_doc {
     ($($line:literal),* $(,)?) => {
         &[
+            $($line,)*
             "Tabulated by `glazec tables` from white random walks through the reference's coat and",
-            "conductor microsurfaces (Heitz et al. 2016; f64); multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).",
-            $($line),*
+            "conductor microsurfaces (Heitz et al. 2016; f64).",
+            "",
+            "Multilinear in μ, √r_c, √r, 2(η − 1)/(η + 1).",
         ]
     };
 }
 
-/// The first doc lines of the seed lobes' DFG lookup functions.
+/// A seed lobe's DFG lookup doc, as [`table_doc`].
 macro_rules! dfg_doc {
     ($($line:literal),* $(,)?) => {
         &[
-            "Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe (the shared terms,",
-            "Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵); multilinear in u ∝ μ^¼, √r.",
-            $($line),*
+            $($line,)*
+            "Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.",
+            "",
+            "The shared terms, Schlick's Fresnel split as F0·(1 − (1 − v·h)⁵) + (1 − v·h)⁵;",
+            "multilinear in u ∝ μ^¼, √r.",
         ]
     };
 }
@@ -272,11 +278,15 @@ pub const SPECS: [TableSpec; 29] = [
         &DEFICIT_GRID,
         "coat_deficit",
         COAT_PARAMS,
-        table_doc![
+        &[
             "G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A",
-            "the albedo of its scaled lobe (`coat_scale`: E_ss + E_ms, single and multiple microfacet",
-            "scattering) by quadrature, nodes lowered until the lookup never overshoots it between them;",
-            "negative where multiple scattering or Fresnel's convexity win. T = 1 − F + G; 0 when smooth.",
+            "the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.",
+            "Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).",
+            "",
+            "A is E_ss + E_ms, single and multiple microfacet scattering, by quadrature; nodes are",
+            "lowered until the lookup never overshoots it between them. G is negative where multiple",
+            "scattering or Fresnel's convexity win. Multilinear in u ∝ μ^¼ (from μ = 1e-4), √r,",
+            "2(η − 1)/(η + 1), clamped to the range.",
         ],
     )),
     table(
@@ -514,11 +524,12 @@ pub const SPECS: [TableSpec; 29] = [
         "glossy_path",
         GLOSSY_PATH_PARAMS,
         &[
-            "Tabulated by `glazec tables` from random walks through the reference's coat over a mirror",
-            "(f64); multilinear in √μ, τ/(1 + τ), √r, 2(η − 1)/(η + 1).",
             "q(μ; τ, r, η) ≥ 0: the light that enters at μ and leaves after one reflection keeps",
             "e^(−τ q/μ_eff) of itself per crossing (μ_eff: the cosine along which the coat's transmitted",
             "light is absorbed, Snell's over `coat_path`; q = 1 for a smooth coat).",
+            "Tabulated by `glazec tables` from random walks through the reference's coat over a mirror (f64).",
+            "",
+            "Multilinear in √μ, τ/(1 + τ), √r, 2(η − 1)/(η + 1).",
         ],
     ),
     table(

@@ -16,9 +16,10 @@ shading_fn! {
 shading_fn! {
     /// Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
     /// (Bowsher 2022, eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
-    /// β = min(θi, θr). Written without trigonometry: since sin θi sin θo cos Δφ = l·v − μi μo
-    /// and sin α tan β = sin θi sin θo / max(μi, μo), the B term is B max(0, s) / max(μi, μo)
-    /// with s = l·v − μi μo (the form of Fujii 2013). σ is in radians.
+    /// β = min(θi, θr), written as B max(0, s) / max(μi, μo), s = l·v − μi μo (Fujii 2013).
+    ///
+    /// Without trigonometry: sin θi sin θo cos Δφ = l·v − μi μo and sin α tan β = sin θi sin θo /
+    /// max(μi, μo). σ is in radians.
     pub fn fd_oren_nayar(albedo: V, sigma: S, n_dot_v: S, n_dot_l: S, v_dot_l: S) -> V {
         let sigma_sq = sigma * sigma;
         let a = (sigma_sq / (sigma_sq + 0.33) * 0.5).one_minus();
@@ -72,15 +73,16 @@ shading_fn! {
 
 shading_fn! {
     /// Directional albedo E(θ) of the qualitative Oren–Nayar lobe (Oren & Nayar 1994; the lobe of
-    /// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ, in closed form: the B term
-    /// integrated over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi on both sides of θ,
-    /// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)]. Its hemispherical
-    /// average is [`albedo_avg_oren_nayar`]'s (checked in the tests). θ = acos μ by Abramowitz &
-    /// Stegun 1964, eq. 4.4.45: √(1 − μ)(1.5707288 − 0.2121144μ + 0.0742610μ² − 0.0187293μ³),
-    /// within 5·10⁻⁵ rad (E within 10⁻⁵ of ρ), a square root and three multiply-adds where `acos`
-    /// is a transcendental call (the directional albedo is in the kernel of every coated
-    /// Oren–Nayar body). Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
+    /// [`fd_oren_nayar`]) towards a direction at cosine μ = cos θ:
+    /// E = ρ [A + (2B/π) (sin θ (θ/2 − sin 2θ/4) + tan θ (1 − sin³θ)/3)], θ = acos μ by Abramowitz &
+    /// Stegun 1964, eq. 4.4.45. Guard: μ ≥ 10⁻⁴ (tan θ; the second term tends to cos θ/2 → 0 at
     /// grazing).
+    ///
+    /// The closed form integrates the B term over the azimuth (∫ max(0, cos Δφ) dφ = 2) and over θi
+    /// on both sides of θ. Its hemispherical average is [`albedo_avg_oren_nayar`]'s (checked in the
+    /// tests). The arccosine √(1 − μ)(1.5707288 − 0.2121144μ + 0.0742610μ² − 0.0187293μ³) is within
+    /// 5·10⁻⁵ rad (E within 10⁻⁵ of ρ): a square root and three multiply-adds where `acos` is a
+    /// transcendental call (the directional albedo is in the kernel of every coated Oren–Nayar body).
     pub fn albedo_oren_nayar(albedo: V, sigma: S, mu: S) -> V {
         let sigma_sq = sigma * sigma;
         let a = (sigma_sq / (sigma_sq + 0.33) * 0.5).one_minus();

@@ -27,13 +27,13 @@ pub const GTR1_SMITH_ROUGHNESS: f32 = 0.25;
 
 shading_fn! {
     /// Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", eq. 33
-    /// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz normal distribution
-    /// D(h) = α² / (π ((n·h)²(α² − 1) + 1)²), with the denominator written as
-    /// α² cos²θh + sin²θh and sin²θh = |n × h|² passed in (Filament's `D_GGX` does the same):
-    /// 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
-    /// Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the denominator ≥ TINY covers a
-    /// zero half vector (two zero directions under total internal reflection), where it would
-    /// be 0 — for a unit h it is never below α² ≥ 10⁻⁶.
+    /// (Bowsher 2022, eq. 6): the GGX / Trowbridge–Reitz distribution D(h) = α² / (π (α² cos²θh +
+    /// sin²θh)²), sin²θh = |n × h|² passed in. Guards: α ≥ ALPHA_MIN = 10⁻³ keeps the peak finite; the
+    /// denominator ≥ TINY for a zero half vector (two zero directions under total internal reflection).
+    ///
+    /// The usual denominator ((n·h)²(α² − 1) + 1)² is written with sin²θh passed in (Filament's
+    /// `D_GGX` does the same): 1 − (n·h)² cancels catastrophically in f32 at the peak of a sharp lobe.
+    /// For a unit h the denominator is never below α² ≥ 10⁻⁶.
     pub fn d_ggx(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.at_least(ALPHA_MIN);
         let a_sq = a * a;
@@ -48,24 +48,20 @@ shading_fn! {
 pub const CROSSED_COSINE_MIN: f32 = 0.05;
 
 shading_fn! {
-    /// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-    /// §5.3–5.4 (an anisotropic distribution is the isotropic one linearly stretched in slope
-    /// space): GGX with the slope covariance A = α² I + Σ_l + Σ_v, where a coat's crossing
-    /// along a direction of refracted cosine μ spreads the lobe's slopes by σ² along that
-    /// direction's plane of incidence and by β = σ²/μ² across it (an angular spread δ moves
-    /// a direction's horizontal part by μδ in its plane, by δ across it):
-    /// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²).
-    /// With s = h_t/cos θh the half vector's slope,
+    /// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", §5.3–5.4:
+    /// GGX with the slope covariance A = α² I + Σ_l + Σ_v, each coat crossing spreading the slopes by
+    /// σ² along its direction's plane of incidence and β = σ²/μ² across it;
+    /// D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²). Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it
+    /// ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a zero half vector, as in `d_ggx`.
     ///
-    ///   D = 1 / (π √det A · cos⁴θh · (1 + sᵀA⁻¹s)²),
-    ///
-    /// written without a tangent frame: with c = α² + β_l + β_v and m = α² + β_l μ_l² + β_v μ_v²
-    /// (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v), and
-    /// cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
-    /// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is
-    /// [`d_ggx`]. `base` is α², `twist_sq` t².
-    /// Guards: det ≥ TINY (α ≥ ALPHA_MIN makes it ≥ 10⁻¹²); the bracket cos²θh + … ≥ TINY for a
-    /// zero half vector, as in `d_ggx`.
+    /// An anisotropic distribution is the isotropic one linearly stretched in slope space. An angular
+    /// spread δ moves a direction's horizontal part by μδ in its plane, by δ across it:
+    /// Σ = β I − β x_t x_tᵀ, x_t the direction's horizontal part (|x_t|² = 1 − μ²), and s = h_t/cos θh
+    /// the half vector's slope. Written without a tangent frame: with c = α² + β_l + β_v and
+    /// m = α² + β_l μ_l² + β_v μ_v² (A's trace is c + m), det A = c·m + β_l β_v t², t = n·(l × v),
+    /// and cos²θh · sᵀ adj(A) s = m sin²θh + β_l (l·h − μ_l cos θh)² + β_v (l·h − μ_v cos θh)²
+    /// (x_t·h = x·h − μ cos θh; v·h = l·h). Every term is ≥ 0, and at β_l = β_v = 0 it is [`d_ggx`].
+    /// `base` is α², `twist_sq` t².
     pub fn d_ggx_crossed(cos_h: S, sin2_h: S, l_dot_h: S, mu_l: S, mu_v: S, twist_sq: S, base: S, beta_l: S, beta_v: S) -> S {
         let base = base.at_least(ALPHA_MIN * ALPHA_MIN);
         let across = base + beta_l + beta_v;
@@ -80,12 +76,12 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1
-    /// (Bowsher 2022, eq. 10): the clear-coat distribution
-    /// D = (α² − 1) / (π ln α² (1 + (α² − 1) cos²θh)), with 1 + (α² − 1) cos²θh written as
-    /// α² cos²θh + sin²θh (as in `d_ggx`).
-    /// Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0); at α → 1 the 0/0 limit 1/π is taken directly; the
-    /// bracket ≥ TINY for a zero half vector, as in `d_ggx`.
+    /// Burley 2012, "Physically-Based Shading at Disney", App. B, GTR with γ = 1 (Bowsher 2022,
+    /// eq. 10): D = (α² − 1) / (π ln α² (α² cos²θh + sin²θh)). Guards: α ≥ ALPHA_MIN = 10⁻³ (ln 0);
+    /// at α → 1 the 0/0 limit 1/π is taken directly; the bracket ≥ TINY for a zero half vector, as
+    /// in `d_ggx`.
+    ///
+    /// Burley writes the bracket 1 + (α² − 1) cos²θh; it is written as in `d_ggx`.
     pub fn d_gtr1(cos_h: S, sin2_h: S, alpha: S) -> S {
         let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
         let a_sq = a * a;
@@ -132,19 +128,17 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Smith's auxiliary function Λ for Burley's GTR1 distribution (`d_gtr1`), from its slopes
-    /// (Heitz 2014, eq. 72, Λ(μ) = (1/m)∫_m^∞ (q − m) P2(q) dq with m = cot θ; GTR1's marginal
-    /// slope density is P2(q) = (1/√(q² + α²) − 1/√(q² + 1))/(−ln α²); derived in
-    /// docs/derivations.md, "Smith masking of GTR1"). With c = n·x:
+    /// Smith's auxiliary function for Burley's GTR1 distribution (`d_gtr1`), from its slopes (Heitz
+    /// 2014, eq. 72; docs/derivations.md, "Smith masking of GTR1"): with c = n·x,
+    /// Λ = [(1 + c)·x + c·ln(1 − x)] / (−c ln α²), x = (1 − c)(1 − α²) / (1 + √(c² + α²(1 − c²))).
+    /// Guards: α clamped to [ALPHA_MIN, GTR1_ALPHA_MAX] as in `d_gtr1`, whose limit at α → 1 (the
+    /// uniform D = 1/π) has Λ = (1 − c)/(2c); c ≥ 10⁻⁶ (keeps the division defined at c = 0).
     ///
-    ///   Λ = [(1 + c)·x + c·ln(1 − x)] / (−c ln α²),  x = (1 − c)(1 − α²) / (1 + √(c² + α²(1 − c²))),
-    ///
-    /// which has no cancellation towards the pole (x → 0 there: Λ ≈ x/(−ln α²)). Burley pairs
-    /// GTR1 with GGX's Smith term at α = 0.25 (`GTR1_SMITH_ROUGHNESS`), which belongs to no
-    /// microsurface; the interfaced method's coat is a GTR1 microsurface, which needs its own.
-    /// Guards: α clamped to [ALPHA_MIN, GTR1_ALPHA_MAX] as in `d_gtr1`, whose limit at α → 1
-    /// (the uniform D = 1/π) has Λ = (1 − c)/(2c); c ≥ 10⁻⁶ (the caller clamps cosines; this
-    /// keeps the division defined at c = 0).
+    /// Λ(μ) = (1/m)∫_m^∞ (q − m) P2(q) dq with m = cot θ, and GTR1's marginal slope density is
+    /// P2(q) = (1/√(q² + α²) − 1/√(q² + 1))/(−ln α²). The form above has no cancellation towards the
+    /// pole (x → 0 there: Λ ≈ x/(−ln α²)). Burley pairs GTR1 with GGX's Smith term at α = 0.25
+    /// (`GTR1_SMITH_ROUGHNESS`), which belongs to no microsurface; the interfaced method's coat is a
+    /// GTR1 microsurface, which needs its own.
     pub fn lambda_gtr1(n_dot_x: S, alpha: S) -> S {
         let a = alpha.clamp(ALPHA_MIN, GTR1_ALPHA_MAX);
         let a_sq = a * a;
@@ -179,21 +173,18 @@ shading_fn! {
 pub const SECOND_EVENT_LATER: f64 = 1.1;
 
 shading_fn! {
-    /// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and
-    /// v with the lower one mirrored in the mean plane: the facets of a rough coat's second
-    /// microfacet event (`CoatInterface::second_event`). That half vector has the horizontal part of
-    /// l + v, of squared length `across` = |n × (l + v)|², and the vertical part
-    /// `z` = n·l − n·v, so tan²θh = across/z², and
+    /// The tail of the GGX distribution (Walter et al. 2007, eq. 33) at the half vector of l and v
+    /// with the lower one mirrored in the mean plane (a rough coat's second microfacet event):
+    /// D = α² H² / (π (α² z² + across)²), H = z² + across, times tan²θh/(tan²θh + α²), with
+    /// across = |n × (l + v)|², z = n·l − n·v. Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY; the tail is
+    /// 0 for a pair that mirror into each other (H = 0), as it is for rounding near there.
     ///
-    ///   D = α² H² / (π (α² z² + across)²),  H = z² + across,
-    ///
-    /// is taken times tan²θh/(tan²θh + α²), which keeps the tail (θh ≫ α, facets steeper than the
-    /// first reflection's spread) and takes the peak away: near a grazing mirror direction the
-    /// walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
-    /// alone gave 0.16 and the tail 0.06.
-    /// Guards: α ≥ ALPHA_MIN; the bracket ≥ TINY. For a pair that mirror into each other (H = 0:
-    /// l and v at one elevation on opposite sides, or both normal) the half vector does not exist
-    /// and the tail is 0, as it is for rounding near there (H ~ 10⁻¹⁴).
+    /// `CoatInterface::second_event` uses it. The half vector has the horizontal part of l + v and
+    /// the vertical part z, so tan²θh = across/z². The factor keeps the tail (θh ≫ α, facets steeper
+    /// than the first reflection's spread) and takes the peak away: near a grazing mirror direction
+    /// the walks' second event is 0.06 of the single-scattering lobe for α 0.25 (80°/78°), where D
+    /// alone gave 0.16 and the tail 0.06. H = 0 where l and v are at one elevation on opposite sides,
+    /// or both normal; rounding near there gives H ~ 10⁻¹⁴.
     pub fn d_ggx_mirrored_tail(z: S, across: S, alpha: S) -> S {
         let a = alpha.at_least(ALPHA_MIN);
         let a_sq = a * a;
@@ -206,13 +197,15 @@ shading_fn! {
 shading_fn! {
     /// How much light arriving at a GGX microsurface from a direction of Smith Λ (`lambda`) comes back
     /// through a second event after a reflection near the mirror direction, per the first event's
-    /// Fresnel factor and the single-scattering lobe at the mirrored half vector
-    /// (`CoatInterface::second_event`): 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz et al. 2016 microsurface walks
-    /// (`glazec-lab` example `second_event`). For α ≪ the direction's elevation the chance of a
-    /// second event, ≈ Λ, and the visible-normal density there, over a projected area ≈ Λ·μ,
-    /// cancel to 1 (the 1.1 is the later events, [`SECOND_EVENT_LATER`]); as α grows past the
-    /// elevation the reflected rays spread and the share falls: the walks give 0.87 at
-    /// Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1, independent of η.
+    /// Fresnel factor and the lobe at the mirrored half vector: 1.1/(1 + 4Λ + 2Λ²), fitted to Heitz
+    /// et al. 2016 microsurface walks.
+    ///
+    /// `CoatInterface::second_event` uses it; the fit is the `glazec-lab` example `second_event`. For
+    /// α ≪ the direction's elevation the chance of a second event, ≈ Λ, and the visible-normal
+    /// density there, over a projected area ≈ Λ·μ, cancel to 1 (the 1.1 is the later events,
+    /// [`SECOND_EVENT_LATER`]); as α grows past the elevation the reflected rays spread and the
+    /// share falls: the walks give 0.87 at Λ = 0.08, 0.47 at 0.26, 0.21 at 0.75, 0.07 at 2.1,
+    /// independent of η.
     pub fn second_event_share(lambda: S) -> S {
         (lambda * (lambda * 2.0 + 4.0) + 1.0).recip() * SECOND_EVENT_LATER as f32
     }
@@ -344,15 +337,16 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// The roughness at which an isotropic prefiltered environment is looked up for the
-    /// reflection of a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ.
-    /// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of
-    /// incidence but to 2(h·v)δ across it (Walter et al. 2007, eq. 14: the reflected direction
-    /// covers 4(h·v) times the half vector's solid angle), so as the view grazes the lobe narrows
-    /// across that plane by μ while the prefiltered levels assume μ = 1 (Karis 2013's n = v = r).
-    /// One isotropic lookup must choose one width; the narrower keeps what the reflection really
-    /// resolves across the plane of incidence, such as a horizon seen at a grazing view, and
-    /// under-blurs along it. Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+    /// The roughness at which an isotropic prefiltered environment is looked up for the reflection of
+    /// a GGX interface of roughness r seen at n·v = μ: r√μ, a lobe of GGX α μ (Walter et al. 2007,
+    /// eq. 14). Guard: μ ≥ 10⁻⁴ (a view below the horizon has no weight).
+    ///
+    /// Reflection maps a half vector's deviation δ from the normal to 2δ in the plane of incidence but
+    /// to 2(h·v)δ across it (the reflected direction covers 4(h·v) times the half vector's solid
+    /// angle), so as the view grazes the lobe narrows across that plane by μ while the prefiltered
+    /// levels assume μ = 1 (Karis 2013's n = v = r). One isotropic lookup must choose one width; the
+    /// narrower keeps what the reflection really resolves across the plane of incidence, such as a
+    /// horizon seen at a grazing view, and under-blurs along it.
     pub fn grazing_lookup_roughness(r: S, n_dot_v: S) -> S {
         r * n_dot_v.at_least(1e-4).sqrt()
     }

@@ -13,13 +13,13 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// Reoriented normal mapping (Barré-Brisebois & Hill 2012, "Blending in Detail", listing
-    /// "RNM"): the detail normal `detail` is rotated by the rotation that takes +z to `base`, so
-    /// the detail follows the base's slopes instead of being added to them (UDN/whiteout
-    /// flatten strong details). t = base + (0, 0, 1), u = detail·(−1, −1, 1),
-    /// r = t (t·u)/t.z − u. A flat detail (0, 0, 1) returns `base`; a flat base returns
-    /// `detail`. Guard: t.z = base.z + 1 ≥ 10⁻⁶ (a base pointing straight down, which no normal
-    /// map stores).
+    /// Reoriented normal mapping (Barré-Brisebois & Hill 2012, "Blending in Detail", listing "RNM"):
+    /// t = base + (0, 0, 1), u = detail·(−1, −1, 1), r = t (t·u)/t.z − u. Guard: t.z = base.z + 1
+    /// ≥ 10⁻⁶ (a base pointing straight down, which no normal map stores).
+    ///
+    /// The detail normal is rotated by the rotation that takes +z to `base`, so the detail follows the
+    /// base's slopes instead of being added to them (UDN/whiteout flatten strong details). A flat
+    /// detail (0, 0, 1) returns `base`; a flat base returns `detail`.
     pub fn rnm_blend(base: V, detail: V) -> V {
         let one = base.x().lit(1.0);
         let t = base + F::vec3(one.lit(0.0), one.lit(0.0), one);

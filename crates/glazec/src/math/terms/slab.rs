@@ -33,19 +33,19 @@ pub fn absorbed<F: Real>(tau: F::Vec, mu: F) -> F::Vec {
 }
 
 shading_fn! {
-    /// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at
-    /// cosine μ that leaves the coat's escape cone (cosine μc) and is trapped by total internal
-    /// reflection. The reflected ray stays in the cone for half vectors whose in-plane tilt lies
-    /// between (θ − θc)/2 and (θ + θc)/2, taken as a disc in slope space with those slopes
-    /// t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2) as its diameter. GGX's slope density
-    /// α²/(π(α² + |s|²)²) (Walter et al. 2007 eq. 33; Heitz 2014 §5.2) is the stereographic
-    /// image of the uniform measure on the sphere (slopes scaled by 1/α), and stereographic
-    /// projection maps discs to spherical caps, so the disc holds exactly (1 − cos β)/2 of it,
-    /// β = atan(t₂/α) − atan(t₁/α): the share trapped is
-    /// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2. Exact at normal incidence (ρ²/(α² + ρ²) stays
-    /// in a cone of slope radius ρ); the disc is the approximation elsewhere. The tangents are
-    /// written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
-    /// Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at 90°), the root's argument ≥ 10⁻²⁴.
+    /// glazec: the share of a GGX reflection lobe (α) around the mirror direction of a ray at cosine μ
+    /// that leaves the coat's escape cone (cosine μc), trapped by total internal reflection:
+    /// (1 + (α² + t₁t₂)/√((α² + t₁²)(α² + t₂²)))/2, t₁ = tan((θ − θc)/2), t₂ = tan((θ + θc)/2)
+    /// (Walter et al. 2007 eq. 33; Heitz 2014 §5.2). Guards: 1 + cos(θ + θc) ≥ 10⁻⁶ (both angles at
+    /// 90°), the root's argument ≥ 10⁻²⁴.
+    ///
+    /// The reflected ray stays in the cone for half vectors whose in-plane tilt lies between t₁ and
+    /// t₂, taken as a disc in slope space with those slopes as its diameter. GGX's slope density
+    /// α²/(π(α² + |s|²)²) is the stereographic image of the uniform measure on the sphere (slopes
+    /// scaled by 1/α), and stereographic projection maps discs to spherical caps, so the disc holds
+    /// exactly (1 − cos β)/2 of it, β = atan(t₂/α) − atan(t₁/α). Exact at normal incidence
+    /// (ρ²/(α² + ρ²) stays in a cone of slope radius ρ); the disc is the approximation elsewhere. The
+    /// tangents are written without trigonometric calls, tan(x/2) = sin x/(1 + cos x).
     pub fn trapped_share(mu: S, mu_c: S, alpha: S) -> S {
         let sin_t = mu.sq().one_minus().at_least(0.0).sqrt();
         let sin_c = mu_c.sq().one_minus().at_least(0.0).sqrt();
@@ -59,12 +59,13 @@ shading_fn! {
 
 shading_fn! {
     /// glazec's glossy level: the share of a GGX lobe (α) around the mirror direction of a ray at
-    /// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon, trapped by
-    /// total internal reflection: `trapped_share` beyond the cone minus `trapped_share` beyond
-    /// the horizon (μc = 0), which the lobe loses below the horizon whatever the coat. So the
-    /// share goes to 0 with the cone's width as η → 1, continuously (beyond the cone alone, it
-    /// would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
-    /// Guard: ≥ 0 (the disc approximation is not monotonic in μc to the last bit).
+    /// cosine μ that lands between the coat's escape cone (cosine μc) and the horizon:
+    /// `trapped_share` beyond the cone minus `trapped_share` beyond the horizon (μc = 0). Guard: ≥ 0
+    /// (the disc approximation is not monotonic in μc to the last bit).
+    ///
+    /// That light is trapped by total internal reflection; the lobe loses what lies below the horizon
+    /// whatever the coat. So the share goes to 0 with the cone's width as η → 1, continuously (beyond
+    /// the cone alone, it would jump from 0 at η = 1 to a third of a grazing lobe at η = 1 + 10⁻⁵).
     pub fn glossy_trapped_share(mu: S, mu_c: S, alpha: S) -> S {
         let beyond_cone = trapped_share(mu, mu_c, alpha);
         let below_horizon = trapped_share(mu, mu_c.lit(0.0), alpha);
@@ -73,18 +74,18 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// glazec: the share q of a pool of trapped light (uniform radiance over the trapped
-    /// directions, projected solid angle π μc²) that a body reflects into the escape cone at each
-    /// bounce, per unit albedo. By reciprocity the body sends light from the pool towards a cone
-    /// direction o in proportion to its trapped share p(μₒ) (`trapped_share`), so
-    /// q = (1/μc²) ∫ p du over the cone, u = μ² from μc² to 1 (projected solid angle). For a
-    /// sharp lobe p falls from ½ to 0 within a sliver of the cone's edge that no fixed quadrature
-    /// resolves, and a q too small would let a white body return more than it trapped. So the
-    /// edge's half-plane profile h(d) = ½(1 − d/√(w² + d²)) (d = u − μc², w = 4 μc sin θc α: the
+    /// glazec: the share q of a pool of trapped light (uniform radiance over the trapped directions,
+    /// projected solid angle π μc²) that a body reflects into the escape cone at each bounce, per unit
+    /// albedo: q = (1/μc²) ∫ p du over the cone, u = μ², the edge's profile integrated exactly and the
+    /// rest by 4-point Gauss–Legendre quadrature. Guards: μc² ≥ 10⁻⁴; q ≤ 1.
+    ///
+    /// By reciprocity the body sends light from the pool towards a cone direction o in proportion to
+    /// its trapped share p(μₒ) (`trapped_share`), integrated from μc² to 1 (projected solid angle).
+    /// For a sharp lobe p falls from ½ to 0 within a sliver of the cone's edge that no fixed
+    /// quadrature resolves, and a q too small would let a white body return more than it trapped. So
+    /// the edge's half-plane profile h(d) = ½(1 − d/√(w² + d²)) (d = u − μc², w = 4 μc sin θc α: the
     /// slope x ≈ d/(4 μc sin θc) of `trapped_share` near the edge) is integrated exactly,
-    /// ∫₀ᴰ h = ½(D + w − √(w² + D²)), D = 1 − μc², and only the smooth rest p − h by 4-point
-    /// Gauss–Legendre quadrature.
-    /// Guards: μc² ≥ 10⁻⁴; q ≤ 1.
+    /// ∫₀ᴰ h = ½(D + w − √(w² + D²)), D = 1 − μc², and only the smooth rest p − h by quadrature.
     pub fn trapped_escape(mu_c: S, alpha: S) -> S {
         let c2 = mu_c.sq();
         let width = c2.one_minus();
@@ -139,12 +140,14 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative
-    /// IOR η) through the escape cone than of diffuse light. That lobe sends light in
-    /// proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the ratio
-    /// s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0))
-    /// does not depend on r; Q and E_esc(0) by 12-point Gauss–Legendre quadrature over the cone.
-    /// `glazec tables` tabulates it over η (`eon_escape_shape` looks it up). Guard: E_esc(0) ≥ 10⁻⁶.
+    /// glazec: how much more of EON's multiple-scattering lobe leaves a smooth coat (relative IOR η)
+    /// through the escape cone than of diffuse light,
+    /// s = (c₁ E_esc(0) − Q)/((c₁ − c₂) E_esc(0)), Q and E_esc(0) by 12-point Gauss–Legendre
+    /// quadrature over the cone. Guard: E_esc(0) ≥ 10⁻⁶.
+    ///
+    /// That lobe sends light in proportion to 1 − E_FON(μ) = r (c₁ − q(1 − μ))/(1 + c₁ r), so the
+    /// ratio s = ∫ 2μ (1 − F_int)(1 − E_FON) dμ / ((1 − E_avg) E_esc(0)) does not depend on r.
+    /// `glazec tables` tabulates it over η (`eon_escape_shape` looks it up).
     pub fn eon_escape_shape_exact(eta: S) -> S {
         let q = eon_escape_q(eta);
         let escape = slab_escape(eta, eta.lit(0.0).splat()).x();
@@ -153,11 +156,12 @@ shading_fn! {
 }
 
 shading_fn! {
-    /// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ: the share of
-    /// diffuse light going up inside a coat (η, optical depth τ) that comes back down, through
-    /// absorption twice and Fresnel (with TIR) at the top (docs/derivations.md, "Smooth coat over
-    /// Lambert"). Computed by 24-point Gauss–Legendre quadrature; folded to a constant when η and
-    /// τ are literals.
+    /// The slab's internal return reflectance R(τ) = ∫₀¹ 2μ e^{−2τ/μ} F_int(μ) dμ (docs/derivations.md,
+    /// "Smooth coat over Lambert"), by 24-point Gauss–Legendre quadrature.
+    ///
+    /// The share of diffuse light going up inside a coat (η, optical depth τ) that comes back down,
+    /// through absorption twice and Fresnel (with TIR) at the top. Folded to a constant when η and τ
+    /// are literals.
     pub fn slab_return(eta: S, tau: V) -> V {
         slab_integral(eta, tau, SlabIntegral::Return)
     }
