@@ -201,7 +201,7 @@ fn fragment(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
     Validator::new(ValidationFlags::all(), Capabilities::default())
         .validate(&module)
         .expect("the composed module validates");
-    // The materials' own resources moved to group 2; the environment kept its group.
+    // The materials' own resources moved to group 2; neither library has glazec's environment.
     let groups: Vec<(String, u32, u32)> = module
         .global_variables
         .iter()
@@ -211,13 +211,8 @@ fn fragment(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
     assert_eq!((params.1, params.2), (2, 8), "{groups:?}");
     let tables = groups.iter().find(|(n, ..)| n.contains("tunable_glaze_tables")).expect("the glaze's tables");
     assert_eq!(tables.1, 2, "{groups:?}");
-    assert!(
-        !groups.iter().any(|(n, ..)| n.starts_with("wet_clay")
-            && !n.contains("environment")
-            && !n.contains("radiance")
-            && !n.contains("irradiance")),
-        "wet_clay binds nothing of its own: {groups:?}"
-    );
+    assert!(!groups.iter().any(|(n, ..)| n.starts_with("wet_clay")), "wet_clay binds nothing: {groups:?}");
+    assert!(!groups.iter().any(|(n, ..)| n.contains("radiance")), "no environment unless placed: {groups:?}");
 }
 
 #[test]
@@ -275,13 +270,36 @@ fn bindings_go_where_the_host_chooses() {
     ] {
         assert!(wgsl.contains(declaration), "missing:\n{declaration}\nin\n{wgsl}");
     }
+    assert!(wgsl.contains("\nfn tunable_glaze_ibl("), "placing the environment adds `_ibl`");
     assert_eq!(rebound.layout.params, Some(Slot::new(3, 0)));
     // The harness takes the lowest free bindings of group 0.
     assert_eq!((rebound.layout.pairs, rebound.layout.values, rebound.layout.dispatch), (0, 1, 2));
     // Two resources in one place are refused, naming both.
-    let clash = glaze.with_bindings(&Choice::default().with(Resource::Tables, Slot::new(2, 1)));
+    let clash = glaze.with_bindings(
+        &Choice::default().with(Resource::Environment, Slot::new(2, 0)).with(Resource::Tables, Slot::new(2, 1)),
+    );
     let message = clash.err().map(|e| e.to_string()).unwrap_or_default();
     assert!(message.contains("tunable_glaze_tables") && message.contains("tunable_glaze_radiance"), "{message}");
+}
+
+/// Without a place for glazec's environment the library has neither it nor `<m>_ibl`; the
+/// harness has both, in group 2, or in the first group the library leaves empty.
+#[test]
+fn the_environment_is_the_harness_s_unless_placed() {
+    let glaze = common::compile_file(&common::root().join("materials/tunable_glaze.ron"));
+    let library = text(&glaze, Target::Wgsl, "tunable_glaze.wgsl");
+    assert!(!library.contains("var tunable_glaze_radiance") && !library.contains("fn tunable_glaze_ibl("), "{library}");
+    assert!(library.contains("fn tunable_glaze_ibl_lobes("), "the lobes stay the library's");
+    let harness = text(&glaze, Target::Wgsl, "tunable_glaze.harness.wgsl");
+    assert!(harness.contains("@group(2) @binding(1) \nvar tunable_glaze_radiance"), "{harness}");
+    assert!(harness.contains("\nfn tunable_glaze_ibl("), "{harness}");
+    let names = |c: &glazec::Compiled| c.layout.environment.iter().map(|(_, s)| *s).collect::<Vec<_>>();
+    assert_eq!(names(&glaze), [Slot::new(2, 0), Slot::new(2, 1), Slot::new(2, 2)]);
+    // The host's parameters and tables in group 2 move the harness's environment to group 3.
+    let moved = glaze.with_bindings(&Choice::default().with(Resource::Params, Slot::new(2, 0))).expect("binds");
+    assert_eq!(names(&moved), [Slot::new(3, 0), Slot::new(3, 1), Slot::new(3, 2)]);
+    let harness = text(&moved, Target::Wgsl, "tunable_glaze.harness.wgsl");
+    assert!(harness.contains("@group(3) @binding(0) \nvar tunable_glaze_environment_sampler"), "{harness}");
 }
 
 #[test]
@@ -376,10 +394,10 @@ fn literal_materials_fit_the_downlevel_uniform_limit() {
     assert!(checked > LITERAL_STACKS, "{checked} literal materials");
 }
 
-/// A material whose parameters are all literals reads no resource of its own but the
-/// environment: its lookups are curves in the code.
+/// A material whose parameters are all literals reads no resource: its lookups are curves in
+/// the code, and glazec's environment is not placed.
 #[test]
-fn literal_materials_declare_no_resource_but_the_environment() {
+fn literal_materials_declare_no_resource() {
     let mut literal = 0;
     for path in common::material_files() {
         let compiled = common::compile_file(&path);
@@ -390,15 +408,7 @@ fn literal_materials_declare_no_resource_but_the_environment() {
         let m = &compiled.material.name;
         let library = text(&compiled, Target::Wgsl, &format!("{m}.wgsl"));
         let vars: Vec<&str> = library.lines().filter(|l| l.starts_with("var")).collect();
-        assert_eq!(
-            vars,
-            [
-                format!("var {m}_environment_sampler: sampler;"),
-                format!("var {m}_radiance: texture_2d<f32>;"),
-                format!("var {m}_irradiance: texture_2d<f32>;"),
-            ],
-            "{m}"
-        );
+        assert!(vars.is_empty(), "{m}: {vars:?}");
         assert!(!compiled.uses_tables(), "{m}");
     }
     assert!(literal >= 10, "the shipped literal materials were checked");

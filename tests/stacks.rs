@@ -161,10 +161,10 @@ fn a_conductor_under_a_coat_sums_its_hemisphere_in_one_loop_or_folds_it() {
     let conductor = "Conductor(roughness: Param(\"cr\", 0.2), eta: (0.27, 0.68, 1.22), k: (3.61, 2.63, 2.29))";
     let coat = "Coat(lobe: Ggx(roughness: Param(\"rough\", 0.3)), ior: Param(\"ior\", 1.5))";
     let tunable = wgsl(&format!("Material(name: \"tunable_copper\", layers: [{coat}, {conductor}])"));
-    // One loop in `_brdf` and one in `_ibl`.
+    // One loop in `_brdf` and one in `_ibl_lobes`.
     assert_eq!(tunable.matches("loop {").count(), 2, "{tunable}");
     // glossy_scale: its definition, the light's and the view's side and the loop in `_brdf`,
-    // the view's side and the loop in `_ibl`.
+    // the view's side and the loop in `_ibl_lobes`.
     assert_eq!(tunable.matches("glossy_scale(").count(), 6);
 
     let literal = wgsl(&std::fs::read_to_string(common::root().join("materials/coated_gold.ron")).expect("material"));

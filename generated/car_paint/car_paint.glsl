@@ -25,10 +25,6 @@ const vec3 car_paint_trapped_out = vec3(0.29371276, 0.010574966, 0.0047770874);
 const uint car_paint_ibl_specular_lobes = 2u;
 const float car_paint_base_roughness = 0.37185615;
 
-layout(binding = 33) uniform sampler2D car_paint_radiance;
-
-layout(binding = 34) uniform sampler2D car_paint_irradiance;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -87,13 +83,10 @@ vec3 car_paint_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_scale_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f = ((u * -0.1727557) + 1.0000006);
@@ -130,8 +123,7 @@ float car_paint_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 28 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_deficit_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_7 = ((u_1 * 0.018868122) + -9.304378e-6);
@@ -176,8 +168,7 @@ vec3 car_paint_f_schlick(vec3 f0_, float cos_theta_2) {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_scale_curve(float cos_theta_3) {
     float u_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
     float f_18 = (1.0202721 + dot(max(vec3(u_2), vec3(0.125, 0.25, 0.375)), vec3(0.45265388, -0.3683586, -0.2977934)));
@@ -189,8 +180,7 @@ float car_paint_glossy_scale_curve(float cos_theta_3) {
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_next_curve(float cos_theta_4) {
     float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float f_21 = ((u_3 * 0.0019297004) + 0.2134062);
@@ -204,8 +194,7 @@ float car_paint_glossy_next_curve(float cos_theta_4) {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5) {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float f_23 = ((u_4 * -29.170326) + 1.1541525);
@@ -217,8 +206,7 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5) {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve(float cos_theta_6) {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_27 = ((u_5 * -0.02538353) + 0.9516745);
@@ -233,8 +221,7 @@ float car_paint_ggx_albedo_curve(float cos_theta_6) {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.36 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve_b(float cos_theta_7) {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_34 = ((u_6 * -0.019831358) + 0.8686472);
@@ -275,8 +262,7 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_5) {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_quick_curve(float cos_theta_8) {
     float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float f_41 = ((u_7 * 0.0144017935) + 0.2634757);
@@ -288,8 +274,7 @@ float car_paint_glossy_quick_curve(float cos_theta_8) {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_steady_curve(float cos_theta_9) {
     float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
     float f_43 = ((u_8 * 0.02468437) + 0.24147323);
@@ -330,8 +315,7 @@ vec3 car_paint_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve(float cos_theta_10) {
     float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
     float f_45 = ((u_9 * 0.00097328424) + 0.09675407);
@@ -465,8 +449,7 @@ vec3 car_paint_trapped_lobe(vec3 trapped_i, vec3 trapped_o, float mu_c_2, vec3 r
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve_b(float cos_theta_11) {
     float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
     float f_47 = ((u_10 * 0.020996809) + 0.8990296);
@@ -646,8 +629,8 @@ vec3 car_paint_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_6) {
     vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
     float t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
-    vec3 d_2 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+    vec3 d_1 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 1e-12))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -714,35 +697,4 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
     bool _e155 = (dot(n_6, v_6) > 0.0);
     return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e155 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e155 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 car_paint_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 car_paint_environment(vec3 direction, float roughness) {
-    vec2 uv = car_paint_equirect_uv(direction);
-    float lod = (roughness * (float(uint(textureQueryLevels(car_paint_radiance))) - 1.0));
-    vec4 _e11 = textureLod(car_paint_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 car_paint_irradiance_at(vec3 direction_1) {
-    vec2 uv = car_paint_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(car_paint_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// car_paint_ibl_lobes times the environment prefiltered for it (car_paint_environment) or the irradiance
-// over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 car_paint_ibl(vec3 n_7, vec3 v_7) {
-    CarPaintIblLobes lobes = car_paint_ibl_lobes(n_7, v_7);
-    vec3 light_a = car_paint_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    vec3 light_b = car_paint_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }

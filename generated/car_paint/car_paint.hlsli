@@ -28,22 +28,6 @@ static const float3 car_paint_trapped_out = float3(0.29371276, 0.010574966, 0.00
 static const uint car_paint_ibl_specular_lobes = 2u;
 static const float car_paint_base_roughness = 0.37185615;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState car_paint_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> car_paint_radiance : register(t1, space2);
-Texture2D<float4> car_paint_irradiance : register(t2, space2);
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -108,13 +92,10 @@ float3 car_paint_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_v
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -154,8 +135,7 @@ float car_paint_second_event_share(float lambda)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 28 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -204,8 +184,7 @@ float3 car_paint_f_schlick(float3 f0_, float cos_theta_2)
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_scale_curve(float cos_theta_3)
 {
     float u_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
@@ -218,8 +197,7 @@ float car_paint_glossy_scale_curve(float cos_theta_3)
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_next_curve(float cos_theta_4)
 {
     float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
@@ -234,8 +212,7 @@ float car_paint_glossy_next_curve(float cos_theta_4)
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 {
     float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
@@ -248,8 +225,7 @@ float car_paint_glossy_lobe_albedo_curve(float cos_theta_5)
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve(float cos_theta_6)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -265,8 +241,7 @@ float car_paint_ggx_albedo_curve(float cos_theta_6)
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.36 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve_b(float cos_theta_7)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -310,8 +285,7 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_5)
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_quick_curve(float cos_theta_8)
 {
     float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
@@ -324,8 +298,7 @@ float car_paint_glossy_quick_curve(float cos_theta_8)
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_steady_curve(float cos_theta_9)
 {
     float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
@@ -370,8 +343,7 @@ float3 car_paint_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_i
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve(float cos_theta_10)
 {
     float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
@@ -517,8 +489,7 @@ float3 car_paint_trapped_lobe(float3 trapped_i, float3 trapped_o, float mu_c_2, 
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve_b(float cos_theta_11)
 {
     float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
@@ -704,8 +675,8 @@ float3 car_paint_specular_dominant_direction(float3 n_5, float3 v_5, float alpha
     float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
     float t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
-    float3 d_2 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
-    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+    float3 d_1 = ((n_5 * (1.0 - t_5)) + (r_3 * t_5));
+    return (d_1 / (sqrt(max(dot(d_1, d_1), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -808,49 +779,4 @@ CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
     bool _e155 = (dot(n_6, v_6) > 0.0);
     const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e155 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e155 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
     return carpaintibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 car_paint_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 car_paint_environment(float3 direction, float roughness)
-{
-    const float2 uv = car_paint_equirect_uv(direction);
-    float lod = (roughness * (float(NagaNumLevels2D(car_paint_radiance)) - 1.0));
-    float4 _e11 = car_paint_radiance.SampleLevel(car_paint_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 car_paint_irradiance_at(float3 direction_1)
-{
-    const float2 uv = car_paint_equirect_uv(direction_1);
-    float4 _e5 = car_paint_irradiance.SampleLevel(car_paint_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// car_paint_ibl_lobes times the environment prefiltered for it (car_paint_environment) or the irradiance
-// over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 car_paint_ibl(float3 n_7, float3 v_7)
-{
-    const CarPaintIblLobes lobes = car_paint_ibl_lobes(n_7, v_7);
-    const float3 light_a = car_paint_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = car_paint_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }

@@ -29,13 +29,6 @@ const car_paint_trapped_out: vec3<f32> = vec3<f32>(0.29371276f, 0.010574966f, 0.
 const car_paint_ibl_specular_lobes: u32 = 2u;
 const car_paint_base_roughness: f32 = 0.37185615f;
 
-@group(2) @binding(0) 
-var car_paint_environment_sampler: sampler;
-@group(2) @binding(1) 
-var car_paint_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var car_paint_irradiance: texture_2d<f32>;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -94,13 +87,10 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * -0.1727557f) + 1.0000006f);
@@ -137,8 +127,7 @@ fn car_paint_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 28 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_7 = ((u_1 * 0.018868122f) + -0.000009304378f);
@@ -183,8 +172,7 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
     let f_18 = (1.0202721f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45265388f, -0.3683586f, -0.2977934f)));
@@ -196,8 +184,7 @@ fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_21 = ((u_3 * 0.0019297004f) + 0.2134062f);
@@ -211,8 +198,7 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
     let f_23 = ((u_4 * -29.170326f) + 1.1541525f);
@@ -224,8 +210,7 @@ fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_27 = ((u_5 * -0.02538353f) + 0.9516745f);
@@ -240,8 +225,7 @@ fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.36 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_34 = ((u_6 * -0.019831358f) + 0.8686472f);
@@ -282,8 +266,7 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_5: f32) -> f32 {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let f_41 = ((u_7 * 0.0144017935f) + 0.2634757f);
@@ -295,8 +278,7 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_43 = ((u_8 * 0.02468437f) + 0.24147323f);
@@ -337,8 +319,7 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3, roughness = 0, eta = 1.02 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
     let f_45 = ((u_9 * 0.00097328424f) + 0.09675407f);
@@ -472,8 +453,7 @@ fn car_paint_trapped_lobe(trapped_i: vec3<f32>, trapped_o: vec3<f32>, mu_c_2: f3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
     let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
     let f_47 = ((u_10 * 0.020996809f) + 0.8990296f);
@@ -653,8 +633,8 @@ fn car_paint_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha_6
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_6), 0f), 1f);
     let t_5 = (smoothness * (sqrt(smoothness) + alpha_6));
-    let d_2 = ((n_5 * (1f - t_5)) + (r_3 * t_5));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+    let d_1 = ((n_5 * (1f - t_5)) + (r_3 * t_5));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -721,37 +701,5 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
     let _e155 = (dot(n_6, v_6) > 0f);
     return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e155)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e155))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn car_paint_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn car_paint_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = car_paint_equirect_uv(direction);
-    let _e3 = textureNumLevels(car_paint_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(car_paint_radiance, car_paint_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn car_paint_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = car_paint_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(car_paint_irradiance, car_paint_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// car_paint_ibl_lobes times the environment prefiltered for it (car_paint_environment) or the irradiance
-// over π (car_paint_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn car_paint_ibl(n_7: vec3<f32>, v_7: vec3<f32>) -> vec3<f32> {
-    let lobes = car_paint_ibl_lobes(n_7, v_7);
-    let light_a = car_paint_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = car_paint_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }
 

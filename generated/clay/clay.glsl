@@ -10,10 +10,6 @@ struct ClayIblLobes {
 };
 const uint clay_ibl_specular_lobes = 1u;
 
-layout(binding = 33) uniform sampler2D clay_radiance;
-
-layout(binding = 34) uniform sampler2D clay_irradiance;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -139,8 +135,7 @@ vec3 clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_scale_curve(float cos_theta_1) {
     float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f = ((u * 0.0022043586) + -0.6954009);
@@ -159,8 +154,7 @@ float clay_seed_ggx_dfg_scale_curve(float cos_theta_1) {
 
 // B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_bias_curve(float cos_theta_2) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_11 = ((u_1 * 0.000956323) + 0.0041830647);
@@ -186,8 +180,8 @@ vec3 clay_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_1) {
     vec3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
-    vec3 d_2 = ((n_3 * (1.0 - t)) + (r_1 * t));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+    vec3 d_1 = ((n_3 * (1.0 - t)) + (r_1 * t));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 1e-12))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -240,35 +234,4 @@ ClayIblLobes clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 layer1_albedo_l = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
     bool _e40 = (dot(n_4, v_4) > 0.0);
     return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * _e25) * layer1_albedo_l) : vec3(0.0))));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 clay_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 clay_environment(vec3 direction, float roughness_1) {
-    vec2 uv = clay_equirect_uv(direction);
-    float lod = (roughness_1 * (float(uint(textureQueryLevels(clay_radiance))) - 1.0));
-    vec4 _e11 = textureLod(clay_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 clay_irradiance_at(vec3 direction_1) {
-    vec2 uv = clay_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(clay_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// clay_ibl_lobes times the environment prefiltered for it (clay_environment) or the irradiance
-// over π (clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 clay_ibl(vec3 n_5, vec3 v_5) {
-    ClayIblLobes lobes = clay_ibl_lobes(n_5, v_5);
-    vec3 light_a = clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    vec3 light_b = clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

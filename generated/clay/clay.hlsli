@@ -13,22 +13,6 @@ struct ClayIblLobes {
 
 static const uint clay_ibl_specular_lobes = 1u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState clay_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> clay_radiance : register(t1, space2);
-Texture2D<float4> clay_irradiance : register(t2, space2);
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -167,8 +151,7 @@ float3 clay_eval(float3 n_2, float3 v_2, float3 l_2)
 // A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_scale_curve(float cos_theta_1)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -188,8 +171,7 @@ float clay_seed_ggx_dfg_scale_curve(float cos_theta_1)
 
 // B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_bias_curve(float cos_theta_2)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -217,8 +199,8 @@ float3 clay_specular_dominant_direction(float3 n_3, float3 v_3, float alpha_1)
     float3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
-    float3 d_2 = ((n_3 * (1.0 - t)) + (r_1 * t));
-    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+    float3 d_1 = ((n_3 * (1.0 - t)) + (r_1 * t));
+    return (d_1 / (sqrt(max(dot(d_1, d_1), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -309,49 +291,4 @@ ClayIblLobes clay_ibl_lobes(float3 n_4, float3 v_4)
     bool _e40 = (dot(n_4, v_4) > 0.0);
     const ClayIblLobes clayibllobes = ConstructClayIblLobes(Constructarray1_ClayIblLobe_(ConstructClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : (0.0).xxx))), ConstructClayIblLobe(n_4, 1.0, (_e40 ? ((((1.0).xxx - coat_albedo) * _e25) * layer1_albedo_l) : (0.0).xxx)));
     return clayibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 clay_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 clay_environment(float3 direction, float roughness_1)
-{
-    const float2 uv = clay_equirect_uv(direction);
-    float lod = (roughness_1 * (float(NagaNumLevels2D(clay_radiance)) - 1.0));
-    float4 _e11 = clay_radiance.SampleLevel(clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 clay_irradiance_at(float3 direction_1)
-{
-    const float2 uv = clay_equirect_uv(direction_1);
-    float4 _e5 = clay_irradiance.SampleLevel(clay_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// clay_ibl_lobes times the environment prefiltered for it (clay_environment) or the irradiance
-// over π (clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 clay_ibl(float3 n_5, float3 v_5)
-{
-    const ClayIblLobes lobes = clay_ibl_lobes(n_5, v_5);
-    const float3 light_a = clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

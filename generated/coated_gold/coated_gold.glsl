@@ -13,10 +13,6 @@ const vec3 coated_gold_layer1_pool_fresnel = vec3(0.9322251, 0.7678392, 0.361941
 const vec3 coated_gold_remainder_avg = vec3(0.075069316, 0.03143694, 0.0033729167);
 const uint coated_gold_ibl_specular_lobes = 2u;
 
-layout(binding = 33) uniform sampler2D coated_gold_radiance;
-
-layout(binding = 34) uniform sampler2D coated_gold_irradiance;
-
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
@@ -42,8 +38,7 @@ float coated_gold_fr_dielectric(float cos_i, float eta_1) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_deficit_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f = ((u * -0.032026023) + -0.00037076068);
@@ -60,12 +55,10 @@ float coated_gold_coat_deficit_curve(float cos_theta) {
     return f_10;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_path_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_11 = ((u_1 * -0.00927484) + 1.0023464);
@@ -103,8 +96,7 @@ vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_scale_curve(float cos_theta_2) {
     float u_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
     float f_16 = (1.0610528 + dot(max(vec3(u_2), vec3(0.125, 0.25, 0.375)), vec3(1.6036816, -1.0432777, -0.4499693)));
@@ -116,8 +108,7 @@ float coated_gold_glossy_scale_curve(float cos_theta_2) {
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_next_curve(float cos_theta_3) {
     float u_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
     float f_19 = ((u_3 * -0.035583183) + -0.6395629);
@@ -131,8 +122,7 @@ float coated_gold_glossy_next_curve(float cos_theta_3) {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4) {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
     float f_21 = ((u_4 * -0.85115623) + 0.89909506);
@@ -147,8 +137,7 @@ float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4) {
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 6 of the table's 6 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_blur_curve(float cos_theta_5) {
     float u_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
     float f_25 = ((u_5 * 0.5371948) + 0.70036405);
@@ -159,8 +148,7 @@ float coated_gold_glossy_blur_curve(float cos_theta_5) {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.21777777 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve(float cos_theta_6) {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_28 = ((u_6 * -0.03918707) + 0.9841455);
@@ -175,8 +163,7 @@ float coated_gold_ggx_albedo_curve(float cos_theta_6) {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve_b(float cos_theta_7) {
     float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_35 = ((u_7 * -0.02538353) + 0.9516745);
@@ -217,8 +204,7 @@ float coated_gold_glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) 
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_quick_curve(float cos_theta_8) {
     float u_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
     float f_42 = ((u_8 * 0.5028753) + 0.48326114);
@@ -230,8 +216,7 @@ float coated_gold_glossy_quick_curve(float cos_theta_8) {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_steady_curve(float cos_theta_9) {
     float u_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
     float f_44 = ((u_9 * -0.01998204) + 0.39283627);
@@ -303,13 +288,10 @@ vec3 coated_gold_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_scale_curve(float cos_theta_10) {
     float u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_46 = ((u_10 * 0.060539242) + 0.99981815);
@@ -373,8 +355,7 @@ vec3 coated_gold_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, ve
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_spread_curve(float cos_theta_11) {
     float u_11 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
     float f_53 = ((u_11 * 0.058451414) + 0.9806291);
@@ -622,8 +603,8 @@ vec3 coated_gold_specular_dominant_direction(vec3 n_5, vec3 v_5, float alpha_6) 
     vec3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
     float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
-    vec3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+    vec3 d_1 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 1e-12))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -686,35 +667,4 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
     bool _e153 = (dot(n_6, v_6) > 0.0);
     return CoatedGoldIblLobes(CoatedGoldIblLobe[2](CoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? vec3(coat_albedo) : vec3(0.0))), CoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : vec3(0.0)))), CoatedGoldIblLobe(n_6, 1.0, vec3(0.0)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 coated_gold_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 coated_gold_environment(vec3 direction, float roughness) {
-    vec2 uv = coated_gold_equirect_uv(direction);
-    float lod = (roughness * (float(uint(textureQueryLevels(coated_gold_radiance))) - 1.0));
-    vec4 _e11 = textureLod(coated_gold_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 coated_gold_irradiance_at(vec3 direction_1) {
-    vec2 uv = coated_gold_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(coated_gold_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// coated_gold_ibl_lobes times the environment prefiltered for it (coated_gold_environment) or the irradiance
-// over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 coated_gold_ibl(vec3 n_7, vec3 v_7) {
-    CoatedGoldIblLobes lobes = coated_gold_ibl_lobes(n_7, v_7);
-    vec3 light_a = coated_gold_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    vec3 light_b = coated_gold_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }

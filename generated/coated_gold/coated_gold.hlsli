@@ -16,22 +16,6 @@ static const float3 coated_gold_layer1_pool_fresnel = float3(0.9322251, 0.767839
 static const float3 coated_gold_remainder_avg = float3(0.075069316, 0.03143694, 0.0033729167);
 static const uint coated_gold_ibl_specular_lobes = 2u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState coated_gold_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> coated_gold_radiance : register(t1, space2);
-Texture2D<float4> coated_gold_irradiance : register(t2, space2);
-
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
@@ -59,8 +43,7 @@ float coated_gold_fr_dielectric(float cos_i, float eta_1)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_deficit_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -78,12 +61,10 @@ float coated_gold_coat_deficit_curve(float cos_theta)
     return f_10;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_path_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -123,8 +104,7 @@ float3 coated_gold_fr_conductor(float cos_i_1, float3 eta_2, float3 k)
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_scale_curve(float cos_theta_2)
 {
     float u_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
@@ -137,8 +117,7 @@ float coated_gold_glossy_scale_curve(float cos_theta_2)
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_next_curve(float cos_theta_3)
 {
     float u_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
@@ -153,8 +132,7 @@ float coated_gold_glossy_next_curve(float cos_theta_3)
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4)
 {
     float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
@@ -170,8 +148,7 @@ float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4)
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 6 of the table's 6 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_blur_curve(float cos_theta_5)
 {
     float u_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
@@ -183,8 +160,7 @@ float coated_gold_glossy_blur_curve(float cos_theta_5)
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.21777777 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve(float cos_theta_6)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -200,8 +176,7 @@ float coated_gold_ggx_albedo_curve(float cos_theta_6)
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve_b(float cos_theta_7)
 {
     float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -245,8 +220,7 @@ float coated_gold_glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1)
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_quick_curve(float cos_theta_8)
 {
     float u_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
@@ -259,8 +233,7 @@ float coated_gold_glossy_quick_curve(float cos_theta_8)
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_steady_curve(float cos_theta_9)
 {
     float u_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
@@ -340,13 +313,10 @@ float3 coated_gold_f_cook_torrance(float d, float g, float3 fresnel, float n_dot
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_scale_curve(float cos_theta_10)
 {
     float u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -415,8 +385,7 @@ float3 coated_gold_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_spread_curve(float cos_theta_11)
 {
     float u_11 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
@@ -677,8 +646,8 @@ float3 coated_gold_specular_dominant_direction(float3 n_5, float3 v_5, float alp
     float3 r_3 = ((n_5 * (max(dot(n_5, v_5), 0.0) * 2.0)) - v_5);
     float smoothness = min(max((1.0 - alpha_6), 0.0), 1.0);
     float t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
-    float3 d_2 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
-    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+    float3 d_1 = ((n_5 * (1.0 - t_3)) + (r_3 * t_3));
+    return (d_1 / (sqrt(max(dot(d_1, d_1), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -777,49 +746,4 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     bool _e153 = (dot(n_6, v_6) > 0.0);
     const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
     return coatedgoldibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 coated_gold_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 coated_gold_environment(float3 direction, float roughness)
-{
-    const float2 uv = coated_gold_equirect_uv(direction);
-    float lod = (roughness * (float(NagaNumLevels2D(coated_gold_radiance)) - 1.0));
-    float4 _e11 = coated_gold_radiance.SampleLevel(coated_gold_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 coated_gold_irradiance_at(float3 direction_1)
-{
-    const float2 uv = coated_gold_equirect_uv(direction_1);
-    float4 _e5 = coated_gold_irradiance.SampleLevel(coated_gold_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// coated_gold_ibl_lobes times the environment prefiltered for it (coated_gold_environment) or the irradiance
-// over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 coated_gold_ibl(float3 n_7, float3 v_7)
-{
-    const CoatedGoldIblLobes lobes = coated_gold_ibl_lobes(n_7, v_7);
-    const float3 light_a = coated_gold_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = coated_gold_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }

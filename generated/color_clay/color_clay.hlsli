@@ -16,22 +16,6 @@ static const float3 color_clay_layer1_rho = float3(0.5261278, 0.110294394, 0.091
 static const float3 color_clay_layer1_r_return = float3(0.41527808, 0.41527808, 0.41527808);
 static const uint color_clay_ibl_specular_lobes = 1u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState color_clay_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> color_clay_radiance : register(t1, space2);
-Texture2D<float4> color_clay_irradiance : register(t2, space2);
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -96,13 +80,10 @@ float3 color_clay_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_scale_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -142,8 +123,7 @@ float color_clay_second_event_share(float lambda)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_deficit_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -170,12 +150,10 @@ float3 color_clay_refract_down(float3 w, float3 n, float eta_1)
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_path_curve(float cos_theta_2)
 {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -348,8 +326,8 @@ float3 color_clay_specular_dominant_direction(float3 n_3, float3 v_3, float alph
     float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
-    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+    float3 d_1 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
+    return (d_1 / (sqrt(max(dot(d_1, d_1), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -435,49 +413,4 @@ ColorClayIblLobes color_clay_ibl_lobes(float3 n_4, float3 v_4)
     bool _e143 = (dot(n_4, v_4) > 0.0);
     const ColorClayIblLobes colorclayibllobes = ConstructColorClayIblLobes(Constructarray1_ColorClayIblLobe_(ConstructColorClayIblLobe(reflected, lookup_roughness, (_e143 ? (coat_albedo).xxx : (0.0).xxx))), ConstructColorClayIblLobe(n_4, 1.0, (_e143 ? under_albedo : (0.0).xxx)));
     return colorclayibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 color_clay_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 color_clay_environment(float3 direction, float roughness)
-{
-    const float2 uv = color_clay_equirect_uv(direction);
-    float lod = (roughness * (float(NagaNumLevels2D(color_clay_radiance)) - 1.0));
-    float4 _e11 = color_clay_radiance.SampleLevel(color_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 color_clay_irradiance_at(float3 direction_1)
-{
-    const float2 uv = color_clay_equirect_uv(direction_1);
-    float4 _e5 = color_clay_irradiance.SampleLevel(color_clay_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// color_clay_ibl_lobes times the environment prefiltered for it (color_clay_environment) or the irradiance
-// over π (color_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 color_clay_ibl(float3 n_5, float3 v_5)
-{
-    const ColorClayIblLobes lobes = color_clay_ibl_lobes(n_5, v_5);
-    const float3 light_a = color_clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = color_clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

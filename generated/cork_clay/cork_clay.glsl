@@ -10,10 +10,6 @@ struct CorkClayIblLobes {
 };
 const uint cork_clay_ibl_specular_lobes = 1u;
 
-layout(binding = 33) uniform sampler2D cork_clay_radiance;
-
-layout(binding = 34) uniform sampler2D cork_clay_irradiance;
-
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
@@ -80,34 +76,4 @@ CorkClayIblLobes cork_clay_ibl_lobes(vec3 n_2, vec3 v_2) {
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     vec3 albedo_l = cork_clay_albedo_eon(vec3(0.45193905, 0.3308476, 0.19974965), 0.8, cos_v_1);
     return CorkClayIblLobes(CorkClayIblLobe[1](CorkClayIblLobe(n_2, 0.0, vec3(0.0))), CorkClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : vec3(0.0))));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 cork_clay_equirect_uv(vec3 d) {
-    return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 cork_clay_environment(vec3 direction, float roughness) {
-    vec2 uv = cork_clay_equirect_uv(direction);
-    float lod = (roughness * (float(uint(textureQueryLevels(cork_clay_radiance))) - 1.0));
-    vec4 _e11 = textureLod(cork_clay_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 cork_clay_irradiance_at(vec3 direction_1) {
-    vec2 uv = cork_clay_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(cork_clay_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// cork_clay_ibl_lobes times the environment prefiltered for it (cork_clay_environment) or the irradiance
-// over π (cork_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 cork_clay_ibl(vec3 n_3, vec3 v_3) {
-    CorkClayIblLobes lobes = cork_clay_ibl_lobes(n_3, v_3);
-    vec3 light_b = cork_clay_irradiance_at(lobes.irradiance.direction);
-    return (lobes.irradiance.weight * light_b);
 }

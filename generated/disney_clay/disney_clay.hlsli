@@ -13,22 +13,6 @@ struct DisneyClayIblLobes {
 
 static const uint disney_clay_ibl_specular_lobes = 1u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState disney_clay_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> disney_clay_radiance : register(t1, space2);
-Texture2D<float4> disney_clay_irradiance : register(t2, space2);
-
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
 // (Bowsher 2022, eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
 // β = min(θi, θr), written as B max(0, s) / max(μi, μo), s = l·v − μi μo (Fujii 2013).
@@ -56,8 +40,8 @@ float disney_clay_d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_2 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
-    return ((alpha > 0.9999) ? 0.31830987 : d_2);
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
+    return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4"
@@ -122,8 +106,7 @@ float3 disney_clay_eval(float3 n_1, float3 v_2, float3 l_2)
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float disney_clay_clearcoat_dfg_scale_curve(float cos_theta_1)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -143,8 +126,7 @@ float disney_clay_clearcoat_dfg_scale_curve(float cos_theta_1)
 
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float disney_clay_clearcoat_dfg_bias_curve(float cos_theta_2)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -172,8 +154,8 @@ float3 disney_clay_specular_dominant_direction(float3 n_2, float3 v_3, float alp
     float3 r_1 = ((n_2 * (max(dot(n_2, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_1), 0.0), 1.0);
     float t = (smoothness * (sqrt(smoothness) + alpha_1));
-    float3 d_3 = ((n_2 * (1.0 - t)) + (r_1 * t));
-    return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
+    float3 d_2 = ((n_2 * (1.0 - t)) + (r_1 * t));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -252,49 +234,4 @@ DisneyClayIblLobes disney_clay_ibl_lobes(float3 n_3, float3 v_4)
     bool _e25 = (dot(n_3, v_4) > 0.0);
     const DisneyClayIblLobes disneyclayibllobes = ConstructDisneyClayIblLobes(Constructarray1_DisneyClayIblLobe_(ConstructDisneyClayIblLobe(reflected, lookup_roughness, (_e25 ? coat_albedo : (0.0).xxx))), ConstructDisneyClayIblLobe(n_3, 1.0, (_e25 ? albedo_l : (0.0).xxx)));
     return disneyclayibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 disney_clay_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 disney_clay_environment(float3 direction, float roughness_1)
-{
-    const float2 uv = disney_clay_equirect_uv(direction);
-    float lod = (roughness_1 * (float(NagaNumLevels2D(disney_clay_radiance)) - 1.0));
-    float4 _e11 = disney_clay_radiance.SampleLevel(disney_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 disney_clay_irradiance_at(float3 direction_1)
-{
-    const float2 uv = disney_clay_equirect_uv(direction_1);
-    float4 _e5 = disney_clay_irradiance.SampleLevel(disney_clay_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// disney_clay_ibl_lobes times the environment prefiltered for it (disney_clay_environment) or the irradiance
-// over π (disney_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 disney_clay_ibl(float3 n_4, float3 v_5)
-{
-    const DisneyClayIblLobes lobes = disney_clay_ibl_lobes(n_4, v_5);
-    const float3 light_a = disney_clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = disney_clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

@@ -14,13 +14,6 @@ struct DisneyClayIblLobes {
 
 const disney_clay_ibl_specular_lobes: u32 = 1u;
 
-@group(2) @binding(0) 
-var disney_clay_environment_sampler: sampler;
-@group(2) @binding(1) 
-var disney_clay_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var disney_clay_irradiance: texture_2d<f32>;
-
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model", the qualitative model
 // (Bowsher 2022, eq. 17): f = ρ/π (A + B max(0, cos Δφ) sin α tan β), α = max(θi, θr),
 // β = min(θi, θr), written as B max(0, s) / max(μi, μo), s = l·v − μi μo (Fujii 2013).
@@ -45,8 +38,8 @@ fn disney_clay_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn disney_clay_d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_2 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
-    return select(d_2, 0.31830987f, (alpha > 0.9999f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
+    return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
 // Schlick 1994 as used by Karis 2013, "Real Shading in Unreal Engine 4"
@@ -105,8 +98,7 @@ fn disney_clay_eval(n_1: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_1 = ((u * -0.005037874f) + -0.14839892f);
@@ -125,8 +117,7 @@ fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
 
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.14 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn disney_clay_clearcoat_dfg_bias_curve(cos_theta_2: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_12 = ((u_1 * 0.00024286285f) + 0.0058974912f);
@@ -152,8 +143,8 @@ fn disney_clay_specular_dominant_direction(n_2: vec3<f32>, v_3: vec3<f32>, alpha
     let r_1 = ((n_2 * (max(dot(n_2, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_1), 0f), 1f);
     let t = (smoothness * (sqrt(smoothness) + alpha_1));
-    let d_3 = ((n_2 * (1f - t)) + (r_1 * t));
-    return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+    let d_2 = ((n_2 * (1f - t)) + (r_1 * t));
+    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -195,37 +186,5 @@ fn disney_clay_ibl_lobes(n_3: vec3<f32>, v_4: vec3<f32>) -> DisneyClayIblLobes {
     let albedo_l = disney_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v_1);
     let _e25 = (dot(n_3, v_4) > 0f);
     return DisneyClayIblLobes(array<DisneyClayIblLobe, 1>(DisneyClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e25))), DisneyClayIblLobe(n_3, 1f, select(vec3(0f), albedo_l, _e25)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn disney_clay_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn disney_clay_environment(direction: vec3<f32>, roughness_1: f32) -> vec3<f32> {
-    let uv = disney_clay_equirect_uv(direction);
-    let _e3 = textureNumLevels(disney_clay_radiance);
-    let lod = (roughness_1 * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(disney_clay_radiance, disney_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn disney_clay_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = disney_clay_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(disney_clay_irradiance, disney_clay_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// disney_clay_ibl_lobes times the environment prefiltered for it (disney_clay_environment) or the irradiance
-// over π (disney_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn disney_clay_ibl(n_4: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
-    let lobes = disney_clay_ibl_lobes(n_4, v_5);
-    let light_a = disney_clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = disney_clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

@@ -24,6 +24,12 @@ struct PreviewVarying {
     float2 p : LOC0;
 };
 
+SamplerState nagaSamplerHeap[2048]: register(s0, space0);
+SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
+StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
+static const SamplerState four_layer_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
+Texture2D<float4> four_layer_radiance : register(t1, space2);
+Texture2D<float4> four_layer_irradiance : register(t2, space2);
 ByteAddressBuffer pairs : register(t0);
 RWByteAddressBuffer values : register(u1);
 cbuffer dispatch : register(b2) { EvalDispatch dispatch; }
@@ -54,8 +60,46 @@ FourLayerIblLobes ZeroValueFourLayerIblLobes() {
     return (FourLayerIblLobes)0;
 }
 
-float2 ZeroValuefloat2() {
-    return (float2)0;
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+float2 four_layer_equirect_uv(float3 d_1)
+{
+    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
+}
+
+uint NagaNumLevels2D(Texture2D<float4> tex)
+{
+    uint4 ret;
+    tex.GetDimensions(0, ret.x, ret.y, ret.z);
+    return ret.z;
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+float3 four_layer_environment(float3 direction, float roughness)
+{
+    const float2 uv = four_layer_equirect_uv(direction);
+    float lod = (roughness * (float(NagaNumLevels2D(four_layer_radiance)) - 1.0));
+    float4 _e11 = four_layer_radiance.SampleLevel(four_layer_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+float3 four_layer_irradiance_at(float3 direction_1)
+{
+    const float2 uv = four_layer_equirect_uv(direction_1);
+    float4 _e5 = four_layer_irradiance.SampleLevel(four_layer_environment_sampler, uv, 0.0);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// four_layer_ibl_lobes times the environment prefiltered for it (four_layer_environment) or the irradiance
+// over π (four_layer_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+float3 four_layer_ibl(float3 n_5, float3 v_5)
+{
+    const FourLayerIblLobes lobes = four_layer_ibl_lobes(n_5, v_5);
+    const float3 light_a = four_layer_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    const float3 light_b = four_layer_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 
 DirectionPair ConstructDirectionPair(float4 arg0, float4 arg1) {

@@ -26,22 +26,6 @@ static const float3 four_layer_r_series = float3(0.49797082, 0.5271556, 0.559820
 static const float3 four_layer_e_series = float3(0.47112292, 0.4516549, 0.43180135);
 static const uint four_layer_ibl_specular_lobes = 1u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState four_layer_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> four_layer_radiance : register(t1, space2);
-Texture2D<float4> four_layer_irradiance : register(t2, space2);
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -56,8 +40,8 @@ float four_layer_d_gtr1_(float cos_h, float sin2_h, float alpha)
 {
     float a_1 = min(max(alpha, 0.001), 0.9999);
     float a_sq = (a_1 * a_1);
-    float d_2 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
-    return ((alpha > 0.9999) ? 0.31830987 : d_2);
+    float d_1 = ((a_sq - 1.0) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 1e-12)) * 3.1415927));
+    return ((alpha > 0.9999) ? 0.31830987 : d_1);
 }
 
 float four_layer_lambda_gtr1_(float n_dot_x, float alpha_1)
@@ -106,8 +90,7 @@ float3 four_layer_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_
 // unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
 // reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.2, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_gtr1_coat_deficit_curve(float cos_theta)
 {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -134,12 +117,10 @@ float3 four_layer_refract_down(float3 w, float3 n, float eta_1)
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.4472136, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve(float cos_theta_1)
 {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -197,13 +178,10 @@ float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float 
     return (1.0 / ((_e5 + _e6) + 1.0));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_scale_curve(float cos_theta_2)
 {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -243,8 +221,7 @@ float four_layer_second_event_share(float lambda)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_deficit_curve(float cos_theta_3)
 {
     float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -262,12 +239,10 @@ float four_layer_coat_deficit_curve(float cos_theta_3)
     return f_33;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.39223224, eta = 1.6500001 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_b(float cos_theta_4)
 {
     float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -279,12 +254,10 @@ float four_layer_coat_path_curve_b(float cos_theta_4)
     return f_38;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_c(float cos_theta_5)
 {
     float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -303,13 +276,10 @@ float3 four_layer_slab_transmittance(float3 tau_1, float mu_1)
     return exp(-((tau_1 / (mu_1).xxx)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_scale_curve_b(float cos_theta_6)
 {
     float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -326,8 +296,7 @@ float four_layer_coat_scale_curve_b(float cos_theta_6)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_deficit_curve_b(float cos_theta_7)
 {
     float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -390,12 +359,10 @@ float3 four_layer_albedo_eon(float3 albedo_2, float r_3, float mu_3)
     return ((albedo_2 * e_f) + (rho_ms * (1.0 - e_f)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_d(float cos_theta_8)
 {
     float u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -680,8 +647,8 @@ float3 four_layer_specular_dominant_direction(float3 n_3, float3 v_3, float alph
     float3 r_5 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_8), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_8));
-    float3 d_3 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
-    return (d_3 / (sqrt(max(dot(d_3, d_3), 1e-12))).xxx);
+    float3 d_2 = ((n_3 * (1.0 - t_1)) + (r_5 * t_1));
+    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -836,49 +803,4 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     bool _e591 = (dot(n_4, v_4) > 0.0);
     const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e591 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e591 ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 four_layer_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 four_layer_environment(float3 direction, float roughness)
-{
-    const float2 uv = four_layer_equirect_uv(direction);
-    float lod = (roughness * (float(NagaNumLevels2D(four_layer_radiance)) - 1.0));
-    float4 _e11 = four_layer_radiance.SampleLevel(four_layer_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 four_layer_irradiance_at(float3 direction_1)
-{
-    const float2 uv = four_layer_equirect_uv(direction_1);
-    float4 _e5 = four_layer_irradiance.SampleLevel(four_layer_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// four_layer_ibl_lobes times the environment prefiltered for it (four_layer_environment) or the irradiance
-// over π (four_layer_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 four_layer_ibl(float3 n_5, float3 v_5)
-{
-    const FourLayerIblLobes lobes = four_layer_ibl_lobes(n_5, v_5);
-    const float3 light_a = four_layer_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = four_layer_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

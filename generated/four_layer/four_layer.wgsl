@@ -25,13 +25,6 @@ const four_layer_r_series: vec3<f32> = vec3<f32>(0.49797082f, 0.5271556f, 0.5598
 const four_layer_e_series: vec3<f32> = vec3<f32>(0.47112292f, 0.4516549f, 0.43180135f);
 const four_layer_ibl_specular_lobes: u32 = 1u;
 
-@group(2) @binding(0) 
-var four_layer_environment_sampler: sampler;
-@group(2) @binding(1) 
-var four_layer_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var four_layer_irradiance: texture_2d<f32>;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -44,8 +37,8 @@ fn four_layer_half_vector(v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 fn four_layer_d_gtr1_(cos_h: f32, sin2_h: f32, alpha: f32) -> f32 {
     let a_1 = min(max(alpha, 0.001f), 0.9999f);
     let a_sq = (a_1 * a_1);
-    let d_2 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
-    return select(d_2, 0.31830987f, (alpha > 0.9999f));
+    let d_1 = ((a_sq - 1f) / ((log(a_sq) * max((((cos_h * cos_h) * a_sq) + sin2_h), 0.000000000001f)) * 3.1415927f));
+    return select(d_1, 0.31830987f, (alpha > 0.9999f));
 }
 
 fn four_layer_lambda_gtr1_(n_dot_x: f32, alpha_1: f32) -> f32 {
@@ -90,8 +83,7 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 // unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
 // reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.2, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_gtr1_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * -0.028372109f) + -0.0009624428f);
@@ -116,12 +108,10 @@ fn four_layer_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.4472136, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_11 = ((u_1 * 0.85441303f) + 1.298795f);
@@ -174,13 +164,10 @@ fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_4: f3
     return (1f / ((_e5 + _e6) + 1f));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_16 = ((u_2 * -0.01585722f) + 1.0037742f);
@@ -217,8 +204,7 @@ fn four_layer_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
     let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_23 = ((u_3 * -0.020166278f) + -0.003592166f);
@@ -235,12 +221,10 @@ fn four_layer_coat_deficit_curve(cos_theta_3: f32) -> f32 {
     return f_33;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.39223224, eta = 1.6500001 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_b(cos_theta_4: f32) -> f32 {
     let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_34 = ((u_4 * 0.6249771f) + 1.2128764f);
@@ -251,12 +235,10 @@ fn four_layer_coat_path_curve_b(cos_theta_4: f32) -> f32 {
     return f_38;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.3, eta = 1.1 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_c(cos_theta_5: f32) -> f32 {
     let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_39 = ((u_5 * 0.61936736f) + 1.0213565f);
@@ -273,13 +255,10 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
     return exp(-((tau_1 / vec3(mu_1))));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_scale_curve_b(cos_theta_6: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_44 = ((u_6 * -0.09836375f) + 1.0570874f);
@@ -295,8 +274,7 @@ fn four_layer_coat_scale_curve_b(cos_theta_6: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_deficit_curve_b(cos_theta_7: f32) -> f32 {
     let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_51 = ((u_7 * -0.02334994f) + -0.016049497f);
@@ -354,12 +332,10 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
     return ((albedo_2 * e_f) + (rho_ms * (1f - e_f)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.5, eta = 1.2 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_d(cos_theta_8: f32) -> f32 {
     let u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_62 = ((u_8 * 0.9989592f) + 1.2154765f);
@@ -635,8 +611,8 @@ fn four_layer_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_
     let r_5 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_8), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_8));
-    let d_3 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
-    return (d_3 / vec3(sqrt(max(dot(d_3, d_3), 0.000000000001f))));
+    let d_2 = ((n_3 * (1f - t_1)) + (r_5 * t_1));
+    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -755,37 +731,5 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
     let _e591 = (dot(n_4, v_4) > 0f);
     return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e591))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e591)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn four_layer_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn four_layer_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = four_layer_equirect_uv(direction);
-    let _e3 = textureNumLevels(four_layer_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(four_layer_radiance, four_layer_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn four_layer_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = four_layer_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(four_layer_irradiance, four_layer_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// four_layer_ibl_lobes times the environment prefiltered for it (four_layer_environment) or the irradiance
-// over π (four_layer_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn four_layer_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
-    let lobes = four_layer_ibl_lobes(n_5, v_5);
-    let light_a = four_layer_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = four_layer_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

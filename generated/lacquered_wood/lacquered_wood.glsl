@@ -16,10 +16,6 @@ const vec3 lacquered_wood_layer1_r_return = vec3(0.49947113, 0.35320336, 0.14427
 const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 const uint lacquered_wood_ibl_specular_lobes = 1u;
 
-layout(binding = 33) uniform sampler2D lacquered_wood_radiance;
-
-layout(binding = 34) uniform sampler2D lacquered_wood_irradiance;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -78,13 +74,10 @@ vec3 lacquered_wood_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4.0)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_scale_curve(float cos_theta) {
     float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f = ((u * 0.051895376) + 0.99983186);
@@ -121,8 +114,7 @@ float lacquered_wood_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_deficit_curve(float cos_theta_1) {
     float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_7 = ((u_1 * -0.0044140294) + -9.304378e-6);
@@ -147,12 +139,10 @@ vec3 lacquered_wood_refract_down(vec3 w, vec3 n, float eta_1) {
     return -(refract(-(w), n, (1.0 / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.08, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_path_curve(float cos_theta_2) {
     float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
     float f_18 = ((u_2 * -0.013566732) + 1.0009205);
@@ -248,8 +238,8 @@ vec3 lacquered_wood_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_
     vec3 r_1 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    vec3 d_2 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+    vec3 d_1 = ((n_3 * (1.0 - t_1)) + (r_1 * t_1));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 1e-12))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -286,35 +276,4 @@ LacqueredWoodIblLobes lacquered_wood_ibl_lobes(vec3 n_4, vec3 v_4) {
     float lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08, dot(n_4, v_4));
     bool _e73 = (dot(n_4, v_4) > 0.0);
     return LacqueredWoodIblLobes(LacqueredWoodIblLobe[1](LacqueredWoodIblLobe(reflected, lookup_roughness, (_e73 ? vec3(coat_albedo) : vec3(0.0)))), LacqueredWoodIblLobe(n_4, 1.0, (_e73 ? under_albedo : vec3(0.0))));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 lacquered_wood_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 lacquered_wood_environment(vec3 direction, float roughness) {
-    vec2 uv = lacquered_wood_equirect_uv(direction);
-    float lod = (roughness * (float(uint(textureQueryLevels(lacquered_wood_radiance))) - 1.0));
-    vec4 _e11 = textureLod(lacquered_wood_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 lacquered_wood_irradiance_at(vec3 direction_1) {
-    vec2 uv = lacquered_wood_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(lacquered_wood_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// lacquered_wood_ibl_lobes times the environment prefiltered for it (lacquered_wood_environment) or the irradiance
-// over π (lacquered_wood_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 lacquered_wood_ibl(vec3 n_5, vec3 v_5) {
-    LacqueredWoodIblLobes lobes = lacquered_wood_ibl_lobes(n_5, v_5);
-    vec3 light_a = lacquered_wood_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    vec3 light_b = lacquered_wood_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

@@ -13,22 +13,6 @@ struct MudClayIblLobes {
 
 static const uint mud_clay_ibl_specular_lobes = 1u;
 
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState mud_clay_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> mud_clay_radiance : register(t1, space2);
-Texture2D<float4> mud_clay_irradiance : register(t2, space2);
-
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
@@ -136,48 +120,4 @@ MudClayIblLobes mud_clay_ibl_lobes(float3 n_2, float3 v_2)
     const float3 albedo_l = mud_clay_albedo_eon(float3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v_1);
     const MudClayIblLobes mudclayibllobes = ConstructMudClayIblLobes(Constructarray1_MudClayIblLobe_(ConstructMudClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructMudClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : (0.0).xxx)));
     return mudclayibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 mud_clay_equirect_uv(float3 d)
-{
-    return float2(((atan2(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 mud_clay_environment(float3 direction, float roughness)
-{
-    const float2 uv = mud_clay_equirect_uv(direction);
-    float lod = (roughness * (float(NagaNumLevels2D(mud_clay_radiance)) - 1.0));
-    float4 _e11 = mud_clay_radiance.SampleLevel(mud_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 mud_clay_irradiance_at(float3 direction_1)
-{
-    const float2 uv = mud_clay_equirect_uv(direction_1);
-    float4 _e5 = mud_clay_irradiance.SampleLevel(mud_clay_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// mud_clay_ibl_lobes times the environment prefiltered for it (mud_clay_environment) or the irradiance
-// over π (mud_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 mud_clay_ibl(float3 n_3, float3 v_3)
-{
-    const MudClayIblLobes lobes = mud_clay_ibl_lobes(n_3, v_3);
-    const float3 light_b = mud_clay_irradiance_at(lobes.irradiance.direction);
-    return (lobes.irradiance.weight * light_b);
 }

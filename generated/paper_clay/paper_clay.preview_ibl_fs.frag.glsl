@@ -4,14 +4,37 @@
 
 #include "paper_clay.glsl"
 
+layout(binding = 34) uniform sampler2D _group_2_binding_2_fs;
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+vec2 paper_clay_equirect_uv(vec3 d) {
+    return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+vec3 paper_clay_irradiance_at(vec3 direction) {
+    vec2 uv = paper_clay_equirect_uv(direction);
+    vec4 _e5 = textureLod(_group_2_binding_2_fs, vec2(uv), 0.0);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// paper_clay_ibl_lobes times the environment prefiltered for it (paper_clay_environment) or the irradiance
+// over π (paper_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+vec3 paper_clay_ibl(vec3 n_1, vec3 v_1) {
+    PaperClayIblLobes lobes = paper_clay_ibl_lobes(n_1, v_1);
+    vec3 light_b = paper_clay_irradiance_at(lobes.irradiance.direction);
+    return (lobes.irradiance.weight * light_b);
+}
 
 void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    vec3 n_1 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    vec3 reflected = paper_clay_ibl(n_1, vec3(0.0, 0.0, 1.0));
+    vec3 n_2 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    vec3 reflected = paper_clay_ibl(n_2, vec3(0.0, 0.0, 1.0));
     bool _e18 = (r2_ < 1.0);
     _fs2p_location0 = vec4((_e18 ? reflected : vec3(0.0)), (_e18 ? 1.0 : 0.0));
     return;

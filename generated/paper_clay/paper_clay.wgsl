@@ -12,13 +12,6 @@ struct PaperClayIblLobes {
 
 const paper_clay_ibl_specular_lobes: u32 = 1u;
 
-@group(2) @binding(0) 
-var paper_clay_environment_sampler: sampler;
-@group(2) @binding(1) 
-var paper_clay_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var paper_clay_irradiance: texture_2d<f32>;
-
 // Portsmouth, Kutz & Hill 2025, "EON: A practical energy-preserving rough diffuse BRDF"
 // (JCGT 14(1); arXiv 2410.18026), Listing 1 `E_FON_approx`: the directional albedo of the
 // Fujii Oren–Nayar lobe at ρ = 1, a quartic in 1 − μ (max error 4.7·10⁻⁴).
@@ -85,36 +78,5 @@ fn paper_clay_ibl_lobes(n_2: vec3<f32>, v_2: vec3<f32>) -> PaperClayIblLobes {
     let cos_v_1 = max(n_dot_v_2, 0.0001f);
     let albedo_l = paper_clay_albedo_eon(vec3<f32>(0.81943893f, 0.7996387f, 0.76015425f), 0.4f, cos_v_1);
     return PaperClayIblLobes(array<PaperClayIblLobe, 1>(PaperClayIblLobe(n_2, 0f, vec3(0f))), PaperClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, (dot(n_2, v_2) > 0f))));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn paper_clay_equirect_uv(d: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d.x, d.z) * 0.15915494f) + 0.5f), (acos(min(max(d.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn paper_clay_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = paper_clay_equirect_uv(direction);
-    let _e3 = textureNumLevels(paper_clay_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(paper_clay_radiance, paper_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn paper_clay_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = paper_clay_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(paper_clay_irradiance, paper_clay_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// paper_clay_ibl_lobes times the environment prefiltered for it (paper_clay_environment) or the irradiance
-// over π (paper_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn paper_clay_ibl(n_3: vec3<f32>, v_3: vec3<f32>) -> vec3<f32> {
-    let lobes = paper_clay_ibl_lobes(n_3, v_3);
-    let light_b = paper_clay_irradiance_at(lobes.irradiance.direction);
-    return (lobes.irradiance.weight * light_b);
 }
 

@@ -4,14 +4,49 @@
 
 #include "red_plastic.glsl"
 
+layout(binding = 33) uniform sampler2D _group_2_binding_1_fs;
+
+layout(binding = 34) uniform sampler2D _group_2_binding_2_fs;
+
 layout(location = 0) smooth in vec2 _vs2fs_location0;
 layout(location = 0) out vec4 _fs2p_location0;
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+vec2 red_plastic_equirect_uv(vec3 d) {
+    return vec2(((atan(d.x, d.z) * 0.15915494) + 0.5), (acos(min(max(d.y, -1.0), 1.0)) * 0.31830987));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+vec3 red_plastic_environment(vec3 direction, float roughness) {
+    vec2 uv = red_plastic_equirect_uv(direction);
+    float lod = (roughness * (float(uint(textureQueryLevels(_group_2_binding_1_fs))) - 1.0));
+    vec4 _e11 = textureLod(_group_2_binding_1_fs, vec2(uv), lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+vec3 red_plastic_irradiance_at(vec3 direction_1) {
+    vec2 uv = red_plastic_equirect_uv(direction_1);
+    vec4 _e5 = textureLod(_group_2_binding_2_fs, vec2(uv), 0.0);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// red_plastic_ibl_lobes times the environment prefiltered for it (red_plastic_environment) or the irradiance
+// over π (red_plastic_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+vec3 red_plastic_ibl(vec3 n_1, vec3 v_1) {
+    RedPlasticIblLobes lobes = red_plastic_ibl_lobes(n_1, v_1);
+    vec3 light_a = red_plastic_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    vec3 light_b = red_plastic_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
+}
 
 void main() {
     vec2 p = _vs2fs_location0;
     float r2_ = ((p.x * p.x) + (p.y * p.y));
-    vec3 n_1 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
-    vec3 reflected = red_plastic_ibl(n_1, vec3(0.0, 0.0, 1.0));
+    vec3 n_2 = vec3(p.x, p.y, sqrt(max((1.0 - r2_), 0.0)));
+    vec3 reflected = red_plastic_ibl(n_2, vec3(0.0, 0.0, 1.0));
     bool _e18 = (r2_ < 1.0);
     _fs2p_location0 = vec4((_e18 ? reflected : vec3(0.0)), (_e18 ? 1.0 : 0.0));
     return;

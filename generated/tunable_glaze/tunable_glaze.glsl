@@ -20,10 +20,6 @@ const uint tunable_glaze_ibl_specular_lobes = 1u;
 
 layout(std140, binding = 4) uniform tunable_glaze_tables_block { uvec4 tunable_glaze_tables[1980]; };
 
-layout(binding = 33) uniform sampler2D tunable_glaze_radiance;
-
-layout(binding = 34) uniform sampler2D tunable_glaze_irradiance;
-
 layout(std140, binding = 3) uniform tunable_glaze_params_block { TunableGlazeParams tunable_glaze_params; };
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -108,10 +104,8 @@ float tunable_glaze_table_trilinear(uint corner, uvec3 strides, vec3 weights, fl
     return ((((((((((code_lll * scale) + offset) * (((1.0 - weights.x) * (1.0 - weights.y)) * (1.0 - weights.z))) + (((code_ull * scale) + offset) * ((weights.x * (1.0 - weights.y)) * (1.0 - weights.z)))) + (((code_lul * scale) + offset) * (((1.0 - weights.x) * weights.y) * (1.0 - weights.z)))) + (((code_uul * scale) + offset) * ((weights.x * weights.y) * (1.0 - weights.z)))) + (((code_llu * scale) + offset) * (((1.0 - weights.x) * (1.0 - weights.y)) * weights.z))) + (((code_ulu * scale) + offset) * ((weights.x * (1.0 - weights.y)) * weights.z))) + (((code_luu * scale) + offset) * (((1.0 - weights.x) * weights.y) * weights.z))) + (((code_uuu * scale) + offset) * ((weights.x * weights.y) * weights.z)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 float tunable_glaze_coat_scale(float cos_theta, float roughness, float eta_1) {
     float u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -179,9 +173,8 @@ vec3 tunable_glaze_refract_down(vec3 w, vec3 n, float eta_3) {
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 float tunable_glaze_coat_path(float cos_theta_2, float roughness_2, float eta_4) {
     float u_cos_theta_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
@@ -594,8 +587,8 @@ vec3 tunable_glaze_specular_dominant_direction(vec3 n_3, vec3 v_3, float alpha_4
     vec3 r_6 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_4));
-    vec3 d_2 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 1e-12))));
+    vec3 d_1 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 1e-12))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -685,35 +678,4 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazePar
     float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
     bool _e287 = (dot(n_4, v_4) > 0.0);
     return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (_e287 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e287 ? under_albedo : vec3(0.0))));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-vec2 tunable_glaze_equirect_uv(vec3 d_1) {
-    return vec2(((atan(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-vec3 tunable_glaze_environment(vec3 direction, float roughness_6) {
-    vec2 uv = tunable_glaze_equirect_uv(direction);
-    float lod = (roughness_6 * (float(uint(textureQueryLevels(tunable_glaze_radiance))) - 1.0));
-    vec4 _e11 = textureLod(tunable_glaze_radiance, vec2(uv), lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-vec3 tunable_glaze_irradiance_at(vec3 direction_1) {
-    vec2 uv = tunable_glaze_equirect_uv(direction_1);
-    vec4 _e5 = textureLod(tunable_glaze_irradiance, vec2(uv), 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-vec3 tunable_glaze_ibl(vec3 n_5, vec3 v_5, TunableGlazeParams params_3) {
-    TunableGlazeIblLobes lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
-    vec3 light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    vec3 light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

@@ -25,21 +25,6 @@ struct TunableGlazeIblLobes {
 static const uint tunable_glaze_ibl_specular_lobes = 1u;
 
 cbuffer tunable_glaze_tables : register(b4) { uint4 tunable_glaze_tables[1980]; }
-#ifndef GLAZEC_NAGASAMPLERHEAP
-#define GLAZEC_NAGASAMPLERHEAP
-SamplerState nagaSamplerHeap[2048]: register(s0, space0);
-#endif
-#ifndef GLAZEC_NAGACOMPARISONSAMPLERHEAP
-#define GLAZEC_NAGACOMPARISONSAMPLERHEAP
-SamplerComparisonState nagaComparisonSamplerHeap[2048]: register(s0, space1);
-#endif
-#ifndef GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-#define GLAZEC_NAGAGROUP2SAMPLERINDEXARRAY
-StructuredBuffer<uint> nagaGroup2SamplerIndexArray : register(t2, space255);
-#endif
-static const SamplerState tunable_glaze_environment_sampler = nagaSamplerHeap[nagaGroup2SamplerIndexArray[0]];
-Texture2D<float4> tunable_glaze_radiance : register(t1, space2);
-Texture2D<float4> tunable_glaze_irradiance : register(t2, space2);
 cbuffer tunable_glaze_params : register(b3) { TunableGlazeParams tunable_glaze_params; }
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -139,10 +124,8 @@ uint naga_f2u32(float value) {
 }
 #endif
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 float tunable_glaze_coat_scale(float cos_theta, float roughness, float eta_1)
 {
@@ -215,9 +198,8 @@ float3 tunable_glaze_refract_down(float3 w, float3 n, float eta_3)
     return -(refract(-(w), n, (1.0 / eta_3)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
 float tunable_glaze_coat_path(float cos_theta_2, float roughness_2, float eta_4)
 {
@@ -656,8 +638,8 @@ float3 tunable_glaze_specular_dominant_direction(float3 n_3, float3 v_3, float a
     float3 r_6 = ((n_3 * (max(dot(n_3, v_3), 0.0) * 2.0)) - v_3);
     float smoothness = min(max((1.0 - alpha_4), 0.0), 1.0);
     float t_2 = (smoothness * (sqrt(smoothness) + alpha_4));
-    float3 d_2 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
-    return (d_2 / (sqrt(max(dot(d_2, d_2), 1e-12))).xxx);
+    float3 d_1 = ((n_3 * (1.0 - t_2)) + (r_6 * t_2));
+    return (d_1 / (sqrt(max(dot(d_1, d_1), 1e-12))).xxx);
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -783,49 +765,4 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlaz
     bool _e287 = (dot(n_4, v_4) > 0.0);
     const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, lookup_roughness, (_e287 ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (_e287 ? under_albedo : (0.0).xxx)));
     return tunableglazeibllobes;
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-float2 tunable_glaze_equirect_uv(float3 d_1)
-{
-    return float2(((atan2(d_1.x, d_1.z) * 0.15915494) + 0.5), (acos(min(max(d_1.y, -1.0), 1.0)) * 0.31830987));
-}
-
-#ifndef GLAZEC_NAGANUMLEVELS2D
-#define GLAZEC_NAGANUMLEVELS2D
-uint NagaNumLevels2D(Texture2D<float4> tex)
-{
-    uint4 ret;
-    tex.GetDimensions(0, ret.x, ret.y, ret.z);
-    return ret.z;
-}
-#endif
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-float3 tunable_glaze_environment(float3 direction, float roughness_6)
-{
-    const float2 uv = tunable_glaze_equirect_uv(direction);
-    float lod = (roughness_6 * (float(NagaNumLevels2D(tunable_glaze_radiance)) - 1.0));
-    float4 _e11 = tunable_glaze_radiance.SampleLevel(tunable_glaze_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-float3 tunable_glaze_irradiance_at(float3 direction_1)
-{
-    const float2 uv = tunable_glaze_equirect_uv(direction_1);
-    float4 _e5 = tunable_glaze_irradiance.SampleLevel(tunable_glaze_environment_sampler, uv, 0.0);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-float3 tunable_glaze_ibl(float3 n_5, float3 v_5, TunableGlazeParams params_3)
-{
-    const TunableGlazeIblLobes lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
-    const float3 light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    const float3 light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }

@@ -26,7 +26,8 @@ pub struct Args {
     /// Where a library resource is bound, instead of glazec's default (repeatable):
     /// `params`, `tables`, `textures` (the sampler; textures follow) or `environment` (the
     /// sampler; radiance and irradiance follow) at GROUP:BINDING, e.g. `--bind params=2:0`.
-    /// Defaults: params 0:3, tables right after params, textures 1:0, environment 2:0.
+    /// Defaults: params 0:3, tables right after params, textures 1:0. Placing `environment`
+    /// adds glazec's environment lookup `<m>_ibl` to the libraries.
     #[arg(long, value_name = "RESOURCE=GROUP:BINDING", value_parser = parse_bind)]
     bind: Vec<(Resource, Slot)>,
     /// Write nothing; exit 1 if any output differs from what is on disk.

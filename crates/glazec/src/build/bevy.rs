@@ -34,15 +34,14 @@ pub const MODULE_FILE: &str = "glazec_bevy_materials.rs";
 const MATERIAL_GROUP: u32 = 3;
 
 /// The bindings of every material's library in Bevy's material bind group: the parameters at 0,
-/// the tables at 1, the sampler at 2 and the textures from 3. The environment (glazec's own,
-/// which `<m>_ibl` reads) goes out of the way at 64 and is never bound: the fragment shader
-/// lights by Bevy's environment map through `<m>_ibl_lobes`.
+/// the tables at 1, the sampler at 2 and the textures from 3. glazec's own environment is not
+/// placed, so the library has none: the fragment shader lights by Bevy's environment map through
+/// `<m>_ibl_lobes`.
 pub(super) fn choice() -> Choice {
     Choice::default()
         .with(Resource::Params, Slot::new(MATERIAL_GROUP, 0))
         .with(Resource::Tables, Slot::new(MATERIAL_GROUP, 1))
         .with(Resource::Textures, Slot::new(MATERIAL_GROUP, 2))
-        .with(Resource::Environment, Slot::new(MATERIAL_GROUP, 64))
 }
 
 /// One material, with where its files were written.

@@ -146,7 +146,8 @@ impl Build {
     /// Binds `resource` of every material's library at `slot` (group, binding) instead of
     /// glazec's default; the module's `LIBRARY_BINDINGS` follow. E.g. a renderer that owns
     /// groups 0 and 1 puts the parameters (and the tables after them) in group 2:
-    /// `.bind(Resource::Params, Slot::new(2, 0))`.
+    /// `.bind(Resource::Params, Slot::new(2, 0))`. Placing [`Resource::Environment`] also adds
+    /// glazec's environment lookup, `<m>_ibl`, to the libraries.
     #[must_use]
     pub fn bind(mut self, resource: Resource, slot: Slot) -> Self {
         self.bindings = self.bindings.with(resource, slot);

@@ -372,8 +372,8 @@ fn write_params_info(out: &mut String, c: &Compiled, ty: Handle<Type>) {
 }
 
 /// The bindings used by the entry points `selects` picks, merged (stages or-ed). (The
-/// image-based-lighting pass, `preview_ibl_fs`, adds bind group 2 as docs/generated-files.md
-/// documents it.)
+/// image-based-lighting pass, `preview_ibl_fs`, adds glazec's environment as
+/// docs/generated-files.md documents it.)
 fn write_bindings(
     out: &mut String,
     c: &Compiled,

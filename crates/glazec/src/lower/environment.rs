@@ -1,6 +1,7 @@
 //! Image-based lighting in generated code: `<material>_ibl` and the environment it reads.
 //!
-//! Every module gets
+//! Every library gets `<material>_ibl_lobes`; the library (where the host placed the
+//! environment) or else the harness gets the rest:
 //!
 //! * bind group [`GROUP`](bindings::GROUP): `glazec_environment_sampler` at 0, and two
 //!   equirectangular `texture_2d<f32>` images (direction d ↦ u = ½ + atan2(d.x, d.z)/2π,

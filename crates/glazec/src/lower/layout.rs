@@ -9,10 +9,11 @@ use crate::model::{Material, ParamValue};
 /// A material's **library** binds at most four kinds of resource, each where the host chooses
 /// ([`Choice`]; CLI `--bind`, `Build::bindings`): the runtime-parameter uniform, the table
 /// uniform, the texture sampler with its textures (sampler at the chosen binding, textures at
-/// the next ones in order of first use) and the environment (sampler, radiance, irradiance at
-/// the chosen binding and the two after it). By default they sit where they always have:
-/// `params` at group 0 binding 3, the tables right after the parameters (3 without them),
-/// textures in group 1 and the environment in group 2, from binding 0.
+/// the next ones in order of first use) and glazec's environment (sampler, radiance, irradiance
+/// at the chosen binding and the two after it; in the library only where the host places it).
+/// By default they sit where they always have: `params` at group 0 binding 3, the tables right
+/// after the parameters (3 without them), textures in group 1 and, in the harness, the
+/// environment in group 2, from binding 0.
 ///
 /// glazec's **harness** (`eval_pairs`, the previews) adds `pairs`, `values`, `dispatch` and the
 /// preview's `light`, in group 0 at the lowest bindings the library leaves free: with the
@@ -111,7 +112,9 @@ pub mod bindings {
         pub tables: Option<Slot>,
         /// The sampler; the textures follow it.
         pub textures: Option<Slot>,
-        /// The sampler; radiance and irradiance follow it.
+        /// The sampler; radiance and irradiance follow it. `Some` also puts glazec's environment
+        /// lookup, `<material>_ibl`, and these bindings in the library; `None` leaves both to the
+        /// harness, at the default place.
         pub environment: Option<Slot>,
     }
 
@@ -171,7 +174,8 @@ pub mod bindings {
         pub tables: Option<Slot>,
         /// The texture sampler and each texture, as (name in generated code, slot), sampler first.
         pub textures: Vec<(String, Slot)>,
-        /// The environment's sampler, radiance and irradiance, with their names in generated code.
+        /// The environment's sampler, radiance and irradiance, with their names in generated code
+        /// (the library's where the host placed them, else the harness's).
         pub environment: Vec<(String, Slot)>,
         /// The harness's `pairs`, `values` and `dispatch` (group 0).
         pub pairs: u32,

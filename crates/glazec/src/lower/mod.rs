@@ -6,8 +6,9 @@
 //!   running [`crate::math`] on the [`builder`]), each carrying its citation as a doc comment;
 //! * `<material>_brdf(n, v, l[, params]) -> vec3<f32>`: f(l, v) **without** the cosine;
 //! * `<material>_eval(n, v, l[, params]) -> vec3<f32>`: f · max(n·l, 0), for users' light loops;
-//! * `<material>_ibl_lobes(n, v[, params]) -> <Material>IblLobes` and `<material>_ibl(n, v[, params])`:
-//!   image-based lighting as lobes for the host's environment, and through glazec's own;
+//! * `<material>_ibl_lobes(n, v[, params]) -> <Material>IblLobes`: image-based lighting as lobes
+//!   for the host's environment; and, where the host placed glazec's environment
+//!   ([`Choice::environment`]), `<material>_ibl(n, v[, params])`, the lobes looked up in it;
 //! * a uniform struct `<Material>Params` with one member per runtime parameter (declaration
 //!   order, `f32` or `vec3<f32>`), when the material has any;
 //! * the resources they read, each at the binding the host chose ([`bindings::Choice`]): the
@@ -20,7 +21,9 @@
 //! entry points of glazec's own **harness** ([`Lowered::module`]): `eval_pairs` (compute: f(wi,
 //! wo) for a buffer of direction pairs, used by the tests, `eval` and benchmarks) and
 //! `preview_vs`/`preview_fs`/`preview_ibl_fs` (a full-screen triangle that shades a sphere under
-//! one directional light, given by the `light` uniform, or under the environment).
+//! one directional light, given by the `light` uniform, or under the environment, through
+//! `<material>_ibl` and glazec's environment, which the harness adds at their default place
+//! when the library has not got them).
 //!
 //! See [`bindings`] for where each resource goes. The kernel reads its element count from a
 //! uniform rather than from `arrayLength`, because glslang's HLSL front end lowers
@@ -86,17 +89,25 @@ pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash
     let brdf = brdf_function(&b, material, inputs);
     let eval = eval_function(&b, material, inputs, brdf);
     let lobes = ibl_lobes_function(&b, material, inputs);
-    let lookups = environment::build_lookups(&b);
-    let ibl = ibl_function(&b, material, inputs, lookups, lobes);
+    // glazec's own environment lookup is the library's only where the host placed it.
+    let ibl_in_library = choice.environment.is_some();
+    let build_ibl = || ibl_function(&b, material, inputs, environment::build_lookups(&b), lobes);
+    let library_ibl = ibl_in_library.then(&build_ibl);
     let params_var = params_ty.map(|ty| global(&b, "params", AddressSpace::Uniform, bindings::PARAMS, ty));
     let tables = b.finish_tables();
-    let public = [Some(brdf), Some(eval), Some(lobes.function), Some(ibl), reads.as_ref().map(|r| r.sample)];
+    let public = [Some(brdf), Some(eval), Some(lobes.function), library_ibl, reads.as_ref().map(|r| r.sample)];
     let tables_var = b.tables_global();
     let mut layout = b.with_module(|m| {
-        namespace::prefix(m, &material.name, &public);
+        namespace::prefix(m, &material.name, &public, namespace::Start::default());
         namespace::place(m, choice, params_var, tables_var)
     })?;
     let library = b.snapshot();
+    let ibl = library_ibl.unwrap_or_else(|| {
+        let start = b.with_module(|m| namespace::Start::of(m));
+        let ibl = build_ibl();
+        b.with_module(|m| namespace::prefix(m, &material.name, &[Some(ibl)], start));
+        ibl
+    });
 
     let sample = reads.as_ref().map(|r| Sampling { function: r.sample, frame: !material.normals.is_empty() });
     eval_pairs_entry(&b, brdf, params_var, sample);

@@ -7,26 +7,47 @@ use naga::{Function, GlobalVariable, Handle, Module};
 
 use super::layout::bindings::{self, Choice, Clash, ENVIRONMENT_GROUP, Layout, Slot, TEXTURES_GROUP};
 
+/// Where the items that [`prefix`] renames start in a module's arenas: everything from
+/// `Start::default()`, or only what was added after [`Start::of`] a module.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Start {
+    functions: usize,
+    constants: usize,
+    globals: usize,
+}
+
+impl Start {
+    /// The items `module` does not hold yet.
+    pub(super) fn of(module: &Module) -> Start {
+        Start {
+            functions: module.functions.len(),
+            constants: module.constants.len(),
+            globals: module.global_variables.len(),
+        }
+    }
+}
+
 /// Prefixes every function (except `public`, already named `<material>_…`), constant and global
-/// of `module` with `<material>_`; a leading `glazec_` is dropped first (`glazec_table_code` →
-/// `<material>_table_code`). Struct types keep their names: they are `<Material>Params` and
-/// `<Material>Textures` already. Local names are the functions' own and stay as they are.
-pub(super) fn prefix(module: &mut Module, material: &str, public: &[Option<Handle<Function>>]) {
+/// of `module` from `start` on with `<material>_`; a leading `glazec_` is dropped first
+/// (`glazec_table_code` → `<material>_table_code`). Struct types keep their names: they are
+/// `<Material>Params` and `<Material>Textures` already. Local names are the functions' own and
+/// stay as they are.
+pub(super) fn prefix(module: &mut Module, material: &str, public: &[Option<Handle<Function>>], start: Start) {
     let rename = |name: &mut Option<String>| {
         if let Some(name) = name {
             let base = name.strip_prefix("glazec_").unwrap_or(name);
             *name = format!("{material}_{base}");
         }
     };
-    for (handle, function) in module.functions.iter_mut() {
+    for (handle, function) in module.functions.iter_mut().skip(start.functions) {
         if !public.contains(&Some(handle)) {
             rename(&mut function.name);
         }
     }
-    for (_, constant) in module.constants.iter_mut() {
+    for (_, constant) in module.constants.iter_mut().skip(start.constants) {
         rename(&mut constant.name);
     }
-    for (_, global) in module.global_variables.iter_mut() {
+    for (_, global) in module.global_variables.iter_mut().skip(start.globals) {
         rename(&mut global.name);
     }
 }
@@ -77,20 +98,27 @@ pub(super) fn place(
     Ok(layout)
 }
 
-/// Binds the harness's resources (the globals after the first `library` ones: `pairs`,
-/// `values`, `dispatch`, `light`) in group 0, each at the lowest binding still free there.
+/// Binds the harness's resources (the globals after the first `library` ones): `pairs`,
+/// `values`, `dispatch` and `light` in group 0, each at the lowest binding still free there; and
+/// glazec's environment, where the library has not got it, at its default place (group 2 from
+/// binding 0, where glazec's runner binds it), or in the first group the library leaves empty
+/// if the host put other resources in group 2.
 pub(super) fn place_harness(module: &mut Module, library: usize, layout: &mut Layout) {
     let group = bindings::GROUP;
-    let mut taken: Vec<u32> = module
-        .global_variables
-        .iter()
-        .take(library)
-        .filter_map(|(_, g)| g.binding)
-        .filter(|b| b.group == group)
-        .map(|b| b.binding)
-        .collect();
+    let library_bindings: Vec<naga::ResourceBinding> =
+        module.global_variables.iter().take(library).filter_map(|(_, g)| g.binding).collect();
+    let mut taken: Vec<u32> = library_bindings.iter().filter(|b| b.group == group).map(|b| b.binding).collect();
+    let environment_group = (ENVIRONMENT_GROUP..)
+        .find(|&g| library_bindings.iter().all(|b| b.group != g))
+        .unwrap_or(ENVIRONMENT_GROUP);
     for (_, global) in module.global_variables.iter_mut().skip(library) {
         let Some(binding) = global.binding.as_mut() else { continue };
+        if binding.group == ENVIRONMENT_GROUP {
+            binding.group = environment_group;
+            let slot = Slot::new(binding.group, binding.binding);
+            layout.environment.push((global.name.clone().unwrap_or_default(), slot));
+            continue;
+        }
         let free = (0..).find(|b| !taken.contains(b)).unwrap_or_default();
         taken.push(free);
         *binding = naga::ResourceBinding { group, binding: free };
@@ -102,4 +130,5 @@ pub(super) fn place_harness(module: &mut Module, library: usize, layout: &mut La
             other => unreachable!("the harness creates no resource {other:?}"),
         }
     }
+    layout.environment.sort_by_key(|(_, s)| *s);
 }

@@ -12,13 +12,6 @@ struct ClayIblLobes {
 
 const clay_ibl_specular_lobes: u32 = 1u;
 
-@group(2) @binding(0) 
-var clay_environment_sampler: sampler;
-@group(2) @binding(1) 
-var clay_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var clay_irradiance: texture_2d<f32>;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -144,8 +137,7 @@ fn clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
 // A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn clay_seed_ggx_dfg_scale_curve(cos_theta_1: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * 0.0022043586f) + -0.6954009f);
@@ -164,8 +156,7 @@ fn clay_seed_ggx_dfg_scale_curve(cos_theta_1: f32) -> f32 {
 
 // B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// At roughness = 0.35 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn clay_seed_ggx_dfg_bias_curve(cos_theta_2: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_11 = ((u_1 * 0.000956323f) + 0.0041830647f);
@@ -191,8 +182,8 @@ fn clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_1: f32
     let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_1), 0f), 1f);
     let t = (smoothness * (sqrt(smoothness) + alpha_1));
-    let d_2 = ((n_3 * (1f - t)) + (r_1 * t));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+    let d_1 = ((n_3 * (1f - t)) + (r_1 * t));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -245,37 +236,5 @@ fn clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ClayIblLobes {
     let layer1_albedo_l = clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v_1);
     let _e40 = (dot(n_4, v_4) > 0f);
     return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e40))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * _e25) * layer1_albedo_l), _e40)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn clay_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn clay_environment(direction: vec3<f32>, roughness_1: f32) -> vec3<f32> {
-    let uv = clay_equirect_uv(direction);
-    let _e3 = textureNumLevels(clay_radiance);
-    let lod = (roughness_1 * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(clay_radiance, clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn clay_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = clay_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(clay_irradiance, clay_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// clay_ibl_lobes times the environment prefiltered for it (clay_environment) or the irradiance
-// over π (clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn clay_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
-    let lobes = clay_ibl_lobes(n_5, v_5);
-    let light_a = clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

@@ -15,13 +15,6 @@ const coated_gold_layer1_pool_fresnel: vec3<f32> = vec3<f32>(0.9322251f, 0.76783
 const coated_gold_remainder_avg: vec3<f32> = vec3<f32>(0.075069316f, 0.03143694f, 0.0033729167f);
 const coated_gold_ibl_specular_lobes: u32 = 2u;
 
-@group(2) @binding(0) 
-var coated_gold_environment_sampler: sampler;
-@group(2) @binding(1) 
-var coated_gold_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var coated_gold_irradiance: texture_2d<f32>;
-
 // Snell's law at a horizontal interface: the direction `w` (pointing away from the surface,
 // above it) continued into a layer of relative IOR `eta` below, again pointing up and away:
 // −refract(−w, n, 1/η). On total internal reflection (only possible for η < 1) it is the
@@ -47,8 +40,7 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * -0.032026023f) + -0.00037076068f);
@@ -65,12 +57,10 @@ fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
     return f_10;
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_coat_path_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_11 = ((u_1 * -0.00927484f) + 1.0023464f);
@@ -108,8 +98,7 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
     let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
     let f_16 = (1.0610528f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036816f, -1.0432777f, -0.4499693f)));
@@ -121,8 +110,7 @@ fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
     let u_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
     let f_19 = ((u_3 * -0.035583183f) + -0.6395629f);
@@ -136,8 +124,7 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 9 of the table's 9 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
     let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
     let f_21 = ((u_4 * -0.85115623f) + 0.89909506f);
@@ -152,8 +139,7 @@ fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 6 of the table's 6 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
     let u_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
     let f_25 = ((u_5 * 0.5371948f) + 0.70036405f);
@@ -164,8 +150,7 @@ fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.21777777 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
     let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_28 = ((u_6 * -0.03918707f) + 0.9841455f);
@@ -180,8 +165,7 @@ fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.28444445 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
     let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_35 = ((u_7 * -0.02538353f) + 0.9516745f);
@@ -222,8 +206,7 @@ fn coated_gold_glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
     let u_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
     let f_42 = ((u_8 * 0.5028753f) + 0.48326114f);
@@ -235,8 +218,7 @@ fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
     let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
     let f_44 = ((u_9 * -0.01998204f) + 0.39283627f);
@@ -308,13 +290,10 @@ fn coated_gold_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_coat_scale_curve(cos_theta_10: f32) -> f32 {
     let u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_46 = ((u_10 * 0.060539242f) + 0.99981815f);
@@ -378,8 +357,7 @@ fn coated_gold_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// At conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (the material's literals): piecewise linear along `cos_theta` through 5 of the table's 5 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_spread_curve(cos_theta_11: f32) -> f32 {
     let u_11 = sqrt(min(max(cos_theta_11, 0f), 1f));
     let f_53 = ((u_11 * 0.058451414f) + 0.9806291f);
@@ -627,8 +605,8 @@ fn coated_gold_specular_dominant_direction(n_5: vec3<f32>, v_5: vec3<f32>, alpha
     let r_3 = ((n_5 * (max(dot(n_5, v_5), 0f) * 2f)) - v_5);
     let smoothness = min(max((1f - alpha_6), 0f), 1f);
     let t_3 = (smoothness * (sqrt(smoothness) + alpha_6));
-    let d_2 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+    let d_1 = ((n_5 * (1f - t_3)) + (r_3 * t_3));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -691,37 +669,5 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
     let _e153 = (dot(n_6, v_6) > 0f);
     return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e153)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e153))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn coated_gold_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn coated_gold_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = coated_gold_equirect_uv(direction);
-    let _e3 = textureNumLevels(coated_gold_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(coated_gold_radiance, coated_gold_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn coated_gold_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = coated_gold_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(coated_gold_irradiance, coated_gold_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// coated_gold_ibl_lobes times the environment prefiltered for it (coated_gold_environment) or the irradiance
-// over π (coated_gold_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn coated_gold_ibl(n_7: vec3<f32>, v_7: vec3<f32>) -> vec3<f32> {
-    let lobes = coated_gold_ibl_lobes(n_7, v_7);
-    let light_a = coated_gold_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = coated_gold_environment(lobes.specular[1].direction, lobes.specular[1].roughness);
-    return ((lobes.specular[0].weight * light_a) + (lobes.specular[1].weight * light_b));
 }
 

@@ -14,13 +14,6 @@ const wet_clay_layer1_rho: vec3<f32> = vec3<f32>(0.5876322f, 0.34278542f, 0.2448
 const wet_clay_layer1_r_return: vec3<f32> = vec3<f32>(0.116561234f, 0.116561234f, 0.116561234f);
 const wet_clay_ibl_specular_lobes: u32 = 1u;
 
-@group(2) @binding(0) 
-var wet_clay_environment_sampler: sampler;
-@group(2) @binding(1) 
-var wet_clay_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var wet_clay_irradiance: texture_2d<f32>;
-
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
 // Guard: |v + l|² ≥ TINY. Under total internal reflection a refracted direction is the zero
 // vector, and both can be; h is then 0 rather than NaN (its lobe is multiplied by zero
@@ -79,13 +72,10 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
     return (fresnel * ((d * g) / ((n_dot_v_1 * n_dot_l_1) * 4f)));
 }
 
-// c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,
-// f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the
-// microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a
-// symmetric scaling); 1 when smooth.
+// c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
+// E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.12, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 16 of the table's 16 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_scale_curve(cos_theta: f32) -> f32 {
     let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f = ((u * 0.061948296f) + 0.9990154f);
@@ -122,8 +112,7 @@ fn wet_clay_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.12, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 32 of the table's 32 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
     let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_7 = ((u_1 * -0.0460079f) + -0.00045738393f);
@@ -148,12 +137,10 @@ fn wet_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.12, eta = 1.33 (the material's literals): piecewise linear along `cos_theta` through 12 of the table's 12 nodes,
-// as hinges max(u, knot)·(change of slope); no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
     let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let f_18 = ((u_2 * -0.01600051f) + 1.0027214f);
@@ -292,8 +279,8 @@ fn wet_clay_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alpha_4:
     let r_1 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_4), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_4));
-    let d_2 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+    let d_1 = ((n_3 * (1f - t_1)) + (r_1 * t_1));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -334,37 +321,5 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
     let _e81 = (dot(n_4, v_4) > 0f);
     return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e81))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e81)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn wet_clay_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn wet_clay_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = wet_clay_equirect_uv(direction);
-    let _e3 = textureNumLevels(wet_clay_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(wet_clay_radiance, wet_clay_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn wet_clay_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = wet_clay_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(wet_clay_irradiance, wet_clay_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// wet_clay_ibl_lobes times the environment prefiltered for it (wet_clay_environment) or the irradiance
-// over π (wet_clay_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn wet_clay_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
-    let lobes = wet_clay_ibl_lobes(n_5, v_5);
-    let light_a = wet_clay_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = wet_clay_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

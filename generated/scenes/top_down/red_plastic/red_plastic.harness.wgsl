@@ -19,6 +19,12 @@ struct PreviewVarying {
     @location(0) p: vec2<f32>,
 }
 
+@group(2) @binding(0) 
+var red_plastic_environment_sampler: sampler;
+@group(2) @binding(1) 
+var red_plastic_radiance: texture_2d<f32>;
+@group(2) @binding(2) 
+var red_plastic_irradiance: texture_2d<f32>;
 @group(0) @binding(0) 
 var<storage> pairs: array<DirectionPair>;
 @group(0) @binding(1) 
@@ -27,6 +33,38 @@ var<storage, read_write> values: array<vec4<f32>>;
 var<uniform> dispatch: EvalDispatch;
 @group(0) @binding(3) 
 var<uniform> light: PreviewLight;
+
+// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
+fn red_plastic_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
+}
+
+// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
+// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
+fn red_plastic_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let uv = red_plastic_equirect_uv(direction);
+    let _e3 = textureNumLevels(red_plastic_radiance);
+    let lod = (roughness * (f32(_e3) - 1f));
+    let _e11 = textureSampleLevel(red_plastic_radiance, red_plastic_environment_sampler, uv, lod);
+    return _e11.xyz;
+}
+
+// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
+fn red_plastic_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
+    let uv = red_plastic_equirect_uv(direction_1);
+    let _e5 = textureSampleLevel(red_plastic_irradiance, red_plastic_environment_sampler, uv, 0f);
+    return _e5.xyz;
+}
+
+// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
+// red_plastic_ibl_lobes times the environment prefiltered for it (red_plastic_environment) or the irradiance
+// over π (red_plastic_irradiance_at). n, v: unit vectors, v pointing away from the surface.
+fn red_plastic_ibl(n_5: vec3<f32>, v_5: vec3<f32>) -> vec3<f32> {
+    let lobes = red_plastic_ibl_lobes(n_5, v_5);
+    let light_a = red_plastic_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
+    let light_b = red_plastic_irradiance_at(lobes.irradiance.direction);
+    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
+}
 
 @compute @workgroup_size(64, 1, 1) 
 fn eval_pairs(@builtin(global_invocation_id) id: vec3<u32>) {

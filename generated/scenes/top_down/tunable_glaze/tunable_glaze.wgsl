@@ -23,12 +23,6 @@ const tunable_glaze_ibl_specular_lobes: u32 = 1u;
 
 @group(0) @binding(4) 
 var<uniform> tunable_glaze_tables: array<vec4<u32>, 22>;
-@group(2) @binding(0) 
-var tunable_glaze_environment_sampler: sampler;
-@group(2) @binding(1) 
-var tunable_glaze_radiance: texture_2d<f32>;
-@group(2) @binding(2) 
-var tunable_glaze_irradiance: texture_2d<f32>;
 @group(0) @binding(3) 
 var<uniform> tunable_glaze_params: TunableGlazeParams;
 
@@ -117,7 +111,7 @@ fn tunable_glaze_table_trilinear(corner: u32, strides: vec3<u32>, weights: vec3<
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.15, eta = 1.52 (the material's literals): only the table slices they select.
+// Here roughness = 0.15, eta = 1.52 (literals): only the table slices they select.
 fn tunable_glaze_coat_deficit_slice(cos_theta: f32) -> f32 {
     let u_cos_theta = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta = (u_cos_theta * 31f);
@@ -135,11 +129,10 @@ fn tunable_glaze_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f3
     return -(refract(-(w), n, (1f / eta_1)));
 }
 
-// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab
-// is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a
-// rough interface refracts into; 1 when smooth).
+// q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
+// μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// At roughness = 0.15, eta = 1.52 (the material's literals): only the table slices they select.
+// Here roughness = 0.15, eta = 1.52 (literals): only the table slices they select.
 fn tunable_glaze_coat_path_slice(cos_theta_1: f32) -> f32 {
     let u_cos_theta_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
     let node_cos_theta_1 = (u_cos_theta_1 * 11f);
@@ -306,8 +299,8 @@ fn tunable_glaze_specular_dominant_direction(n_3: vec3<f32>, v_3: vec3<f32>, alp
     let r_6 = ((n_3 * (max(dot(n_3, v_3), 0f) * 2f)) - v_3);
     let smoothness = min(max((1f - alpha_3), 0f), 1f);
     let t_1 = (smoothness * (sqrt(smoothness) + alpha_3));
-    let d_2 = ((n_3 * (1f - t_1)) + (r_6 * t_1));
-    return (d_2 / vec3(sqrt(max(dot(d_2, d_2), 0.000000000001f))));
+    let d_1 = ((n_3 * (1f - t_1)) + (r_6 * t_1));
+    return (d_1 / vec3(sqrt(max(dot(d_1, d_1), 0.000000000001f))));
 }
 
 // The roughness at which an isotropic prefiltered environment is looked up for the reflection of
@@ -361,37 +354,5 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let lookup_roughness = tunable_glaze_grazing_lookup_roughness(0.15f, dot(n_4, v_4));
     let _e177 = (dot(n_4, v_4) > 0f);
     return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e177))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e177)));
-}
-
-// Equirectangular coordinates of unit direction `d` (y up): u = ½ + atan2(d.x, d.z)/2π, v = acos(d.y)/π.
-fn tunable_glaze_equirect_uv(d_1: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(((atan2(d_1.x, d_1.z) * 0.15915494f) + 0.5f), (acos(min(max(d_1.y, -1f), 1f)) * 0.31830987f));
-}
-
-// The environment prefiltered by a GGX lobe of roughness `roughness` (α = r²) around `direction`:
-// trilinear between the levels of `glazec_radiance`, level k of N prefiltered at r = k/(N − 1).
-fn tunable_glaze_environment(direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = tunable_glaze_equirect_uv(direction);
-    let _e3 = textureNumLevels(tunable_glaze_radiance);
-    let lod = (roughness * (f32(_e3) - 1f));
-    let _e11 = textureSampleLevel(tunable_glaze_radiance, tunable_glaze_environment_sampler, uv, lod);
-    return _e11.xyz;
-}
-
-// The irradiance around `direction` divided by π (1 under a white environment), from `glazec_irradiance`.
-fn tunable_glaze_irradiance_at(direction_1: vec3<f32>) -> vec3<f32> {
-    let uv = tunable_glaze_equirect_uv(direction_1);
-    let _e5 = textureSampleLevel(tunable_glaze_irradiance, tunable_glaze_environment_sampler, uv, 0f);
-    return _e5.xyz;
-}
-
-// The radiance reflected towards v from the environment (image-based lighting, split-sum): each lobe of
-// tunable_glaze_ibl_lobes times the environment prefiltered for it (tunable_glaze_environment) or the irradiance
-// over π (tunable_glaze_irradiance_at). n, v: unit vectors, v pointing away from the surface.
-fn tunable_glaze_ibl(n_5: vec3<f32>, v_5: vec3<f32>, params_3: TunableGlazeParams) -> vec3<f32> {
-    let lobes = tunable_glaze_ibl_lobes(n_5, v_5, params_3);
-    let light_a = tunable_glaze_environment(lobes.specular[0].direction, lobes.specular[0].roughness);
-    let light_b = tunable_glaze_irradiance_at(lobes.irradiance.direction);
-    return ((lobes.specular[0].weight * light_a) + (lobes.irradiance.weight * light_b));
 }
 

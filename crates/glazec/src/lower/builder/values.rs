@@ -211,27 +211,18 @@ impl ModuleBuilder {
         let mut doc: Vec<String> = def.summary().iter().map(|l| l.to_string()).collect();
         doc.push(match &curve {
             Some((axis, curve)) => format!(
-                "At {} (the material's literals): piecewise linear along `{}` through {} of the table's {} nodes,",
+                "Here {} (literals): piecewise linear along `{}` through {} of its {} nodes, {}; no table read.",
                 fixed.join(", "),
                 def.params[*axis].0,
                 curve.kept(),
                 curve.nodes,
-            ),
-            None => format!("At {} (the material's literals): only the table slices they select.", fixed.join(", ")),
-        });
-        if let Some((_, curve)) = &curve {
-            doc.push(
                 match curve.form {
-                    crate::math::tables::Form::Hinges { .. } => {
-                        "as hinges max(u, knot)·(change of slope); no table read."
-                    }
-                    crate::math::tables::Form::Pieces { .. } => {
-                        "piece by piece, (clamp(u, start, end) − start)·slope; no table read."
-                    }
+                    crate::math::tables::Form::Hinges { .. } => "as hinges max(u, knot)·Δslope",
+                    crate::math::tables::Form::Pieces { .. } => "piece by piece, (clamp(u, a, b) − a)·slope",
                 }
-                .to_string(),
-            );
-        }
+            ),
+            None => format!("Here {} (literals): only the table slices they select.", fixed.join(", ")),
+        });
         let doc: Vec<&str> = doc.iter().map(String::as_str).collect();
         let handle = self.add_function(function, &doc);
         self.state.borrow_mut().specialised.insert(key, handle);

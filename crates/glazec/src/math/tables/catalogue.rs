@@ -295,10 +295,8 @@ pub const SPECS: [TableSpec; 29] = [
         "coat_scale",
         COAT_PARAMS,
         table_doc![
-            "c(μ; r, η): the per-direction factor of the rough interface's reflection lobe,",
-            "f_ss(l, v)·c(μl)·c(μv) (reciprocal), solved so that the scaled lobe reflects what the",
-            "microsurface does after one or more events, E_ss + E_ms (Turquin 2019's compensation as a",
-            "symmetric scaling); 1 when smooth.",
+            "c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect",
+            "E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.",
         ],
     ),
     table(
@@ -307,9 +305,8 @@ pub const SPECS: [TableSpec; 29] = [
         "coat_path",
         COAT_PARAMS,
         table_doc![
-            "q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the transmitted light's path through the slab",
-            "is than along Snell's direction μ′ (μ_eff: the geometric-mean cosine of the directions a",
-            "rough interface refracts into; 1 when smooth).",
+            "q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's",
+            "μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.",
         ],
     ),
     rounded_down(table(
