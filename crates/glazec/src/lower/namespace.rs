@@ -108,9 +108,8 @@ pub(super) fn place_harness(module: &mut Module, library: usize, layout: &mut La
     let library_bindings: Vec<naga::ResourceBinding> =
         module.global_variables.iter().take(library).filter_map(|(_, g)| g.binding).collect();
     let mut taken: Vec<u32> = library_bindings.iter().filter(|b| b.group == group).map(|b| b.binding).collect();
-    let environment_group = (ENVIRONMENT_GROUP..)
-        .find(|&g| library_bindings.iter().all(|b| b.group != g))
-        .unwrap_or(ENVIRONMENT_GROUP);
+    let environment_group =
+        (ENVIRONMENT_GROUP..).find(|&g| library_bindings.iter().all(|b| b.group != g)).unwrap_or(ENVIRONMENT_GROUP);
     for (_, global) in module.global_variables.iter_mut().skip(library) {
         let Some(binding) = global.binding.as_mut() else { continue };
         if binding.group == ENVIRONMENT_GROUP {
