@@ -413,3 +413,45 @@ fn literal_materials_declare_no_resource() {
     }
     assert!(literal >= 10, "the shipped literal materials were checked");
 }
+
+/// Every value a library's function names is read, and every call's result is used: the
+/// layering code shared with the CPU computes some values only other callers need, and the
+/// generated functions leave them out (`lower::builder::dead`).
+#[test]
+fn libraries_hold_no_dead_code() {
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        let (library, info) = (&compiled.library, &compiled.library_info);
+        for (handle, function) in library.functions.iter() {
+            let name = function.name.as_deref().unwrap_or_default();
+            let uses = &info[handle];
+            for (expression, local) in &function.named_expressions {
+                assert!(uses[*expression].ref_count > 0, "{name}: `{local}` is never read");
+            }
+            let mut results = Vec::new();
+            calls(&function.body, &mut results);
+            for result in results {
+                assert!(uses[result].ref_count > 0, "{name}: a call's result is never used");
+            }
+        }
+    }
+}
+
+/// The results of `block`'s calls, nested blocks included.
+fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Expression>>) {
+    for statement in block.iter() {
+        match statement {
+            naga::Statement::Call { result: Some(result), .. } => out.push(*result),
+            naga::Statement::If { accept, reject, .. } => {
+                calls(accept, out);
+                calls(reject, out);
+            }
+            naga::Statement::Loop { body, continuing, .. } => {
+                calls(body, out);
+                calls(continuing, out);
+            }
+            naga::Statement::Block(inner) => calls(inner, out),
+            _ => {}
+        }
+    }
+}

@@ -289,8 +289,7 @@ float car_paint_glossy_steady_curve(float cos_theta_9) {
 vec3 car_paint_glossy_later(float next, float quick, float steady, float slow, vec3 c) {
     vec3 quick_rate = ((c * vec3(0.5)) / (car_paint_one - (c * vec3(0.5))));
     vec3 steady_rate = ((c * vec3(0.2)) / (car_paint_one - (c * vec3(0.8))));
-    vec3 _e27 = (c * slow);
-    vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - _e27), vec3(1e-6)));
+    vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - (c * slow)), vec3(1e-6)));
     float rest = max((1.0 - ((next + quick) + steady)), 0.0);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -379,8 +378,7 @@ vec3 car_paint_forward_azimuth_tilt(float rho_2, vec3 rho_c, float cos_phi_1) {
     float top = ((r_2 + 0.95) / ((r_2 * 0.95) + 1.0));
     vec3 r_c = min(rho_c, vec3((top - 0.001)));
     vec3 target = min((r_c + vec3(0.01)), vec3(top));
-    vec3 _e23 = (target * r_2);
-    vec3 needed = ((target - vec3(r_2)) / (vec3(1.0) - _e23));
+    vec3 needed = ((target - vec3(r_2)) / (vec3(1.0) - (target * r_2)));
     vec3 r_b = max(needed, vec3((r_2 * r_2)));
     vec3 x = (r_b * r_2);
     vec3 mean_weight = ((car_paint_one + x) / (car_paint_one - x));
@@ -430,16 +428,14 @@ vec3 car_paint_glossy_albedo(float t_2, vec3 lobe, vec3 remainder) {
 // critical angle of a coat optically thinner than the medium above, T = 0, over a white level,
 // where f is 0 too).
 vec3 car_paint_interfaced_glossy_under(vec3 f_below, vec3 e_i, vec3 k_i, vec3 e_o, vec3 k_o) {
-    vec3 _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / max((vec3(1.0) - _e8), vec3(1e-6)));
+    return (f_below / max((vec3(1.0) - sqrt((((e_i * k_i) * e_o) * k_o))), vec3(1e-6)));
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape cone:
 // Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), g the slab's round-trip transmittance, q = `trapped_escape`.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
 vec3 car_paint_trapped_lobe(vec3 trapped_i, vec3 trapped_o, float mu_c_2, vec3 round_trip, vec3 rho_3, float q) {
-    vec3 _e18 = ((rho_3 * round_trip) * (1.0 - q));
-    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - _e18));
+    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927))) / (vec3(1.0) - ((rho_3 * round_trip) * (1.0 - q))));
 }
 
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
@@ -567,8 +563,6 @@ vec3 car_paint_brdf(vec3 n_3, vec3 v_3, vec3 l_3) {
     vec3 layer1_f = (_e235 + layer1_later);
     vec3 _e268 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
     vec3 _e269 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
-    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, _e268, _e262);
-    vec3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, _e269, _e263);
     float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     vec3 layer1_trapped_l = ((_e268 * layer1_trapped_share_l) + (_e262 * vec3(0.5555556)));
     vec3 layer1_near_l = ((_e268 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l)));
@@ -606,8 +600,7 @@ vec3 car_paint_eval(vec3 n_4, vec3 v_4, vec3 l_4) {
 // out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
 vec3 car_paint_interfaced_glossy_bounced(float t_3, vec3 a_1, vec3 kept, vec3 leaving) {
     vec3 k = ((a_1 * a_1) * (1.0 - t_3));
-    vec3 _e8 = (kept * k);
-    return (leaving / max((vec3(1.0) - _e8), vec3(1e-6)));
+    return (leaving / max((vec3(1.0) - (kept * k)), vec3(1e-6)));
 }
 
 // The directional albedo seen above a coat over a glossy body (the model of
@@ -646,55 +639,46 @@ float car_paint_grazing_lookup_roughness(float r, float n_dot_v_2) {
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     float n_dot_v_4 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5);
+    float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_4, 1.5);
     float _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     vec3 layer1_v = car_paint_refract_down(v_6, n_6, 1.5);
     float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     vec3 layer2_v = car_paint_refract_down(layer1_v, n_6, 1.02);
     float layer2_n_dot_v_1 = dot(n_6, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    float layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02);
-    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
-    vec3 layer2_absorb_l = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
-    vec3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
-    float layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
-    float layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_v_1);
-    float _e43 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
-    float _e48 = max(layer2_cos_v_1, 0.19711706);
-    float _e49 = car_paint_ggx_albedo_curve(_e48);
-    float _e52 = car_paint_ggx_albedo_curve_b(_e48);
-    float _e58 = car_paint_glossy_trapped_share(_e48, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l_1 = (1.0 - _e58);
-    float layer2_lobe_normaliser_l_1 = (((0.78416157 * _e49) + (0.21583843 * _e52)) * layer2_cone_share_l_1);
-    float layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e43) * layer2_lobe_normaliser_l_1), 0.0), 1.0);
-    float layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    float _e77 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    float _e78 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    vec3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e77, _e78, 0.43932146, car_paint_layer2_survival);
-    vec3 layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    vec3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1.0));
-    vec3 layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 1e-6)));
-    vec3 _e92 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    vec3 _e93 = car_paint_glossy_remainder(layer2_transmit_l_1, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l_1, layer2_later_l);
-    vec3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, _e92, _e93);
-    float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    vec3 layer1_trapped_l_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556)));
-    vec3 layer1_near_l_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
-    vec3 layer1_spread_kept_l_1 = (_e93 * vec3(0.44444442));
-    vec3 layer1_trapped_v_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556)));
-    vec3 layer1_near_v_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + vec3((1.0 - layer2_transmit_l_1)));
-    vec3 layer1_spread_kept_v_1 = (_e93 * vec3(0.44444442));
-    vec3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1.0), layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    vec3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
+    vec3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
+    float layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
+    float layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v_1);
+    float _e36 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
+    float _e41 = max(layer2_cos_v_1, 0.19711706);
+    float _e42 = car_paint_ggx_albedo_curve(_e41);
+    float _e45 = car_paint_ggx_albedo_curve_b(_e41);
+    float _e51 = car_paint_glossy_trapped_share(_e41, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v_1 = (1.0 - _e51);
+    float layer2_lobe_normaliser_v_1 = (((0.78416157 * _e42) + (0.21583843 * _e45)) * layer2_cone_share_v_1);
+    float layer2_lobe_albedo_v_1 = min(max((((layer2_scale_v * layer2_scale_v) * _e36) * layer2_lobe_normaliser_v_1), 0.0), 1.0);
+    float layer2_single_v_1 = min(max(((layer2_lobe_albedo_v_1 - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
+    float _e70 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    float _e71 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    vec3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e70, _e71, 0.43932146, car_paint_layer2_survival);
+    vec3 layer2_once_v = car_paint_glossy_once(layer2_single_v_1, layer2_next_v, car_paint_layer2_survival);
+    vec3 _e85 = car_paint_glossy_albedo_lobe(layer2_transmit_v_1, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    vec3 _e86 = car_paint_glossy_remainder(layer2_transmit_v_1, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v_1, layer2_later_v);
+    float layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    vec3 layer1_trapped_v_1 = ((_e85 * layer1_trapped_share_v) + (_e86 * vec3(0.5555556)));
+    vec3 layer1_near_v_1 = ((_e85 * (1.0 - layer1_trapped_share_v)) + vec3((1.0 - layer2_transmit_v_1)));
+    vec3 layer1_spread_kept_v_1 = (_e86 * vec3(0.44444442));
     vec3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1.0), layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e155 = (dot(n_6, v_6) > 0.0);
-    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e155 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e155 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
+    bool _e128 = (dot(n_6, v_6) > 0.0);
+    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e128 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e128 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
 }

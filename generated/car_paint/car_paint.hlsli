@@ -315,8 +315,7 @@ float3 car_paint_glossy_later(float next, float quick, float steady, float slow,
 {
     float3 quick_rate = ((c * (0.5).xxx) / (car_paint_one - (c * (0.5).xxx)));
     float3 steady_rate = ((c * (0.2).xxx) / (car_paint_one - (c * (0.8).xxx)));
-    float3 _e27 = (c * slow);
-    float3 slow_rate = ((c * (1.0 - slow)) / max(((1.0).xxx - _e27), (1e-6).xxx));
+    float3 slow_rate = ((c * (1.0 - slow)) / max(((1.0).xxx - (c * slow)), (1e-6).xxx));
     float rest = max((1.0 - ((next + quick) + steady)), 0.0);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -413,8 +412,7 @@ float3 car_paint_forward_azimuth_tilt(float rho_2, float3 rho_c, float cos_phi_1
     float top = ((r_2 + 0.95) / ((r_2 * 0.95) + 1.0));
     float3 r_c = min(rho_c, ((top - 0.001)).xxx);
     float3 target = min((r_c + (0.01).xxx), (top).xxx);
-    float3 _e23 = (target * r_2);
-    float3 needed = ((target - (r_2).xxx) / ((1.0).xxx - _e23));
+    float3 needed = ((target - (r_2).xxx) / ((1.0).xxx - (target * r_2)));
     float3 r_b = max(needed, ((r_2 * r_2)).xxx);
     float3 x = (r_b * r_2);
     float3 mean_weight = ((car_paint_one + x) / (car_paint_one - x));
@@ -469,8 +467,7 @@ float3 car_paint_glossy_albedo(float t_2, float3 lobe, float3 remainder)
 // where f is 0 too).
 float3 car_paint_interfaced_glossy_under(float3 f_below, float3 e_i, float3 k_i, float3 e_o, float3 k_o)
 {
-    float3 _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / max(((1.0).xxx - _e8), (1e-6).xxx));
+    return (f_below / max(((1.0).xxx - sqrt((((e_i * k_i) * e_o) * k_o))), (1e-6).xxx));
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape cone:
@@ -478,8 +475,7 @@ float3 car_paint_interfaced_glossy_under(float3 f_below, float3 e_i, float3 k_i,
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
 float3 car_paint_trapped_lobe(float3 trapped_i, float3 trapped_o, float mu_c_2, float3 round_trip, float3 rho_3, float q)
 {
-    float3 _e18 = ((rho_3 * round_trip) * (1.0 - q));
-    return ((((trapped_i * trapped_o) * round_trip) / ((max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927)).xxx) / ((1.0).xxx - _e18));
+    return ((((trapped_i * trapped_o) * round_trip) / ((max((mu_c_2 * mu_c_2), 0.0001) * 3.1415927)).xxx) / ((1.0).xxx - ((rho_3 * round_trip) * (1.0 - q))));
 }
 
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
@@ -609,8 +605,6 @@ float3 car_paint_brdf(float3 n_3, float3 v_3, float3 l_3)
     float3 layer1_f = (_e235 + layer1_later);
     const float3 _e268 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
     const float3 _e269 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
-    const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, _e268, _e262);
-    const float3 layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, _e269, _e263);
     const float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     float3 layer1_trapped_l = ((_e268 * layer1_trapped_share_l) + (_e262 * (0.5555556).xxx));
     float3 layer1_near_l = ((_e268 * (1.0 - layer1_trapped_share_l)) + ((1.0 - layer2_transmit_l)).xxx);
@@ -650,8 +644,7 @@ float3 car_paint_eval(float3 n_4, float3 v_4, float3 l_4)
 float3 car_paint_interfaced_glossy_bounced(float t_3, float3 a_1, float3 kept, float3 leaving)
 {
     float3 k = ((a_1 * a_1) * (1.0 - t_3));
-    float3 _e8 = (kept * k);
-    return (leaving / max(((1.0).xxx - _e8), (1e-6).xxx));
+    return (leaving / max(((1.0).xxx - (kept * k)), (1e-6).xxx));
 }
 
 // The directional albedo seen above a coat over a glossy body (the model of
@@ -727,56 +720,47 @@ CarPaintIblLobes ConstructCarPaintIblLobes(CarPaintIblLobe arg0[2], CarPaintIblL
 CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
 {
     float n_dot_v_4 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    const float layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5);
+    const float layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_4, 1.5);
     const float _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 layer1_v = car_paint_refract_down(v_6, n_6, 1.5);
     float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     const float3 layer2_v = car_paint_refract_down(layer1_v, n_6, 1.02);
     float layer2_n_dot_v_1 = dot(n_6, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    const float layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02);
-    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
-    const float3 layer2_absorb_l = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
-    const float3 layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
-    const float layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
-    const float layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_v_1);
-    const float _e43 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
-    float _e48 = max(layer2_cos_v_1, 0.19711706);
-    const float _e49 = car_paint_ggx_albedo_curve(_e48);
-    const float _e52 = car_paint_ggx_albedo_curve_b(_e48);
-    const float _e58 = car_paint_glossy_trapped_share(_e48, 0.19705611, car_paint_layer2_alpha);
-    float layer2_cone_share_l_1 = (1.0 - _e58);
-    float layer2_lobe_normaliser_l_1 = (((0.78416157 * _e49) + (0.21583843 * _e52)) * layer2_cone_share_l_1);
-    float layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e43) * layer2_lobe_normaliser_l_1), 0.0), 1.0);
-    float layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1.0 - layer2_next_l), 1e-6)), 0.0), 1.0);
-    const float _e77 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    const float _e78 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    const float3 layer2_later_l = car_paint_glossy_later(layer2_next_l, _e77, _e78, 0.43932146, car_paint_layer2_survival);
-    const float3 layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    const float3 _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, (1.0).xxx);
-    float3 layer2_once_colour_l_1 = (layer2_once_l / (max(_e86.x, 1e-6)).xxx);
-    const float3 _e92 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    const float3 _e93 = car_paint_glossy_remainder(layer2_transmit_l_1, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l_1, layer2_later_l);
-    const float3 layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, _e92, _e93);
-    const float layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    float3 layer1_trapped_l_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * (0.5555556).xxx));
-    float3 layer1_near_l_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + ((1.0 - layer2_transmit_l_1)).xxx);
-    float3 layer1_spread_kept_l_1 = (_e93 * (0.44444442).xxx);
-    float3 layer1_trapped_v_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * (0.5555556).xxx));
-    float3 layer1_near_v_1 = ((_e92 * (1.0 - layer1_trapped_share_l)) + ((1.0 - layer2_transmit_l_1)).xxx);
-    float3 layer1_spread_kept_v_1 = (_e93 * (0.44444442).xxx);
-    const float3 albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, (1.0).xxx, layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    const float layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
+    const float3 layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
+    const float3 layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
+    const float layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
+    const float layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v_1);
+    const float _e36 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
+    float _e41 = max(layer2_cos_v_1, 0.19711706);
+    const float _e42 = car_paint_ggx_albedo_curve(_e41);
+    const float _e45 = car_paint_ggx_albedo_curve_b(_e41);
+    const float _e51 = car_paint_glossy_trapped_share(_e41, 0.19705611, car_paint_layer2_alpha);
+    float layer2_cone_share_v_1 = (1.0 - _e51);
+    float layer2_lobe_normaliser_v_1 = (((0.78416157 * _e42) + (0.21583843 * _e45)) * layer2_cone_share_v_1);
+    float layer2_lobe_albedo_v_1 = min(max((((layer2_scale_v * layer2_scale_v) * _e36) * layer2_lobe_normaliser_v_1), 0.0), 1.0);
+    float layer2_single_v_1 = min(max(((layer2_lobe_albedo_v_1 - layer2_next_v) / max((1.0 - layer2_next_v), 1e-6)), 0.0), 1.0);
+    const float _e70 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    const float _e71 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    const float3 layer2_later_v = car_paint_glossy_later(layer2_next_v, _e70, _e71, 0.43932146, car_paint_layer2_survival);
+    const float3 layer2_once_v = car_paint_glossy_once(layer2_single_v_1, layer2_next_v, car_paint_layer2_survival);
+    const float3 _e85 = car_paint_glossy_albedo_lobe(layer2_transmit_v_1, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    const float3 _e86 = car_paint_glossy_remainder(layer2_transmit_v_1, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v_1, layer2_later_v);
+    const float layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    float3 layer1_trapped_v_1 = ((_e85 * layer1_trapped_share_v) + (_e86 * (0.5555556).xxx));
+    float3 layer1_near_v_1 = ((_e85 * (1.0 - layer1_trapped_share_v)) + ((1.0 - layer2_transmit_v_1)).xxx);
+    float3 layer1_spread_kept_v_1 = (_e86 * (0.44444442).xxx);
     const float3 albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, (1.0).xxx, layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     const float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     const float3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e155 = (dot(n_6, v_6) > 0.0);
-    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e155 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e155 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
+    bool _e128 = (dot(n_6, v_6) > 0.0);
+    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e128 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e128 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
     return carpaintibllobes;
 }

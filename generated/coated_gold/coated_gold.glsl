@@ -231,8 +231,7 @@ float coated_gold_glossy_steady_curve(float cos_theta_9) {
 vec3 coated_gold_glossy_later(float next, float quick, float steady, float slow, vec3 c) {
     vec3 quick_rate = ((c * vec3(0.5)) / (coated_gold_one - (c * vec3(0.5))));
     vec3 steady_rate = ((c * vec3(0.2)) / (coated_gold_one - (c * vec3(0.8))));
-    vec3 _e27 = (c * slow);
-    vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - _e27), vec3(1e-6)));
+    vec3 slow_rate = ((c * (1.0 - slow)) / max((vec3(1.0) - (c * slow)), vec3(1e-6)));
     float rest = max((1.0 - ((next + quick) + steady)), 0.0);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -419,8 +418,7 @@ vec3 coated_gold_forward_azimuth_tilt(float rho_2, vec3 rho_c, float cos_phi_1) 
     float top = ((r_2 + 0.95) / ((r_2 * 0.95) + 1.0));
     vec3 r_c = min(rho_c, vec3((top - 0.001)));
     vec3 target = min((r_c + vec3(0.01)), vec3(top));
-    vec3 _e23 = (target * r_2);
-    vec3 needed = ((target - vec3(r_2)) / (vec3(1.0) - _e23));
+    vec3 needed = ((target - vec3(r_2)) / (vec3(1.0) - (target * r_2)));
     vec3 r_b = max(needed, vec3((r_2 * r_2)));
     vec3 x = (r_b * r_2);
     vec3 mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
@@ -620,18 +618,17 @@ float coated_gold_grazing_lookup_roughness(float r, float n_dot_v_2) {
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 CoatedGoldIblLobes coated_gold_ibl_lobes(vec3 n_6, vec3 v_6) {
     float n_dot_v_4 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
     vec3 layer1_v = coated_gold_refract_down(v_6, n_6, 1.5);
     float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_4, 1.5);
+    float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_4, 1.5);
     float _e14 = coated_gold_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e14), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e14), 0.0), 1.0);
     float _e20 = coated_gold_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
-    vec3 layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
-    float layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_4);
-    float layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_4);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    vec3 layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v_1, vec3(0.11333334, 0.28666666, 0.96000004), vec3(2.3333333, 1.64, 1.1999999));
+    float layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_4);
+    float layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_4);
     float _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_4);
     float _e39 = max(layer1_cos_v_1, 0.7453635);
     float _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_4, 0.005));
@@ -642,25 +639,23 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(vec3 n_6, vec3 v_6) {
     float _e66 = coated_gold_ggx_albedo_curve(_e39);
     float _e75 = coated_gold_ggx_albedo_curve_b(_e39);
     float _e79 = coated_gold_glossy_trapped_share(_e39, 0.745356, layer1_alpha_3);
-    float layer1_cone_share_l_1 = (1.0 - _e79);
-    float layer1_lobe_normaliser_l_1 = (((max((1.0 - abs((_e58 - 7.0))), 0.0) * _e66) + (max((1.0 - abs((_e58 - 8.0))), 0.0) * _e75)) * layer1_cone_share_l_1);
-    float layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0.0), 1.0);
-    float layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
+    float layer1_cone_share_v_1 = (1.0 - _e79);
+    float layer1_lobe_normaliser_v_1 = (((max((1.0 - abs((_e58 - 7.0))), 0.0) * _e66) + (max((1.0 - abs((_e58 - 8.0))), 0.0) * _e75)) * layer1_cone_share_v_1);
+    float layer1_lobe_albedo_v_1 = min(max((((layer1_scale_v * layer1_scale_v) * _e34) * layer1_lobe_normaliser_v_1), 0.0), 1.0);
+    float layer1_single_v_1 = min(max(((layer1_lobe_albedo_v_1 - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
     float _e98 = coated_gold_glossy_quick_curve(n_dot_v_4);
     float _e99 = coated_gold_glossy_steady_curve(n_dot_v_4);
-    vec3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
-    vec3 layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
-    vec3 _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1.0));
-    vec3 layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e107.x, 1e-6)));
+    vec3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
+    vec3 layer1_once_v = coated_gold_glossy_once(layer1_single_v_1, layer1_next_v, coated_gold_layer1_pool_fresnel);
     float _e113 = coated_gold_glossy_blur_curve(n_dot_v_4);
     float layer1_blur_l_4 = (_e113 * 0.010000001);
     float layer1_blur_v_4 = (_e113 * 0.010000001);
     float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    vec3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1.0), layer1_once_l);
-    vec3 _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, vec3(1.0), layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
-    vec3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
-    float coat_albedo = (1.0 - layer1_transmit_l_1);
-    vec3 under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0.0));
+    vec3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_v_1, layer1_fresnel_cond_v, vec3(1.0), layer1_once_v);
+    vec3 _e129 = coated_gold_glossy_remainder(layer1_transmit_v_1, vec3(1.0), layer1_fresnel_cond_v, layer1_single_v_1, layer1_later_v);
+    vec3 albedo_v = coated_gold_glossy_albedo(layer1_transmit_v_1, _e126, _e129);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
     float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));

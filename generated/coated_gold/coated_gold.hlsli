@@ -250,8 +250,7 @@ float3 coated_gold_glossy_later(float next, float quick, float steady, float slo
 {
     float3 quick_rate = ((c * (0.5).xxx) / (coated_gold_one - (c * (0.5).xxx)));
     float3 steady_rate = ((c * (0.2).xxx) / (coated_gold_one - (c * (0.8).xxx)));
-    float3 _e27 = (c * slow);
-    float3 slow_rate = ((c * (1.0 - slow)) / max(((1.0).xxx - _e27), (1e-6).xxx));
+    float3 slow_rate = ((c * (1.0 - slow)) / max(((1.0).xxx - (c * slow)), (1e-6).xxx));
     float rest = max((1.0 - ((next + quick) + steady)), 0.0);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -455,8 +454,7 @@ float3 coated_gold_forward_azimuth_tilt(float rho_2, float3 rho_c, float cos_phi
     float top = ((r_2 + 0.95) / ((r_2 * 0.95) + 1.0));
     float3 r_c = min(rho_c, ((top - 0.001)).xxx);
     float3 target = min((r_c + (0.01).xxx), (top).xxx);
-    float3 _e23 = (target * r_2);
-    float3 needed = ((target - (r_2).xxx) / ((1.0).xxx - _e23));
+    float3 needed = ((target - (r_2).xxx) / ((1.0).xxx - (target * r_2)));
     float3 r_b = max(needed, ((r_2 * r_2)).xxx);
     float3 x = (r_b * r_2);
     float3 mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
@@ -698,18 +696,17 @@ CoatedGoldIblLobes ConstructCoatedGoldIblLobes(CoatedGoldIblLobe arg0[2], Coated
 CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
 {
     float n_dot_v_4 = dot(n_6, v_6);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
     const float3 layer1_v = coated_gold_refract_down(v_6, n_6, 1.5);
     float layer1_n_dot_v_1 = dot(n_6, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_4, 1.5);
+    const float layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_4, 1.5);
     const float _e14 = coated_gold_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e14), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e14), 0.0), 1.0);
     const float _e20 = coated_gold_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
-    const float3 layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
-    const float layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_4);
-    const float layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_4);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    const float3 layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v_1, float3(0.11333334, 0.28666666, 0.96000004), float3(2.3333333, 1.64, 1.1999999));
+    const float layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_4);
+    const float layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_4);
     const float _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_4);
     float _e39 = max(layer1_cos_v_1, 0.7453635);
     const float _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_4, 0.005));
@@ -720,25 +717,23 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     const float _e66 = coated_gold_ggx_albedo_curve(_e39);
     const float _e75 = coated_gold_ggx_albedo_curve_b(_e39);
     const float _e79 = coated_gold_glossy_trapped_share(_e39, 0.745356, layer1_alpha_3);
-    float layer1_cone_share_l_1 = (1.0 - _e79);
-    float layer1_lobe_normaliser_l_1 = (((max((1.0 - abs((_e58 - 7.0))), 0.0) * _e66) + (max((1.0 - abs((_e58 - 8.0))), 0.0) * _e75)) * layer1_cone_share_l_1);
-    float layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0.0), 1.0);
-    float layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1.0 - layer1_next_l), 1e-6)), 0.0), 1.0);
+    float layer1_cone_share_v_1 = (1.0 - _e79);
+    float layer1_lobe_normaliser_v_1 = (((max((1.0 - abs((_e58 - 7.0))), 0.0) * _e66) + (max((1.0 - abs((_e58 - 8.0))), 0.0) * _e75)) * layer1_cone_share_v_1);
+    float layer1_lobe_albedo_v_1 = min(max((((layer1_scale_v * layer1_scale_v) * _e34) * layer1_lobe_normaliser_v_1), 0.0), 1.0);
+    float layer1_single_v_1 = min(max(((layer1_lobe_albedo_v_1 - layer1_next_v) / max((1.0 - layer1_next_v), 1e-6)), 0.0), 1.0);
     const float _e98 = coated_gold_glossy_quick_curve(n_dot_v_4);
     const float _e99 = coated_gold_glossy_steady_curve(n_dot_v_4);
-    const float3 layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
-    const float3 layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
-    const float3 _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, (1.0).xxx);
-    float3 layer1_once_colour_l_1 = (layer1_once_l / (max(_e107.x, 1e-6)).xxx);
+    const float3 layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e98, _e99, 0.9170209, coated_gold_layer1_pool_fresnel);
+    const float3 layer1_once_v = coated_gold_glossy_once(layer1_single_v_1, layer1_next_v, coated_gold_layer1_pool_fresnel);
     const float _e113 = coated_gold_glossy_blur_curve(n_dot_v_4);
     float layer1_blur_l_4 = (_e113 * 0.010000001);
     float layer1_blur_v_4 = (_e113 * 0.010000001);
     float layer1_alpha_4 = sqrt(((0.00390625 + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    const float3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, (1.0).xxx, layer1_once_l);
-    const float3 _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, (1.0).xxx, layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
-    const float3 albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
-    float coat_albedo = (1.0 - layer1_transmit_l_1);
-    float3 under_albedo = max((albedo_l - (coat_albedo).xxx), (0.0).xxx);
+    const float3 _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_v_1, layer1_fresnel_cond_v, (1.0).xxx, layer1_once_v);
+    const float3 _e129 = coated_gold_glossy_remainder(layer1_transmit_v_1, (1.0).xxx, layer1_fresnel_cond_v, layer1_single_v_1, layer1_later_v);
+    const float3 albedo_v = coated_gold_glossy_albedo(layer1_transmit_v_1, _e126, _e129);
+    float coat_albedo = (1.0 - layer1_transmit_v_1);
+    float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001);
     const float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));

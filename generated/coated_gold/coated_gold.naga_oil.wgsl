@@ -235,8 +235,7 @@ fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
 fn coated_gold_glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
     let quick_rate = ((c * vec3(0.5f)) / (coated_gold_one - (c * vec3(0.5f))));
     let steady_rate = ((c * vec3(0.2f)) / (coated_gold_one - (c * vec3(0.8f))));
-    let _e27 = (c * slow);
-    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - _e27), vec3(0.000001f)));
+    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - (c * slow)), vec3(0.000001f)));
     let rest = max((1f - ((next + quick) + steady)), 0f);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -423,8 +422,7 @@ fn coated_gold_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32
     let top = ((r_2 + 0.95f) / ((r_2 * 0.95f) + 1f));
     let r_c = min(rho_c, vec3((top - 0.001f)));
     let target_ = min((r_c + vec3(0.01f)), vec3(top));
-    let _e23 = (target_ * r_2);
-    let needed = ((target_ - vec3(r_2)) / (vec3(1f) - _e23));
+    let needed = ((target_ - vec3(r_2)) / (vec3(1f) - (target_ * r_2)));
     let r_b = max(needed, vec3((r_2 * r_2)));
     let x = (r_b * r_2);
     let mean_weight = ((coated_gold_one + x) / (coated_gold_one - x));
@@ -624,18 +622,17 @@ fn coated_gold_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 // irradiance.direction, over π), k < coated_gold_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let n_dot_v_4 = dot(n_6, v_6);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
     let layer1_v = coated_gold_refract_down(v_6, n_6, 1.5f);
     let layer1_n_dot_v_1 = dot(n_6, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let layer1_fresnel_l = coated_gold_fr_dielectric(n_dot_v_4, 1.5f);
+    let layer1_fresnel_v = coated_gold_fr_dielectric(n_dot_v_4, 1.5f);
     let _e14 = coated_gold_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e14), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e14), 0f), 1f);
     let _e20 = coated_gold_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e20);
-    let layer1_fresnel_cond_l = coated_gold_fr_conductor(layer1_path_cos_l_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
-    let layer1_scale_l = coated_gold_glossy_scale_curve(n_dot_v_4);
-    let layer1_next_l = coated_gold_glossy_next_curve(n_dot_v_4);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    let layer1_fresnel_cond_v = coated_gold_fr_conductor(layer1_path_cos_v_1, vec3<f32>(0.11333334f, 0.28666666f, 0.96000004f), vec3<f32>(2.3333333f, 1.64f, 1.1999999f));
+    let layer1_scale_v = coated_gold_glossy_scale_curve(n_dot_v_4);
+    let layer1_next_v = coated_gold_glossy_next_curve(n_dot_v_4);
     let _e34 = coated_gold_glossy_lobe_albedo_curve(n_dot_v_4);
     let _e39 = max(layer1_cos_v_1, 0.7453635f);
     let _e40 = coated_gold_glossy_blur_curve(max(n_dot_v_4, 0.005f));
@@ -646,25 +643,23 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let _e66 = coated_gold_ggx_albedo_curve(_e39);
     let _e75 = coated_gold_ggx_albedo_curve_b(_e39);
     let _e79 = coated_gold_glossy_trapped_share(_e39, 0.745356f, layer1_alpha_3);
-    let layer1_cone_share_l_1 = (1f - _e79);
-    let layer1_lobe_normaliser_l_1 = (((max((1f - abs((_e58 - 7f))), 0f) * _e66) + (max((1f - abs((_e58 - 8f))), 0f) * _e75)) * layer1_cone_share_l_1);
-    let layer1_lobe_albedo_l_1 = min(max((((layer1_scale_l * layer1_scale_l) * _e34) * layer1_lobe_normaliser_l_1), 0f), 1f);
-    let layer1_single_l_1 = min(max(((layer1_lobe_albedo_l_1 - layer1_next_l) / max((1f - layer1_next_l), 0.000001f)), 0f), 1f);
+    let layer1_cone_share_v_1 = (1f - _e79);
+    let layer1_lobe_normaliser_v_1 = (((max((1f - abs((_e58 - 7f))), 0f) * _e66) + (max((1f - abs((_e58 - 8f))), 0f) * _e75)) * layer1_cone_share_v_1);
+    let layer1_lobe_albedo_v_1 = min(max((((layer1_scale_v * layer1_scale_v) * _e34) * layer1_lobe_normaliser_v_1), 0f), 1f);
+    let layer1_single_v_1 = min(max(((layer1_lobe_albedo_v_1 - layer1_next_v) / max((1f - layer1_next_v), 0.000001f)), 0f), 1f);
     let _e98 = coated_gold_glossy_quick_curve(n_dot_v_4);
     let _e99 = coated_gold_glossy_steady_curve(n_dot_v_4);
-    let layer1_later_l = coated_gold_glossy_later(layer1_next_l, _e98, _e99, 0.9170209f, coated_gold_layer1_pool_fresnel);
-    let layer1_once_l = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, coated_gold_layer1_pool_fresnel);
-    let _e107 = coated_gold_glossy_once(layer1_single_l_1, layer1_next_l, vec3(1f));
-    let layer1_once_colour_l_1 = (layer1_once_l / vec3(max(_e107.x, 0.000001f)));
+    let layer1_later_v = coated_gold_glossy_later(layer1_next_v, _e98, _e99, 0.9170209f, coated_gold_layer1_pool_fresnel);
+    let layer1_once_v = coated_gold_glossy_once(layer1_single_v_1, layer1_next_v, coated_gold_layer1_pool_fresnel);
     let _e113 = coated_gold_glossy_blur_curve(n_dot_v_4);
     let layer1_blur_l_4 = (_e113 * 0.010000001f);
     let layer1_blur_v_4 = (_e113 * 0.010000001f);
     let layer1_alpha_4 = sqrt(((0.00390625f + (layer1_blur_l_4 * layer1_blur_l_4)) + (layer1_blur_v_4 * layer1_blur_v_4)));
-    let _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_l_1, layer1_fresnel_cond_l, vec3(1f), layer1_once_l);
-    let _e129 = coated_gold_glossy_remainder(layer1_transmit_l_1, vec3(1f), layer1_fresnel_cond_l, layer1_single_l_1, layer1_later_l);
-    let albedo_l = coated_gold_glossy_albedo(layer1_transmit_l_1, _e126, _e129);
-    let coat_albedo = (1f - layer1_transmit_l_1);
-    let under_albedo = max((albedo_l - vec3(coat_albedo)), vec3(0f));
+    let _e126 = coated_gold_glossy_albedo_lobe(layer1_transmit_v_1, layer1_fresnel_cond_v, vec3(1f), layer1_once_v);
+    let _e129 = coated_gold_glossy_remainder(layer1_transmit_v_1, vec3(1f), layer1_fresnel_cond_v, layer1_single_v_1, layer1_later_v);
+    let albedo_v = coated_gold_glossy_albedo(layer1_transmit_v_1, _e126, _e129);
+    let coat_albedo = (1f - layer1_transmit_v_1);
+    let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = coated_gold_specular_dominant_direction(n_6, v_6, 0.010000001f);
     let lookup_roughness = coated_gold_grazing_lookup_roughness(0.1f, dot(n_6, v_6));
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));

@@ -170,8 +170,7 @@ float color_clay_e_fon(float mu_1, float r) {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 vec3 color_clay_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    vec3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1.0) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -201,8 +200,7 @@ vec3 color_clay_albedo_eon(vec3 albedo_2, float r_3, float mu_2) {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 vec3 color_clay_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
-    vec3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -261,11 +259,11 @@ vec3 color_clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     vec3 layer1_albedo_l = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_l);
     vec3 layer1_albedo_v = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v);
     float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
-    vec3 _e122 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
-    float _e124 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e124)) * vec3(0.23442733)) / max(_e122, vec3(1e-6))));
+    vec3 _e121 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
+    float _e123 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e123)) * vec3(0.23442733)) / max(_e121, vec3(1e-6))));
     vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
+    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     vec3 _e159 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
     float _e161 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
     vec3 layer1_first_escape_v = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e161)) * vec3(0.23442733)) / max(_e159, vec3(1e-6))));
@@ -286,8 +284,7 @@ vec3 color_clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 vec3 color_clay_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape, vec3 first_escape, vec3 first_return) {
-    vec3 _e10 = (rho_below_1 * r_return_1);
-    vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - _e10));
+    vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
@@ -317,38 +314,27 @@ float color_clay_grazing_lookup_roughness(float r_4, float n_dot_v_3) {
 // irradiance.direction, over π), k < color_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 ColorClayIblLobes color_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_5, 1.33);
+    float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_5, 1.33);
     float _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     vec3 layer1_v = color_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e27 = color_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    float _e31 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l_2);
-    vec3 absorb_l_1 = vec3(_e31);
-    float _e34 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v_2);
-    vec3 absorb_v_1 = vec3(_e34);
+    float _e20 = color_clay_coat_path_curve(n_dot_v_5);
+    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e20);
+    float _e23 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v_2);
+    vec3 absorb_v_1 = vec3(_e23);
     vec3 layer1_albedo_l = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v_1);
-    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    vec3 _e49 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_3);
-    float _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5);
-    vec3 layer1_first_escape_l_1 = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e51)) * vec3(0.23442733)) / max(_e49, vec3(1e-6))));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
-    vec3 _e86 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
-    float _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5);
-    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e88)) * vec3(0.23442733)) / max(_e86, vec3(1e-6))));
+    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e20);
+    vec3 _e37 = color_clay_albedo_eon(vec3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
+    float _e39 = color_clay_e_fon(layer1_path_cos_v_3, 0.5);
+    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((color_clay_layer1_rho_ms * (1.0 - _e39)) * vec3(0.23442733)) / max(_e37, vec3(1e-6))));
     vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * vec3(0.5333521))) / vec3(0.46664792)), vec3(0.0)), vec3(1.0));
-    vec3 albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786), layer1_first_escape_l_1, layer1_first_return_l_1);
     vec3 albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786), layer1_first_escape_v_1, layer1_first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);
     float lookup_roughness = color_clay_grazing_lookup_roughness(0.3, dot(n_4, v_4));
-    bool _e143 = (dot(n_4, v_4) > 0.0);
-    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, lookup_roughness, (_e143 ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (_e143 ? under_albedo : vec3(0.0))));
+    bool _e89 = (dot(n_4, v_4) > 0.0);
+    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, lookup_roughness, (_e89 ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (_e89 ? under_albedo : vec3(0.0))));
 }

@@ -188,8 +188,7 @@ float color_clay_e_fon(float mu_1, float r)
 float3 color_clay_eon_rho_ms(float3 albedo, float r_1)
 {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    float3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / ((1.0).xxx - _e15));
+    return (((albedo * albedo) * e_avg) / ((1.0).xxx - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -222,8 +221,7 @@ float3 color_clay_albedo_eon(float3 albedo_2, float r_3, float mu_2)
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 float3 color_clay_interfaced_diffuse_under(float3 f_below, float3 e_i, float3 e_o, float3 rho_below, float3 r_return)
 {
-    float3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
+    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - (rho_below * r_return)) * (3.1415927).xxx)));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -284,11 +282,11 @@ float3 color_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_albedo_l = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_l);
     const float3 layer1_albedo_v = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v);
     float layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
-    const float3 _e122 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
-    const float _e124 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
-    float3 layer1_first_escape_l = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e124)) * (0.23442733).xxx) / max(_e122, (1e-6).xxx)));
+    const float3 _e121 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_1);
+    const float _e123 = color_clay_e_fon(layer1_path_cos_l_1, 0.5);
+    float3 layer1_first_escape_l = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e123)) * (0.23442733).xxx) / max(_e121, (1e-6).xxx)));
     float3 layer1_first_return_l = min(max((((1.0).xxx - (layer1_first_escape_l * (0.5333521).xxx)) / (0.46664792).xxx), (0.0).xxx), (1.0).xxx);
+    float layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     const float3 _e159 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_1);
     const float _e161 = color_clay_e_fon(layer1_path_cos_v_1, 0.5);
     float3 layer1_first_escape_v = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e161)) * (0.23442733).xxx) / max(_e159, (1e-6).xxx)));
@@ -311,8 +309,7 @@ float3 color_clay_eval(float3 n_2, float3 v_2, float3 l_2)
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 float3 color_clay_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e10 = (rho_below_1 * r_return_1);
-    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
@@ -378,39 +375,28 @@ ColorClayIblLobes ConstructColorClayIblLobes(ColorClayIblLobe arg0[1], ColorClay
 ColorClayIblLobes color_clay_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_5, 1.33);
+    const float layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_5, 1.33);
     const float _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 layer1_v = color_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e27 = color_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    const float _e31 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_l_2);
-    float3 absorb_l_1 = (_e31).xxx;
-    const float _e34 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v_2);
-    float3 absorb_v_1 = (_e34).xxx;
+    const float _e20 = color_clay_coat_path_curve(n_dot_v_5);
+    float layer1_path_cos_v_2 = (layer1_cos_v_1 / _e20);
+    const float _e23 = color_clay_slab_transmittance_grey(0.025, layer1_path_cos_v_2);
+    float3 absorb_v_1 = (_e23).xxx;
     const float3 layer1_albedo_l = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_cos_v_1);
-    float layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    const float3 _e49 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_l_3);
-    const float _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5);
-    float3 layer1_first_escape_l_1 = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e51)) * (0.23442733).xxx) / max(_e49, (1e-6).xxx)));
-    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - (layer1_first_escape_l_1 * (0.5333521).xxx)) / (0.46664792).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 _e86 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
-    const float _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5);
-    float3 layer1_first_escape_v_1 = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e88)) * (0.23442733).xxx) / max(_e86, (1e-6).xxx)));
+    float layer1_path_cos_v_3 = (layer1_cos_v_1 / _e20);
+    const float3 _e37 = color_clay_albedo_eon(float3(0.5506864, 0.120373316, 0.09994284), 0.5, layer1_path_cos_v_3);
+    const float _e39 = color_clay_e_fon(layer1_path_cos_v_3, 0.5);
+    float3 layer1_first_escape_v_1 = ((1.0).xxx + (((color_clay_layer1_rho_ms * (1.0 - _e39)) * (0.23442733).xxx) / max(_e37, (1e-6).xxx)));
     float3 layer1_first_return_v_1 = min(max((((1.0).xxx - (layer1_first_escape_v_1 * (0.5333521).xxx)) / (0.46664792).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, (0.51689786).xxx, layer1_first_escape_l_1, layer1_first_return_l_1);
     const float3 albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, (0.51689786).xxx, layer1_first_escape_v_1, layer1_first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);
     const float lookup_roughness = color_clay_grazing_lookup_roughness(0.3, dot(n_4, v_4));
-    bool _e143 = (dot(n_4, v_4) > 0.0);
-    const ColorClayIblLobes colorclayibllobes = ConstructColorClayIblLobes(Constructarray1_ColorClayIblLobe_(ConstructColorClayIblLobe(reflected, lookup_roughness, (_e143 ? (coat_albedo).xxx : (0.0).xxx))), ConstructColorClayIblLobe(n_4, 1.0, (_e143 ? under_albedo : (0.0).xxx)));
+    bool _e89 = (dot(n_4, v_4) > 0.0);
+    const ColorClayIblLobes colorclayibllobes = ConstructColorClayIblLobes(Constructarray1_ColorClayIblLobe_(ConstructColorClayIblLobe(reflected, lookup_roughness, (_e89 ? (coat_albedo).xxx : (0.0).xxx))), ConstructColorClayIblLobe(n_4, 1.0, (_e89 ? under_albedo : (0.0).xxx)));
     return colorclayibllobes;
 }

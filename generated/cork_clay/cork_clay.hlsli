@@ -28,8 +28,7 @@ float cork_clay_e_fon(float mu, float r)
 float3 cork_clay_eon_rho_ms(float3 albedo, float r_1)
 {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    float3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / ((1.0).xxx - _e15));
+    return (((albedo * albedo) * e_avg) / ((1.0).xxx - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe

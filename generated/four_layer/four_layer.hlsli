@@ -329,8 +329,7 @@ float four_layer_e_fon(float mu_2, float r)
 float3 four_layer_eon_rho_ms(float3 albedo, float r_1)
 {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    float3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / ((1.0).xxx - _e15));
+    return (((albedo * albedo) * e_avg) / ((1.0).xxx - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -378,8 +377,7 @@ float four_layer_coat_path_curve_d(float cos_theta_8)
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 float3 four_layer_interfaced_diffuse_under(float3 f_below, float3 e_i, float3 e_o, float3 rho_below, float3 r_return)
 {
-    float3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
+    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - (rho_below * r_return)) * (3.1415927).xxx)));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -395,8 +393,7 @@ float3 four_layer_interfaced_layer(float3 f_top, float t_i, float t_o, float3 a_
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 float3 four_layer_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e10 = (rho_below_1 * r_return_1);
-    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
@@ -515,13 +512,11 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer3_cos_v = max(layer3_n_dot_v, 0.0001);
     float layer3_cos_l = max(layer3_n_dot_l, 0.0001);
     const float _e255 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_l * layer2_n_dot_l)))), 0.0)));
-    float _e257 = (_e255 - 1.0);
     const float _e258 = four_layer_coat_path_curve_c(layer2_n_dot_l);
-    float layer3_path_cos_l = (layer3_cos_l / (_e258 + _e257));
+    float layer3_path_cos_l = (layer3_cos_l / (_e258 + (_e255 - 1.0)));
     const float _e273 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v * layer2_n_dot_v)))), 0.0)));
-    float _e275 = (_e273 - 1.0);
     const float _e276 = four_layer_coat_path_curve_c(layer2_n_dot_v);
-    float layer3_path_cos_v = (layer3_cos_v / (_e276 + _e275));
+    float layer3_path_cos_v = (layer3_cos_v / (_e276 + (_e273 - 1.0)));
     const float3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     float layer2_blur_l = ((abs((1.0 - (layer2_cos_l / (1.1 * max(layer3_cos_l, 0.05))))) * 0.09) * 0.70710677);
@@ -573,12 +568,12 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer4_albedo_v = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v);
     const float _e453 = four_layer_coat_path_curve_d(layer3_n_dot_l);
     float layer4_path_cos_l = (layer4_cos_l / _e453);
-    const float _e455 = four_layer_coat_path_curve_d(layer3_n_dot_v);
-    float layer4_path_cos_v = (layer4_cos_v / _e455);
-    const float3 _e462 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
-    const float _e464 = four_layer_e_fon(layer4_path_cos_l, 0.4);
-    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e464)) * (0.18698311).xxx) / max(_e462, (1e-6).xxx)));
+    const float3 _e460 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l);
+    const float _e462 = four_layer_e_fon(layer4_path_cos_l, 0.4);
+    float3 layer4_first_escape_l = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e462)) * (0.18698311).xxx) / max(_e460, (1e-6).xxx)));
     float3 layer4_first_return_l = min(max((((1.0).xxx - (layer4_first_escape_l * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
+    const float _e492 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    float layer4_path_cos_v = (layer4_cos_v / _e492);
     const float3 _e499 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v);
     const float _e501 = four_layer_e_fon(layer4_path_cos_v, 0.4);
     float3 layer4_first_escape_v = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e501)) * (0.18698311).xxx) / max(_e499, (1e-6).xxx)));
@@ -604,12 +599,10 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l, layer2_first_return_l);
     const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v, layer2_first_return_v);
     float _e680 = (1.0 - layer3_transmit_l);
-    const float _e683 = four_layer_glossy_trapped_share(layer2_cos_l, 0.0, 0.09);
     float3 _e703 = min(max(((((_e680 * layer2_transmit_l)).xxx + max((layer2_albedo_l - (_e680).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_l = (_e703 / (0.9999998).xxx);
     float3 layer1_first_return_l = min(max((((1.0).xxx - _e703) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     float _e720 = (1.0 - layer3_transmit_v);
-    const float _e723 = four_layer_glossy_trapped_share(layer2_cos_v, 0.0, 0.09);
     float3 _e743 = min(max(((((_e720 * layer2_transmit_v)).xxx + max((layer2_albedo_v - (_e720).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
     float3 layer1_first_escape_v = (_e743 / (0.9999998).xxx);
     float3 layer1_first_return_v = min(max((((1.0).xxx - _e743) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
@@ -618,13 +611,9 @@ float3 four_layer_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
     float _e781 = (1.0 - layer2_transmit_l);
-    float3 _e802 = min(max(((((_e781 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e781).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l = (_e802 / (0.41998938).xxx);
-    float3 first_return_l = min(max((((1.0).xxx - _e802) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float3 first_return_l = min(max((((1.0).xxx - min(max(((((_e781 * layer1_transmit_l)).xxx + (max((layer1_albedo_l - (_e781).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx)) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
     float _e819 = (1.0 - layer2_transmit_v);
-    float3 _e840 = min(max(((((_e819 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e819).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v = (_e840 / (0.41998938).xxx);
-    float3 first_return_v = min(max((((1.0).xxx - _e840) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    float3 first_return_v = min(max((((1.0).xxx - min(max(((((_e819 * layer1_transmit_v)).xxx + (max((layer1_albedo_v - (_e819).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx)) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
     const float3 under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max((0.9795071).xxx, min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     const float3 f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, under, 1.5);
     return (((n_dot_v_5 > 0.0) && (n_dot_l_4 > 0.0)) ? f : (0.0).xxx);
@@ -699,108 +688,66 @@ FourLayerIblLobes ConstructFourLayerIblLobes(FourLayerIblLobe arg0[1], FourLayer
 FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_6 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_6, 0.0001);
-    const float layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_6, 1.5);
+    const float layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_6, 1.5);
     const float _e9 = four_layer_gtr1_coat_deficit_curve(n_dot_v_6);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 layer1_v = four_layer_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
-    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float blur_l_1 = ((abs((1.0 - (cos_v_1 / (1.5 * max(layer1_cos_v_1, 0.05))))) * 0.2) * 0.70710677);
-    float blur_v_1 = ((abs((1.0 - (cos_v_1 / (1.5 * max(layer1_cos_v_1, 0.05))))) * 0.2) * 0.70710677);
-    const float layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_v_1, 1.0);
-    float layer2_transmit_l_1 = (1.0 - layer2_fresnel_l);
-    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_l);
+    const float layer2_fresnel_v = four_layer_fr_dielectric(layer1_n_dot_v_1, 1.0);
+    float layer2_transmit_v_1 = (1.0 - layer2_fresnel_v);
     const float3 layer2_v = four_layer_refract_down(layer1_v, n_4, 1.0);
     float layer2_n_dot_v_1 = dot(n_4, layer2_v);
     float layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001);
-    const float _e72 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
-    float layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e72 - 1.0) + 1.0));
-    const float _e88 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
-    float layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e88 - 1.0) + 1.0));
-    const float _e95 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_l_1);
-    float3 layer1_absorb_l_1 = (_e95).xxx;
-    const float _e98 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v_1);
-    float3 layer1_absorb_v_1 = (_e98).xxx;
-    const float layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
-    const float _e104 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    float layer3_transmit_l_1 = min(max(((1.0 - layer3_fresnel_l) + _e104), 0.0), 1.0);
-    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_l) + _e104), 0.0), 1.0);
+    const float _e63 = four_layer_coat_path_curve(sqrt(max((1.0 - (2.25 * (1.0 - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0.0)));
+    float layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e63 - 1.0) + 1.0));
+    const float _e70 = four_layer_slab_transmittance_grey(0.02, layer2_path_cos_v_1);
+    float3 layer1_absorb_v_1 = (_e70).xxx;
+    const float layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1);
+    const float _e76 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    float layer3_transmit_v_1 = min(max(((1.0 - layer3_fresnel_v) + _e76), 0.0), 1.0);
     const float3 layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1);
     float layer3_n_dot_v_1 = dot(n_4, layer3_v);
     float layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001);
-    const float _e132 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
-    float _e134 = (_e132 - 1.0);
-    const float _e135 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
-    float layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e135 + _e134));
-    const float _e150 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
-    float _e152 = (_e150 - 1.0);
-    float layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e135 + _e152));
-    const float3 layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
+    const float _e97 = four_layer_coat_path_curve_b(sqrt(max((1.0 - (2.25 * (1.0 - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0.0)));
+    const float _e100 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    float layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e100 + (_e97 - 1.0)));
     const float3 layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
-    float layer2_blur_l_1 = ((abs((1.0 - (layer2_cos_v_1 / (1.1 * max(layer3_cos_v_1, 0.05))))) * 0.09) * 0.70710677);
-    float layer2_blur_v_1 = ((abs((1.0 - (layer2_cos_v_1 / (1.1 * max(layer3_cos_v_1, 0.05))))) * 0.09) * 0.70710677);
-    const float layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
-    const float _e189 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    float layer4_transmit_l_1 = min(max(((1.0 - layer4_fresnel_l) + _e189), 0.0), 1.0);
-    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_l) + _e189), 0.0), 1.0);
+    const float layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2);
+    const float _e135 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    float layer4_transmit_v_1 = min(max(((1.0 - layer4_fresnel_v) + _e135), 0.0), 1.0);
     const float3 layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2);
     float layer4_n_dot_v_1 = dot(n_4, layer4_v);
     float layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001);
     const float3 layer4_albedo_l = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_cos_v_1);
-    const float _e213 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
-    float layer4_path_cos_l_1 = (layer4_cos_v_1 / _e213);
-    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e213);
-    const float3 _e221 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_l_1);
-    const float _e223 = four_layer_e_fon(layer4_path_cos_l_1, 0.4);
-    float3 layer4_first_escape_l_1 = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e223)) * (0.18698311).xxx) / max(_e221, (1e-6).xxx)));
-    float3 layer4_first_return_l_1 = min(max((((1.0).xxx - (layer4_first_escape_l_1 * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 _e258 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
-    const float _e260 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
-    float3 layer4_first_escape_v_1 = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e260)) * (0.18698311).xxx) / max(_e258, (1e-6).xxx)));
+    const float _e152 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    float layer4_path_cos_v_1 = (layer4_cos_v_1 / _e152);
+    const float3 _e159 = four_layer_albedo_eon(float3(0.9, 0.9, 0.85), 0.4, layer4_path_cos_v_1);
+    const float _e161 = four_layer_e_fon(layer4_path_cos_v_1, 0.4);
+    float3 layer4_first_escape_v_1 = ((1.0).xxx + (((four_layer_layer4_rho_ms * (1.0 - _e161)) * (0.18698311).xxx) / max(_e159, (1e-6).xxx)));
     float3 layer4_first_return_v_1 = min(max((((1.0).xxx - (layer4_first_escape_v_1 * (0.67766106).xxx)) / (0.32233894).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_l_1, layer4_first_return_l_1);
     const float3 layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, (1.0).xxx, layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, (0.67766106).xxx, layer4_first_escape_v_1, layer4_first_return_v_1);
-    float _e305 = (1.0 - layer4_transmit_l_1);
-    const float _e308 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
-    float layer2_first_cone_share_l_1 = (1.0 - _e308);
-    float3 _e332 = min(max((((((_e305 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)).xxx + (max((layer3_albedo_l - (_e305).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_l_1 = (_e332 / (0.80973125).xxx);
-    float3 layer2_first_return_l_1 = min(max((((1.0).xxx - _e332) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    float _e349 = (1.0 - layer4_transmit_v_1);
-    float layer2_first_cone_share_v_1 = (1.0 - _e308);
-    float3 _e373 = min(max((((((_e349 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e349).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer2_first_escape_v_1 = (_e373 / (0.80973125).xxx);
-    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e373) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_l_1, layer2_first_return_l_1);
+    float _e199 = (1.0 - layer4_transmit_v_1);
+    const float _e202 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784, 0.25);
+    float layer2_first_cone_share_v_1 = (1.0 - _e202);
+    float3 _e226 = min(max((((((_e199 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)).xxx + (max((layer3_albedo_v - (_e199).xxx), (0.0).xxx) * (0.8201269).xxx)) / max(layer3_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer2_first_escape_v_1 = (_e226 / (0.80973125).xxx);
+    float3 layer2_first_return_v_1 = min(max((((1.0).xxx - _e226) / (0.19026875).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, float3(0.481202, 0.6023142, 0.7615567), layer2_first_escape_v_1, layer2_first_return_v_1);
-    float _e404 = (1.0 - layer3_transmit_l_1);
-    const float _e407 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0.0, 0.09);
-    float3 _e427 = min(max(((((_e404 * layer2_transmit_l_1)).xxx + max((layer2_albedo_l - (_e404).xxx), (0.0).xxx)) / max(layer2_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_l_1 = (_e427 / (0.9999998).xxx);
-    float3 layer1_first_return_l_1 = min(max((((1.0).xxx - _e427) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    float _e444 = (1.0 - layer3_transmit_v_1);
-    float3 _e464 = min(max(((((_e444 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e444).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 layer1_first_escape_v_1 = (_e464 / (0.9999998).xxx);
-    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e464) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
+    float _e250 = (1.0 - layer3_transmit_v_1);
+    float3 _e273 = min(max(((((_e250 * layer2_transmit_v_1)).xxx + max((layer2_albedo_v - (_e250).xxx), (0.0).xxx)) / max(layer2_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 layer1_first_escape_v_1 = (_e273 / (0.9999998).xxx);
+    float3 layer1_first_return_v_1 = min(max((((1.0).xxx - _e273) / (0.0001).xxx), (0.0).xxx), (1.0).xxx);
     const float3 layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    float _e489 = (1.0 - layer2_transmit_l_1);
-    float3 _e510 = min(max(((((_e489 * layer1_transmit_l_1)).xxx + (max((layer1_albedo_l - (_e489).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_l, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_l_1 = (_e510 / (0.41998938).xxx);
-    float3 first_return_l_1 = min(max((((1.0).xxx - _e510) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    float _e527 = (1.0 - layer2_transmit_v_1);
-    float3 _e548 = min(max(((((_e527 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e527).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
-    float3 first_escape_v_1 = (_e548 / (0.41998938).xxx);
-    float3 first_return_v_1 = min(max((((1.0).xxx - _e548) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
-    const float3 albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
-    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
+    float _e294 = (1.0 - layer2_transmit_v_1);
+    float3 _e315 = min(max(((((_e294 * layer1_transmit_v_1)).xxx + (max((layer1_albedo_v - (_e294).xxx), (0.0).xxx) * (0.43187544).xxx)) / max(layer1_albedo_v, (1e-6).xxx)), (0.0).xxx), (1.0).xxx);
+    float3 first_escape_v = (_e315 / (0.41998938).xxx);
+    float3 first_return_v_1 = min(max((((1.0).xxx - _e315) / (0.58001065).xxx), (0.0).xxx), (1.0).xxx);
+    const float3 albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v, first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     const float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e591 = (dot(n_4, v_4) > 0.0);
-    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e591 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e591 ? under_albedo : (0.0).xxx)));
+    bool _e352 = (dot(n_4, v_4) > 0.0);
+    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e352 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e352 ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
 }

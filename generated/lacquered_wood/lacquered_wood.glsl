@@ -10,10 +10,9 @@ struct LacqueredWoodIblLobes {
 };
 const vec3 lacquered_wood_tau = vec3(0.04, 0.12, 0.35);
 const vec3 lacquered_wood_under = vec3(0.19009909, 0.09112922, 0.03887014);
-const vec3 lacquered_wood_layer1_albedo_l = vec3(0.46, 0.26, 0.12);
+const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 const vec3 lacquered_wood_layer1_rho = vec3(0.46, 0.26, 0.12);
 const vec3 lacquered_wood_layer1_r_return = vec3(0.49947113, 0.35320336, 0.14427519);
-const vec3 lacquered_wood_layer1_albedo_v = vec3(0.46, 0.26, 0.12);
 const uint lacquered_wood_ibl_specular_lobes = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -224,8 +223,7 @@ vec3 lacquered_wood_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 vec3 lacquered_wood_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below, vec3 r_return, vec3 e_escape, vec3 first_escape, vec3 first_return) {
-    vec3 _e10 = (rho_below * r_return);
-    vec3 series = (((first_return * rho_below) * r_return) / (vec3(1.0) - _e10));
+    vec3 series = (((first_return * rho_below) * r_return) / (vec3(1.0) - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
@@ -255,25 +253,20 @@ float lacquered_wood_grazing_lookup_roughness(float r, float n_dot_v_2) {
 // irradiance.direction, over π), k < lacquered_wood_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 LacqueredWoodIblLobes lacquered_wood_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    float layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5);
+    float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5);
     float _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     vec3 layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e27 = lacquered_wood_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    vec3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
+    float _e20 = lacquered_wood_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
     vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    vec3 albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548824, 0.35186937, 0.27089757), vec3(1.0), vec3(1.0));
     vec3 albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548824, 0.35186937, 0.27089757), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064);
     float lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08, dot(n_4, v_4));
-    bool _e73 = (dot(n_4, v_4) > 0.0);
-    return LacqueredWoodIblLobes(LacqueredWoodIblLobe[1](LacqueredWoodIblLobe(reflected, lookup_roughness, (_e73 ? vec3(coat_albedo) : vec3(0.0)))), LacqueredWoodIblLobe(n_4, 1.0, (_e73 ? under_albedo : vec3(0.0))));
+    bool _e51 = (dot(n_4, v_4) > 0.0);
+    return LacqueredWoodIblLobes(LacqueredWoodIblLobe[1](LacqueredWoodIblLobe(reflected, lookup_roughness, (_e51 ? vec3(coat_albedo) : vec3(0.0)))), LacqueredWoodIblLobe(n_4, 1.0, (_e51 ? under_albedo : vec3(0.0))));
 }

@@ -13,10 +13,9 @@ struct LacqueredWoodIblLobes {
 
 static const float3 lacquered_wood_tau = float3(0.04, 0.12, 0.35);
 static const float3 lacquered_wood_under = float3(0.19009909, 0.09112922, 0.03887014);
-static const float3 lacquered_wood_layer1_albedo_l = float3(0.46, 0.26, 0.12);
+static const float3 lacquered_wood_layer1_albedo_v = float3(0.46, 0.26, 0.12);
 static const float3 lacquered_wood_layer1_rho = float3(0.46, 0.26, 0.12);
 static const float3 lacquered_wood_layer1_r_return = float3(0.49947113, 0.35320336, 0.14427519);
-static const float3 lacquered_wood_layer1_albedo_v = float3(0.46, 0.26, 0.12);
 static const uint lacquered_wood_ibl_specular_lobes = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -244,8 +243,7 @@ float3 lacquered_wood_eval(float3 n_2, float3 v_2, float3 l_2)
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 float3 lacquered_wood_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below, float3 r_return, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e10 = (rho_below * r_return);
-    float3 series = (((first_return * rho_below) * r_return) / ((1.0).xxx - _e10));
+    float3 series = (((first_return * rho_below) * r_return) / ((1.0).xxx - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
@@ -311,26 +309,21 @@ LacqueredWoodIblLobes ConstructLacqueredWoodIblLobes(LacqueredWoodIblLobe arg0[1
 LacqueredWoodIblLobes lacquered_wood_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    const float layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5);
+    const float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5);
     const float _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e27 = lacquered_wood_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    const float3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
+    const float _e20 = lacquered_wood_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
     const float3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    const float3 albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, float3(0.38548824, 0.35186937, 0.27089757), (1.0).xxx, (1.0).xxx);
     const float3 albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, float3(0.38548824, 0.35186937, 0.27089757), (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064);
     const float lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08, dot(n_4, v_4));
-    bool _e73 = (dot(n_4, v_4) > 0.0);
-    const LacqueredWoodIblLobes lacqueredwoodibllobes = ConstructLacqueredWoodIblLobes(Constructarray1_LacqueredWoodIblLobe_(ConstructLacqueredWoodIblLobe(reflected, lookup_roughness, (_e73 ? (coat_albedo).xxx : (0.0).xxx))), ConstructLacqueredWoodIblLobe(n_4, 1.0, (_e73 ? under_albedo : (0.0).xxx)));
+    bool _e51 = (dot(n_4, v_4) > 0.0);
+    const LacqueredWoodIblLobes lacqueredwoodibllobes = ConstructLacqueredWoodIblLobes(Constructarray1_LacqueredWoodIblLobe_(ConstructLacqueredWoodIblLobe(reflected, lookup_roughness, (_e51 ? (coat_albedo).xxx : (0.0).xxx))), ConstructLacqueredWoodIblLobe(n_4, 1.0, (_e51 ? under_albedo : (0.0).xxx)));
     return lacqueredwoodibllobes;
 }

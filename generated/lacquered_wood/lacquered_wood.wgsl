@@ -12,10 +12,9 @@ struct LacqueredWoodIblLobes {
 
 const lacquered_wood_tau: vec3<f32> = vec3<f32>(0.04f, 0.12f, 0.35f);
 const lacquered_wood_under: vec3<f32> = vec3<f32>(0.19009909f, 0.09112922f, 0.03887014f);
-const lacquered_wood_layer1_albedo_l: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
+const lacquered_wood_layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_layer1_rho: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_layer1_r_return: vec3<f32> = vec3<f32>(0.49947113f, 0.35320336f, 0.14427519f);
-const lacquered_wood_layer1_albedo_v: vec3<f32> = vec3<f32>(0.46f, 0.26f, 0.12f);
 const lacquered_wood_ibl_specular_lobes: u32 = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -226,8 +225,7 @@ fn lacquered_wood_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn lacquered_wood_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below * r_return);
-    let series = (((first_return * rho_below) * r_return) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below) * r_return) / (vec3(1f) - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -257,26 +255,21 @@ fn lacquered_wood_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 // irradiance.direction, over π), k < lacquered_wood_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblLobes {
     let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5f);
+    let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5f);
     let _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = lacquered_wood_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l_1);
+    let _e20 = lacquered_wood_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
-    let albedo_l = lacquered_wood_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, lacquered_wood_layer1_albedo_l, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
     let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);
     let lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08f, dot(n_4, v_4));
-    let _e73 = (dot(n_4, v_4) > 0f);
-    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e73))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e73)));
+    let _e51 = (dot(n_4, v_4) > 0f);
+    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e51))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e51)));
 }
 

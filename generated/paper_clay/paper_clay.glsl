@@ -23,8 +23,7 @@ float paper_clay_e_fon(float mu, float r) {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 vec3 paper_clay_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    vec3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1.0) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe

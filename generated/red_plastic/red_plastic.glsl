@@ -9,10 +9,9 @@ struct RedPlasticIblLobes {
     RedPlasticIblLobe irradiance;
 };
 const vec3 red_plastic_under = vec3(0.29395396, 0.016394045, 0.013036837);
-const vec3 red_plastic_layer1_albedo_l = vec3(0.6, 0.05, 0.04);
+const vec3 red_plastic_layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 const vec3 red_plastic_layer1_rho = vec3(0.6, 0.05, 0.04);
 const vec3 red_plastic_layer1_r_return = vec3(0.5838103, 0.5838103, 0.5838103);
-const vec3 red_plastic_layer1_albedo_v = vec3(0.6, 0.05, 0.04);
 const uint red_plastic_ibl_specular_lobes = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -176,12 +175,6 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
     float _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
-    vec3 layer1_v = red_plastic_refract_down(v_1, n_1, 1.49);
-    vec3 layer1_l = red_plastic_refract_down(l_1, n_1, 1.49);
-    float layer1_n_dot_v = dot(n_1, layer1_v);
-    float layer1_n_dot_l = dot(n_1, layer1_l);
-    float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
-    float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     vec3 f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), red_plastic_under, 1.49);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
@@ -197,8 +190,7 @@ vec3 red_plastic_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 vec3 red_plastic_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below, vec3 r_return, vec3 e_escape, vec3 first_escape, vec3 first_return) {
-    vec3 _e10 = (rho_below * r_return);
-    vec3 series = (((first_return * rho_below) * r_return) / (vec3(1.0) - _e10));
+    vec3 series = (((first_return * rho_below) * r_return) / (vec3(1.0) - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
@@ -228,20 +220,14 @@ float red_plastic_grazing_lookup_roughness(float r, float n_dot_v_2) {
 // irradiance.direction, over π), k < red_plastic_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 RedPlasticIblLobes red_plastic_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
+    float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
     float _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    vec3 layer1_v = red_plastic_refract_down(v_4, n_4, 1.49);
-    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
-    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    vec3 albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1.0), red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897), vec3(1.0), vec3(1.0));
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     vec3 albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);
     float lookup_roughness = red_plastic_grazing_lookup_roughness(0.35, dot(n_4, v_4));
-    bool _e66 = (dot(n_4, v_4) > 0.0);
-    return RedPlasticIblLobes(RedPlasticIblLobe[1](RedPlasticIblLobe(reflected, lookup_roughness, (_e66 ? vec3(coat_albedo) : vec3(0.0)))), RedPlasticIblLobe(n_4, 1.0, (_e66 ? under_albedo : vec3(0.0))));
+    bool _e47 = (dot(n_4, v_4) > 0.0);
+    return RedPlasticIblLobes(RedPlasticIblLobe[1](RedPlasticIblLobe(reflected, lookup_roughness, (_e47 ? vec3(coat_albedo) : vec3(0.0)))), RedPlasticIblLobe(n_4, 1.0, (_e47 ? under_albedo : vec3(0.0))));
 }

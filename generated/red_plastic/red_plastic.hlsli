@@ -12,10 +12,9 @@ struct RedPlasticIblLobes {
 };
 
 static const float3 red_plastic_under = float3(0.29395396, 0.016394045, 0.013036837);
-static const float3 red_plastic_layer1_albedo_l = float3(0.6, 0.05, 0.04);
+static const float3 red_plastic_layer1_albedo_v = float3(0.6, 0.05, 0.04);
 static const float3 red_plastic_layer1_rho = float3(0.6, 0.05, 0.04);
 static const float3 red_plastic_layer1_r_return = float3(0.5838103, 0.5838103, 0.5838103);
-static const float3 red_plastic_layer1_albedo_v = float3(0.6, 0.05, 0.04);
 static const uint red_plastic_ibl_specular_lobes = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -192,12 +191,6 @@ float3 red_plastic_brdf(float3 n_1, float3 v_1, float3 l_1)
     float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
     const float _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
     float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
-    const float3 layer1_v = red_plastic_refract_down(v_1, n_1, 1.49);
-    const float3 layer1_l = red_plastic_refract_down(l_1, n_1, 1.49);
-    float layer1_n_dot_v = dot(n_1, layer1_v);
-    float layer1_n_dot_l = dot(n_1, layer1_l);
-    float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
-    float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
     const float3 f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, (1.0).xxx, (1.0).xxx, red_plastic_under, 1.49);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : (0.0).xxx);
 }
@@ -215,8 +208,7 @@ float3 red_plastic_eval(float3 n_2, float3 v_2, float3 l_2)
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 float3 red_plastic_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below, float3 r_return, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e10 = (rho_below * r_return);
-    float3 series = (((first_return * rho_below) * r_return) / ((1.0).xxx - _e10));
+    float3 series = (((first_return * rho_below) * r_return) / ((1.0).xxx - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
@@ -282,21 +274,15 @@ RedPlasticIblLobes ConstructRedPlasticIblLobes(RedPlasticIblLobe arg0[1], RedPla
 RedPlasticIblLobes red_plastic_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_4 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_4, 0.0001);
-    const float layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
+    const float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
     const float _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    const float3 layer1_v = red_plastic_refract_down(v_4, n_4, 1.49);
-    float layer1_n_dot_v_1 = dot(n_4, layer1_v);
-    float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float3 albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, (1.0).xxx, red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.4161897).xxx, (1.0).xxx, (1.0).xxx);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, (1.0).xxx, red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, (0.4161897).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);
     const float lookup_roughness = red_plastic_grazing_lookup_roughness(0.35, dot(n_4, v_4));
-    bool _e66 = (dot(n_4, v_4) > 0.0);
-    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, lookup_roughness, (_e66 ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (_e66 ? under_albedo : (0.0).xxx)));
+    bool _e47 = (dot(n_4, v_4) > 0.0);
+    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, lookup_roughness, (_e47 ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (_e47 ? under_albedo : (0.0).xxx)));
     return redplasticibllobes;
 }

@@ -212,8 +212,7 @@ float tunable_glaze_e_fon(float mu_1, float r) {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 vec3 tunable_glaze_eon_rho_ms(vec3 albedo, float r_1) {
     float e_avg = (((r_1 * 0.07248825) + 1.0) / ((r_1 * 0.2877934) + 1.0));
-    vec3 _e15 = (albedo * (1.0 - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1.0) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1.0) - (albedo * (1.0 - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -433,8 +432,7 @@ float tunable_glaze_eon_escape_shape(float eta_11) {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 vec3 tunable_glaze_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
-    vec3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -497,7 +495,6 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float layer1_path_cos_v = (layer1_cos_v / ((params.glaze_ior < 1.0) ? 1.0 : _e109));
     vec3 absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
-    float blur = ((abs((1.0 - (1.0 / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677);
     vec3 layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
@@ -507,35 +504,27 @@ vec3 tunable_glaze_brdf(vec3 n_1, vec3 v_1, vec3 l_1, TunableGlazeParams params)
     float _e139 = ((params.glaze_ior < 1.0) ? ((params.glaze_ior * params.glaze_ior) * _e137) : _e131);
     float _e140 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
     float layer1_transmit_avg = ((params.glaze_ior < 1.0) ? _e139 : (_e139 + _e140));
-    float _e146 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
     float _e148 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
     float _e150 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
     float _e152 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    vec3 _e154 = (vec3(_e148, _e150, _e152) * _e146);
-    float _e163 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    float _e165 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    float _e167 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    bool _e171 = (params.glaze_ior < 1.0);
     vec3 _e172 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    vec3 _e173 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    vec3 layer1_r_return = (_e171 ? _e172 : max((vec3(1.0) - _e154), vec3(0.0)));
+    vec3 layer1_r_return = ((params.glaze_ior < 1.0) ? _e172 : max((vec3(1.0) - (vec3(_e148, _e150, _e152) * (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior)))), vec3(0.0)));
     float _e181 = tunable_glaze_fresnel_transmit_avg((1.0 / params.glaze_ior));
     float _e183 = ((params.glaze_ior < 1.0) ? ((params.glaze_ior * params.glaze_ior) * _e181) : _e131);
     float layer1_transmit_avg_1 = ((params.glaze_ior < 1.0) ? _e183 : (_e183 + _e140));
     float _e189 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    vec3 _e190 = vec3(_e189);
     bool _e200 = (params.glaze_ior < 1.0);
     vec3 _e203 = tunable_glaze_slab_return(params.glaze_ior, vec3(0.0));
     vec3 _e206 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0.0));
-    vec3 layer1_r_return_1 = (_e200 ? _e203 : max((vec3(1.0) - _e190), vec3(0.0)));
+    vec3 layer1_r_return_1 = (_e200 ? _e203 : max((vec3(1.0) - vec3(_e189)), vec3(0.0)));
     float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     float layer1_path_cos_l_1 = (layer1_cos_l / ((params.glaze_ior < 1.0) ? 1.0 : _e103));
-    float layer1_path_cos_v_1 = (layer1_cos_v / ((params.glaze_ior < 1.0) ? 1.0 : _e109));
-    vec3 _e223 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    float _e224 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e224)) * (layer1_eon_escape_shape - 1.0)) / max(_e223, vec3(1e-6))));
+    vec3 _e218 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    float _e219 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    vec3 layer1_first_escape_l = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e219)) * (layer1_eon_escape_shape - 1.0)) / max(_e218, vec3(1e-6))));
     vec3 layer1_first_return_l = min(max(((vec3(1.0) - (layer1_first_escape_l * (_e200 ? _e206 : vec3(_e189)).x)) / vec3(max(layer1_r_return_1.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    float layer1_path_cos_v_1 = (layer1_cos_v / ((params.glaze_ior < 1.0) ? 1.0 : _e109));
     vec3 _e252 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
     float _e253 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     vec3 layer1_first_escape_v = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e253)) * (layer1_eon_escape_shape - 1.0)) / max(_e252, vec3(1e-6))));
@@ -564,8 +553,7 @@ vec3 tunable_glaze_eval(vec3 n_2, vec3 v_2, vec3 l_2, TunableGlazeParams params_
 vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_escape, vec3 r_return_1, vec3 rho_below_1, vec3 rho_returned) {
     float eta_sq = (eta_13 * eta_13);
     float e_fresnel = (1.0 - (eta_sq * e_escape_clear));
-    vec3 _e13 = (rho_returned * r_return_1);
-    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1.0) - _e13)) + vec3(e_fresnel));
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1.0) - (rho_returned * r_return_1))) + vec3(e_fresnel));
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
@@ -573,8 +561,7 @@ vec3 tunable_glaze_interfaced_albedo(float eta_13, float e_escape_clear, vec3 e_
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 vec3 tunable_glaze_interfaced_albedo_dir(float t_1, vec3 a, vec3 e_below, vec3 rho_below_2, vec3 r_return_2, vec3 e_escape_1, vec3 first_escape, vec3 first_return) {
-    vec3 _e10 = (rho_below_2 * r_return_2);
-    vec3 series = (((first_return * rho_below_2) * r_return_2) / (vec3(1.0) - _e10));
+    vec3 series = (((first_return * rho_below_2) * r_return_2) / (vec3(1.0) - (rho_below_2 * r_return_2)));
     return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t_1) + vec3((1.0 - t_1)));
 }
 
@@ -604,78 +591,55 @@ float tunable_glaze_grazing_lookup_roughness(float r_5, float n_dot_v_3) {
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazeParams params_2) {
     float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
     vec3 tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
-    float layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
-    float _e15 = (1.0 - layer1_fresnel_l);
+    float layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
+    float _e15 = (1.0 - layer1_fresnel_v);
     float _e16 = tunable_glaze_coat_deficit(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_transmit_l_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max((_e15 + _e16), 0.0), 1.0));
-    float _e26 = (1.0 - layer1_fresnel_l);
-    float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e26 : min(max((_e26 + _e16), 0.0), 1.0));
+    float layer1_transmit_v_1 = ((params_2.glaze_ior < 1.0) ? _e15 : min(max((_e15 + _e16), 0.0), 1.0));
     vec3 layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e39 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_path_cos_l_2 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e39));
-    float layer1_path_cos_v_2 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e39));
-    vec3 absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
+    float _e29 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_path_cos_v_2 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e29));
     vec3 absorb_v = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_v_2);
-    float blur_1 = ((abs((1.0 - (1.0 / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677);
     vec3 layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     vec3 layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    float _e63 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
-    float _e69 = tunable_glaze_fresnel_transmit_avg((1.0 / params_2.glaze_ior));
-    float _e71 = ((params_2.glaze_ior < 1.0) ? ((params_2.glaze_ior * params_2.glaze_ior) * _e69) : _e63);
-    float _e72 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    float layer1_transmit_avg_2 = ((params_2.glaze_ior < 1.0) ? _e71 : (_e71 + _e72));
-    float _e78 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
-    float _e80 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e82 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e84 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    vec3 _e86 = (vec3(_e80, _e82, _e84) * _e78);
-    float _e95 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e97 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    float _e99 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    bool _e103 = (params_2.glaze_ior < 1.0);
-    vec3 _e104 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
-    vec3 _e105 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
-    vec3 layer1_r_return_2 = (_e103 ? _e104 : max((vec3(1.0) - _e86), vec3(0.0)));
-    vec3 _e107 = (_e103 ? _e105 : (vec3(_e95, _e97, _e99) * _e78));
-    float _e113 = tunable_glaze_fresnel_transmit_avg((1.0 / params_2.glaze_ior));
-    float _e115 = ((params_2.glaze_ior < 1.0) ? ((params_2.glaze_ior * params_2.glaze_ior) * _e113) : _e63);
-    float layer1_transmit_avg_3 = ((params_2.glaze_ior < 1.0) ? _e115 : (_e115 + _e72));
-    float _e121 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
-    vec3 _e122 = vec3(_e121);
-    bool _e132 = (params_2.glaze_ior < 1.0);
-    vec3 _e135 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0.0));
-    vec3 _e138 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0.0));
-    vec3 layer1_r_return_3 = (_e132 ? _e135 : max((vec3(1.0) - _e122), vec3(0.0)));
-    vec3 _e140 = (_e132 ? _e138 : vec3(_e121));
+    float _e47 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
+    float _e53 = tunable_glaze_fresnel_transmit_avg((1.0 / params_2.glaze_ior));
+    float _e55 = ((params_2.glaze_ior < 1.0) ? ((params_2.glaze_ior * params_2.glaze_ior) * _e53) : _e47);
+    float _e56 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    float layer1_transmit_avg_2 = ((params_2.glaze_ior < 1.0) ? _e55 : (_e55 + _e56));
+    float _e62 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
+    float _e64 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e66 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e68 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e79 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e81 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    float _e83 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    bool _e87 = (params_2.glaze_ior < 1.0);
+    vec3 _e88 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
+    vec3 _e89 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
+    vec3 layer1_r_return_2 = (_e87 ? _e88 : max((vec3(1.0) - (vec3(_e64, _e66, _e68) * _e62)), vec3(0.0)));
+    float _e97 = tunable_glaze_fresnel_transmit_avg((1.0 / params_2.glaze_ior));
+    float _e99 = ((params_2.glaze_ior < 1.0) ? ((params_2.glaze_ior * params_2.glaze_ior) * _e97) : _e47);
+    float layer1_transmit_avg_3 = ((params_2.glaze_ior < 1.0) ? _e99 : (_e99 + _e56));
+    float _e105 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
+    bool _e116 = (params_2.glaze_ior < 1.0);
+    vec3 _e119 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0.0));
+    vec3 _e122 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0.0));
+    vec3 layer1_r_return_3 = (_e116 ? _e119 : max((vec3(1.0) - vec3(_e105)), vec3(0.0)));
     float layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params_2.glaze_ior);
     vec3 layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    float layer1_path_cos_l_3 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e39));
-    float layer1_path_cos_v_3 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e39));
-    vec3 _e155 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    float _e156 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    vec3 layer1_first_escape_l_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e156)) * (layer1_eon_escape_shape - 1.0)) / max(_e155, vec3(1e-6))));
-    vec3 layer1_first_return_l_1 = min(max(((vec3(1.0) - (layer1_first_escape_l_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 _e184 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    float _e185 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e185)) * (layer1_eon_escape_shape - 1.0)) / max(_e184, vec3(1e-6))));
-    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    float _e220 = sqrt(max((1.0 - (1.0 / (params_2.glaze_ior * params_2.glaze_ior))), 0.0));
-    float _e236 = min(max((((1.0 - ((_e220 * _e220) * _e220)) / max((1.0 - (_e220 * _e220)), 1e-6)) * 0.6666667), 0.0), 1.0);
-    vec3 _e237 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e236);
-    float _e238 = tunable_glaze_e_fon(_e236, params_2.body_roughness);
-    vec3 layer1_first_escape_cone_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e238)) * (layer1_eon_escape_shape - 1.0)) / max(_e237, vec3(1e-6))));
-    vec3 layer1_first_return_cone_1 = min(max(((vec3(1.0) - (layer1_first_escape_cone_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
-    vec3 rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
-    vec3 albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_l_1, layer1_first_return_l_1);
-    vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_v_1, layer1_first_return_v_1);
+    float layer1_path_cos_v_3 = (layer1_cos_v_1 / ((params_2.glaze_ior < 1.0) ? 1.0 : _e29));
+    vec3 _e134 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    float _e135 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    vec3 layer1_first_escape_v_1 = (vec3(1.0) + (((layer1_rho_ms * (1.0 - _e135)) * (layer1_eon_escape_shape - 1.0)) / max(_e134, vec3(1e-6))));
+    vec3 layer1_first_return_v_1 = min(max(((vec3(1.0) - (layer1_first_escape_v_1 * (_e116 ? _e122 : vec3(_e105)).x)) / vec3(max(layer1_r_return_3.x, 0.0001))), vec3(0.0)), vec3(1.0));
+    vec3 albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, (_e87 ? _e89 : (vec3(_e79, _e81, _e83) * _e62)), layer1_first_escape_v_1, layer1_first_return_v_1);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    bool _e287 = (dot(n_4, v_4) > 0.0);
-    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (_e287 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e287 ? under_albedo : vec3(0.0))));
+    bool _e236 = (dot(n_4, v_4) > 0.0);
+    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (_e236 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e236 ? under_albedo : vec3(0.0))));
 }

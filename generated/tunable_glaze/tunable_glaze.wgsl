@@ -216,8 +216,7 @@ fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - (albedo * (1f - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -437,8 +436,7 @@ fn tunable_glaze_eon_escape_shape(eta_11: f32) -> f32 {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -501,7 +499,6 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_path_cos_v = (layer1_cos_v / select(_e109, 1f, (params.glaze_ior < 1f)));
     let absorb_l = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_8, layer1_path_cos_v);
-    let blur = ((abs((1f - (1f / params.glaze_ior))) * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
     let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
@@ -511,35 +508,27 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let _e139 = select(_e131, ((params.glaze_ior * params.glaze_ior) * _e137), (params.glaze_ior < 1f));
     let _e140 = tunable_glaze_coat_deficit_avg(params.glaze_roughness, params.glaze_ior);
     let layer1_transmit_avg = select((_e139 + _e140), _e139, (params.glaze_ior < 1f));
-    let _e146 = (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior));
     let _e148 = tunable_glaze_coat_return(tau_8.x, params.glaze_roughness, params.glaze_ior);
     let _e150 = tunable_glaze_coat_return(tau_8.y, params.glaze_roughness, params.glaze_ior);
     let _e152 = tunable_glaze_coat_return(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e154 = (vec3<f32>(_e148, _e150, _e152) * _e146);
-    let _e163 = tunable_glaze_coat_escape(tau_8.x, params.glaze_roughness, params.glaze_ior);
-    let _e165 = tunable_glaze_coat_escape(tau_8.y, params.glaze_roughness, params.glaze_ior);
-    let _e167 = tunable_glaze_coat_escape(tau_8.z, params.glaze_roughness, params.glaze_ior);
-    let _e171 = (params.glaze_ior < 1f);
     let _e172 = tunable_glaze_slab_return(params.glaze_ior, tau_8);
-    let _e173 = tunable_glaze_slab_escape(params.glaze_ior, tau_8);
-    let layer1_r_return = select(max((vec3(1f) - _e154), vec3(0f)), _e172, _e171);
+    let layer1_r_return = select(max((vec3(1f) - (vec3<f32>(_e148, _e150, _e152) * (layer1_transmit_avg / (params.glaze_ior * params.glaze_ior)))), vec3(0f)), _e172, (params.glaze_ior < 1f));
     let _e181 = tunable_glaze_fresnel_transmit_avg((1f / params.glaze_ior));
     let _e183 = select(_e131, ((params.glaze_ior * params.glaze_ior) * _e181), (params.glaze_ior < 1f));
     let layer1_transmit_avg_1 = select((_e183 + _e140), _e183, (params.glaze_ior < 1f));
     let _e189 = (layer1_transmit_avg_1 / (params.glaze_ior * params.glaze_ior));
-    let _e190 = vec3(_e189);
     let _e200 = (params.glaze_ior < 1f);
     let _e203 = tunable_glaze_slab_return(params.glaze_ior, vec3(0f));
     let _e206 = tunable_glaze_slab_escape(params.glaze_ior, vec3(0f));
-    let layer1_r_return_1 = select(max((vec3(1f) - _e190), vec3(0f)), _e203, _e200);
+    let layer1_r_return_1 = select(max((vec3(1f) - vec3(_e189)), vec3(0f)), _e203, _e200);
     let layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params.glaze_ior);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     let layer1_path_cos_l_1 = (layer1_cos_l / select(_e103, 1f, (params.glaze_ior < 1f)));
-    let layer1_path_cos_v_1 = (layer1_cos_v / select(_e109, 1f, (params.glaze_ior < 1f)));
-    let _e223 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e224 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e224)) * (layer1_eon_escape_shape - 1f)) / max(_e223, vec3(0.000001f))));
+    let _e218 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e219 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e219)) * (layer1_eon_escape_shape - 1f)) / max(_e218, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * select(vec3(_e189), _e206, _e200).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_v_1 = (layer1_cos_v / select(_e109, 1f, (params.glaze_ior < 1f)));
     let _e252 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
     let _e253 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e253)) * (layer1_eon_escape_shape - 1f)) / max(_e252, vec3(0.000001f))));
@@ -568,8 +557,7 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
 fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape: vec3<f32>, r_return_1: vec3<f32>, rho_below_1: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_13 * eta_13);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
-    let _e13 = (rho_returned * r_return_1);
-    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - (rho_returned * r_return_1))) + vec3(e_fresnel));
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
@@ -577,8 +565,7 @@ fn tunable_glaze_interfaced_albedo(eta_13: f32, e_escape_clear: f32, e_escape: v
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_albedo_dir(t_1: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_2: vec3<f32>, r_return_2: vec3<f32>, e_escape_1: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_2 * r_return_2);
-    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - (rho_below_2 * r_return_2)));
     return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t_1) + vec3((1f - t_1)));
 }
 
@@ -608,79 +595,56 @@ fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
     let tau_9 = (params_2.glaze_absorption * params_2.glaze_thickness);
-    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
-    let _e15 = (1f - layer1_fresnel_l);
+    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_5, params_2.glaze_ior);
+    let _e15 = (1f - layer1_fresnel_v);
     let _e16 = tunable_glaze_coat_deficit(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_transmit_l_1 = select(min(max((_e15 + _e16), 0f), 1f), _e15, (params_2.glaze_ior < 1f));
-    let _e26 = (1f - layer1_fresnel_l);
-    let layer1_transmit_v_1 = select(min(max((_e26 + _e16), 0f), 1f), _e26, (params_2.glaze_ior < 1f));
+    let layer1_transmit_v_1 = select(min(max((_e15 + _e16), 0f), 1f), _e15, (params_2.glaze_ior < 1f));
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, params_2.glaze_ior);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e39 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / select(_e39, 1f, (params_2.glaze_ior < 1f)));
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / select(_e39, 1f, (params_2.glaze_ior < 1f)));
-    let absorb_l = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_l_2);
+    let _e29 = tunable_glaze_coat_path(n_dot_v_5, params_2.glaze_roughness, params_2.glaze_ior);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / select(_e29, 1f, (params_2.glaze_ior < 1f)));
     let absorb_v = tunable_glaze_slab_transmittance(tau_9, layer1_path_cos_v_2);
-    let blur_1 = ((abs((1f - (1f / params_2.glaze_ior))) * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e63 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
-    let _e69 = tunable_glaze_fresnel_transmit_avg((1f / params_2.glaze_ior));
-    let _e71 = select(_e63, ((params_2.glaze_ior * params_2.glaze_ior) * _e69), (params_2.glaze_ior < 1f));
-    let _e72 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
-    let layer1_transmit_avg_2 = select((_e71 + _e72), _e71, (params_2.glaze_ior < 1f));
-    let _e78 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
-    let _e80 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e82 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e84 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e86 = (vec3<f32>(_e80, _e82, _e84) * _e78);
-    let _e95 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e97 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e99 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
-    let _e103 = (params_2.glaze_ior < 1f);
-    let _e104 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
-    let _e105 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
-    let layer1_r_return_2 = select(max((vec3(1f) - _e86), vec3(0f)), _e104, _e103);
-    let _e107 = select((vec3<f32>(_e95, _e97, _e99) * _e78), _e105, _e103);
-    let _e113 = tunable_glaze_fresnel_transmit_avg((1f / params_2.glaze_ior));
-    let _e115 = select(_e63, ((params_2.glaze_ior * params_2.glaze_ior) * _e113), (params_2.glaze_ior < 1f));
-    let layer1_transmit_avg_3 = select((_e115 + _e72), _e115, (params_2.glaze_ior < 1f));
-    let _e121 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
-    let _e122 = vec3(_e121);
-    let _e132 = (params_2.glaze_ior < 1f);
-    let _e135 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0f));
-    let _e138 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0f));
-    let layer1_r_return_3 = select(max((vec3(1f) - _e122), vec3(0f)), _e135, _e132);
-    let _e140 = select(vec3(_e121), _e138, _e132);
+    let _e47 = tunable_glaze_fresnel_transmit_avg(params_2.glaze_ior);
+    let _e53 = tunable_glaze_fresnel_transmit_avg((1f / params_2.glaze_ior));
+    let _e55 = select(_e47, ((params_2.glaze_ior * params_2.glaze_ior) * _e53), (params_2.glaze_ior < 1f));
+    let _e56 = tunable_glaze_coat_deficit_avg(params_2.glaze_roughness, params_2.glaze_ior);
+    let layer1_transmit_avg_2 = select((_e55 + _e56), _e55, (params_2.glaze_ior < 1f));
+    let _e62 = (layer1_transmit_avg_2 / (params_2.glaze_ior * params_2.glaze_ior));
+    let _e64 = tunable_glaze_coat_return(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e66 = tunable_glaze_coat_return(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e68 = tunable_glaze_coat_return(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e79 = tunable_glaze_coat_escape(tau_9.x, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e81 = tunable_glaze_coat_escape(tau_9.y, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e83 = tunable_glaze_coat_escape(tau_9.z, params_2.glaze_roughness, params_2.glaze_ior);
+    let _e87 = (params_2.glaze_ior < 1f);
+    let _e88 = tunable_glaze_slab_return(params_2.glaze_ior, tau_9);
+    let _e89 = tunable_glaze_slab_escape(params_2.glaze_ior, tau_9);
+    let layer1_r_return_2 = select(max((vec3(1f) - (vec3<f32>(_e64, _e66, _e68) * _e62)), vec3(0f)), _e88, _e87);
+    let _e97 = tunable_glaze_fresnel_transmit_avg((1f / params_2.glaze_ior));
+    let _e99 = select(_e47, ((params_2.glaze_ior * params_2.glaze_ior) * _e97), (params_2.glaze_ior < 1f));
+    let layer1_transmit_avg_3 = select((_e99 + _e56), _e99, (params_2.glaze_ior < 1f));
+    let _e105 = (layer1_transmit_avg_3 / (params_2.glaze_ior * params_2.glaze_ior));
+    let _e116 = (params_2.glaze_ior < 1f);
+    let _e119 = tunable_glaze_slab_return(params_2.glaze_ior, vec3(0f));
+    let _e122 = tunable_glaze_slab_escape(params_2.glaze_ior, vec3(0f));
+    let layer1_r_return_3 = select(max((vec3(1f) - vec3(_e105)), vec3(0f)), _e119, _e116);
     let layer1_eon_escape_shape = tunable_glaze_eon_escape_shape(params_2.glaze_ior);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / select(_e39, 1f, (params_2.glaze_ior < 1f)));
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / select(_e39, 1f, (params_2.glaze_ior < 1f)));
-    let _e155 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e156 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e156)) * (layer1_eon_escape_shape - 1f)) / max(_e155, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e184 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e185 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e185)) * (layer1_eon_escape_shape - 1f)) / max(_e184, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e220 = sqrt(max((1f - (1f / (params_2.glaze_ior * params_2.glaze_ior))), 0f));
-    let _e236 = min(max((((1f - ((_e220 * _e220) * _e220)) / max((1f - (_e220 * _e220)), 0.000001f)) * 0.6666667f), 0f), 1f);
-    let _e237 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, _e236);
-    let _e238 = tunable_glaze_e_fon(_e236, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e238)) * (layer1_eon_escape_shape - 1f)) / max(_e237, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e140.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let rho = tunable_glaze_interfaced_albedo(params_2.glaze_ior, _e140.x, _e107, layer1_r_return_2, layer1_rho, layer1_rho);
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e107, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / select(_e29, 1f, (params_2.glaze_ior < 1f)));
+    let _e134 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e135 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e135)) * (layer1_eon_escape_shape - 1f)) / max(_e134, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * select(vec3(_e105), _e122, _e116).x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, select((vec3<f32>(_e79, _e81, _e83) * _e62), _e89, _e87), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     let lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    let _e287 = (dot(n_4, v_4) > 0f);
-    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e287))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e287)));
+    let _e236 = (dot(n_4, v_4) > 0f);
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e236))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e236)));
 }
 

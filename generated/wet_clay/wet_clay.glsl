@@ -188,8 +188,7 @@ vec3 wet_clay_albedo_oren_nayar(vec3 albedo_1, float sigma_1, float mu_1) {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 vec3 wet_clay_interfaced_diffuse_under(vec3 f_below, vec3 e_i, vec3 e_o, vec3 rho_below, vec3 r_return) {
-    vec3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - _e7) * vec3(3.1415927))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1.0) - (rho_below * r_return)) * vec3(3.1415927))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -263,8 +262,7 @@ vec3 wet_clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 vec3 wet_clay_interfaced_albedo_dir(float t, vec3 a, vec3 e_below, vec3 rho_below_1, vec3 r_return_1, vec3 e_escape, vec3 first_escape, vec3 first_return) {
-    vec3 _e10 = (rho_below_1 * r_return_1);
-    vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - _e10));
+    vec3 series = (((first_return * rho_below_1) * r_return_1) / (vec3(1.0) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1.0 - t)));
 }
 
@@ -294,29 +292,22 @@ float wet_clay_grazing_lookup_roughness(float r, float n_dot_v_3) {
 // irradiance.direction, over π), k < wet_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 WetClayIblLobes wet_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
+    float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
     float _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     vec3 layer1_v = wet_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
-    vec3 absorb_l_1 = vec3(_e31);
-    float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
-    vec3 absorb_v_1 = vec3(_e34);
-    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
-    vec3 layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
-    vec3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
-    vec3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
+    float _e20 = wet_clay_coat_path_curve(n_dot_v_5);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    float _e23 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
+    vec3 absorb_v_1 = vec3(_e23);
+    vec3 layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
+    vec3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e81 = (dot(n_4, v_4) > 0.0);
-    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e81 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e81 ? under_albedo : vec3(0.0))));
+    bool _e55 = (dot(n_4, v_4) > 0.0);
+    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e55 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e55 ? under_albedo : vec3(0.0))));
 }

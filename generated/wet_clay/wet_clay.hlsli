@@ -207,8 +207,7 @@ float3 wet_clay_albedo_oren_nayar(float3 albedo_1, float sigma_1, float mu_1)
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 float3 wet_clay_interfaced_diffuse_under(float3 f_below, float3 e_i, float3 e_o, float3 rho_below, float3 r_return)
 {
-    float3 _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - _e7) * (3.1415927).xxx)));
+    return (f_below + (((e_i * e_o) * r_return) / (((1.0).xxx - (rho_below * r_return)) * (3.1415927).xxx)));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -286,8 +285,7 @@ float3 wet_clay_eval(float3 n_2, float3 v_2, float3 l_2)
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 float3 wet_clay_interfaced_albedo_dir(float t, float3 a, float3 e_below, float3 rho_below_1, float3 r_return_1, float3 e_escape, float3 first_escape, float3 first_return)
 {
-    float3 _e10 = (rho_below_1 * r_return_1);
-    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - _e10));
+    float3 series = (((first_return * rho_below_1) * r_return_1) / ((1.0).xxx - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + ((1.0 - t)).xxx);
 }
 
@@ -353,30 +351,23 @@ WetClayIblLobes ConstructWetClayIblLobes(WetClayIblLobe arg0[1], WetClayIblLobe 
 WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_5 = dot(n_4, v_4);
-    float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
+    const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
     const float _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
-    float layer1_transmit_l_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_l) + _e9), 0.0), 1.0);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    const float _e31 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l_1);
-    float3 absorb_l_1 = (_e31).xxx;
-    const float _e34 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
-    float3 absorb_v_1 = (_e34).xxx;
-    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l_1);
-    const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
-    const float3 albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
-    const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
+    const float _e20 = wet_clay_coat_path_curve(n_dot_v_5);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    const float _e23 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
+    float3 absorb_v_1 = (_e23).xxx;
+    const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
+    const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     const float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e81 = (dot(n_4, v_4) > 0.0);
-    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e81 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e81 ? under_albedo : (0.0).xxx)));
+    bool _e55 = (dot(n_4, v_4) > 0.0);
+    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e55 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e55 ? under_albedo : (0.0).xxx)));
     return wetclayibllobes;
 }

@@ -190,8 +190,7 @@ fn wet_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu_1: f32) -> v
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn wet_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -265,8 +264,7 @@ fn wet_clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn wet_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_1 * r_return_1);
-    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -296,30 +294,23 @@ fn wet_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
 // irradiance.direction, over π), k < wet_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let layer1_fresnel_l = wet_clay_fr_dielectric(n_dot_v_5, 1.33f);
+    let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_5, 1.33f);
     let _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = wet_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_l_1 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e27);
-    let _e31 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l_1);
-    let absorb_l_1 = vec3(_e31);
-    let _e34 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
-    let absorb_v_1 = vec3(_e34);
-    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l_1);
-    let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
-    let albedo_l = wet_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
-    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_v, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
+    let _e20 = wet_clay_coat_path_curve(n_dot_v_5);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    let _e23 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
+    let absorb_v_1 = vec3(_e23);
+    let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
+    let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
     let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
-    let _e81 = (dot(n_4, v_4) > 0f);
-    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e81))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e81)));
+    let _e55 = (dot(n_4, v_4) > 0f);
+    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e55))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e55)));
 }
 

@@ -251,8 +251,7 @@ fn four_layer_e_fon(mu_2: f32, r: f32) -> f32 {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn four_layer_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - (albedo * (1f - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -296,8 +295,7 @@ fn four_layer_coat_path_curve_d(cos_theta_6: f32) -> f32 {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn four_layer_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -311,8 +309,7 @@ fn four_layer_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn four_layer_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_1 * r_return_1);
-    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -413,13 +410,11 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer3_cos_v = max(layer3_n_dot_v, 0.0001f);
     let layer3_cos_l = max(layer3_n_dot_l, 0.0001f);
     let _e219 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_l * layer2_n_dot_l)))), 0f)));
-    let _e221 = (_e219 - 1f);
     let _e222 = four_layer_coat_path_curve_c(layer2_n_dot_l);
-    let layer3_path_cos_l = (layer3_cos_l / (_e222 + _e221));
+    let layer3_path_cos_l = (layer3_cos_l / (_e222 + (_e219 - 1f)));
     let _e237 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v * layer2_n_dot_v)))), 0f)));
-    let _e239 = (_e237 - 1f);
     let _e240 = four_layer_coat_path_curve_c(layer2_n_dot_v);
-    let layer3_path_cos_v = (layer3_cos_v / (_e240 + _e239));
+    let layer3_path_cos_v = (layer3_cos_v / (_e240 + (_e237 - 1f)));
     let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l);
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v);
     let layer2_blur_l = ((abs((1f - (layer2_cos_l / (1.1f * max(layer3_cos_l, 0.05f))))) * 0.09f) * 0.70710677f);
@@ -456,12 +451,12 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer4_albedo_v = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v);
     let _e381 = four_layer_coat_path_curve_d(layer3_n_dot_l);
     let layer4_path_cos_l = (layer4_cos_l / _e381);
-    let _e383 = four_layer_coat_path_curve_d(layer3_n_dot_v);
-    let layer4_path_cos_v = (layer4_cos_v / _e383);
-    let _e390 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
-    let _e392 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
-    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e392)) * vec3(0.18698311f)) / max(_e390, vec3(0.000001f))));
+    let _e388 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l);
+    let _e390 = four_layer_e_fon(layer4_path_cos_l, 0.4f);
+    let layer4_first_escape_l = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e390)) * vec3(0.18698311f)) / max(_e388, vec3(0.000001f))));
     let layer4_first_return_l = min(max(((vec3(1f) - (layer4_first_escape_l * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
+    let _e420 = four_layer_coat_path_curve_d(layer3_n_dot_v);
+    let layer4_path_cos_v = (layer4_cos_v / _e420);
     let _e427 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v);
     let _e429 = four_layer_e_fon(layer4_path_cos_v, 0.4f);
     let layer4_first_escape_v = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e429)) * vec3(0.18698311f)) / max(_e427, vec3(0.000001f))));
@@ -487,12 +482,10 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l, layer2_first_return_l);
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v, layer2_first_return_v);
     let _e608 = (1f - layer3_transmit_l);
-    let _e611 = four_layer_glossy_trapped_share(layer2_cos_l, 0f, 0.09f);
     let _e631 = min(max(((vec3((_e608 * layer2_transmit_l)) + max((layer2_albedo_l - vec3(_e608)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_l = (_e631 / vec3(0.9999998f));
     let layer1_first_return_l = min(max(((vec3(1f) - _e631) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let _e648 = (1f - layer3_transmit_v);
-    let _e651 = four_layer_glossy_trapped_share(layer2_cos_v, 0f, 0.09f);
     let _e671 = min(max(((vec3((_e648 * layer2_transmit_v)) + max((layer2_albedo_v - vec3(_e648)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
     let layer1_first_escape_v = (_e671 / vec3(0.9999998f));
     let layer1_first_return_v = min(max(((vec3(1f) - _e671) / vec3(0.0001f)), vec3(0f)), vec3(1f));
@@ -501,13 +494,9 @@ fn four_layer_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l, layer1_absorb_l, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l, layer1_first_return_l);
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v, layer1_absorb_v, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v, layer1_first_return_v);
     let _e709 = (1f - layer2_transmit_l);
-    let _e730 = min(max(((vec3((_e709 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e709)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l = (_e730 / vec3(0.41998938f));
-    let first_return_l = min(max(((vec3(1f) - _e730) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let first_return_l = min(max(((vec3(1f) - min(max(((vec3((_e709 * layer1_transmit_l)) + (max((layer1_albedo_l - vec3(_e709)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f))) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let _e747 = (1f - layer2_transmit_v);
-    let _e768 = min(max(((vec3((_e747 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e747)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v = (_e768 / vec3(0.41998938f));
-    let first_return_v = min(max(((vec3(1f) - _e768) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let first_return_v = min(max(((vec3(1f) - min(max(((vec3((_e747 * layer1_transmit_v)) + (max((layer1_albedo_v - vec3(_e747)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f))) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
     let under = four_layer_interfaced_diffuse_under(layer1_f, (layer1_albedo_l * first_return_l), ((layer1_albedo_v * first_return_v) / max(vec3(0.9795071f), min(first_return_l, first_return_v))), four_layer_rho_returned, four_layer_r_series);
     let f = four_layer_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), under, 1.5f);
     return select(vec3(0f), f, ((n_dot_v_5 > 0f) && (n_dot_l_4 > 0f)));
@@ -545,108 +534,66 @@ fn four_layer_grazing_lookup_roughness(r_4: f32, n_dot_v_4: f32) -> f32 {
 // irradiance.direction, over π), k < four_layer_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let n_dot_v_6 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_6, 0.0001f);
-    let layer1_fresnel_l = four_layer_fr_dielectric(n_dot_v_6, 1.5f);
+    let layer1_fresnel_v = four_layer_fr_dielectric(n_dot_v_6, 1.5f);
     let _e9 = four_layer_gtr1_coat_deficit_curve(n_dot_v_6);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let layer1_v = four_layer_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
-    let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let blur_l_1 = ((abs((1f - (cos_v_1 / (1.5f * max(layer1_cos_v_1, 0.05f))))) * 0.2f) * 0.70710677f);
-    let blur_v_1 = ((abs((1f - (cos_v_1 / (1.5f * max(layer1_cos_v_1, 0.05f))))) * 0.2f) * 0.70710677f);
-    let layer2_fresnel_l = four_layer_fr_dielectric(layer1_n_dot_v_1, 1f);
-    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
-    let layer2_transmit_v_1 = (1f - layer2_fresnel_l);
+    let layer2_fresnel_v = four_layer_fr_dielectric(layer1_n_dot_v_1, 1f);
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_v);
     let layer2_v = four_layer_refract_down(layer1_v, n_4, 1f);
     let layer2_n_dot_v_1 = dot(n_4, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let _e72 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
-    let layer2_path_cos_l_1 = (layer2_cos_v_1 / ((_e72 - 1f) + 1f));
-    let _e88 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
-    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e88 - 1f) + 1f));
-    let _e95 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_l_1);
-    let layer1_absorb_l_1 = vec3(_e95);
-    let _e98 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
-    let layer1_absorb_v_1 = vec3(_e98);
-    let layer3_fresnel_l = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
-    let _e104 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
-    let layer3_transmit_l_1 = min(max(((1f - layer3_fresnel_l) + _e104), 0f), 1f);
-    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_l) + _e104), 0f), 1f);
+    let _e63 = four_layer_coat_path_curve(sqrt(max((1f - (2.25f * (1f - (layer1_n_dot_v_1 * layer1_n_dot_v_1)))), 0f)));
+    let layer2_path_cos_v_1 = (layer2_cos_v_1 / ((_e63 - 1f) + 1f));
+    let _e70 = four_layer_slab_transmittance_grey(0.02f, layer2_path_cos_v_1);
+    let layer1_absorb_v_1 = vec3(_e70);
+    let layer3_fresnel_v = four_layer_fr_dielectric(layer2_n_dot_v_1, 1.1f);
+    let _e76 = four_layer_coat_deficit_curve(layer2_n_dot_v_1);
+    let layer3_transmit_v_1 = min(max(((1f - layer3_fresnel_v) + _e76), 0f), 1f);
     let layer3_v = four_layer_refract_down(layer2_v, n_4, 1.1f);
     let layer3_n_dot_v_1 = dot(n_4, layer3_v);
     let layer3_cos_v_1 = max(layer3_n_dot_v_1, 0.0001f);
-    let _e132 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
-    let _e134 = (_e132 - 1f);
-    let _e135 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
-    let layer3_path_cos_l_1 = (layer3_cos_v_1 / (_e135 + _e134));
-    let _e150 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
-    let _e152 = (_e150 - 1f);
-    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e135 + _e152));
-    let layer2_absorb_l = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_l_1);
+    let _e97 = four_layer_coat_path_curve_b(sqrt(max((1f - (2.25f * (1f - (layer2_n_dot_v_1 * layer2_n_dot_v_1)))), 0f)));
+    let _e100 = four_layer_coat_path_curve_c(layer2_n_dot_v_1);
+    let layer3_path_cos_v_1 = (layer3_cos_v_1 / (_e100 + (_e97 - 1f)));
     let layer2_absorb_v = four_layer_slab_transmittance(four_layer_layer2_tau, layer3_path_cos_v_1);
-    let layer2_blur_l_1 = ((abs((1f - (layer2_cos_v_1 / (1.1f * max(layer3_cos_v_1, 0.05f))))) * 0.09f) * 0.70710677f);
-    let layer2_blur_v_1 = ((abs((1f - (layer2_cos_v_1 / (1.1f * max(layer3_cos_v_1, 0.05f))))) * 0.09f) * 0.70710677f);
-    let layer4_fresnel_l = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
-    let _e189 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
-    let layer4_transmit_l_1 = min(max(((1f - layer4_fresnel_l) + _e189), 0f), 1f);
-    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_l) + _e189), 0f), 1f);
+    let layer4_fresnel_v = four_layer_fr_dielectric(layer3_n_dot_v_1, 1.2f);
+    let _e135 = four_layer_coat_deficit_curve_b(layer3_n_dot_v_1);
+    let layer4_transmit_v_1 = min(max(((1f - layer4_fresnel_v) + _e135), 0f), 1f);
     let layer4_v = four_layer_refract_down(layer3_v, n_4, 1.2f);
     let layer4_n_dot_v_1 = dot(n_4, layer4_v);
     let layer4_cos_v_1 = max(layer4_n_dot_v_1, 0.0001f);
     let layer4_albedo_l = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_cos_v_1);
-    let _e213 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
-    let layer4_path_cos_l_1 = (layer4_cos_v_1 / _e213);
-    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e213);
-    let _e221 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_l_1);
-    let _e223 = four_layer_e_fon(layer4_path_cos_l_1, 0.4f);
-    let layer4_first_escape_l_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e223)) * vec3(0.18698311f)) / max(_e221, vec3(0.000001f))));
-    let layer4_first_return_l_1 = min(max(((vec3(1f) - (layer4_first_escape_l_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let _e258 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
-    let _e260 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
-    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e260)) * vec3(0.18698311f)) / max(_e258, vec3(0.000001f))));
+    let _e152 = four_layer_coat_path_curve_d(layer3_n_dot_v_1);
+    let layer4_path_cos_v_1 = (layer4_cos_v_1 / _e152);
+    let _e159 = four_layer_albedo_eon(vec3<f32>(0.9f, 0.9f, 0.85f), 0.4f, layer4_path_cos_v_1);
+    let _e161 = four_layer_e_fon(layer4_path_cos_v_1, 0.4f);
+    let layer4_first_escape_v_1 = (vec3(1f) + (((four_layer_layer4_rho_ms * (1f - _e161)) * vec3(0.18698311f)) / max(_e159, vec3(0.000001f))));
     let layer4_first_return_v_1 = min(max(((vec3(1f) - (layer4_first_escape_v_1 * vec3(0.67766106f))) / vec3(0.32233894f)), vec3(0f)), vec3(1f));
-    let layer3_albedo_l = four_layer_interfaced_albedo_dir(layer4_transmit_l_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_l_1, layer4_first_return_l_1);
     let layer3_albedo_v = four_layer_interfaced_albedo_dir(layer4_transmit_v_1, vec3(1f), layer4_albedo_l, four_layer_layer4_rho, four_layer_layer4_r_return, vec3(0.67766106f), layer4_first_escape_v_1, layer4_first_return_v_1);
-    let _e305 = (1f - layer4_transmit_l_1);
-    let _e308 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784f, 0.25f);
-    let layer2_first_cone_share_l_1 = (1f - _e308);
-    let _e332 = min(max(((vec3(((_e305 * layer2_first_cone_share_l_1) * layer3_transmit_l_1)) + (max((layer3_albedo_l - vec3(_e305)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_l_1 = (_e332 / vec3(0.80973125f));
-    let layer2_first_return_l_1 = min(max(((vec3(1f) - _e332) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let _e349 = (1f - layer4_transmit_v_1);
-    let layer2_first_cone_share_v_1 = (1f - _e308);
-    let _e373 = min(max(((vec3(((_e349 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e349)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer2_first_escape_v_1 = (_e373 / vec3(0.80973125f));
-    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e373) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
-    let layer2_albedo_l = four_layer_interfaced_albedo_dir(layer3_transmit_l_1, layer2_absorb_l, layer3_albedo_l, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_l_1, layer2_first_return_l_1);
+    let _e199 = (1f - layer4_transmit_v_1);
+    let _e202 = four_layer_glossy_trapped_share(layer3_cos_v_1, 0.41659784f, 0.25f);
+    let layer2_first_cone_share_v_1 = (1f - _e202);
+    let _e226 = min(max(((vec3(((_e199 * layer2_first_cone_share_v_1) * layer3_transmit_v_1)) + (max((layer3_albedo_v - vec3(_e199)), vec3(0f)) * vec3(0.8201269f))) / max(layer3_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer2_first_escape_v_1 = (_e226 / vec3(0.80973125f));
+    let layer2_first_return_v_1 = min(max(((vec3(1f) - _e226) / vec3(0.19026875f)), vec3(0f)), vec3(1f));
     let layer2_albedo_v = four_layer_interfaced_albedo_dir(layer3_transmit_v_1, layer2_absorb_v, layer3_albedo_v, four_layer_layer2_rho_returned, four_layer_layer3_r_return, vec3<f32>(0.481202f, 0.6023142f, 0.7615567f), layer2_first_escape_v_1, layer2_first_return_v_1);
-    let _e404 = (1f - layer3_transmit_l_1);
-    let _e407 = four_layer_glossy_trapped_share(layer2_cos_v_1, 0f, 0.09f);
-    let _e427 = min(max(((vec3((_e404 * layer2_transmit_l_1)) + max((layer2_albedo_l - vec3(_e404)), vec3(0f))) / max(layer2_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_l_1 = (_e427 / vec3(0.9999998f));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - _e427) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let _e444 = (1f - layer3_transmit_v_1);
-    let _e464 = min(max(((vec3((_e444 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e444)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let layer1_first_escape_v_1 = (_e464 / vec3(0.9999998f));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e464) / vec3(0.0001f)), vec3(0f)), vec3(1f));
-    let layer1_albedo_l = four_layer_interfaced_albedo_dir(layer2_transmit_l_1, layer1_absorb_l_1, layer2_albedo_l, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_l_1, layer1_first_return_l_1);
+    let _e250 = (1f - layer3_transmit_v_1);
+    let _e273 = min(max(((vec3((_e250 * layer2_transmit_v_1)) + max((layer2_albedo_v - vec3(_e250)), vec3(0f))) / max(layer2_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let layer1_first_escape_v_1 = (_e273 / vec3(0.9999998f));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - _e273) / vec3(0.0001f)), vec3(0f)), vec3(1f));
     let layer1_albedo_v = four_layer_interfaced_albedo_dir(layer2_transmit_v_1, layer1_absorb_v_1, layer2_albedo_v, four_layer_layer1_rho_returned, four_layer_layer1_r_series, four_layer_layer1_e_series, layer1_first_escape_v_1, layer1_first_return_v_1);
-    let _e489 = (1f - layer2_transmit_l_1);
-    let _e510 = min(max(((vec3((_e489 * layer1_transmit_l_1)) + (max((layer1_albedo_l - vec3(_e489)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_l, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_l_1 = (_e510 / vec3(0.41998938f));
-    let first_return_l_1 = min(max(((vec3(1f) - _e510) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let _e527 = (1f - layer2_transmit_v_1);
-    let _e548 = min(max(((vec3((_e527 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e527)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
-    let first_escape_v_1 = (_e548 / vec3(0.41998938f));
-    let first_return_v_1 = min(max(((vec3(1f) - _e548) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
-    let albedo_l = four_layer_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), layer1_albedo_l, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_l_1, first_return_l_1);
-    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v_1, first_return_v_1);
+    let _e294 = (1f - layer2_transmit_v_1);
+    let _e315 = min(max(((vec3((_e294 * layer1_transmit_v_1)) + (max((layer1_albedo_v - vec3(_e294)), vec3(0f)) * vec3(0.43187544f))) / max(layer1_albedo_v, vec3(0.000001f))), vec3(0f)), vec3(1f));
+    let first_escape_v = (_e315 / vec3(0.41998938f));
+    let first_return_v_1 = min(max(((vec3(1f) - _e315) / vec3(0.58001065f)), vec3(0f)), vec3(1f));
+    let albedo_v = four_layer_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), layer1_albedo_v, four_layer_rho_returned, four_layer_r_series, four_layer_e_series, first_escape_v, first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e591 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e591))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e591)));
+    let _e352 = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e352))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e352)));
 }
 

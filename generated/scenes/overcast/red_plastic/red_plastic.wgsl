@@ -11,10 +11,9 @@ struct RedPlasticIblLobes {
 }
 
 const red_plastic_under: vec3<f32> = vec3<f32>(0.29395396f, 0.016394045f, 0.013036837f);
-const red_plastic_layer1_albedo_l: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
+const red_plastic_layer1_albedo_v: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 const red_plastic_layer1_rho: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 const red_plastic_layer1_r_return: vec3<f32> = vec3<f32>(0.5838103f, 0.5838103f, 0.5838103f);
-const red_plastic_layer1_albedo_v: vec3<f32> = vec3<f32>(0.6f, 0.05f, 0.04f);
 const red_plastic_ibl_specular_lobes: u32 = 1u;
 
 // The microfacet half vector h = (v + l)/|v + l| (Torrance & Sparrow 1967).
@@ -178,12 +177,6 @@ fn red_plastic_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
     let _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
     let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
-    let layer1_v = red_plastic_refract_down(v_1, n_1, 1.49f);
-    let layer1_l = red_plastic_refract_down(l_1, n_1, 1.49f);
-    let layer1_n_dot_v = dot(n_1, layer1_v);
-    let layer1_n_dot_l = dot(n_1, layer1_l);
-    let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
-    let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
     let f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), red_plastic_under, 1.49f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -199,8 +192,7 @@ fn red_plastic_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn red_plastic_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below * r_return);
-    let series = (((first_return * rho_below) * r_return) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below) * r_return) / (vec3(1f) - (rho_below * r_return)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -230,21 +222,15 @@ fn red_plastic_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 // irradiance.direction, over π), k < red_plastic_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn red_plastic_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> RedPlasticIblLobes {
     let n_dot_v_4 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = red_plastic_fr_dielectric(n_dot_v_4, 1.49f);
+    let layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_4, 1.49f);
     let _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_v = red_plastic_refract_down(v_4, n_4, 1.49f);
-    let layer1_n_dot_v_1 = dot(n_4, layer1_v);
-    let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let albedo_l = red_plastic_interfaced_albedo_dir(layer1_transmit_l_1, vec3(1f), red_plastic_layer1_albedo_l, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897f), vec3(1f), vec3(1f));
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995f);
     let lookup_roughness = red_plastic_grazing_lookup_roughness(0.35f, dot(n_4, v_4));
-    let _e66 = (dot(n_4, v_4) > 0f);
-    return RedPlasticIblLobes(array<RedPlasticIblLobe, 1>(RedPlasticIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e66))), RedPlasticIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e66)));
+    let _e47 = (dot(n_4, v_4) > 0f);
+    return RedPlasticIblLobes(array<RedPlasticIblLobe, 1>(RedPlasticIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e47))), RedPlasticIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e47)));
 }
 

@@ -172,8 +172,7 @@ fn color_clay_e_fon(mu_1: f32, r: f32) -> f32 {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn color_clay_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - (albedo * (1f - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -203,8 +202,7 @@ fn color_clay_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_2: f32) -> vec3<f32> 
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn color_clay_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -263,11 +261,11 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_l);
     let layer1_albedo_v = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v);
     let layer1_path_cos_l_1 = (layer1_cos_l / _e86);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e88);
-    let _e122 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
-    let _e124 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e124)) * vec3(0.23442733f)) / max(_e122, vec3(0.000001f))));
+    let _e121 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
+    let _e123 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e123)) * vec3(0.23442733f)) / max(_e121, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e88);
     let _e159 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
     let _e161 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
     let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e161)) * vec3(0.23442733f)) / max(_e159, vec3(0.000001f))));
@@ -288,8 +286,7 @@ fn color_clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> 
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn color_clay_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_1: vec3<f32>, r_return_1: vec3<f32>, e_escape: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_1 * r_return_1);
-    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_1) * r_return_1) / (vec3(1f) - (rho_below_1 * r_return_1)));
     return (((((a * e_below) * e_escape) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -319,39 +316,28 @@ fn color_clay_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
 // irradiance.direction, over π), k < color_clay_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_v_5, 1.33f);
+    let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_5, 1.33f);
     let _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e27 = color_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e27);
-    let _e31 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l_2);
-    let absorb_l_1 = vec3(_e31);
-    let _e34 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
-    let absorb_v_1 = vec3(_e34);
+    let _e20 = color_clay_coat_path_curve(n_dot_v_5);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e20);
+    let _e23 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
+    let absorb_v_1 = vec3(_e23);
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v_1);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e27);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e27);
-    let _e49 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_3);
-    let _e51 = color_clay_e_fon(layer1_path_cos_l_3, 0.5f);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e51)) * vec3(0.23442733f)) / max(_e49, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
-    let _e86 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
-    let _e88 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e88)) * vec3(0.23442733f)) / max(_e86, vec3(0.000001f))));
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e20);
+    let _e37 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
+    let _e39 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e39)) * vec3(0.23442733f)) / max(_e37, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
-    let albedo_l = color_clay_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09f);
     let lookup_roughness = color_clay_grazing_lookup_roughness(0.3f, dot(n_4, v_4));
-    let _e143 = (dot(n_4, v_4) > 0f);
-    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e143))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e143)));
+    let _e89 = (dot(n_4, v_4) > 0f);
+    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e89))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e89)));
 }
 

@@ -161,8 +161,7 @@ fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - (albedo * (1f - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -200,8 +199,7 @@ fn tunable_glaze_albedo_eon(albedo_3: vec3<f32>, r_4: f32, mu_2: f32) -> vec3<f3
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -246,11 +244,11 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_v);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, 0.5f);
     let layer1_path_cos_l_1 = (layer1_cos_l / _e54);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e56);
-    let _e76 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
-    let _e78 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e78)) * vec3(0.27190268f)) / max(_e76, vec3(0.000001f))));
+    let _e75 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
+    let _e77 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e77)) * vec3(0.27190268f)) / max(_e75, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e56);
     let _e108 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
     let _e110 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e110)) * vec3(0.27190268f)) / max(_e108, vec3(0.000001f))));
@@ -276,8 +274,7 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
 fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape: vec3<f32>, r_return_1: vec3<f32>, rho_below_1: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_3 * eta_3);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
-    let _e13 = (rho_returned * r_return_1);
-    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - (rho_returned * r_return_1))) + vec3(e_fresnel));
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
@@ -285,8 +282,7 @@ fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape: ve
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_2: vec3<f32>, r_return_2: vec3<f32>, e_escape_1: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_2 * r_return_2);
-    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - (rho_below_2 * r_return_2)));
     return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -316,43 +312,29 @@ fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, 1.52f);
+    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_5, 1.52f);
     let _e11 = tunable_glaze_coat_deficit_slice(n_dot_v_5);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e11), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e11), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e11), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e29 = tunable_glaze_coat_path_slice(n_dot_v_5);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e29);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e29);
-    let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l_2);
+    let _e22 = tunable_glaze_coat_path_slice(n_dot_v_5);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e22);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v_2);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, 0.5f);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_cos_v_1);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, 0.5f);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e29);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e29);
-    let _e45 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_l_3);
-    let _e47 = tunable_glaze_e_fon(layer1_path_cos_l_3, 0.5f);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e47)) * vec3(0.27190268f)) / max(_e45, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
-    let _e77 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
-    let _e79 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e79)) * vec3(0.27190268f)) / max(_e77, vec3(0.000001f))));
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e22);
+    let _e34 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
+    let _e36 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e36)) * vec3(0.27190268f)) / max(_e34, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
-    let _e110 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e110, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
-    let rho = tunable_glaze_interfaced_albedo(1.52f, 0.39237955f, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), tunable_glaze_layer1_r_return, layer1_rho, layer1_rho);
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), layer1_first_escape_l_1, layer1_first_return_l_1);
     let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, 0.0225f);
     let lookup_roughness = tunable_glaze_grazing_lookup_roughness(0.15f, dot(n_4, v_4));
-    let _e177 = (dot(n_4, v_4) > 0f);
-    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e177))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e177)));
+    let _e128 = (dot(n_4, v_4) > 0f);
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e128))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e128)));
 }
 

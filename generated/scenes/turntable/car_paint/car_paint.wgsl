@@ -291,8 +291,7 @@ fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
 fn car_paint_glossy_later(next: f32, quick: f32, steady: f32, slow: f32, c: vec3<f32>) -> vec3<f32> {
     let quick_rate = ((c * vec3(0.5f)) / (car_paint_one - (c * vec3(0.5f))));
     let steady_rate = ((c * vec3(0.2f)) / (car_paint_one - (c * vec3(0.8f))));
-    let _e27 = (c * slow);
-    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - _e27), vec3(0.000001f)));
+    let slow_rate = ((c * (1f - slow)) / max((vec3(1f) - (c * slow)), vec3(0.000001f)));
     let rest = max((1f - ((next + quick) + steady)), 0f);
     return (((quick_rate * quick) + (steady_rate * steady)) + (slow_rate * rest));
 }
@@ -381,8 +380,7 @@ fn car_paint_forward_azimuth_tilt(rho_2: f32, rho_c: vec3<f32>, cos_phi_1: f32) 
     let top = ((r_2 + 0.95f) / ((r_2 * 0.95f) + 1f));
     let r_c = min(rho_c, vec3((top - 0.001f)));
     let target_ = min((r_c + vec3(0.01f)), vec3(top));
-    let _e23 = (target_ * r_2);
-    let needed = ((target_ - vec3(r_2)) / (vec3(1f) - _e23));
+    let needed = ((target_ - vec3(r_2)) / (vec3(1f) - (target_ * r_2)));
     let r_b = max(needed, vec3((r_2 * r_2)));
     let x = (r_b * r_2);
     let mean_weight = ((car_paint_one + x) / (car_paint_one - x));
@@ -432,16 +430,14 @@ fn car_paint_glossy_albedo(t_2: f32, lobe: vec3<f32>, remainder: vec3<f32>) -> v
 // critical angle of a coat optically thinner than the medium above, T = 0, over a white level,
 // where f is 0 too).
 fn car_paint_interfaced_glossy_under(f_below: vec3<f32>, e_i: vec3<f32>, k_i: vec3<f32>, e_o: vec3<f32>, k_o: vec3<f32>) -> vec3<f32> {
-    let _e8 = sqrt((((e_i * k_i) * e_o) * k_o));
-    return (f_below / max((vec3(1f) - _e8), vec3(0.000001f)));
+    return (f_below / max((vec3(1f) - sqrt((((e_i * k_i) * e_o) * k_o))), vec3(0.000001f)));
 }
 
 // glazec's interfaced layering, the light a glossy body sends outside the coat's escape cone:
 // Pᵢ Pₒ g / (π μc² (1 − ρ̄ g (1 − q))), g the slab's round-trip transmittance, q = `trapped_escape`.
 // Guard: μc² ≥ 10⁻⁴ (without a cone nothing is trapped; the caller zeroes that case).
 fn car_paint_trapped_lobe(trapped_i: vec3<f32>, trapped_o: vec3<f32>, mu_c_2: f32, round_trip: vec3<f32>, rho_3: vec3<f32>, q: f32) -> vec3<f32> {
-    let _e18 = ((rho_3 * round_trip) * (1f - q));
-    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - _e18));
+    return ((((trapped_i * trapped_o) * round_trip) / vec3((max((mu_c_2 * mu_c_2), 0.0001f) * 3.1415927f))) / (vec3(1f) - ((rho_3 * round_trip) * (1f - q))));
 }
 
 // κ(μ; r_c, r, η): how much of its direction of travel the light entering at μ keeps when it
@@ -569,8 +565,6 @@ fn car_paint_brdf(n_3: vec3<f32>, v_3: vec3<f32>, l_3: vec3<f32>) -> vec3<f32> {
     let layer1_f = (_e235 + layer1_later);
     let _e268 = car_paint_glossy_albedo_lobe(layer2_transmit_l, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
     let _e269 = car_paint_glossy_albedo_lobe(layer2_transmit_v, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
-    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l, _e268, _e262);
-    let layer1_albedo_v = car_paint_glossy_albedo(layer2_transmit_v, _e269, _e263);
     let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_l, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
     let layer1_trapped_l = ((_e268 * layer1_trapped_share_l) + (_e262 * vec3(0.5555556f)));
     let layer1_near_l = ((_e268 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l)));
@@ -608,8 +602,7 @@ fn car_paint_eval(n_4: vec3<f32>, v_4: vec3<f32>, l_4: vec3<f32>) -> vec3<f32> {
 // out through the coat's bounces, leaving / (1 − K k) (see `interfaced_albedo_glossy`).
 fn car_paint_interfaced_glossy_bounced(t_3: f32, a_1: vec3<f32>, kept: vec3<f32>, leaving: vec3<f32>) -> vec3<f32> {
     let k = ((a_1 * a_1) * (1f - t_3));
-    let _e8 = (kept * k);
-    return (leaving / max((vec3(1f) - _e8), vec3(0.000001f)));
+    return (leaving / max((vec3(1f) - (kept * k)), vec3(0.000001f)));
 }
 
 // The directional albedo seen above a coat over a glossy body (the model of
@@ -648,56 +641,47 @@ fn car_paint_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 // irradiance.direction, over π), k < car_paint_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let n_dot_v_4 = dot(n_6, v_6);
-    let cos_v_1 = max(n_dot_v_4, 0.0001f);
-    let layer1_fresnel_l = car_paint_fr_dielectric(n_dot_v_4, 1.5f);
+    let layer1_fresnel_v = car_paint_fr_dielectric(n_dot_v_4, 1.5f);
     let _e9 = car_paint_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e9), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
     let layer1_v = car_paint_refract_down(v_6, n_6, 1.5f);
     let layer1_n_dot_v_1 = dot(n_6, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let layer2_v = car_paint_refract_down(layer1_v, n_6, 1.02f);
     let layer2_n_dot_v_1 = dot(n_6, layer2_v);
     let layer2_cos_v_1 = max(layer2_n_dot_v_1, 0.0001f);
-    let layer2_fresnel_l = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02f);
-    let layer2_transmit_l_1 = (1f - layer2_fresnel_l);
-    let layer2_absorb_l = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
-    let layer2_fresnel_cond_l = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
-    let layer2_scale_l = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
-    let layer2_next_l = car_paint_glossy_next_curve(layer1_n_dot_v_1);
-    let _e43 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
-    let _e48 = max(layer2_cos_v_1, 0.19711706f);
-    let _e49 = car_paint_ggx_albedo_curve(_e48);
-    let _e52 = car_paint_ggx_albedo_curve_b(_e48);
-    let _e58 = car_paint_glossy_trapped_share(_e48, 0.19705611f, car_paint_layer2_alpha);
-    let layer2_cone_share_l_1 = (1f - _e58);
-    let layer2_lobe_normaliser_l_1 = (((0.78416157f * _e49) + (0.21583843f * _e52)) * layer2_cone_share_l_1);
-    let layer2_lobe_albedo_l_1 = min(max((((layer2_scale_l * layer2_scale_l) * _e43) * layer2_lobe_normaliser_l_1), 0f), 1f);
-    let layer2_single_l_1 = min(max(((layer2_lobe_albedo_l_1 - layer2_next_l) / max((1f - layer2_next_l), 0.000001f)), 0f), 1f);
-    let _e77 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
-    let _e78 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
-    let layer2_later_l = car_paint_glossy_later(layer2_next_l, _e77, _e78, 0.43932146f, car_paint_layer2_survival);
-    let layer2_once_l = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, car_paint_layer2_survival);
-    let _e86 = car_paint_glossy_once(layer2_single_l_1, layer2_next_l, vec3(1f));
-    let layer2_once_colour_l_1 = (layer2_once_l / vec3(max(_e86.x, 0.000001f)));
-    let _e92 = car_paint_glossy_albedo_lobe(layer2_transmit_l_1, layer2_fresnel_cond_l, layer2_absorb_l, layer2_once_l);
-    let _e93 = car_paint_glossy_remainder(layer2_transmit_l_1, layer2_absorb_l, layer2_fresnel_cond_l, layer2_single_l_1, layer2_later_l);
-    let layer1_albedo_l = car_paint_glossy_albedo(layer2_transmit_l_1, _e92, _e93);
-    let layer1_trapped_share_l = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
-    let layer1_trapped_l_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556f)));
-    let layer1_near_l_1 = ((_e92 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
-    let layer1_spread_kept_l_1 = (_e93 * vec3(0.44444442f));
-    let layer1_trapped_v_1 = ((_e92 * layer1_trapped_share_l) + (_e93 * vec3(0.5555556f)));
-    let layer1_near_v_1 = ((_e92 * (1f - layer1_trapped_share_l)) + vec3((1f - layer2_transmit_l_1)));
-    let layer1_spread_kept_v_1 = (_e93 * vec3(0.44444442f));
-    let albedo_l = car_paint_interfaced_albedo_glossy(layer1_transmit_l_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_l_1, layer1_spread_kept_l_1, layer1_trapped_l_1, car_paint_trapped_out);
+    let layer2_fresnel_v = car_paint_fr_dielectric(layer1_n_dot_v_1, 1.02f);
+    let layer2_transmit_v_1 = (1f - layer2_fresnel_v);
+    let layer2_absorb_v = car_paint_slab_transmittance(car_paint_layer1_tau, layer2_cos_v_1);
+    let layer2_fresnel_cond_v = car_paint_f_schlick(car_paint_f0_under_coat, layer2_cos_v_1);
+    let layer2_scale_v = car_paint_glossy_scale_curve(layer1_n_dot_v_1);
+    let layer2_next_v = car_paint_glossy_next_curve(layer1_n_dot_v_1);
+    let _e36 = car_paint_glossy_lobe_albedo_curve(layer1_n_dot_v_1);
+    let _e41 = max(layer2_cos_v_1, 0.19711706f);
+    let _e42 = car_paint_ggx_albedo_curve(_e41);
+    let _e45 = car_paint_ggx_albedo_curve_b(_e41);
+    let _e51 = car_paint_glossy_trapped_share(_e41, 0.19705611f, car_paint_layer2_alpha);
+    let layer2_cone_share_v_1 = (1f - _e51);
+    let layer2_lobe_normaliser_v_1 = (((0.78416157f * _e42) + (0.21583843f * _e45)) * layer2_cone_share_v_1);
+    let layer2_lobe_albedo_v_1 = min(max((((layer2_scale_v * layer2_scale_v) * _e36) * layer2_lobe_normaliser_v_1), 0f), 1f);
+    let layer2_single_v_1 = min(max(((layer2_lobe_albedo_v_1 - layer2_next_v) / max((1f - layer2_next_v), 0.000001f)), 0f), 1f);
+    let _e70 = car_paint_glossy_quick_curve(layer1_n_dot_v_1);
+    let _e71 = car_paint_glossy_steady_curve(layer1_n_dot_v_1);
+    let layer2_later_v = car_paint_glossy_later(layer2_next_v, _e70, _e71, 0.43932146f, car_paint_layer2_survival);
+    let layer2_once_v = car_paint_glossy_once(layer2_single_v_1, layer2_next_v, car_paint_layer2_survival);
+    let _e85 = car_paint_glossy_albedo_lobe(layer2_transmit_v_1, layer2_fresnel_cond_v, layer2_absorb_v, layer2_once_v);
+    let _e86 = car_paint_glossy_remainder(layer2_transmit_v_1, layer2_absorb_v, layer2_fresnel_cond_v, layer2_single_v_1, layer2_later_v);
+    let layer1_trapped_share_v = car_paint_trapped_share(layer1_cos_v_1, car_paint_layer1_mu_c, car_paint_layer2_alpha_1);
+    let layer1_trapped_v_1 = ((_e85 * layer1_trapped_share_v) + (_e86 * vec3(0.5555556f)));
+    let layer1_near_v_1 = ((_e85 * (1f - layer1_trapped_share_v)) + vec3((1f - layer2_transmit_v_1)));
+    let layer1_spread_kept_v_1 = (_e86 * vec3(0.44444442f));
     let albedo_v = car_paint_interfaced_albedo_glossy(layer1_transmit_v_1, car_paint_layer1_transmit_cone, vec3(1f), layer1_near_v_1, layer1_spread_kept_v_1, layer1_trapped_v_1, car_paint_trapped_out);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
     let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
     let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
-    let _e155 = (dot(n_6, v_6) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e155)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e155))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
+    let _e128 = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e128)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e128))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 

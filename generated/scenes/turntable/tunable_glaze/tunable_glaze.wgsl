@@ -206,8 +206,7 @@ fn tunable_glaze_e_fon(mu_1: f32, r: f32) -> f32 {
 // ρ_ms = ρ² E_avg / (1 − ρ (1 − E_avg)), E_avg = (1 + c₂ r)/(1 + c₁ r).
 fn tunable_glaze_eon_rho_ms(albedo: vec3<f32>, r_1: f32) -> vec3<f32> {
     let e_avg = (((r_1 * 0.07248825f) + 1f) / ((r_1 * 0.2877934f) + 1f));
-    let _e15 = (albedo * (1f - e_avg));
-    return (((albedo * albedo) * e_avg) / (vec3(1f) - _e15));
+    return (((albedo * albedo) * e_avg) / (vec3(1f) - (albedo * (1f - e_avg))));
 }
 
 // Portsmouth, Kutz & Hill 2025, Listing 1 `f_EON`: Fujii's Oren–Nayar single-scattering lobe
@@ -307,8 +306,7 @@ fn tunable_glaze_coat_escape_slice(tau_2: f32, roughness_5: f32) -> f32 {
 // glazec's interfaced layering, a diffusing layer below a coat (docs/derivations.md, "Smooth coat
 // over Lambert"): f_below + Eᵢ Eₒ R / (π (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_diffuse_under(f_below: vec3<f32>, e_i: vec3<f32>, e_o: vec3<f32>, rho_below: vec3<f32>, r_return: vec3<f32>) -> vec3<f32> {
-    let _e7 = (rho_below * r_return);
-    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - _e7) * vec3(3.1415927f))));
+    return (f_below + (((e_i * e_o) * r_return) / ((vec3(1f) - (rho_below * r_return)) * vec3(3.1415927f))));
 }
 
 // glazec's interfaced layering (docs/derivations.md, "Smooth coat over Lambert"):
@@ -366,33 +364,26 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_path_cos_v = (layer1_cos_v / _e96);
     let absorb_l = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tau_3, layer1_path_cos_v);
-    let blur = ((0.34210527f * (params.glaze_roughness * params.glaze_roughness)) * 0.70710677f);
     let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, params.body_roughness, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_rho = tunable_glaze_albedo_avg_eon(params.body_albedo, params.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_cos_v);
     let _e110 = tunable_glaze_coat_deficit_avg_slice(params.glaze_roughness);
     let layer1_transmit_avg = (0.9052938f + _e110);
-    let _e114 = (layer1_transmit_avg / 2.3104f);
     let _e116 = tunable_glaze_coat_return_slice(tau_3.x, params.glaze_roughness);
     let _e118 = tunable_glaze_coat_return_slice(tau_3.y, params.glaze_roughness);
     let _e120 = tunable_glaze_coat_return_slice(tau_3.z, params.glaze_roughness);
-    let _e122 = (vec3<f32>(_e116, _e118, _e120) * _e114);
-    let layer1_r_return = max((vec3(1f) - _e122), vec3(0f));
-    let _e131 = tunable_glaze_coat_escape_slice(tau_3.x, params.glaze_roughness);
-    let _e133 = tunable_glaze_coat_escape_slice(tau_3.y, params.glaze_roughness);
-    let _e135 = tunable_glaze_coat_escape_slice(tau_3.z, params.glaze_roughness);
+    let layer1_r_return = max((vec3(1f) - (vec3<f32>(_e116, _e118, _e120) * (layer1_transmit_avg / 2.3104f))), vec3(0f));
     let layer1_transmit_avg_1 = (0.9052938f + _e110);
     let _e141 = (layer1_transmit_avg_1 / 2.3104f);
-    let _e142 = vec3(_e141);
-    let layer1_r_return_1 = max((vec3(1f) - _e142), vec3(0f));
+    let layer1_r_return_1 = max((vec3(1f) - vec3(_e141)), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, params.body_roughness);
     let layer1_path_cos_l_1 = (layer1_cos_l / _e94);
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e96);
-    let _e156 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
-    let _e157 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e157)) * vec3(0.27190268f)) / max(_e156, vec3(0.000001f))));
+    let _e155 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_l_1);
+    let _e156 = tunable_glaze_e_fon(layer1_path_cos_l_1, params.body_roughness);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e156)) * vec3(0.27190268f)) / max(_e155, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(_e141).x)) / vec3(max(layer1_r_return_1.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let layer1_path_cos_v_1 = (layer1_cos_v / _e96);
     let _e185 = tunable_glaze_albedo_eon(params.body_albedo, params.body_roughness, layer1_path_cos_v_1);
     let _e186 = tunable_glaze_e_fon(layer1_path_cos_v_1, params.body_roughness);
     let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e186)) * vec3(0.27190268f)) / max(_e185, vec3(0.000001f))));
@@ -419,8 +410,7 @@ fn tunable_glaze_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>, params_1: 
 fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape: vec3<f32>, r_return_1: vec3<f32>, rho_below_1: vec3<f32>, rho_returned: vec3<f32>) -> vec3<f32> {
     let eta_sq = (eta_3 * eta_3);
     let e_fresnel = (1f - (eta_sq * e_escape_clear));
-    let _e13 = (rho_returned * r_return_1);
-    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - _e13)) + vec3(e_fresnel));
+    return (((((e_escape * e_escape) * rho_below_1) * eta_sq) / (vec3(1f) - (rho_returned * r_return_1))) + vec3(e_fresnel));
 }
 
 // The directional albedo seen above a coat over a diffusing layer (same model as
@@ -428,8 +418,7 @@ fn tunable_glaze_interfaced_albedo(eta_3: f32, e_escape_clear: f32, e_escape: ve
 // and c scale the first reflection's escape and return against diffuse light's (both 1 for
 // a diffusing body, which gives (1 − T) + T a E_below E_esc / (1 − ρ̄ R)).
 fn tunable_glaze_interfaced_albedo_dir(t: f32, a: vec3<f32>, e_below: vec3<f32>, rho_below_2: vec3<f32>, r_return_2: vec3<f32>, e_escape_1: vec3<f32>, first_escape: vec3<f32>, first_return: vec3<f32>) -> vec3<f32> {
-    let _e10 = (rho_below_2 * r_return_2);
-    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - _e10));
+    let series = (((first_return * rho_below_2) * r_return_2) / (vec3(1f) - (rho_below_2 * r_return_2)));
     return (((((a * e_below) * e_escape_1) * (first_escape + series)) * t) + vec3((1f - t)));
 }
 
@@ -459,63 +448,43 @@ fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
 // irradiance.direction, over π), k < tunable_glaze_ibl_specular_lobes. n, v: unit vectors, v pointing away from the surface.
 fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
-    let cos_v_1 = max(n_dot_v_5, 0.0001f);
     let tau_4 = (params_2.glaze_absorption * vec3(0.5f));
-    let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_v_5, 1.52f);
+    let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_5, 1.52f);
     let _e17 = tunable_glaze_coat_deficit_slice(n_dot_v_5, params_2.glaze_roughness);
-    let layer1_transmit_l_1 = min(max(((1f - layer1_fresnel_l) + _e17), 0f), 1f);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_l) + _e17), 0f), 1f);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e17), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e35 = tunable_glaze_coat_path_slice(n_dot_v_5, params_2.glaze_roughness);
-    let layer1_path_cos_l_2 = (layer1_cos_v_1 / _e35);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e35);
-    let absorb_l = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_l_2);
+    let _e28 = tunable_glaze_coat_path_slice(n_dot_v_5, params_2.glaze_roughness);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e28);
     let absorb_v = tunable_glaze_slab_transmittance(tau_4, layer1_path_cos_v_2);
-    let blur_1 = ((0.34210527f * (params_2.glaze_roughness * params_2.glaze_roughness)) * 0.70710677f);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, params_2.body_roughness);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_cos_v_1);
-    let _e47 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
-    let layer1_transmit_avg_2 = (0.9052938f + _e47);
-    let _e51 = (layer1_transmit_avg_2 / 2.3104f);
-    let _e53 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
-    let _e55 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
-    let _e57 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
-    let _e59 = (vec3<f32>(_e53, _e55, _e57) * _e51);
-    let layer1_r_return_2 = max((vec3(1f) - _e59), vec3(0f));
-    let _e68 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
-    let _e70 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
-    let _e72 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
-    let _e74 = (vec3<f32>(_e68, _e70, _e72) * _e51);
-    let layer1_transmit_avg_3 = (0.9052938f + _e47);
-    let _e78 = (layer1_transmit_avg_3 / 2.3104f);
-    let _e79 = vec3(_e78);
-    let layer1_r_return_3 = max((vec3(1f) - _e79), vec3(0f));
-    let _e87 = vec3(_e78);
+    let _e38 = tunable_glaze_coat_deficit_avg_slice(params_2.glaze_roughness);
+    let layer1_transmit_avg_2 = (0.9052938f + _e38);
+    let _e42 = (layer1_transmit_avg_2 / 2.3104f);
+    let _e44 = tunable_glaze_coat_return_slice(tau_4.x, params_2.glaze_roughness);
+    let _e46 = tunable_glaze_coat_return_slice(tau_4.y, params_2.glaze_roughness);
+    let _e48 = tunable_glaze_coat_return_slice(tau_4.z, params_2.glaze_roughness);
+    let layer1_r_return_2 = max((vec3(1f) - (vec3<f32>(_e44, _e46, _e48) * _e42)), vec3(0f));
+    let _e59 = tunable_glaze_coat_escape_slice(tau_4.x, params_2.glaze_roughness);
+    let _e61 = tunable_glaze_coat_escape_slice(tau_4.y, params_2.glaze_roughness);
+    let _e63 = tunable_glaze_coat_escape_slice(tau_4.z, params_2.glaze_roughness);
+    let layer1_transmit_avg_3 = (0.9052938f + _e38);
+    let _e69 = (layer1_transmit_avg_3 / 2.3104f);
+    let layer1_r_return_3 = max((vec3(1f) - vec3(_e69)), vec3(0f));
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, params_2.body_roughness);
-    let layer1_path_cos_l_3 = (layer1_cos_v_1 / _e35);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e35);
-    let _e93 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_l_3);
-    let _e94 = tunable_glaze_e_fon(layer1_path_cos_l_3, params_2.body_roughness);
-    let layer1_first_escape_l_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e94)) * vec3(0.27190268f)) / max(_e93, vec3(0.000001f))));
-    let layer1_first_return_l_1 = min(max(((vec3(1f) - (layer1_first_escape_l_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e122 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
-    let _e123 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e123)) * vec3(0.27190268f)) / max(_e122, vec3(0.000001f))));
-    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let _e152 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, 0.8823499f);
-    let _e154 = tunable_glaze_e_fon(0.8823499f, params_2.body_roughness);
-    let layer1_first_escape_cone_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e154)) * vec3(0.27190268f)) / max(_e152, vec3(0.000001f))));
-    let layer1_first_return_cone_1 = min(max(((vec3(1f) - (layer1_first_escape_cone_1 * _e87.x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
-    let rho = tunable_glaze_interfaced_albedo(1.52f, _e87.x, _e74, layer1_r_return_2, layer1_rho, layer1_rho);
-    let albedo_l = tunable_glaze_interfaced_albedo_dir(layer1_transmit_l_1, absorb_l, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e74, layer1_first_escape_l_1, layer1_first_return_l_1);
-    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, _e74, layer1_first_escape_v_1, layer1_first_return_v_1);
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e28);
+    let _e83 = tunable_glaze_albedo_eon(params_2.body_albedo, params_2.body_roughness, layer1_path_cos_v_3);
+    let _e84 = tunable_glaze_e_fon(layer1_path_cos_v_3, params_2.body_roughness);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e84)) * vec3(0.27190268f)) / max(_e83, vec3(0.000001f))));
+    let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(_e69).x)) / vec3(max(layer1_r_return_3.x, 0.0001f))), vec3(0f)), vec3(1f));
+    let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, layer1_r_return_2, (vec3<f32>(_e59, _e61, _e63) * _e42), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     let lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    let _e204 = (dot(n_4, v_4) > 0f);
-    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e204))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e204)));
+    let _e164 = (dot(n_4, v_4) > 0f);
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e164))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e164)));
 }
 

@@ -32,6 +32,7 @@ use naga::{
 
 use crate::math::Kind;
 
+mod dead;
 mod tables;
 mod values;
 
@@ -207,7 +208,8 @@ impl ModuleBuilder {
         state.stack.push(FnState { function, block: Block::new(), emit_start: None, id, calls: HashMap::new() });
     }
 
-    /// Finishes the current function (closing its last emit range) and returns it.
+    /// Finishes the current function (closing its last emit range, without its dead code:
+    /// [`dead`]) and returns it.
     pub fn end_function(&self) -> Function {
         let mut state = self.state.borrow_mut();
         let Some(mut f) = state.stack.pop() else {
@@ -215,6 +217,7 @@ impl ModuleBuilder {
         };
         close_emit(&mut f);
         f.function.body = f.block;
+        dead::remove_dead_code(&mut f.function);
         f.function
     }
 

@@ -111,6 +111,18 @@ impl<F: Real> Geometry<F> {
         }
     }
 
+    /// A value towards l and towards v, as `(l(), v())`; where only albedos are wanted (l = v)
+    /// it is computed once, towards v, so that the generated code neither repeats it nor names
+    /// the view's value after the light.
+    pub(super) fn sides<T: Clone>(&self, l: impl FnOnce() -> T, v: impl FnOnce() -> T) -> (T, T) {
+        if self.albedo_only {
+            let v = v();
+            (v.clone(), v)
+        } else {
+            (l(), v())
+        }
+    }
+
     /// For a level whose normal comes from a normal map, the light's cosine to that normal over
     /// its cosine to the surface normal, max(n_s·l, 0)/max(n·l, ε): the mapped facet receives
     /// irradiance by its own cosine while `<material>_eval` multiplies by the surface's. This is

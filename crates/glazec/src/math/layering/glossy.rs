@@ -508,7 +508,8 @@ pub(super) fn glossy_level<F: Real>(
     };
     let below = g.refracted(eta);
     let (c, c_fresnel) = glossy.survival();
-    let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, "l");
+    // Where only albedos are wanted (l = v) one side serves for both, named after the view.
+    let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, if g.albedo_only { "v" } else { "l" });
     let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
     let v_side = v.as_ref().unwrap_or(&l);
     let blurs = glossy.blurs(g.raw_n_dot_l, g.raw_n_dot_v);
@@ -569,10 +570,11 @@ pub(super) fn glossy_level<F: Real>(
     };
     let albedo = want_albedo.then(|| {
         let parts = |side: &Side<F>| (albedo_lobe(side), remainder(side));
-        let (lobe_l, spread_l) = parts(&l);
-        let (lobe_v, spread_v) = parts(v_side);
-        let e_l = glossy_albedo(l.transmission, lobe_l, spread_l).named(&level_name("albedo_l", k));
-        let e_v = glossy_albedo(v_side.transmission, lobe_v, spread_v).named(&level_name("albedo_v", k));
+        let ((lobe_l, spread_l), (lobe_v, spread_v)) = g.sides(|| parts(&l), || parts(v_side));
+        let (e_l, e_v) = g.sides(
+            || glossy_albedo(l.transmission, lobe_l, spread_l).named(&level_name("albedo_l", k)),
+            || glossy_albedo(v_side.transmission, lobe_v, spread_v).named(&level_name("albedo_v", k)),
+        );
         let mean =
             means.next().unwrap_or_else(|| unreachable!("the mean albedo is summed")).named(&level_name("rho", k));
         // Under a coat (a medium above), that coat lets out of each part what its escape cone
@@ -581,7 +583,7 @@ pub(super) fn glossy_level<F: Real>(
             let alpha = glossy.interface.ggx_lobe_alpha();
             let part =
                 |side: &Side<F>, lobe, spread| Split { specular: side.transmission.one_minus(), alpha, lobe, spread };
-            (part(&l, lobe_l, spread_l), part(v_side, lobe_v, spread_v))
+            g.sides(|| part(&l, lobe_l, spread_l), || part(v_side, lobe_v, spread_v))
         });
         Albedo { e_l, e_v, mean, split }
     });

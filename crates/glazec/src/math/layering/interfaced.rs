@@ -49,8 +49,8 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     } else {
         interface.scaled_lobe(interfaced_lobe(&coat.lobe, eta, inputs, g, approx, blur), g).named(&name("specular"))
     };
-    let t_l = interface.transmission(g.raw_n_dot_l, "l");
-    let t_v = interface.transmission(g.raw_n_dot_v, "v");
+    let (t_l, t_v) =
+        g.sides(|| interface.transmission(g.raw_n_dot_l, "l"), || interface.transmission(g.raw_n_dot_v, "v"));
     let below = g.refracted(eta);
     // The spread of the light under this coat, which only coats further down ask for: its own
     // and that of the rough coats above, added as independent spreads (in quadrature: their
@@ -65,9 +65,9 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
     let own_paths = OnceCell::new();
     let own_path = || {
         *own_paths.get_or_init(|| {
-            (
-                interface.path_cosine(g.raw_n_dot_l, below.n_dot_l, "l"),
-                interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v"),
+            g.sides(
+                || interface.path_cosine(g.raw_n_dot_l, below.n_dot_l, "l"),
+                || interface.path_cosine(g.raw_n_dot_v, below.n_dot_v, "v"),
             )
         })
     };
@@ -76,13 +76,13 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         (inputs.lit(1.0).splat(), inputs.lit(1.0).splat())
     } else {
         let (path_l, path_v) = match (spread, n_medium) {
-            (Some(above), Some(n_above)) => (
-                interface.path_cosine_spread(g.raw_n_dot_l, below.n_dot_l, n_above, above, "l"),
-                interface.path_cosine_spread(g.raw_n_dot_v, below.n_dot_v, n_above, above, "v"),
+            (Some(above), Some(n_above)) => g.sides(
+                || interface.path_cosine_spread(g.raw_n_dot_l, below.n_dot_l, n_above, above, "l"),
+                || interface.path_cosine_spread(g.raw_n_dot_v, below.n_dot_v, n_above, above, "v"),
             ),
             _ => own_path(),
         };
-        (absorbed(tau, path_l).named(&name("absorb_l")), absorbed(tau, path_v).named(&name("absorb_v")))
+        g.sides(|| absorbed(tau, path_l).named(&name("absorb_l")), || absorbed(tau, path_v).named(&name("absorb_v")))
     };
     // An Oren–Nayar body right under this coat: the cosines its directional albedo is taken at.
     let incidence = match (coats.get(k + 1), body) {
@@ -186,8 +186,10 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
             let (Some(first_l), Some(first_v)) = (first_l, first_v) else {
                 unreachable!("a layer that is not glossy has its first pass")
             };
-            let e_l = directional(t_l, a_l, albedo.e_l, first_l).named(&name("albedo_l"));
-            let e_v = directional(t_v, a_v, albedo.e_v, first_v).named(&name("albedo_v"));
+            let (e_l, e_v) = g.sides(
+                || directional(t_l, a_l, albedo.e_l, first_l).named(&name("albedo_l")),
+                || directional(t_v, a_v, albedo.e_v, first_v).named(&name("albedo_v")),
+            );
             return Albedo { e_l, e_v, mean, split: None };
         };
         // Over a glossy body: of what it keeps inside the escape cone, what leaves with T, and
@@ -199,8 +201,10 @@ pub(super) fn interfaced<F: Real>(stack: &Stack<'_, F>, g: &Geometry<F>, at: Dep
         };
         let side_l = (shares.near_l, shares.spread_l, shares.trapped_l);
         let side_v = (shares.near_v, shares.spread_v, shares.trapped_v);
-        let e_l = directional(t_l, a_l, side_l).named(&name("albedo_l"));
-        let e_v = directional(t_v, a_v, side_v).named(&name("albedo_v"));
+        let (e_l, e_v) = g.sides(
+            || directional(t_l, a_l, side_l).named(&name("albedo_l")),
+            || directional(t_v, a_v, side_v).named(&name("albedo_v")),
+        );
         // Under a coat, this level's light splits as the glossy level's does: this coat's own
         // reflection, what leaves near the mirror direction, and the rest (the trapped light
         // let out, and the spread light kept in the cone).
@@ -308,8 +312,10 @@ fn first_pass<F: Real>(
         let back = first_return(xi, r_clear, inputs).named(&name(&format!("first_return_{side}")));
         (escape, back)
     };
-    let (escape_l, return_l) = shares(albedo.e_l, t_below_l, t_l, below.n_dot_l, "l");
-    let (escape_v, return_v) = shares(albedo.e_v, t_below_v, t_v, below.n_dot_v, "v");
+    let ((escape_l, return_l), (escape_v, return_v)) = below.sides(
+        || shares(albedo.e_l, t_below_l, t_l, below.n_dot_l, "l"),
+        || shares(albedo.e_v, t_below_v, t_v, below.n_dot_v, "v"),
+    );
     // At the cone's mean cosine.
     let (_, return_mean) = shares(albedo.mean, t_cone_below, interface.transmission_from_cone(), mu_mean, "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());
@@ -361,10 +367,10 @@ fn eon_first_pass<F: Real>(
     // for the direction of incidence on the body. (The spread of rough coats further up,
     // `CoatInterface::path_cosine_spread`, changed `four_layer`'s bands by 0.1 point at most
     // here, for two more curves per direction: left out.)
-    let mu_l = interface.path_cosine(above.raw_n_dot_l, below.n_dot_l, "l");
-    let mu_v = interface.path_cosine(above.raw_n_dot_v, below.n_dot_v, "v");
-    let (escape_l, return_l) = factors(mu_l, "l");
-    let (escape_v, return_v) = factors(mu_v, "v");
+    let ((escape_l, return_l), (escape_v, return_v)) = above.sides(
+        || factors(interface.path_cosine(above.raw_n_dot_l, below.n_dot_l, "l"), "l"),
+        || factors(interface.path_cosine(above.raw_n_dot_v, below.n_dot_v, "v"), "v"),
+    );
     let mu_mean = interface.escape_cone_mean_cosine();
     let (_, return_mean) = factors(mu_mean, "cone");
     let return_mean = return_mean.max(inputs.lit(1e-3).splat());

@@ -80,8 +80,8 @@ pub(super) fn trapped_shares<F: Real>(
         }
     };
     let (split_l, split_v) = albedo.split.unzip();
-    let (trapped_l, near_l, spread_l) = side(below.n_dot_l, albedo.e_l, split_l, "l");
-    let (trapped_v, near_v, spread_v) = side(below.n_dot_v, albedo.e_v, split_v, "v");
+    let ((trapped_l, near_l, spread_l), (trapped_v, near_v, spread_v)) =
+        below.sides(|| side(below.n_dot_l, albedo.e_l, split_l, "l"), || side(below.n_dot_v, albedo.e_v, split_v, "v"));
     // The round trip of trapped light: R(τ)/R(0), the absorption of the slab's diffuse return.
     let round_trip = r_return / r_clear.max(inputs.lit(1e-4).splat());
     let q = trapped_escape(mu_c, alpha).named(&name("trapped_escape"));
