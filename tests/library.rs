@@ -419,8 +419,15 @@ fn literal_materials_declare_no_resource() {
 /// generated functions leave them out (`lower::builder::dead`).
 #[test]
 fn libraries_hold_no_dead_code() {
-    for path in common::material_files() {
-        let compiled = common::compile_file(&path);
+    // The shipped materials, and a coated conductor with runtime parameters, whose hemisphere
+    // sums are loops (the pass keeps what a loop's statements read).
+    let conductor = "Conductor(roughness: Param(\"cr\", 0.2), eta: (0.27, 0.68, 1.22), k: (3.61, 2.63, 2.29))";
+    let coat = "Coat(lobe: Ggx(roughness: Param(\"rough\", 0.3)), ior: Param(\"ior\", 1.5))";
+    let looped = format!("Material(name: \"tunable_copper\", layers: [{coat}, {conductor}])");
+    let looped = glazec::compile(&looped).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(text(&looped, Target::Wgsl, "tunable_copper.wgsl").contains("loop {"), "the sums are loops");
+    let shipped = common::material_files().into_iter().map(|path| common::compile_file(&path));
+    for compiled in shipped.chain([looped]) {
         let (library, info) = (&compiled.library, &compiled.library_info);
         for (handle, function) in library.functions.iter() {
             let name = function.name.as_deref().unwrap_or_default();
