@@ -93,6 +93,7 @@ struct Glossy<'a, 'i, F: Real> {
 }
 
 /// What the level needs to know about one direction (at outer cosine μ).
+#[derive(Clone)]
 struct Side<F: Real> {
     transmission: F,
     /// Attenuation along the mean refracted path (diffuse light's, `CoatInterface::path_cosine`)
@@ -508,10 +509,10 @@ pub(super) fn glossy_level<F: Real>(
     };
     let below = g.refracted(eta);
     let (c, c_fresnel) = glossy.survival();
-    // Where only albedos are wanted (l = v) one side serves for both, named after the view.
-    let l = glossy.side(g.raw_n_dot_l, below.n_dot_l, c, if g.albedo_only { "v" } else { "l" });
-    let v = if g.albedo_only { None } else { Some(glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v")) };
-    let v_side = v.as_ref().unwrap_or(&l);
+    let (l, v) = g.sides(
+        || glossy.side(g.raw_n_dot_l, below.n_dot_l, c, "l"),
+        || glossy.side(g.raw_n_dot_v, below.n_dot_v, c, "v"),
+    );
     let blurs = glossy.blurs(g.raw_n_dot_l, g.raw_n_dot_v);
     let alpha = glossy.widened_alpha(blurs, blur.total());
     // The remainder's mean ⟨M⟩ (for f) and the mean albedo (for the levels above), from the same
@@ -537,17 +538,17 @@ pub(super) fn glossy_level<F: Real>(
             .named(&level_name("specular", k));
         // The lobe's colour beyond its Fresnel factor: how much of the light leaving after the
         // second event survives that event, √(o_l o_v) (reciprocal; 1 for a white conductor).
-        let colour = (l.once_colour * v_side.once_colour).sqrt();
+        let colour = (l.once_colour * v.once_colour).sqrt();
         let distribution = glossy.distribution(&below, blurs, alpha, blur.total());
         let lobe = conductor_lobe(Some(fresnel), inputs, &below, (distribution, alpha), glossy.n_medium)
             * colour
-            * (l.scale * v_side.scale);
+            * (l.scale * v.scale);
         let once = interfaced_layer(
             f_top,
             l.transmission,
-            v_side.transmission,
+            v.transmission,
             l.absorb_lobe,
-            v_side.absorb_lobe,
+            v.absorb_lobe,
             lobe.named(&level_name("under", k)),
             eta,
         );
@@ -561,19 +562,19 @@ pub(super) fn glossy_level<F: Real>(
         // round trip in c too, absorbing copper fits the reference worse, docs/accuracy.md).
         let kappa_l = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_l).named(&level_name("spread_l", k));
         let kappa_v = glossy.lookup(TableId::GlossySpread, g.raw_n_dot_v).named(&level_name("spread_v", k));
-        let mean = |of: fn(&Side<F>) -> F| (of(&l) + of(v_side)) * 0.5;
+        let mean = |of: fn(&Side<F>) -> F| (of(&l) + of(&v)) * 0.5;
         let counts = [mean(|s| s.next), mean(|s| s.quick), mean(|s| s.steady), l.slow];
         let spread = forward_spread(g, (kappa_l, kappa_v), counts, c_fresnel, ("", k));
-        let later = (glossy_remainder_lobe::<F>(remainder(&l), remainder(v_side), average) * spread)
-            .named(&level_name("later", k));
+        let later =
+            (glossy_remainder_lobe::<F>(remainder(&l), remainder(&v), average) * spread).named(&level_name("later", k));
         (once + later).named(&level_name("f", k))
     };
     let albedo = want_albedo.then(|| {
         let parts = |side: &Side<F>| (albedo_lobe(side), remainder(side));
-        let ((lobe_l, spread_l), (lobe_v, spread_v)) = g.sides(|| parts(&l), || parts(v_side));
+        let ((lobe_l, spread_l), (lobe_v, spread_v)) = g.sides(|| parts(&l), || parts(&v));
         let (e_l, e_v) = g.sides(
             || glossy_albedo(l.transmission, lobe_l, spread_l).named(&level_name("albedo_l", k)),
-            || glossy_albedo(v_side.transmission, lobe_v, spread_v).named(&level_name("albedo_v", k)),
+            || glossy_albedo(v.transmission, lobe_v, spread_v).named(&level_name("albedo_v", k)),
         );
         let mean =
             means.next().unwrap_or_else(|| unreachable!("the mean albedo is summed")).named(&level_name("rho", k));
@@ -583,7 +584,7 @@ pub(super) fn glossy_level<F: Real>(
             let alpha = glossy.interface.ggx_lobe_alpha();
             let part =
                 |side: &Side<F>, lobe, spread| Split { specular: side.transmission.one_minus(), alpha, lobe, spread };
-            g.sides(|| part(&l, lobe_l, spread_l), || part(v_side, lobe_v, spread_v))
+            g.sides(|| part(&l, lobe_l, spread_l), || part(&v, lobe_v, spread_v))
         });
         Albedo { e_l, e_v, mean, split }
     });
@@ -593,7 +594,7 @@ pub(super) fn glossy_level<F: Real>(
         glossy: true,
         alpha: Some(alpha),
         boost: inputs.lit(1.0),
-        transmission: Some((l.transmission, v_side.transmission)),
+        transmission: Some((l.transmission, v.transmission)),
     }
 }
 
