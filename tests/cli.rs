@@ -37,25 +37,28 @@ fn compile_writes_every_target_for_every_material_identically_twice() {
     golden.retain(|path, _| !path.starts_with("scenes/"));
     assert!(first == golden, "the CLI's output differs from generated/");
     let materials = common::material_files().len();
-    for ext in [
-        ".harness.wgsl",
-        ".naga_oil.wgsl",
-        ".hlsl",
-        ".hlsli",
-        ".comp.glsl",
-        ".vert.glsl",
-        ".preview_fs.frag.glsl",
-        ".preview_ibl_fs.frag.glsl",
-    ] {
+    // The libraries alone: glazec's harness only with --harness.
+    for ext in [".naga_oil.wgsl", ".hlsli"] {
         assert_eq!(first.keys().filter(|k| k.ends_with(ext)).count(), materials, "{ext}");
     }
-    // The libraries: `<m>.wgsl` and `<m>.glsl`.
     for ext in ["wgsl", "glsl"] {
         let libraries = first
             .keys()
             .filter(|k| k.split('/').next_back().is_some_and(|f| f.matches('.').count() == 1 && f.ends_with(ext)));
         assert_eq!(libraries.count(), materials, "{ext} libraries");
     }
+    let harness =
+        [".harness.wgsl", ".hlsl", ".comp.glsl", ".vert.glsl", ".preview_fs.frag.glsl", ".preview_ibl_fs.frag.glsl"];
+    assert!(first.keys().all(|k| !harness.iter().any(|ext| k.ends_with(ext))), "a harness file without --harness");
+    let with = tempfile::tempdir().expect("tmp");
+    let out = glazec(&["compile", "materials/", "--harness", "-o", with.path().to_str().expect("utf-8")]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let with = tree(with.path());
+    for ext in harness {
+        assert_eq!(with.keys().filter(|k| k.ends_with(ext)).count(), materials, "{ext} with --harness");
+    }
+    // The libraries are the same bytes with or without the harness beside them.
+    assert!(first.iter().all(|(path, bytes)| with.get(path) == Some(bytes)), "--harness changed a library");
 }
 
 #[test]
@@ -66,10 +69,7 @@ fn spirv_on_request() {
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let files = tree(dir.path());
     // (clay's literal coat reads no table: no table file.)
-    assert_eq!(
-        files.keys().cloned().collect::<Vec<_>>(),
-        ["clay/clay.harness.wgsl", "clay/clay.spv", "clay/clay.wgsl"]
-    );
+    assert_eq!(files.keys().cloned().collect::<Vec<_>>(), ["clay/clay.spv", "clay/clay.wgsl"]);
     let spv = &files["clay/clay.spv"];
     assert_eq!(&spv[..4], &0x0723_0203_u32.to_le_bytes(), "SPIR-V magic number");
 }

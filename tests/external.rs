@@ -62,8 +62,9 @@ fn wgsl_round_trips_through_naga() {
         assert!(library.entry_points.is_empty(), "{}: the library has entry points", path.display());
         assert_eq!(library.functions.len(), compiled.library.functions.len());
         let module = parse(&compiled.whole_wgsl().expect("emits"));
-        assert_eq!(module.entry_points.len(), compiled.module.entry_points.len());
-        assert_eq!(module.functions.len(), compiled.module.functions.len());
+        let harness = compiled.harness().expect("the harness validates");
+        assert_eq!(module.entry_points.len(), harness.module.entry_points.len());
+        assert_eq!(module.functions.len(), harness.module.functions.len());
     }
 }
 
@@ -77,7 +78,8 @@ fn glsl_hlsl_and_spirv_pass_glslang_and_spirv_val() {
     let mut checked = 0;
     for path in common::material_files() {
         let compiled = common::compile_file(&path);
-        let artifacts = compiled.emit(&[Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
+        let artifacts =
+            compiled.emit_with_harness(&[Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
         for artifact in &artifacts {
             let file = dir.path().join(&artifact.file_name);
             std::fs::write(&file, &artifact.contents).expect("writes");
@@ -90,7 +92,7 @@ fn glsl_hlsl_and_spirv_pass_glslang_and_spirv_val() {
                 check_with_glslang(&file, &["-V", "--target-env", "vulkan1.0", "-S", glslang_stage(*stage)], &spv)
             } else if artifact.file_name.ends_with(".hlsl") {
                 let mut result = Ok(());
-                for ep in &compiled.module.entry_points {
+                for ep in &compiled.harness().expect("the harness validates").module.entry_points {
                     checked += 1;
                     let spv = dir.path().join(format!("{}.{}.hlsl.spv", compiled.material.name, ep.name));
                     let stage = glslang_stage(ep.stage);
@@ -172,7 +174,7 @@ fn runtime_parameters_have_one_layout_in_every_backend() {
         let (layout, _) = glazec::lower::params_layout(&compiled.material);
         let expected: std::collections::BTreeMap<String, u32> =
             layout.iter().map(|p| (p.name.clone(), p.offset)).collect();
-        let artifacts = compiled.emit(&[Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
+        let artifacts = compiled.emit_with_harness(&[Target::Glsl, Target::Hlsl, Target::Spv]).expect("emits");
         let mut spirv_files = Vec::new();
         for artifact in &artifacts {
             let file = dir.path().join(&artifact.file_name);

@@ -28,23 +28,33 @@ fn scene_outputs_match_materials_and_scenes() {
     }
 }
 
+/// `emit` writes the libraries alone; `emit_with_harness` adds glazec's harness files.
 #[test]
 fn every_material_produces_every_text_target() {
     for path in common::material_files() {
         let compiled = common::compile_file(&path);
-        let artifacts = compiled.emit(&glazec::Target::TEXT).expect("emits");
         let name = &compiled.material.name;
+        let libraries =
+            [format!("{name}.wgsl"), format!("{name}.naga_oil.wgsl"), format!("{name}.glsl"), format!("{name}.hlsli")];
+        let tables = compiled.uses_tables().then(|| format!("{name}.tables.bin"));
+        let artifacts = compiled.emit(&glazec::Target::TEXT).expect("emits");
+        let names: Vec<String> = artifacts.iter().map(|a| a.file_name.clone()).collect();
+        let expected: Vec<String> = libraries.iter().cloned().chain(tables.clone()).collect();
+        assert_eq!(names, expected, "{}: the libraries alone", path.display());
+        assert!(artifacts.iter().all(|a| !a.harness));
+        let artifacts = compiled.emit_with_harness(&glazec::Target::TEXT).expect("emits");
         let names: Vec<&str> = artifacts.iter().map(|a| a.file_name.as_str()).collect();
-        for expected in [
-            format!("{name}.wgsl"),
+        for expected in libraries.iter().cloned().chain([
+            format!("{name}.harness.wgsl"),
             format!("{name}.hlsl"),
             format!("{name}.eval_pairs.comp.glsl"),
             format!("{name}.preview_vs.vert.glsl"),
             format!("{name}.preview_fs.frag.glsl"),
             format!("{name}.preview_ibl_fs.frag.glsl"),
-        ] {
+        ]) {
             assert!(names.contains(&expected.as_str()), "{}: missing {expected} in {names:?}", path.display());
         }
+        assert_eq!(artifacts.iter().filter(|a| a.harness).count(), 6);
         // The material file is named after the material (so generated/<name>/ maps back to it).
         assert_eq!(path.file_stem().and_then(|s| s.to_str()), Some(name.as_str()));
     }
@@ -53,13 +63,13 @@ fn every_material_produces_every_text_target() {
 #[test]
 fn compiling_twice_is_byte_identical() {
     for path in common::material_files() {
-        let first = common::compile_file(&path).emit(&[
+        let first = common::compile_file(&path).emit_with_harness(&[
             glazec::Target::Wgsl,
             glazec::Target::Glsl,
             glazec::Target::Hlsl,
             glazec::Target::Spv,
         ]);
-        let second = common::compile_file(&path).emit(&[
+        let second = common::compile_file(&path).emit_with_harness(&[
             glazec::Target::Wgsl,
             glazec::Target::Glsl,
             glazec::Target::Hlsl,

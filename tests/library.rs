@@ -31,8 +31,9 @@ const HARNESS_NAMES: [&str; 10] = [
     "preview_fs",
 ];
 
+/// The file `file` among `compiled`'s outputs for `target` (the harness's files included).
 fn text(compiled: &glazec::Compiled, target: Target, file: &str) -> String {
-    let artifacts = compiled.emit(&[target]).expect("emits");
+    let artifacts = compiled.emit_with_harness(&[target]).expect("emits");
     let artifact = artifacts.iter().find(|a| a.file_name == file).unwrap_or_else(|| panic!("no {file}"));
     String::from_utf8(artifact.contents.clone()).expect("utf-8")
 }
@@ -273,7 +274,8 @@ fn bindings_go_where_the_host_chooses() {
     assert!(wgsl.contains("\nfn tunable_glaze_ibl("), "placing the environment adds `_ibl`");
     assert_eq!(rebound.layout.params, Some(Slot::new(3, 0)));
     // The harness takes the lowest free bindings of group 0.
-    assert_eq!((rebound.layout.pairs, rebound.layout.values, rebound.layout.dispatch), (0, 1, 2));
+    let harness = &rebound.harness().expect("the harness validates").layout;
+    assert_eq!((harness.pairs, harness.values, harness.dispatch), (0, 1, 2));
     // Two resources in one place are refused, naming both.
     let clash = glaze.with_bindings(
         &Choice::default().with(Resource::Environment, Slot::new(2, 0)).with(Resource::Tables, Slot::new(2, 1)),
@@ -293,7 +295,10 @@ fn the_environment_is_the_harness_s_unless_placed() {
     let harness = text(&glaze, Target::Wgsl, "tunable_glaze.harness.wgsl");
     assert!(harness.contains("@group(2) @binding(1) \nvar tunable_glaze_radiance"), "{harness}");
     assert!(harness.contains("\nfn tunable_glaze_ibl("), "{harness}");
-    let names = |c: &glazec::Compiled| c.layout.environment.iter().map(|(_, s)| *s).collect::<Vec<_>>();
+    assert!(glaze.layout.environment.is_empty(), "the library's layout has no environment");
+    let names = |c: &glazec::Compiled| {
+        c.harness().expect("the harness validates").layout.environment.iter().map(|(_, s)| *s).collect::<Vec<_>>()
+    };
     assert_eq!(names(&glaze), [Slot::new(2, 0), Slot::new(2, 1), Slot::new(2, 2)]);
     // The host's parameters and tables in group 2 move the harness's environment to group 3.
     let moved = glaze.with_bindings(&Choice::default().with(Resource::Params, Slot::new(2, 0))).expect("binds");

@@ -72,12 +72,13 @@ fn check_stack(s: &Stack) -> Result<(), TestCaseError> {
             Err(e) => return Err(TestCaseError::fail(format!("{e}: {e:?}\n{text}"))),
         };
         let targets = [glazec::Target::Wgsl, glazec::Target::Glsl, glazec::Target::Hlsl, glazec::Target::Spv];
-        let artifacts = compiled.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+        let artifacts =
+            compiled.emit_with_harness(&targets).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
         // WGSL library and harness, the GLSL library and four harness files, the HLSL library
         // and harness, SPIR-V; and the table file when the library reads tables.
         prop_assert_eq!(artifacts.len(), 10 + usize::from(compiled.uses_tables()));
         let again = glazec::compile(&text).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-        let again = again.emit(&targets).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let again = again.emit_with_harness(&targets).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         prop_assert!(artifacts == again, "output is not deterministic\n{}", text);
 
         // Every method is reciprocal except the seed's Weidlich–Wilkie over a smooth coat, whose

@@ -140,7 +140,7 @@ fn textured_shaders_pass_the_external_validators() {
     let compiled = glazec::compile(&textured_clay()).expect("compiles");
     let dir = tempfile::tempdir().expect("temp dir");
     let mut runs: Vec<(String, Vec<String>)> = Vec::new();
-    for artifact in compiled.emit(&[Target::Glsl, Target::Hlsl]).expect("emits") {
+    for artifact in compiled.emit_with_harness(&[Target::Glsl, Target::Hlsl]).expect("emits") {
         let path = dir.path().join(&artifact.file_name);
         std::fs::write(&path, &artifact.contents).expect("write");
         let file = path.to_string_lossy().to_string();

@@ -107,17 +107,14 @@ fn tint_accepts_every_generated_wgsl_with_no_message() {
         sources.extend([library, whole]);
     }
     sources.push(Source { name: "every library, concatenated".into(), text: libraries, entries: Vec::new() });
-    // The scene variants as generated/scenes/ holds them: each library with its harness.
-    for harness in common::files_under(&common::root().join("generated/scenes")) {
-        let Some(library) = harness.to_str().and_then(|p| p.strip_suffix(".harness.wgsl")).map(|p| format!("{p}.wgsl"))
-        else {
+    // The scene variants' libraries, as generated/scenes/ holds them.
+    for library in common::files_under(&common::root().join("generated/scenes")) {
+        if library.extension().is_none_or(|e| e != "wgsl") {
             continue;
-        };
-        let text =
-            [std::fs::read_to_string(&library).expect("library"), std::fs::read_to_string(&harness).expect("harness")]
-                .join("\n");
-        let name = harness.strip_prefix(common::root()).unwrap_or(&harness).display().to_string();
-        sources.push(Source { name, text, entries: HARNESS_ENTRIES.to_vec() });
+        }
+        let text = std::fs::read_to_string(&library).expect("library");
+        let name = library.strip_prefix(common::root()).unwrap_or(&library).display().to_string();
+        sources.push(Source { name, text, entries: Vec::new() });
     }
     let textured =
         std::fs::read_to_string(common::root().join("examples/textures/textured_clay.ron")).expect("example");
@@ -178,9 +175,10 @@ fn pairs() -> Vec<Pair> {
 
 /// Whether `eval_pairs` reads the resource at `slot`.
 fn eval_pairs_uses(compiled: &glazec::Compiled, slot: glazec::lower::bindings::Slot) -> bool {
-    let index = compiled.module.entry_points.iter().position(|ep| ep.name == "eval_pairs").expect("eval_pairs");
-    let info = compiled.info.get_entry_point(index);
-    compiled.module.global_variables.iter().any(|(handle, var)| {
+    let harness = compiled.harness().expect("the harness validates");
+    let index = harness.module.entry_points.iter().position(|ep| ep.name == "eval_pairs").expect("eval_pairs");
+    let info = harness.info.get_entry_point(index);
+    harness.module.global_variables.iter().any(|(handle, var)| {
         var.binding.is_some_and(|b| b.group == slot.group && b.binding == slot.binding) && !info[handle].is_empty()
     })
 }
@@ -204,7 +202,7 @@ fn eval_pairs_through_dawn_agrees_with_the_cpu() {
         let file = dir.path().join(format!("{}.wgsl", compiled.material.name));
         std::fs::write(&file, compiled.whole_wgsl().expect("emits")).expect("writes");
         let values = compiled.material.default_values();
-        let layout = &compiled.layout;
+        let layout = &compiled.harness().expect("the harness validates").layout;
         // 'auto' layouts hold only what the entry point uses (clay's tables serve only its IBL).
         let used = |slot: Option<glazec::lower::bindings::Slot>| {
             slot.filter(|s| eval_pairs_uses(&compiled, *s)).map(|s| s.binding)

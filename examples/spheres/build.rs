@@ -2,7 +2,9 @@
 //!
 //! `glazec::build::Build::run` prints `cargo:rerun-if-changed` for the folder and every
 //! material, writes the shaders and `OUT_DIR/glazec_materials.rs`, and fails the build with
-//! glazec's diagnostics if a material has errors.
+//! glazec's diagnostics if a material has errors. The sphere grid is drawn by glazec's own
+//! preview pipelines (`Build::harness`); the light-loop scene imports the libraries alone into
+//! its own shader, as a host does.
 //!
 //! It also compiles a second set, `OUT_DIR/layout_cases/`: generated materials whose runtime
 //! parameters come in every order of `f32` and `vec3<f32>` up to five members (the awkward
@@ -13,7 +15,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn main() {
-    glazec::build::Build::new("../../materials").run();
+    // The sphere grid renders through glazec's own preview pipelines: ask for its harness too.
+    glazec::build::Build::new("../../materials").harness(true).run();
     light_loop();
     layout_cases();
 }

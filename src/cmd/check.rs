@@ -22,6 +22,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         out_dir: PathBuf::new(),
         targets: Vec::new(),
         bindings: Default::default(),
+        harness: false,
     };
     let outcome = project.compile().map_err(|e| project_failure(e, args.message_format))?;
     for file in &outcome.notes {

@@ -30,6 +30,11 @@ pub struct Args {
     /// adds glazec's environment lookup `<m>_ibl` to the libraries.
     #[arg(long, value_name = "RESOURCE=GROUP:BINDING", value_parser = parse_bind)]
     bind: Vec<(Resource, Slot)>,
+    /// Also write glazec's own harness beside each library: its `eval_pairs` kernel and preview
+    /// pipelines (`<m>.harness.wgsl`, `<m>.<entry>.<stage>.glsl`, `<m>.hlsl`), which glazec's
+    /// tests, `eval`, `bench` and `preview` run. A host needs only the libraries.
+    #[arg(long)]
+    harness: bool,
     /// Write nothing; exit 1 if any output differs from what is on disk.
     #[arg(long)]
     check: bool,
@@ -50,8 +55,14 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<(), Failure> {
     let bindings = args.bind.iter().fold(Choice::default(), |choice, &(resource, slot)| choice.with(resource, slot));
-    let project =
-        Project { inputs: args.inputs, scene: args.scene, out_dir: args.out.clone(), targets: args.target, bindings };
+    let project = Project {
+        inputs: args.inputs,
+        scene: args.scene,
+        out_dir: args.out.clone(),
+        targets: args.target,
+        bindings,
+        harness: args.harness,
+    };
     if project.scene.is_none() && !args.check {
         // Compiled, emitted and staged material by material: memory does not grow with the folder.
         let written = project.write().map_err(|e| project_failure(e, args.message_format))?;

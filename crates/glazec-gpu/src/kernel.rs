@@ -141,7 +141,7 @@ impl EvalKernel {
     /// A [`RunError`] if the shader cannot be produced, compiled or accepted by the device.
     pub fn new(gpu: &Gpu, compiled: &Compiled, path: ShaderPath) -> Result<EvalKernel, RunError> {
         let loaded = shader::load(gpu, compiled, path, naga::ShaderStage::Compute, entry_points::EVAL_PAIRS)?;
-        let optional = compiled.layout.clone();
+        let optional = compiled.harness().map_err(glazec::emit::EmitError::from)?.layout.clone();
         let what = format!("{path} eval_pairs pipeline of `{}`", compiled.material.name);
         let material = &compiled.material;
         let texture_layout = textures::layout(gpu, material, false, wgpu::ShaderStages::COMPUTE);

@@ -179,7 +179,7 @@ pub fn render(
         count: None,
     };
     // Group 0 of glazec's default bindings (where `glazec::compile` puts them).
-    let optional = &compiled.layout;
+    let optional = &compiled.harness().map_err(glazec::emit::EmitError::from)?.layout;
     // `lower` always adds the preview light; binding 4 is where it lands when absent otherwise.
     let light_binding = optional.light.unwrap_or(bindings::PARAMS + 1);
     let mut entries = Vec::new();

@@ -65,7 +65,8 @@ pub(crate) fn load(
     };
     match path {
         ShaderPath::NagaIr => {
-            let module = create(wgpu::ShaderSource::Naga(Cow::Owned(compiled.module.clone())))?;
+            let harness = compiled.harness().map_err(glazec::emit::EmitError::from)?;
+            let module = create(wgpu::ShaderSource::Naga(Cow::Owned(harness.module.clone())))?;
             Ok(Loaded { module, entry: entry.to_string() })
         }
         ShaderPath::Wgsl => {
@@ -75,7 +76,7 @@ pub(crate) fn load(
         }
         ShaderPath::Glsl => {
             // The entry point's file `#include`s the library: all go to glslang's folder.
-            let files = compiled.emit(&[Target::Glsl])?;
+            let files = compiled.emit_with_harness(&[Target::Glsl])?;
             let artifact = files
                 .iter()
                 .find(|a| a.stage.as_ref().is_some_and(|(s, e)| *s == stage && e == entry))
@@ -91,7 +92,7 @@ pub(crate) fn load(
                 return Err(RunError::NoPassthrough { path: "hlsl" });
             }
             // The harness `#include`s the library: both go to glslang's folder.
-            let files = compiled.emit(&[Target::Hlsl])?;
+            let files = compiled.emit_with_harness(&[Target::Hlsl])?;
             let harness = files.iter().find(|a| a.harness).map(|a| a.file_name.clone()).unwrap_or_default();
             let stage_name = glazec::emit::stage_suffix(stage);
             let words = glslang(&files, &harness, &["-D", "-V", "-S", stage_name, "-e", entry])?;

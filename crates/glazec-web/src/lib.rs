@@ -120,7 +120,7 @@ pub fn compile(text: &str) -> String {
         }
         Err(e) => return failure(serde_json::Value::Array(Vec::new()), e.to_string()),
     };
-    let artifacts = match compiled.emit(&[Target::Wgsl, Target::Glsl, Target::Hlsl]) {
+    let artifacts = match compiled.emit_with_harness(&[Target::Wgsl, Target::Glsl, Target::Hlsl]) {
         Ok(a) => a,
         Err(e) => return failure(serde_json::Value::Array(Vec::new()), e.to_string()),
     };

@@ -50,7 +50,8 @@ pub use emit::{Artifact, Target};
 pub use model::{Material, SourceMap};
 pub use origin::{Origin, VERSION, source_hash};
 
-/// A material that went through every stage up to validation.
+/// A material that went through every stage up to validation: its library, and glazec's
+/// harness on it when asked for ([`Compiled::harness`]).
 pub struct Compiled {
     pub material: Material,
     /// Where the text came from; named in the header of every generated file.
@@ -59,13 +60,23 @@ pub struct Compiled {
     /// The material's library (no entry points): what a host imports.
     pub library: naga::Module,
     pub library_info: naga::valid::ModuleInfo,
-    /// The library followed by glazec's harness: what glazec runs.
-    pub module: naga::Module,
-    pub info: naga::valid::ModuleInfo,
-    /// Where the resources of both modules are bound.
+    /// Where the library's resources are bound (the harness's are in [`Harness::layout`]).
     pub layout: lower::bindings::Layout,
     /// The contents of the table uniform (see [`lower::Lowered::tables`]).
     pub tables: Vec<u16>,
+    /// The bindings the library was lowered with (the harness is lowered with them too).
+    choice: lower::bindings::Choice,
+    /// glazec's harness, built on first use: a host never needs it.
+    harness: std::sync::OnceLock<Harness>,
+}
+
+/// The library followed by glazec's harness (`eval_pairs` and the previews): what glazec's
+/// tests, `eval`, `bench` and `preview` run.
+pub struct Harness {
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+    /// Where the resources of the library and of the harness are bound.
+    pub layout: lower::bindings::Layout,
 }
 
 /// An error and its causes, each once, joined by ": " (what `{:#}` prints for an `anyhow` error):
@@ -153,16 +164,18 @@ fn table_budget(compiled: &Compiled) -> Option<Diagnostic> {
     Some(diagnostic)
 }
 
-/// Lowers and validates an already-checked material (for programs that build [`Material`]s),
-/// with glazec's default bindings. Unlike [`compile_source`], it does not refuse a material
-/// whose runtime table lookups exceed the uniform binding (`E0222`): a program that builds
-/// such a material compares `2 * tables.len()` with [`lower::builder::MAX_UNIFORM_BYTES`].
+/// Lowers and validates an already-checked material's library (for programs that build
+/// [`Material`]s), with glazec's default bindings. Unlike [`compile_source`], it does not refuse a
+/// material whose runtime table lookups exceed the uniform binding (`E0222`): a program that
+/// builds such a material compares `2 * tables.len()` with [`lower::builder::MAX_UNIFORM_BYTES`].
 ///
 /// # Errors
 /// Only for a compiler bug (naga rejecting the generated IR).
 pub fn compile_material(material: Material, source_map: SourceMap) -> Result<Compiled, validate::ValidateError> {
-    let lowered = lower::lower(&material);
-    finish(material, source_map, lowered)
+    compile_material_with(material, source_map, &lower::bindings::Choice::default()).map_err(|e| match e {
+        BindError::Internal(e) => e,
+        BindError::Clash(clash) => unreachable!("the default bindings are apart by construction: {clash}"),
+    })
 }
 
 /// Why a material with chosen bindings produced nothing.
@@ -183,22 +196,22 @@ pub fn compile_material_with(
     source_map: SourceMap,
     choice: &lower::bindings::Choice,
 ) -> Result<Compiled, BindError> {
-    let lowered = lower::lower_with(&material, choice)?;
-    Ok(finish(material, source_map, lowered)?)
-}
-
-fn finish(
-    material: Material,
-    source_map: SourceMap,
-    lowered: lower::Lowered,
-) -> Result<Compiled, validate::ValidateError> {
-    let lower::Lowered { library, module, layout, tables } = lowered;
+    let lower::Library { library, layout, tables } = lower::lower_library(&material, choice)?;
     let library_info = validate::validate(&material.name, &library)?;
-    let info = validate::validate(&material.name, &module)?;
     // A material built by a program has no text; its model (whose `Debug` form prints every
     // field, floats exactly) stands in for it.
     let origin = Origin { file: None, hash: source_hash(format!("{material:?}").as_bytes()), scene: None };
-    Ok(Compiled { material, origin, source_map, library, library_info, module, info, layout, tables })
+    Ok(Compiled {
+        material,
+        origin,
+        source_map,
+        library,
+        library_info,
+        layout,
+        tables,
+        choice: *choice,
+        harness: std::sync::OnceLock::new(),
+    })
 }
 
 impl Compiled {
@@ -224,13 +237,28 @@ impl Compiled {
         Ok(rebound)
     }
 
+    /// glazec's harness on the library, lowered and validated on first use.
+    ///
+    /// # Errors
+    /// Only for a compiler bug (naga rejecting the generated IR).
+    pub fn harness(&self) -> Result<&Harness, validate::ValidateError> {
+        if let Some(harness) = self.harness.get() {
+            return Ok(harness);
+        }
+        let lowered = lower::lower_with(&self.material, &self.choice)
+            .unwrap_or_else(|clash| unreachable!("the library was lowered with these bindings: {clash}"));
+        let info = validate::validate(&self.material.name, &lowered.module)?;
+        let harness = Harness { module: lowered.module, info, layout: lowered.layout };
+        Ok(self.harness.get_or_init(|| harness))
+    }
+
     /// The library and glazec's harness in WGSL, concatenated: the whole module as one source
     /// (what glazec's runner compiles on the WGSL path).
     ///
     /// # Errors
-    /// Only for a backend bug.
+    /// Only for a compiler bug.
     pub fn whole_wgsl(&self) -> Result<String, emit::EmitError> {
-        let files = self.emit(&[Target::Wgsl])?;
+        let files = self.emit_with_harness(&[Target::Wgsl])?;
         Ok(files
             .iter()
             .filter(|a| a.file_name.ends_with(".wgsl"))
@@ -239,19 +267,34 @@ impl Compiled {
             .join("\n"))
     }
 
-    /// Emits shader files for `targets`, and the table uniform's contents (`<m>.tables.bin`)
-    /// when the library reads it.
+    /// Emits the library's files for `targets` (what a host imports), and the table uniform's
+    /// contents (`<m>.tables.bin`) when the library reads it. SPIR-V, which holds entry points,
+    /// is the one target written from glazec's harness.
     ///
     /// # Errors
-    /// Only for a backend bug; a validated module is expected to emit.
+    /// Only for a compiler bug; a validated module is expected to emit.
     pub fn emit(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
-        let modules = emit::Modules {
-            library: &self.library,
-            library_info: &self.library_info,
-            module: &self.module,
-            info: &self.info,
-            layout: &self.layout,
+        self.emit_files(targets, false)
+    }
+
+    /// [`Compiled::emit`] and glazec's harness files beside the libraries (see [`emit`] for
+    /// which).
+    ///
+    /// # Errors
+    /// Only for a compiler bug.
+    pub fn emit_with_harness(&self, targets: &[Target]) -> Result<Vec<Artifact>, emit::EmitError> {
+        self.emit_files(targets, true)
+    }
+
+    fn emit_files(&self, targets: &[Target], with_harness: bool) -> Result<Vec<Artifact>, emit::EmitError> {
+        let harness = if with_harness || targets.contains(&Target::Spv) {
+            let harness = self.harness()?;
+            Some(emit::HarnessModule { module: &harness.module, info: &harness.info, files: with_harness })
+        } else {
+            None
         };
+        let modules =
+            emit::Modules { library: &self.library, library_info: &self.library_info, layout: &self.layout, harness };
         let mut artifacts = emit::emit(&self.material.name, &self.origin, modules, targets)?;
         if self.uses_tables() {
             artifacts.push(Artifact {

@@ -190,8 +190,8 @@ fn failures(files: &[SourceFile], failed: BTreeMap<usize, Vec<Diagnostic>>) -> P
 }
 
 /// The files `compiled` materials produce under `out_dir`: `<material>/<artifact>` for each
-/// target (with the material's table file when its library reads tables), their resources
-/// where `bindings` puts them.
+/// target (with the material's table file when its library reads tables, and glazec's harness
+/// files with `harness`), their resources where `bindings` puts them.
 ///
 /// # Errors
 /// Two resources would share a binding, or a backend error (a bug: validated modules are
@@ -201,9 +201,10 @@ pub fn plan(
     compiled: &[&Compiled],
     targets: &[Target],
     bindings: &Choice,
+    harness: bool,
 ) -> Result<Vec<OutputFile>, ProjectError> {
     let planned: Vec<Vec<OutputFile>> =
-        compiled.par_iter().map(|c| plan_one(out_dir, c, targets, bindings)).collect::<Result<_, _>>()?;
+        compiled.par_iter().map(|c| plan_one(out_dir, c, targets, bindings, harness)).collect::<Result<_, _>>()?;
     Ok(planned.into_iter().flatten().collect())
 }
 
@@ -213,15 +214,17 @@ fn plan_one(
     c: &Compiled,
     targets: &[Target],
     bindings: &Choice,
+    harness: bool,
 ) -> Result<Vec<OutputFile>, ProjectError> {
+    let emit = |c: &Compiled| if harness { c.emit_with_harness(targets) } else { c.emit(targets) };
     let artifacts = if *bindings == Choice::default() {
-        c.emit(targets)?
+        emit(c)?
     } else {
         let rebound = c.with_bindings(bindings).map_err(|e| match e {
             crate::BindError::Clash(source) => ProjectError::Bind { material: c.material.name.clone(), source },
             crate::BindError::Internal(e) => ProjectError::Validate(e),
         })?;
-        rebound.emit(targets)?
+        emit(&rebound)?
     };
     Ok(output::plan(out_dir, &c.material.name, artifacts))
 }
@@ -305,6 +308,8 @@ pub struct Project {
     pub targets: Vec<Target>,
     /// Where the libraries' resources are bound (`compile --bind`).
     pub bindings: Choice,
+    /// Whether glazec's harness files are written beside the libraries (`compile --harness`).
+    pub harness: bool,
 }
 
 /// What a [`Project`] produced, for a front end to render and write.
@@ -351,7 +356,7 @@ impl Project {
             None => Vec::new(),
         };
         let mut outcome = Outcome { compiled, simplified, notes, files: Vec::new() };
-        let mut files = plan(&self.out_dir, &outcome.generated(), &self.targets, &self.bindings)?;
+        let mut files = plan(&self.out_dir, &outcome.generated(), &self.targets, &self.bindings, self.harness)?;
         files.extend(outcome.simplified.iter().map(|(_, report)| report_file(&self.out_dir, report)));
         outcome.files = files;
         Ok(outcome)
@@ -397,7 +402,7 @@ impl Project {
                     Err(CompileError::Diagnostics(d)) => return Ok(Streamed::Failed(d)),
                     Err(CompileError::Internal(e)) => return Err(ProjectError::Validate(e)),
                 };
-                let planned = plan_one(&self.out_dir, &c, &self.targets, &self.bindings)?;
+                let planned = plan_one(&self.out_dir, &c, &self.targets, &self.bindings, self.harness)?;
                 let mut staged = Vec::with_capacity(planned.len());
                 for f in &planned {
                     match output::stage(f) {

@@ -33,6 +33,7 @@ pub struct Snapshot {
     expected: PathBuf,
     targets: Vec<Target>,
     scene: Option<PathBuf>,
+    harness: bool,
 }
 
 /// Why a snapshot is not current.
@@ -55,7 +56,13 @@ pub enum SnapshotError {
 impl Snapshot {
     /// Compares `expected` with what every `materials/*.ron` generates, in WGSL, GLSL and HLSL.
     pub fn new(materials: impl Into<PathBuf>, expected: impl Into<PathBuf>) -> Self {
-        Snapshot { materials: materials.into(), expected: expected.into(), targets: Target::TEXT.to_vec(), scene: None }
+        Snapshot {
+            materials: materials.into(),
+            expected: expected.into(),
+            targets: Target::TEXT.to_vec(),
+            scene: None,
+            harness: false,
+        }
     }
 
     /// Snapshots the materials simplified for a scene (`compile --scene`), with each material's
@@ -73,6 +80,13 @@ impl Snapshot {
         self
     }
 
+    /// Whether the snapshot also holds glazec's harness files (`compile --harness`).
+    #[must_use]
+    pub fn harness(mut self, on: bool) -> Self {
+        self.harness = on;
+        self
+    }
+
     /// The files the materials generate, under the expected directory.
     ///
     /// # Errors
@@ -84,6 +98,7 @@ impl Snapshot {
             out_dir: self.expected.clone(),
             targets: self.targets.clone(),
             bindings: Default::default(),
+            harness: self.harness,
         };
         match project.compile() {
             Ok(outcome) => Ok(outcome.files),
@@ -178,7 +193,7 @@ mod tests {
         let materials = dir.path().join("materials");
         std::fs::create_dir_all(&materials).expect("mkdir");
         std::fs::write(materials.join("glaze.ron"), GLAZE).expect("writes");
-        let snapshot = Snapshot::new(&materials, dir.path().join("shaders")).targets(&[Target::Wgsl]);
+        let snapshot = Snapshot::new(&materials, dir.path().join("shaders")).targets(&[Target::Wgsl]).harness(true);
         // glaze.wgsl and glaze.harness.wgsl (its literal coat reads no table: no table file).
         assert!(matches!(snapshot.check(), Err(SnapshotError::Drift { count: 2, .. })), "missing files");
         assert_eq!(snapshot.bless().expect("blesses"), 2);

@@ -28,3 +28,16 @@ pub fn validate(material: &str, module: &naga::Module) -> Result<ModuleInfo, Val
         .validate(module)
         .map_err(|e| ValidateError { material: material.to_string(), message: e.emit_to_string("") })
 }
+
+/// The `ModuleInfo` of `module` with none of the validator's optional checks: for a module made
+/// from an already validated one by adding only calls of its functions with zero values (the
+/// GLSL library's probe), whose arithmetic has passed every check. naga's analysis, which the
+/// backends read, runs all the same.
+///
+/// # Errors
+/// naga's validation error, rendered, if the module is invalid.
+pub fn analyse(material: &str, module: &naga::Module) -> Result<ModuleInfo, ValidateError> {
+    Validator::new(ValidationFlags::empty(), Capabilities::default())
+        .validate(module)
+        .map_err(|e| ValidateError { material: material.to_string(), message: e.emit_to_string("") })
+}

@@ -62,6 +62,8 @@ pub struct Build {
     material_bindings: Vec<(String, Resource, Slot)>,
     /// Bevy materials instead of the plain module (`Build::bevy`).
     bevy: bool,
+    /// glazec's harness beside the libraries (`Build::harness`).
+    harness: bool,
 }
 
 /// What [`Build::generate`] wrote.
@@ -110,6 +112,7 @@ impl Build {
             bindings: Choice::default(),
             material_bindings: Vec::new(),
             bevy: false,
+            harness: false,
         }
     }
 
@@ -158,6 +161,16 @@ impl Build {
     #[must_use]
     pub fn targets(mut self, targets: &[Target]) -> Self {
         self.targets = targets.to_vec();
+        self
+    }
+
+    /// Whether to write glazec's harness beside each library (its `eval_pairs` kernel and
+    /// preview pipelines, as `glazec compile --harness` does) and describe its pipelines in the
+    /// Rust module (`WGSL_HARNESS`, `EVAL_PAIRS_BINDINGS`, `PREVIEW_BINDINGS`, …). Off by
+    /// default: a host imports the libraries.
+    #[must_use]
+    pub fn harness(mut self, on: bool) -> Self {
+        self.harness = on;
         self
     }
 
@@ -236,7 +249,9 @@ impl Build {
         }
         let mut inputs = Vec::new();
         for (file, c) in files.iter().zip(&rebound) {
-            let artifacts = c.emit(&self.targets).map_err(|e| BuildError::Internal(crate::error_chain(&e)))?;
+            let internal = |e: crate::emit::EmitError| BuildError::Internal(crate::error_chain(&e));
+            let artifacts = if self.harness { c.emit_with_harness(&self.targets) } else { c.emit(&self.targets) }
+                .map_err(internal)?;
             let planned = output::plan(&shader_dir, &c.material.name, artifacts.clone());
             let written: Vec<_> = artifacts.into_iter().zip(planned.iter().map(|f| f.path.clone())).collect();
             outputs.extend(planned);
@@ -245,14 +260,15 @@ impl Build {
         if self.bevy {
             return self.write_bevy(&out_dir, &shader_dir, outputs, &inputs);
         }
-        let materials: Vec<rust_module::MaterialInput<'_>> = inputs
-            .iter()
-            .map(|(source, compiled, artifacts)| rust_module::MaterialInput {
-                compiled,
-                source,
-                artifacts: artifacts.clone(),
-            })
-            .collect();
+        let mut materials = Vec::new();
+        for (source, compiled, artifacts) in &inputs {
+            let harness = if self.harness {
+                Some(compiled.harness().map_err(|e| BuildError::Internal(crate::error_chain(&e)))?)
+            } else {
+                None
+            };
+            materials.push(rust_module::MaterialInput { compiled, harness, source, artifacts: artifacts.clone() });
+        }
         let module_path = out_dir.join(MODULE_FILE);
         let text = rust_module::module_text(&materials, self.bytemuck);
         outputs.push(OutputFile { path: module_path.clone(), contents: text.into_bytes() });

@@ -18,14 +18,16 @@ use std::path::Path;
 
 use naga::{AddressSpace, Handle, Module, ScalarKind, ShaderStage, Type, TypeInner};
 
-use crate::Compiled;
 use crate::emit::Artifact;
 use crate::lower::entry_points;
 use crate::model::ParamValue;
+use crate::{Compiled, Harness};
 
 /// One material as the generator sees it.
 pub(super) struct MaterialInput<'a> {
     pub compiled: &'a Compiled,
+    /// glazec's harness, when the build writes it (`Build::harness`).
+    pub harness: Option<&'a Harness>,
     /// Absolute path of the `.ron` file.
     pub source: &'a Path,
     /// The material's emitted files and where they were written (absolute).
@@ -44,8 +46,8 @@ pub(super) fn module_text(materials: &[MaterialInput<'_>], bytemuck: bool) -> St
     out.push_str(PRELUDE);
     let _ = writeln!(out, "/// The glazec version that generated this module and its shaders.");
     let _ = writeln!(out, "#[allow(dead_code)]\npub const GLAZEC_VERSION: &str = {:?};\n", crate::VERSION);
-    if let Some(first) = materials.first() {
-        let module = &first.compiled.module;
+    if let Some(harness) = materials.first().and_then(|m| m.harness) {
+        let module = &harness.module;
         for name in ["DirectionPair", "EvalDispatch", "PreviewLight"] {
             if let Some(ty) = named_struct(module, name) {
                 let doc = match name {
@@ -121,25 +123,30 @@ fn write_material(out: &mut String, m: &MaterialInput<'_>, bytemuck: bool) {
                    material's defaults).";
         let params: Vec<(String, [f32; 2])> =
             c.material.uniform_params().map(|(_, p)| (default_literal(p.default), p.range)).collect();
-        write_struct(out, &c.module, ty, &c.material.params_struct_name(), doc, Some(&params), bytemuck, "    ");
+        write_struct(out, &c.library, ty, &c.material.params_struct_name(), doc, Some(&params), bytemuck, "    ");
         let _ = writeln!(out, "    pub type Params = {};\n", c.material.params_struct_name());
         write_params_info(out, c, ty);
     }
     write_library_bindings(out, c);
-    write_bindings(
-        out,
-        c,
-        "EVAL_PAIRS_BINDINGS",
-        "The bind groups (0, and 1 for a material that reads textures) of the harness's `eval_pairs` compute pipeline.",
-        |ep| ep.stage == ShaderStage::Compute,
-    );
-    write_bindings(
-        out,
-        c,
-        "PREVIEW_BINDINGS",
-        "The bind groups (0, and 1 for a material that reads textures) of the harness's `preview_vs` + `preview_fs` render pipeline.",
-        |ep| [entry_points::PREVIEW_VS, entry_points::PREVIEW_FS].contains(&ep.name.as_str()),
-    );
+    if let Some(harness) = m.harness {
+        write_bindings(
+            out,
+            harness,
+            "EVAL_PAIRS_BINDINGS",
+            "The bind groups (0, and 1 for a material that reads textures) of the harness's `eval_pairs` compute pipeline.",
+            |ep| ep.stage == ShaderStage::Compute,
+        );
+        write_bindings(
+            out,
+            harness,
+            "PREVIEW_BINDINGS",
+            "The bind groups (0, and 1 for a material that reads textures) of the harness's `preview_vs` + `preview_fs` render pipeline.",
+            |ep| [entry_points::PREVIEW_VS, entry_points::PREVIEW_FS].contains(&ep.name.as_str()),
+        );
+    } else {
+        out.push_str("    /// glazec's harness was not generated (`Build::harness`): no harness pipelines.\n");
+        out.push_str("    pub const EVAL_PAIRS_BINDINGS: &[Binding] = &[];\n    pub const PREVIEW_BINDINGS: &[Binding] = &[];\n\n");
+    }
     let _ = writeln!(out, "    pub const INFO: MaterialInfo = MaterialInfo {{");
     let _ = writeln!(out, "        name: NAME,\n        source: SOURCE,\n        source_hash: SOURCE_HASH,");
     let _ = writeln!(out, "        wgsl: {},", if has_wgsl { "WGSL" } else { "\"\"" });
@@ -203,7 +210,7 @@ fn write_freshness_checks(out: &mut String, m: &MaterialInput<'_>, text_consts: 
 /// The material's `<Name>Params` struct type, when it has runtime parameters.
 fn params_struct(c: &Compiled) -> Option<Handle<Type>> {
     c.material.uniform_params().next()?;
-    named_struct(&c.module, &c.material.params_struct_name())
+    named_struct(&c.library, &c.material.params_struct_name())
 }
 
 fn named_struct(module: &Module, name: &str) -> Option<Handle<Type>> {
@@ -346,7 +353,7 @@ fn default_literal(value: ParamValue) -> String {
 
 /// `PARAMS_MEMBERS` and `PARAMS_INFO`.
 fn write_params_info(out: &mut String, c: &Compiled, ty: Handle<Type>) {
-    let module = &c.module;
+    let module = &c.library;
     let TypeInner::Struct { members, span } = &module.types[ty].inner else { return };
     let name = c.material.params_struct_name();
     let _ = writeln!(out, "    /// The uniform struct's members as naga laid them out.");
@@ -376,12 +383,12 @@ fn write_params_info(out: &mut String, c: &Compiled, ty: Handle<Type>) {
 /// docs/generated-files.md documents it.)
 fn write_bindings(
     out: &mut String,
-    c: &Compiled,
+    harness: &Harness,
     constant: &str,
     doc: &str,
     selects: impl Fn(&naga::EntryPoint) -> bool,
 ) {
-    let module = &c.module;
+    let module = &harness.module;
     let mut layouter = naga::proc::Layouter::default();
     // The module validated, so its types lay out; a failure here would leave sizes at 0.
     let _ = layouter.update(module.to_ctx());
@@ -390,7 +397,7 @@ fn write_bindings(
         let Some(binding) = var.binding else { continue };
         let mut stages = [false; 3];
         for (index, ep) in module.entry_points.iter().enumerate() {
-            if selects(ep) && !c.info.get_entry_point(index)[handle].is_empty() {
+            if selects(ep) && !harness.info.get_entry_point(index)[handle].is_empty() {
                 stages[match ep.stage {
                     ShaderStage::Vertex => 0,
                     ShaderStage::Fragment => 1,
@@ -402,7 +409,7 @@ fn write_bindings(
             continue;
         }
         let name = var.name.clone().unwrap_or_default();
-        let role = role(c, &name, binding);
+        let role = role(&harness.layout, &name, binding);
         let access = match var.space {
             AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => "StorageReadWrite",
             AddressSpace::Storage { .. } => "StorageReadOnly",
@@ -432,9 +439,8 @@ fn write_bindings(
 }
 
 /// What the binding called `name` at `binding` holds.
-fn role(c: &Compiled, name: &str, binding: naga::ResourceBinding) -> &'static str {
+fn role(layout: &crate::lower::bindings::Layout, name: &str, binding: naga::ResourceBinding) -> &'static str {
     let slot = crate::lower::bindings::Slot::new(binding.group, binding.binding);
-    let layout = &c.layout;
     let environment = layout.environment.iter().position(|(_, s)| *s == slot);
     match name {
         _ if layout.params == Some(slot) => "Params",
@@ -462,7 +468,7 @@ fn write_library_bindings(out: &mut String, c: &Compiled) {
     for (_, var) in module.global_variables.iter() {
         let Some(binding) = var.binding else { continue };
         let name = var.name.clone().unwrap_or_default();
-        let role = role(c, &name, binding);
+        let role = role(&c.layout, &name, binding);
         let access = if var.space == AddressSpace::Handle { "Handle" } else { "Uniform" };
         let min_size = layouter[var.ty].size;
         rows.push((

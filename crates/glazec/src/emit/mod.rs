@@ -89,15 +89,24 @@ pub struct Artifact {
     pub harness: bool,
 }
 
-/// What [`emit`] writes from: a material's library and the module of library and harness, each
-/// validated, and where their resources are bound.
+/// What [`emit`] writes from: a material's library, validated, where its resources are bound,
+/// and glazec's harness when it is wanted.
 #[derive(Clone, Copy)]
 pub struct Modules<'a> {
     pub library: &'a Module,
     pub library_info: &'a ModuleInfo,
+    pub layout: &'a crate::lower::bindings::Layout,
+    pub harness: Option<HarnessModule<'a>>,
+}
+
+/// The library followed by glazec's harness, validated.
+#[derive(Clone, Copy)]
+pub struct HarnessModule<'a> {
     pub module: &'a Module,
     pub info: &'a ModuleInfo,
-    pub layout: &'a crate::lower::bindings::Layout,
+    /// Whether to write the harness files beside the libraries (SPIR-V, which holds the
+    /// harness's entry points, is written from `module` either way).
+    pub files: bool,
 }
 
 /// A naga backend failed on a validated module (a bug in glazec or naga).
@@ -111,6 +120,9 @@ pub enum EmitError {
     Hlsl(#[from] hlsl::Error),
     #[error("the SPIR-V backend failed")]
     Spv(#[from] spv::Error),
+    /// SPIR-V was asked for without the harness module it is written from (a bug in the caller).
+    #[error("SPIR-V is written from glazec's harness, which was not given")]
+    NoHarness,
     /// A single-entry-point copy of the module failed validation.
     #[error(transparent)]
     Validate(#[from] crate::validate::ValidateError),
@@ -135,7 +147,7 @@ pub fn emit(
     modules: Modules<'_>,
     targets: &[Target],
 ) -> Result<Vec<Artifact>, EmitError> {
-    let Modules { library, library_info, module, info, layout } = modules;
+    let Modules { library, library_info, layout, harness } = modules;
     let header = header(name, origin);
     let harness_header = |library_file: &str, how: &str| {
         format!(
@@ -155,62 +167,75 @@ pub fn emit(
     // The harness files are written from the whole module with the library's function bodies
     // left out (`library::harness_view`): the backends then write the library once, not again
     // for every harness file.
-    let view = if targets.iter().any(|t| matches!(t, Target::Wgsl | Target::Glsl | Target::Hlsl)) {
-        let view = library::harness_view(library, module);
-        let view_info = crate::validate::validate(name, &view)?;
-        Some((view, view_info))
-    } else {
-        None
+    let view = match harness {
+        Some(h) if h.files && targets.iter().any(|t| matches!(t, Target::Wgsl | Target::Glsl | Target::Hlsl)) => {
+            let view = library::harness_view(library, h.module);
+            let view_info = crate::validate::validate(name, &view)?;
+            Some((view, view_info, h.module))
+        }
+        _ => None,
     };
     for target in targets {
-        match (target, &view) {
-            (Target::Wgsl, Some((view, view_info))) => {
-                let full = wgsl::write_string(view, view_info, wgsl::WriterFlags::empty())?;
-                let harness = polished(view, &library::harness_items(&full, &wgsl_library), false);
+        match target {
+            Target::Wgsl => {
                 out.push(artifact(format!("{name}.wgsl"), &header, &wgsl_library, None, false));
-                let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
-                out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
+                if let Some((view, view_info, _)) = &view {
+                    let full = wgsl::write_string(view, view_info, wgsl::WriterFlags::empty())?;
+                    let harness = polished(view, &library::harness_items(&full, &wgsl_library), false);
+                    let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
+                    out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
+                }
             }
-            (Target::NagaOil, _) => {
+            Target::NagaOil => {
                 let text = library::naga_oil(name, &wgsl_library, layout);
                 out.push(artifact(format!("{name}.naga_oil.wgsl"), &header, &text, None, false));
             }
-            (Target::Glsl, Some((view, _))) => {
+            Target::Glsl => {
                 let probe = library::glsl_probe(library);
-                let probe_info = crate::validate::validate(name, &probe)?;
+                let probe_info = crate::validate::analyse(name, &probe)?;
                 let probe_text = write_glsl(&probe, &probe_info, ShaderStage::Fragment, "main")?;
                 let text = library::glsl_library(name, library, polished(library, &probe_text, false));
-                let declared = library::declared_names(&text);
                 let library_file = format!("{name}.glsl");
                 out.push(artifact(library_file.clone(), &header, &text, None, false));
-                for ep in &module.entry_points {
-                    let (single, single_info) = single_entry_point(name, view, &ep.name)?;
-                    let entry = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
-                    let whole = library::glsl_entry(&entry, &library_file, &declared, |harness| {
-                        polished(&single, harness, true)
-                    });
-                    let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
-                    out.push(artifact(file, &header, &whole, Some((ep.stage, ep.name.clone())), true));
+                if let Some((view, _, module)) = &view {
+                    let declared = library::declared_names(&text);
+                    for ep in &module.entry_points {
+                        let (single, single_info) = single_entry_point(name, view, &ep.name)?;
+                        let entry = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
+                        let whole = library::glsl_entry(&entry, &library_file, &declared, |harness| {
+                            polished(&single, harness, true)
+                        });
+                        let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
+                        out.push(artifact(file, &header, &whole, Some((ep.stage, ep.name.clone())), true));
+                    }
                 }
             }
-            (Target::Hlsl, Some((view, view_info))) => {
+            Target::Hlsl => {
                 let library_text = polished(library, &write_hlsl(library, library_info)?, false);
-                let harness =
-                    polished(view, &library::harness_items(&write_hlsl(view, view_info)?, &library_text), false);
+                let harness_text = match &view {
+                    Some((view, view_info, _)) => Some(polished(
+                        view,
+                        &library::harness_items(&write_hlsl(view, view_info)?, &library_text),
+                        false,
+                    )),
+                    None => None,
+                };
                 let library_text = library::guarded(&library_text, name);
                 out.push(artifact(format!("{name}.hlsli"), &header, &library_text, None, false));
-                let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");
-                let harness_header = harness_header(&format!("{name}.hlsli"), "which includes");
-                out.push(artifact(format!("{name}.hlsl"), &harness_header, &harness, None, true));
+                if let Some(harness) = harness_text {
+                    let harness = format!("#include \"{name}.hlsli\"\n\n{harness}");
+                    let harness_header = harness_header(&format!("{name}.hlsli"), "which includes");
+                    out.push(artifact(format!("{name}.hlsl"), &harness_header, &harness, None, true));
+                }
             }
-            (Target::Wgsl | Target::Glsl | Target::Hlsl, None) => unreachable!("the harness view is made for these"),
-            (Target::Spv, _) => {
+            Target::Spv => {
+                let h = harness.ok_or(EmitError::NoHarness)?;
                 // Fixed flags (naga's default adds DEBUG only in debug builds, which would make
                 // the bytes depend on the build profile): debug names for tools and reflection,
                 // and WGSL's clip-space convention (no Y flip), as in the other outputs.
                 let flags = spv::WriterFlags::DEBUG | spv::WriterFlags::LABEL_VARYINGS;
                 let options = spv::Options { lang_version: (1, 0), flags, ..Default::default() };
-                let words = spv::write_vec(module, info, &options, None)?;
+                let words = spv::write_vec(h.module, h.info, &options, None)?;
                 let contents = words.iter().flat_map(|w| w.to_le_bytes()).collect();
                 out.push(Artifact { file_name: format!("{name}.spv"), contents, stage: None, harness: true });
             }

@@ -76,11 +76,41 @@ pub fn lower(material: &Material) -> Lowered {
         .unwrap_or_else(|clash| unreachable!("the default bindings are apart by construction: {clash}"))
 }
 
-/// Lowers a material with its resources where `choice` puts them.
+/// Lowers a material with its resources where `choice` puts them: the library and glazec's
+/// harness on it.
 ///
 /// # Errors
 /// Two resources of the library would share a binding.
 pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash> {
+    let (library, module, layout, tables) = lower_parts(material, choice, true)?;
+    let module = module.unwrap_or_else(|| unreachable!("the harness was asked for"));
+    Ok(Lowered { library, module, layout, tables })
+}
+
+/// A material's library alone: what a host imports, without glazec's harness (which
+/// [`lower_with`] adds, for glazec's own runs).
+#[derive(Clone, Debug)]
+pub struct Library {
+    pub library: Module,
+    /// Where the library's resources are bound (the harness's fields keep their defaults).
+    pub layout: Layout,
+    /// As [`Lowered::tables`].
+    pub tables: Vec<u16>,
+}
+
+/// Lowers a material's library alone, with its resources where `choice` puts them: the same
+/// library as [`lower_with`]'s, without building the harness.
+///
+/// # Errors
+/// Two resources of the library would share a binding.
+pub fn lower_library(material: &Material, choice: &Choice) -> Result<Library, Clash> {
+    let (library, _, layout, tables) = lower_parts(material, choice, false)?;
+    Ok(Library { library, layout, tables })
+}
+
+type Parts = (Module, Option<Module>, Layout, Vec<u16>);
+
+fn lower_parts(material: &Material, choice: &Choice, with_harness: bool) -> Result<Parts, Clash> {
     let b = ModuleBuilder::new();
     b.curves.set(crate::math::tables::curves_for(material));
     let params_ty = params_type(&b, material);
@@ -101,6 +131,9 @@ pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash
         namespace::prefix(m, &material.name, &public, namespace::Start::default());
         namespace::place(m, choice, params_var, tables_var)
     })?;
+    if !with_harness {
+        return Ok((b.finish(), None, layout, tables));
+    }
     let library = b.snapshot();
     let ibl = library_ibl.unwrap_or_else(|| {
         let start = b.with_module(|m| namespace::Start::of(m));
@@ -115,5 +148,5 @@ pub fn lower_with(material: &Material, choice: &Choice) -> Result<Lowered, Clash
     preview_ibl_entry(&b, ibl, params_var, sample);
     let mut module = b.finish();
     namespace::place_harness(&mut module, library.global_variables.len(), &mut layout);
-    Ok(Lowered { library, module, layout, tables })
+    Ok((library, Some(module), layout, tables))
 }
