@@ -106,6 +106,10 @@ fn stages(c: &mut Criterion) {
         b.iter(|| naga_backends(black_box(&lowered.library), &library_info, &lowered.module, &info))
     });
     let origin = glazec::Origin::new(Some("clay.ron"), CLAY);
+    // The two halves of `compile/clay_to_wgsl_glsl_hlsl`.
+    group.bench_function("compile_library", |b| b.iter(|| glazec::compile(black_box(CLAY)).expect("compiles")));
+    let compiled = glazec::compile(CLAY).expect("clay compiles");
+    group.bench_function("emit_text_targets", |b| b.iter(|| compiled.emit(black_box(&Target::TEXT)).expect("emits")));
     for target in Target::TEXT {
         group.bench_function(format!("emit_{}", target.name()), |b| {
             b.iter(|| glazec::emit::emit("clay", &origin, black_box(modules), &[target]).expect("emits"))
