@@ -419,6 +419,39 @@ fn literal_materials_declare_no_resource() {
     assert!(literal >= 10, "the shipped literal materials were checked");
 }
 
+/// A call's result has a name in every language: its own, or its function's without the
+/// material's prefix (naga's backends print every call result as `_e<N>`; `emit::polish` names
+/// them). Only values naga bakes on its own (an expression used twice) keep an `_e<N>`.
+#[test]
+fn call_results_are_named() {
+    for path in common::material_files() {
+        let compiled = common::compile_file(&path);
+        let m = compiled.material.name.clone();
+        for (target, file) in [
+            (Target::Wgsl, format!("{m}.wgsl")),
+            (Target::Glsl, format!("{m}.glsl")),
+            (Target::Hlsl, format!("{m}.hlsli")),
+        ] {
+            let text = text(&compiled, target, &file);
+            let unnamed: Vec<&str> = text
+                .lines()
+                .filter(|l| {
+                    let Some(at) = l.find("_e") else { return false };
+                    let rest = &l[at + 2..];
+                    let digits = rest.chars().take_while(char::is_ascii_digit).count();
+                    digits > 0
+                        && rest[digits..].trim_start().starts_with('=')
+                        && rest[digits..].contains(&format!("{m}_"))
+                })
+                .collect();
+            assert!(unnamed.is_empty(), "{file}: unnamed call results:\n{}", unnamed.join("\n"));
+            if text.contains("g_smith_ggx_correlated") {
+                assert!(text.contains("lambda_v"), "{file}: G₂'s two Λ are named after their directions");
+            }
+        }
+    }
+}
+
 /// Every value a library's function names is read, and every call's result is used: the
 /// layering code shared with the CPU computes some values only other callers need, and the
 /// generated functions leave them out (`lower::builder::dead`).

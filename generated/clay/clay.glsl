@@ -41,9 +41,9 @@ float clay_g1_schlick_ggx(float n_dot_x, float k) {
 float clay_g_smith_schlick_ggx(float n_dot_v, float n_dot_l, float roughness) {
     float _e4 = (roughness + 1.0);
     float k_1 = ((_e4 * _e4) / 8.0);
-    float _e8 = clay_g1_schlick_ggx(n_dot_v, k_1);
-    float _e9 = clay_g1_schlick_ggx(n_dot_l, k_1);
-    return (_e8 * _e9);
+    float g1_schlick_ggx = clay_g1_schlick_ggx(n_dot_v, k_1);
+    float g1_schlick_ggx_1 = clay_g1_schlick_ggx(n_dot_l, k_1);
+    return (g1_schlick_ggx * g1_schlick_ggx_1);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -118,8 +118,8 @@ vec3 clay_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e38 = clay_absorption_ww_grey(0.8, 0.25, layer1_cos_l, layer1_cos_v);
-    vec3 absorption_1 = vec3(_e38);
+    float absorption_ww_grey = clay_absorption_ww_grey(0.8, 0.25, layer1_cos_l, layer1_cos_v);
+    vec3 absorption_1 = vec3(absorption_ww_grey);
     vec3 inner = clay_ww_inner_reflection(g, transmission);
     vec3 layer1_f_base = clay_fd_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     vec3 f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
@@ -222,16 +222,16 @@ vec3 clay_albedo_oren_nayar(vec3 albedo_1, float sigma_1, float mu) {
 ClayIblLobes clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_5 = dot(n_4, v_4);
     float cos_v_1 = max(n_dot_v_5, 0.0001);
-    float _e5 = clay_seed_ggx_dfg_scale_curve(cos_v_1);
-    float _e6 = clay_seed_ggx_dfg_bias_curve(cos_v_1);
-    vec3 coat_albedo = ((vec3(0.040000003) * _e5) + vec3(_e6));
+    float seed_ggx_dfg_scale_curve = clay_seed_ggx_dfg_scale_curve(cos_v_1);
+    float seed_ggx_dfg_bias_curve = clay_seed_ggx_dfg_bias_curve(cos_v_1);
+    vec3 coat_albedo = ((vec3(0.040000003) * seed_ggx_dfg_scale_curve) + vec3(seed_ggx_dfg_bias_curve));
     vec3 reflected = clay_specular_dominant_direction(n_4, v_4, 0.122499995);
     float lookup_roughness = clay_grazing_lookup_roughness(0.35, dot(n_4, v_4));
     vec3 layer1_v = clay_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    vec3 _e25 = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
+    vec3 absorption_ww = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
     vec3 layer1_albedo_l = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
     bool _e40 = (dot(n_4, v_4) > 0.0);
-    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * _e25) * layer1_albedo_l) : vec3(0.0))));
+    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * absorption_ww) * layer1_albedo_l) : vec3(0.0))));
 }

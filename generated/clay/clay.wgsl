@@ -43,9 +43,9 @@ fn clay_g1_schlick_ggx(n_dot_x: f32, k: f32) -> f32 {
 fn clay_g_smith_schlick_ggx(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
     let _e4 = (roughness + 1f);
     let k_1 = ((_e4 * _e4) / 8f);
-    let _e8 = clay_g1_schlick_ggx(n_dot_v, k_1);
-    let _e9 = clay_g1_schlick_ggx(n_dot_l, k_1);
-    return (_e8 * _e9);
+    let g1_schlick_ggx = clay_g1_schlick_ggx(n_dot_v, k_1);
+    let g1_schlick_ggx_1 = clay_g1_schlick_ggx(n_dot_l, k_1);
+    return (g1_schlick_ggx * g1_schlick_ggx_1);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -120,8 +120,8 @@ fn clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e38 = clay_absorption_ww_grey(0.8f, 0.25f, layer1_cos_l, layer1_cos_v);
-    let absorption_1 = vec3(_e38);
+    let absorption_ww_grey = clay_absorption_ww_grey(0.8f, 0.25f, layer1_cos_l, layer1_cos_v);
+    let absorption_1 = vec3(absorption_ww_grey);
     let inner = clay_ww_inner_reflection(g, transmission);
     let layer1_f_base = clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let f = clay_ww_layer(specular, transmission, absorption_1, inner, layer1_f_base);
@@ -224,17 +224,17 @@ fn clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> vec3<f3
 fn clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ClayIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
     let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let _e5 = clay_seed_ggx_dfg_scale_curve(cos_v_1);
-    let _e6 = clay_seed_ggx_dfg_bias_curve(cos_v_1);
-    let coat_albedo = ((vec3(0.040000003f) * _e5) + vec3(_e6));
+    let seed_ggx_dfg_scale_curve = clay_seed_ggx_dfg_scale_curve(cos_v_1);
+    let seed_ggx_dfg_bias_curve = clay_seed_ggx_dfg_bias_curve(cos_v_1);
+    let coat_albedo = ((vec3(0.040000003f) * seed_ggx_dfg_scale_curve) + vec3(seed_ggx_dfg_bias_curve));
     let reflected = clay_specular_dominant_direction(n_4, v_4, 0.122499995f);
     let lookup_roughness = clay_grazing_lookup_roughness(0.35f, dot(n_4, v_4));
     let layer1_v = clay_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e25 = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_v_1, layer1_cos_v_1);
+    let absorption_ww = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_v_1, layer1_cos_v_1);
     let layer1_albedo_l = clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v_1);
     let _e40 = (dot(n_4, v_4) > 0f);
-    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e40))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * _e25) * layer1_albedo_l), _e40)));
+    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e40))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * absorption_ww) * layer1_albedo_l), _e40)));
 }
 

@@ -49,9 +49,9 @@ float disney_clay_g1_schlick_ggx(float n_dot_x, float k) {
 float disney_clay_g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float roughness) {
     float _e4 = (roughness + 1.0);
     float k_1 = ((_e4 * _e4) / 8.0);
-    float _e8 = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
-    float _e9 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
-    return (_e8 * _e9);
+    float g1_schlick_ggx = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
+    float g1_schlick_ggx_1 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
+    return (g1_schlick_ggx * g1_schlick_ggx_1);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -174,9 +174,9 @@ vec3 disney_clay_albedo_oren_nayar(vec3 albedo_1, float sigma_1, float mu) {
 DisneyClayIblLobes disney_clay_ibl_lobes(vec3 n_3, vec3 v_4) {
     float n_dot_v_5 = dot(n_3, v_4);
     float cos_v_1 = max(n_dot_v_5, 0.0001);
-    float _e5 = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
-    float _e6 = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
-    vec3 coat_albedo = ((vec3(0.040000003) * _e5) + vec3(_e6));
+    float clearcoat_dfg_scale_curve = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
+    float clearcoat_dfg_bias_curve = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
+    vec3 coat_albedo = ((vec3(0.040000003) * clearcoat_dfg_scale_curve) + vec3(clearcoat_dfg_bias_curve));
     vec3 reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196);
     float lookup_roughness = disney_clay_grazing_lookup_roughness(0.14, dot(n_3, v_4));
     vec3 albedo_l = disney_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v_1);

@@ -57,9 +57,9 @@ float disney_clay_g_smith_schlick_ggx(float n_dot_v_1, float n_dot_l_1, float ro
 {
     float _e4 = (roughness + 1.0);
     float k_1 = ((_e4 * _e4) / 8.0);
-    const float _e8 = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
-    const float _e9 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
-    return (_e8 * _e9);
+    const float g1_schlick_ggx = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
+    const float g1_schlick_ggx_1 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
+    return (g1_schlick_ggx * g1_schlick_ggx_1);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -225,9 +225,9 @@ DisneyClayIblLobes disney_clay_ibl_lobes(float3 n_3, float3 v_4)
 {
     float n_dot_v_5 = dot(n_3, v_4);
     float cos_v_1 = max(n_dot_v_5, 0.0001);
-    const float _e5 = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
-    const float _e6 = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
-    float3 coat_albedo = (((0.040000003).xxx * _e5) + (_e6).xxx);
+    const float clearcoat_dfg_scale_curve = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
+    const float clearcoat_dfg_bias_curve = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
+    float3 coat_albedo = (((0.040000003).xxx * clearcoat_dfg_scale_curve) + (clearcoat_dfg_bias_curve).xxx);
     const float3 reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196);
     const float lookup_roughness = disney_clay_grazing_lookup_roughness(0.14, dot(n_3, v_4));
     const float3 albedo_l = disney_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v_1);

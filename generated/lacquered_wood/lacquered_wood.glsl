@@ -48,9 +48,9 @@ float lacquered_wood_lambda_ggx(float n_dot_x, float alpha_1) {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float lacquered_wood_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_5 = max(alpha_2, 0.001);
-    float _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
-    float _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
-    return (1.0 / ((_e5 + _e6) + 1.0));
+    float lambda_v = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
+    float lambda_l = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
+    return (1.0 / ((lambda_v + lambda_l) + 1.0));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -175,7 +175,7 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float d = lacquered_wood_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0064);
     float g = lacquered_wood_g_smith_ggx_correlated(cos_v, cos_l, 0.0064);
     float fresnel = lacquered_wood_fr_dielectric(dot(v_1, h), 1.5);
-    vec3 _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    vec3 single_event = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
     float layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_3);
     vec3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -188,24 +188,24 @@ vec3 lacquered_wood_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5);
     float layer1_lambda_l = lacquered_wood_lambda_ggx(cos_l, 0.0064);
     float layer1_lambda_v = lacquered_wood_lambda_ggx(cos_v, 0.0064);
-    float _e47 = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_share = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
-    vec3 specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    float _e62 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
-    float _e70 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
+    vec3 specular = ((single_event + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    float layer1_deficit_l = lacquered_wood_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + layer1_deficit_l), 0.0), 1.0);
+    float layer1_deficit_v = lacquered_wood_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     vec3 layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5);
     vec3 layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    float _e86 = lacquered_wood_coat_path_curve(n_dot_l_2);
-    float layer1_path_cos_l = (layer1_cos_l / _e86);
-    float _e88 = lacquered_wood_coat_path_curve(n_dot_v_3);
-    float layer1_path_cos_v = (layer1_cos_v / _e88);
+    float layer1_path_factor_l = lacquered_wood_coat_path_curve(n_dot_l_2);
+    float layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    float layer1_path_factor_v = lacquered_wood_coat_path_curve(n_dot_v_3);
+    float layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
     vec3 absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     vec3 f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5);
@@ -254,13 +254,13 @@ float lacquered_wood_grazing_lookup_roughness(float r, float n_dot_v_2) {
 LacqueredWoodIblLobes lacquered_wood_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_4 = dot(n_4, v_4);
     float layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5);
-    float _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
+    float layer1_deficit_v = lacquered_wood_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     vec3 layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    float _e20 = lacquered_wood_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    float layer1_path_factor_v = lacquered_wood_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / layer1_path_factor_v);
     vec3 absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
     vec3 albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3(0.38548824, 0.35186937, 0.27089757), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);

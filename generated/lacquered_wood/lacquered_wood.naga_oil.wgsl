@@ -52,9 +52,9 @@ fn lacquered_wood_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn lacquered_wood_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
-    return (1f / ((_e5 + _e6) + 1f));
+    let lambda_v = lacquered_wood_lambda_ggx(n_dot_v, alpha_5);
+    let lambda_l = lacquered_wood_lambda_ggx(n_dot_l, alpha_5);
+    return (1f / ((lambda_v + lambda_l) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -179,7 +179,7 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let d = lacquered_wood_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0064f);
     let g = lacquered_wood_g_smith_ggx_correlated(cos_v, cos_l, 0.0064f);
     let fresnel = lacquered_wood_fr_dielectric(dot(v_1, h), 1.5f);
-    let _e21 = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let single_event = lacquered_wood_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = lacquered_wood_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = lacquered_wood_coat_scale_curve(n_dot_v_3);
     let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -192,24 +192,24 @@ fn lacquered_wood_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f
     let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_3, 1.5f);
     let layer1_lambda_l = lacquered_wood_lambda_ggx(cos_l, 0.0064f);
     let layer1_lambda_v = lacquered_wood_lambda_ggx(cos_v, 0.0064f);
-    let _e47 = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_share = lacquered_wood_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
-    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    let _e62 = lacquered_wood_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
-    let _e70 = lacquered_wood_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
+    let specular = ((single_event + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let layer1_deficit_l = lacquered_wood_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + layer1_deficit_l), 0f), 1f);
+    let layer1_deficit_v = lacquered_wood_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_1, n_1, 1.5f);
     let layer1_l = lacquered_wood_refract_down(l_1, n_1, 1.5f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e86 = lacquered_wood_coat_path_curve(n_dot_l_2);
-    let layer1_path_cos_l = (layer1_cos_l / _e86);
-    let _e88 = lacquered_wood_coat_path_curve(n_dot_v_3);
-    let layer1_path_cos_v = (layer1_cos_v / _e88);
+    let layer1_path_factor_l = lacquered_wood_coat_path_curve(n_dot_l_2);
+    let layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    let layer1_path_factor_v = lacquered_wood_coat_path_curve(n_dot_v_3);
+    let layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
     let absorb_l = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_l);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v);
     let f = lacquered_wood_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, lacquered_wood_under, 1.5f);
@@ -258,13 +258,13 @@ fn lacquered_wood_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblLobes {
     let n_dot_v_4 = dot(n_4, v_4);
     let layer1_fresnel_v = lacquered_wood_fr_dielectric(n_dot_v_4, 1.5f);
-    let _e9 = lacquered_wood_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
+    let layer1_deficit_v = lacquered_wood_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = lacquered_wood_refract_down(v_4, n_4, 1.5f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e20 = lacquered_wood_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
+    let layer1_path_factor_v = lacquered_wood_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / layer1_path_factor_v);
     let absorb_v = lacquered_wood_slab_transmittance(lacquered_wood_tau, layer1_path_cos_v_1);
     let albedo_v = lacquered_wood_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, lacquered_wood_layer1_albedo_v, lacquered_wood_layer1_rho, lacquered_wood_layer1_r_return, vec3<f32>(0.38548824f, 0.35186937f, 0.27089757f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);

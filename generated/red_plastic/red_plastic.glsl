@@ -47,9 +47,9 @@ float red_plastic_lambda_ggx(float n_dot_x, float alpha_1) {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 float red_plastic_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2) {
     float alpha_5 = max(alpha_2, 0.001);
-    float _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_5);
-    float _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_5);
-    return (1.0 / ((_e5 + _e6) + 1.0));
+    float lambda_v = red_plastic_lambda_ggx(n_dot_v, alpha_5);
+    float lambda_l = red_plastic_lambda_ggx(n_dot_l, alpha_5);
+    return (1.0 / ((lambda_v + lambda_l) + 1.0));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -154,7 +154,7 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float d = red_plastic_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.122499995);
     float g = red_plastic_g_smith_ggx_correlated(cos_v, cos_l, 0.122499995);
     float fresnel = red_plastic_fr_dielectric(dot(v_1, h), 1.49);
-    vec3 _e21 = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    vec3 single_event = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     float layer1_scale_l = red_plastic_coat_scale_curve(n_dot_l_2);
     float layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_3);
     vec3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -167,14 +167,14 @@ vec3 red_plastic_brdf(vec3 n_1, vec3 v_1, vec3 l_1) {
     float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_3, 1.49);
     float layer1_lambda_l = red_plastic_lambda_ggx(cos_l, 0.122499995);
     float layer1_lambda_v = red_plastic_lambda_ggx(cos_v, 0.122499995);
-    float _e47 = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    float layer1_second_share = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
-    vec3 specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    float _e62 = red_plastic_coat_deficit_curve(n_dot_l_2);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
-    float _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
+    vec3 specular = ((single_event + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    float layer1_deficit_l = red_plastic_coat_deficit_curve(n_dot_l_2);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + layer1_deficit_l), 0.0), 1.0);
+    float layer1_deficit_v = red_plastic_coat_deficit_curve(n_dot_v_3);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     vec3 f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1.0), vec3(1.0), red_plastic_under, 1.49);
     return (((n_dot_v_3 > 0.0) && (n_dot_l_2 > 0.0)) ? f : vec3(0.0));
 }
@@ -221,8 +221,8 @@ float red_plastic_grazing_lookup_roughness(float r, float n_dot_v_2) {
 RedPlasticIblLobes red_plastic_ibl_lobes(vec3 n_4, vec3 v_4) {
     float n_dot_v_4 = dot(n_4, v_4);
     float layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_4, 1.49);
-    float _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
+    float layer1_deficit_v = red_plastic_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     vec3 albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1.0), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897), vec3(1.0), vec3(1.0));
     float coat_albedo = (1.0 - layer1_transmit_v_1);
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));

@@ -52,9 +52,9 @@ float wet_clay_lambda_ggx(float n_dot_x, float alpha_1)
 float wet_clay_g_smith_ggx_correlated(float n_dot_v, float n_dot_l, float alpha_2)
 {
     float alpha_5 = max(alpha_2, 0.001);
-    const float _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_5);
-    const float _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_5);
-    return (1.0 / ((_e5 + _e6) + 1.0));
+    const float lambda_v = wet_clay_lambda_ggx(n_dot_v, alpha_5);
+    const float lambda_l = wet_clay_lambda_ggx(n_dot_l, alpha_5);
+    return (1.0 / ((lambda_v + lambda_l) + 1.0));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -229,7 +229,7 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float d = wet_clay_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0144);
     const float g = wet_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.0144);
     const float fresnel = wet_clay_fr_dielectric(dot(v_1, h), 1.33);
-    const float3 _e21 = wet_clay_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
+    const float3 single_event = wet_clay_f_cook_torrance(d, g, (fresnel).xxx, cos_v, cos_l);
     const float layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
     const float layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
     float3 layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -242,28 +242,28 @@ float3 wet_clay_brdf(float3 n_1, float3 v_1, float3 l_1)
     const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33);
     const float layer1_lambda_l = wet_clay_lambda_ggx(cos_l, 0.0144);
     const float layer1_lambda_v = wet_clay_lambda_ggx(cos_v, 0.0144);
-    const float _e47 = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    const float layer1_second_share = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    float layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     float layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4.0));
-    float3 specular = ((_e21 + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
-    const float _e62 = wet_clay_coat_deficit_curve(n_dot_l_3);
-    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + _e62), 0.0), 1.0);
-    const float _e70 = wet_clay_coat_deficit_curve(n_dot_v_4);
-    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + _e70), 0.0), 1.0);
+    float3 specular = ((single_event + (layer1_second_event).xxx) * (layer1_scale_l * layer1_scale_v));
+    const float layer1_deficit_l = wet_clay_coat_deficit_curve(n_dot_l_3);
+    float layer1_transmit_l = min(max(((1.0 - layer1_fresnel_l) + layer1_deficit_l), 0.0), 1.0);
+    const float layer1_deficit_v = wet_clay_coat_deficit_curve(n_dot_v_4);
+    float layer1_transmit_v = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_1, n_1, 1.33);
     const float3 layer1_l = wet_clay_refract_down(l_1, n_1, 1.33);
     float layer1_n_dot_v = dot(n_1, layer1_v);
     float layer1_n_dot_l = dot(n_1, layer1_l);
     float layer1_cos_v = max(layer1_n_dot_v, 0.0001);
     float layer1_cos_l = max(layer1_n_dot_l, 0.0001);
-    const float _e86 = wet_clay_coat_path_curve(n_dot_l_3);
-    float layer1_path_cos_l = (layer1_cos_l / _e86);
-    const float _e88 = wet_clay_coat_path_curve(n_dot_v_4);
-    float layer1_path_cos_v = (layer1_cos_v / _e88);
-    const float _e91 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l);
-    float3 absorb_l = (_e91).xxx;
-    const float _e94 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
-    float3 absorb_v = (_e94).xxx;
+    const float layer1_path_factor_l = wet_clay_coat_path_curve(n_dot_l_3);
+    float layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    const float layer1_path_factor_v = wet_clay_coat_path_curve(n_dot_v_4);
+    float layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
+    const float slab_transmittance_grey = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_l);
+    float3 absorb_l = (slab_transmittance_grey).xxx;
+    const float slab_transmittance_grey_1 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v);
+    float3 absorb_v = (slab_transmittance_grey_1).xxx;
     const float3 layer1_f_base = wet_clay_fd_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_l);
     const float3 layer1_albedo_v = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v);
@@ -352,15 +352,15 @@ WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
 {
     float n_dot_v_5 = dot(n_4, v_4);
     const float layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_5, 1.33);
-    const float _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
-    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + _e9), 0.0), 1.0);
+    const float layer1_deficit_v = wet_clay_coat_deficit_curve(n_dot_v_5);
+    float layer1_transmit_v_1 = min(max(((1.0 - layer1_fresnel_v) + layer1_deficit_v), 0.0), 1.0);
     const float3 layer1_v = wet_clay_refract_down(v_4, n_4, 1.33);
     float layer1_n_dot_v_1 = dot(n_4, layer1_v);
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
-    const float _e20 = wet_clay_coat_path_curve(n_dot_v_5);
-    float layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
-    const float _e23 = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
-    float3 absorb_v_1 = (_e23).xxx;
+    const float layer1_path_factor_v = wet_clay_coat_path_curve(n_dot_v_5);
+    float layer1_path_cos_v_1 = (layer1_cos_v_1 / layer1_path_factor_v);
+    const float slab_transmittance_grey = wet_clay_slab_transmittance_grey(0.32000002, layer1_path_cos_v_1);
+    float3 absorb_v_1 = (slab_transmittance_grey).xxx;
     const float3 layer1_albedo_l = wet_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_path_cos_v_1);
     const float3 albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, (0.36041924).xxx, (1.0).xxx, (1.0).xxx);
     float coat_albedo = (1.0 - layer1_transmit_v_1);

@@ -160,7 +160,7 @@ pub fn emit(
     let mut out = Vec::new();
     // The WGSL library, written once for the WGSL and naga_oil targets.
     let wgsl_library = if targets.iter().any(|t| matches!(t, Target::Wgsl | Target::NagaOil)) {
-        polished(library, &wgsl::write_string(library, library_info, wgsl::WriterFlags::empty())?, false)
+        polished(name, library, &wgsl::write_string(library, library_info, wgsl::WriterFlags::empty())?, false)
     } else {
         String::new()
     };
@@ -181,7 +181,7 @@ pub fn emit(
                 out.push(artifact(format!("{name}.wgsl"), &header, &wgsl_library, None, false));
                 if let Some((view, view_info, _)) = &view {
                     let full = wgsl::write_string(view, view_info, wgsl::WriterFlags::empty())?;
-                    let harness = polished(view, &library::harness_items(&full, &wgsl_library), false);
+                    let harness = polished(name, view, &library::harness_items(&full, &wgsl_library), false);
                     let harness_header = harness_header(&format!("{name}.wgsl"), "to be read after");
                     out.push(artifact(format!("{name}.harness.wgsl"), &harness_header, &harness, None, true));
                 }
@@ -194,7 +194,7 @@ pub fn emit(
                 let probe = library::glsl_probe(library);
                 let probe_info = crate::validate::analyse(name, &probe)?;
                 let probe_text = write_glsl(&probe, &probe_info, ShaderStage::Fragment, "main")?;
-                let text = library::glsl_library(name, library, polished(library, &probe_text, false));
+                let text = library::glsl_library(name, library, polished(name, library, &probe_text, false));
                 let library_file = format!("{name}.glsl");
                 out.push(artifact(library_file.clone(), &header, &text, None, false));
                 if let Some((view, _, module)) = &view {
@@ -203,7 +203,7 @@ pub fn emit(
                         let (single, single_info) = single_entry_point(name, view, &ep.name)?;
                         let entry = write_glsl(&single, &single_info, ep.stage, &ep.name)?;
                         let whole = library::glsl_entry(&entry, &library_file, &declared, |harness| {
-                            polished(&single, harness, true)
+                            polished(name, &single, harness, true)
                         });
                         let file = format!("{name}.{}.{}.glsl", ep.name, stage_suffix(ep.stage));
                         out.push(artifact(file, &header, &whole, Some((ep.stage, ep.name.clone())), true));
@@ -211,9 +211,10 @@ pub fn emit(
                 }
             }
             Target::Hlsl => {
-                let library_text = polished(library, &write_hlsl(library, library_info)?, false);
+                let library_text = polished(name, library, &write_hlsl(library, library_info)?, false);
                 let harness_text = match &view {
                     Some((view, view_info, _)) => Some(polished(
+                        name,
                         view,
                         &library::harness_items(&write_hlsl(view, view_info)?, &library_text),
                         false,
@@ -304,9 +305,9 @@ pub fn header(material: &str, origin: &crate::origin::Origin) -> String {
 }
 
 /// Backend text with the doc comments and call-result names restored ([`polish`]).
-fn polished(module: &Module, text: &str, glsl_entry: bool) -> String {
+fn polished(material: &str, module: &Module, text: &str, glsl_entry: bool) -> String {
     let mut out = String::new();
-    polish::polish(module, text, glsl_entry, &mut out);
+    polish::polish(module, material, text, glsl_entry, &mut out);
     out
 }
 

@@ -3,8 +3,10 @@
 //! * each function's doc comment (its citation) becomes `// …` lines above its definition;
 //! * call results get back the names `lower` gave them. naga's backends always print a call
 //!   result as `_e<index>`, ignoring `named_expressions`; inside the calling function each
-//!   `_e<index>` of a named call result is replaced by its name (with a numeric suffix if that
-//!   word is already used in the function, or reserved).
+//!   `_e<index>` of a call result is replaced by its name, or, where `lower` gave it none, by
+//!   the name of the function called without the material's prefix (`let coat_path_curve =
+//!   wet_clay_coat_path_curve(…)`, as a person names a value after what computes it), with a
+//!   numeric suffix if that word is already used in the function, or reserved.
 //!
 //! A function definition is recognised in all three languages as a line at column 0 of the form
 //! `<type-or-fn> <name>(`; its body ends at the next line that is exactly `}` (how naga's
@@ -21,29 +23,36 @@ struct Edits<'m> {
     results: Vec<(usize, &'m str)>,
 }
 
-fn call_results(f: &Function) -> Vec<(usize, &str)> {
+/// The call results of `f` and the names they are to get: their own, else the called
+/// function's without `prefix` (`<material>_`).
+fn call_results<'m>(module: &'m Module, f: &'m Function, prefix: &str) -> Vec<(usize, &'m str)> {
     let mut results: Vec<(usize, &str)> = f
-        .named_expressions
+        .expressions
         .iter()
-        .filter(|(h, _)| matches!(f.expressions[**h], Expression::CallResult(_)))
-        .map(|(h, name)| (h.index(), name.as_str()))
+        .filter_map(|(h, e)| {
+            let Expression::CallResult(callee) = *e else { return None };
+            let own = f.named_expressions.get(&h).map(String::as_str);
+            let callee = module.functions[callee].name.as_deref().map(|n| n.strip_prefix(prefix).unwrap_or(n));
+            own.or(callee).filter(|n| !n.is_empty()).map(|name| (h.index(), name))
+        })
         .collect();
     results.sort_unstable();
     results
 }
 
 /// The edits per printed function name. In GLSL the (single) entry point is printed as `main`.
-fn edits(module: &Module, glsl_entry: bool) -> HashMap<String, Edits<'_>> {
+fn edits<'m>(module: &'m Module, material: &str, glsl_entry: bool) -> HashMap<String, Edits<'m>> {
     let docs = module.doc_comments.as_deref();
+    let prefix = format!("{material}_");
     let mut map = HashMap::new();
     for (handle, f) in module.functions.iter() {
         let Some(name) = &f.name else { continue };
         let doc = docs.and_then(|d| d.functions.get(&handle)).map(Vec::as_slice);
-        map.insert(name.clone(), Edits { doc, results: call_results(f) });
+        map.insert(name.clone(), Edits { doc, results: call_results(module, f, &prefix) });
     }
     for ep in &module.entry_points {
         let name = if glsl_entry { "main".to_string() } else { ep.name.clone() };
-        map.insert(name, Edits { doc: None, results: call_results(&ep.function) });
+        map.insert(name, Edits { doc: None, results: call_results(module, &ep.function, &prefix) });
     }
     map
 }
@@ -139,9 +148,9 @@ fn choose_names(body: &[&str], results: &[(usize, &str)]) -> HashMap<usize, Stri
     renames
 }
 
-/// Appends the polished `text` to `out`.
-pub fn polish(module: &Module, text: &str, glsl_entry: bool, out: &mut String) {
-    let edits = edits(module, glsl_entry);
+/// Appends the polished `text` (of material `material`'s `module`) to `out`.
+pub fn polish(module: &Module, material: &str, text: &str, glsl_entry: bool, out: &mut String) {
+    let edits = edits(module, material, glsl_entry);
     let lines: Vec<&str> = text.lines().collect();
     let mut i = 0;
     while i < lines.len() {

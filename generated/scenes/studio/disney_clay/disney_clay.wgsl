@@ -51,9 +51,9 @@ fn disney_clay_g1_schlick_ggx(n_dot_x: f32, k: f32) -> f32 {
 fn disney_clay_g_smith_schlick_ggx(n_dot_v_1: f32, n_dot_l_1: f32, roughness: f32) -> f32 {
     let _e4 = (roughness + 1f);
     let k_1 = ((_e4 * _e4) / 8f);
-    let _e8 = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
-    let _e9 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
-    return (_e8 * _e9);
+    let g1_schlick_ggx = disney_clay_g1_schlick_ggx(n_dot_v_1, k_1);
+    let g1_schlick_ggx_1 = disney_clay_g1_schlick_ggx(n_dot_l_1, k_1);
+    return (g1_schlick_ggx * g1_schlick_ggx_1);
 }
 
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -176,9 +176,9 @@ fn disney_clay_albedo_oren_nayar(albedo_1: vec3<f32>, sigma_1: f32, mu: f32) -> 
 fn disney_clay_ibl_lobes(n_3: vec3<f32>, v_4: vec3<f32>) -> DisneyClayIblLobes {
     let n_dot_v_5 = dot(n_3, v_4);
     let cos_v_1 = max(n_dot_v_5, 0.0001f);
-    let _e5 = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
-    let _e6 = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
-    let coat_albedo = ((vec3(0.040000003f) * _e5) + vec3(_e6));
+    let clearcoat_dfg_scale_curve = disney_clay_clearcoat_dfg_scale_curve(cos_v_1);
+    let clearcoat_dfg_bias_curve = disney_clay_clearcoat_dfg_bias_curve(cos_v_1);
+    let coat_albedo = ((vec3(0.040000003f) * clearcoat_dfg_scale_curve) + vec3(clearcoat_dfg_bias_curve));
     let reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196f);
     let lookup_roughness = disney_clay_grazing_lookup_roughness(0.14f, dot(n_3, v_4));
     let albedo_l = disney_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v_1);

@@ -48,9 +48,9 @@ fn color_clay_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn color_clay_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = color_clay_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = color_clay_lambda_ggx(n_dot_l, alpha_4);
-    return (1f / ((_e5 + _e6) + 1f));
+    let lambda_v = color_clay_lambda_ggx(n_dot_v, alpha_4);
+    let lambda_l = color_clay_lambda_ggx(n_dot_l, alpha_4);
+    return (1f / ((lambda_v + lambda_l) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -185,42 +185,42 @@ fn color_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> 
     let d = color_clay_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.09f);
     let g = color_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.09f);
     let fresnel = color_clay_fr_dielectric(dot(v_1, h), 1.33f);
-    let specular = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let single_event = color_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = color_clay_fr_dielectric(n_dot_l_3, 1.33f);
-    let _e26 = color_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e26), 0f), 1f);
+    let layer1_deficit_l = color_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + layer1_deficit_l), 0f), 1f);
     let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_4, 1.33f);
-    let _e36 = color_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e36), 0f), 1f);
+    let layer1_deficit_v = color_clay_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = color_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e52 = color_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e52);
-    let _e54 = color_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e54);
-    let _e57 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
-    let absorb_l = vec3(_e57);
-    let _e60 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
-    let absorb_v = vec3(_e60);
+    let layer1_path_factor_l = color_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    let layer1_path_factor_v = color_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
+    let slab_transmittance_grey = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_l);
+    let absorb_l = vec3(slab_transmittance_grey);
+    let slab_transmittance_grey_1 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v);
+    let absorb_v = vec3(slab_transmittance_grey_1);
     let layer1_f_base = color_clay_fd_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_l);
     let layer1_albedo_v = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e52);
-    let _e87 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
-    let _e89 = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e89)) * vec3(0.23442733f)) / max(_e87, vec3(0.000001f))));
+    let layer1_path_cos_l_1 = (layer1_cos_l / layer1_path_factor_l);
+    let albedo_eon = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_l_1);
+    let e_fon = color_clay_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - e_fon)) * vec3(0.23442733f)) / max(albedo_eon, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e54);
-    let _e125 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
-    let _e127 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e127)) * vec3(0.23442733f)) / max(_e125, vec3(0.000001f))));
+    let layer1_path_cos_v_1 = (layer1_cos_v / layer1_path_factor_v);
+    let albedo_eon_1 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_1);
+    let e_fon_1 = color_clay_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - e_fon_1)) * vec3(0.23442733f)) / max(albedo_eon_1, vec3(0.000001f))));
     let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
     let under = color_clay_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(vec3<f32>(0.9825417f, 0.99614143f, 0.99679464f), min(layer1_first_return_l, layer1_first_return_v))), color_clay_layer1_rho, color_clay_layer1_r_return);
-    let f = color_clay_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
+    let f = color_clay_interfaced_layer(single_event, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.33f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
@@ -266,20 +266,20 @@ fn color_clay_grazing_lookup_roughness(r_4: f32, n_dot_v_3: f32) -> f32 {
 fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
     let layer1_fresnel_v = color_clay_fr_dielectric(n_dot_v_5, 1.33f);
-    let _e9 = color_clay_coat_deficit_curve(n_dot_v_5);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
+    let layer1_deficit_v = color_clay_coat_deficit_curve(n_dot_v_5);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = color_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e20 = color_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e20);
-    let _e23 = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
-    let absorb_v_1 = vec3(_e23);
+    let layer1_path_factor_v = color_clay_coat_path_curve(n_dot_v_5);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / layer1_path_factor_v);
+    let slab_transmittance_grey = color_clay_slab_transmittance_grey(0.025f, layer1_path_cos_v_2);
+    let absorb_v_1 = vec3(slab_transmittance_grey);
     let layer1_albedo_l = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_cos_v_1);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e20);
-    let _e37 = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
-    let _e39 = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - _e39)) * vec3(0.23442733f)) / max(_e37, vec3(0.000001f))));
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / layer1_path_factor_v);
+    let albedo_eon = color_clay_albedo_eon(vec3<f32>(0.5506864f, 0.120373316f, 0.09994284f), 0.5f, layer1_path_cos_v_3);
+    let e_fon = color_clay_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((color_clay_layer1_rho_ms * (1f - e_fon)) * vec3(0.23442733f)) / max(albedo_eon, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.5333521f))) / vec3(0.46664792f)), vec3(0f)), vec3(1f));
     let albedo_v = color_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, color_clay_layer1_rho, color_clay_layer1_r_return, vec3(0.51689786f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);

@@ -59,9 +59,9 @@ fn tunable_glaze_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn tunable_glaze_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_4 = max(alpha_2, 0.001f);
-    let _e5 = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
-    let _e6 = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
-    return (1f / ((_e5 + _e6) + 1f));
+    let lambda_v = tunable_glaze_lambda_ggx(n_dot_v, alpha_4);
+    let lambda_l = tunable_glaze_lambda_ggx(n_dot_l, alpha_4);
+    return (1f / ((lambda_v + lambda_l) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -219,23 +219,23 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let d = tunable_glaze_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0225f);
     let g = tunable_glaze_g_smith_ggx_correlated(cos_v, cos_l, 0.0225f);
     let fresnel = tunable_glaze_fr_dielectric(dot(v_1, h), 1.52f);
-    let specular = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let single_event = tunable_glaze_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_fresnel_l = tunable_glaze_fr_dielectric(n_dot_l_3, 1.52f);
-    let _e28 = tunable_glaze_coat_deficit_slice(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e28), 0f), 1f);
+    let layer1_deficit_l = tunable_glaze_coat_deficit_slice(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + layer1_deficit_l), 0f), 1f);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_4, 1.52f);
-    let _e38 = tunable_glaze_coat_deficit_slice(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e38), 0f), 1f);
+    let layer1_deficit_v = tunable_glaze_coat_deficit_slice(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_1, n_1, 1.52f);
     let layer1_l = tunable_glaze_refract_down(l_1, n_1, 1.52f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e54 = tunable_glaze_coat_path_slice(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e54);
-    let _e56 = tunable_glaze_coat_path_slice(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e56);
+    let layer1_path_factor_l = tunable_glaze_coat_path_slice(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    let layer1_path_factor_v = tunable_glaze_coat_path_slice(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
     let absorb_l = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_l);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v);
     let layer1_f_base = tunable_glaze_fd_eon(params.body_albedo, 0.5f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
@@ -243,21 +243,21 @@ fn tunable_glaze_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>, params: Tu
     let layer1_albedo_l = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_l);
     let layer1_albedo_v = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_cos_v);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params.body_albedo, 0.5f);
-    let layer1_path_cos_l_1 = (layer1_cos_l / _e54);
-    let _e75 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
-    let _e77 = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
-    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - _e77)) * vec3(0.27190268f)) / max(_e75, vec3(0.000001f))));
+    let layer1_path_cos_l_1 = (layer1_cos_l / layer1_path_factor_l);
+    let albedo_eon = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_l_1);
+    let e_fon = tunable_glaze_e_fon(layer1_path_cos_l_1, 0.5f);
+    let layer1_first_escape_l = (vec3(1f) + (((layer1_rho_ms * (1f - e_fon)) * vec3(0.27190268f)) / max(albedo_eon, vec3(0.000001f))));
     let layer1_first_return_l = min(max(((vec3(1f) - (layer1_first_escape_l * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
-    let layer1_path_cos_v_1 = (layer1_cos_v / _e56);
-    let _e108 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
-    let _e110 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
-    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - _e110)) * vec3(0.27190268f)) / max(_e108, vec3(0.000001f))));
+    let layer1_path_cos_v_1 = (layer1_cos_v / layer1_path_factor_v);
+    let albedo_eon_1 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, layer1_path_cos_v_1);
+    let e_fon_1 = tunable_glaze_e_fon(layer1_path_cos_v_1, 0.5f);
+    let layer1_first_escape_v = (vec3(1f) + (((layer1_rho_ms * (1f - e_fon_1)) * vec3(0.27190268f)) / max(albedo_eon_1, vec3(0.000001f))));
     let layer1_first_return_v = min(max(((vec3(1f) - (layer1_first_escape_v * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
-    let _e141 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
-    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(_e141, vec3(0.000001f))));
+    let albedo_eon_2 = tunable_glaze_albedo_eon(params.body_albedo, 0.5f, 0.8823499f);
+    let layer1_first_escape_cone = (vec3(1f) + (((layer1_rho_ms * vec3(0.12011284f)) * vec3(0.27190268f)) / max(albedo_eon_2, vec3(0.000001f))));
     let layer1_first_return_cone = min(max(((vec3(1f) - (layer1_first_escape_cone * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
     let under = tunable_glaze_interfaced_diffuse_under(layer1_f_base, (layer1_albedo_l * layer1_first_return_l), ((layer1_albedo_v * layer1_first_return_v) / max(max(layer1_first_return_cone, vec3(0.001f)), min(layer1_first_return_l, layer1_first_return_v))), layer1_rho, tunable_glaze_layer1_r_return);
-    let f = tunable_glaze_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
+    let f = tunable_glaze_interfaced_layer(single_event, layer1_transmit_l, layer1_transmit_v, absorb_l, absorb_v, under, 1.52f);
     return select(vec3(0f), f, ((n_dot_v_4 > 0f) && (n_dot_l_3 > 0f)));
 }
 
@@ -313,21 +313,21 @@ fn tunable_glaze_grazing_lookup_roughness(r_5: f32, n_dot_v_3: f32) -> f32 {
 fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlazeParams) -> TunableGlazeIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
     let layer1_fresnel_v = tunable_glaze_fr_dielectric(n_dot_v_5, 1.52f);
-    let _e11 = tunable_glaze_coat_deficit_slice(n_dot_v_5);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e11), 0f), 1f);
+    let layer1_deficit_v = tunable_glaze_coat_deficit_slice(n_dot_v_5);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = tunable_glaze_refract_down(v_4, n_4, 1.52f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e22 = tunable_glaze_coat_path_slice(n_dot_v_5);
-    let layer1_path_cos_v_2 = (layer1_cos_v_1 / _e22);
+    let layer1_path_factor_v = tunable_glaze_coat_path_slice(n_dot_v_5);
+    let layer1_path_cos_v_2 = (layer1_cos_v_1 / layer1_path_factor_v);
     let absorb_v = tunable_glaze_slab_transmittance(tunable_glaze_tau, layer1_path_cos_v_2);
     let layer1_rho = tunable_glaze_albedo_avg_eon(params_2.body_albedo, 0.5f);
     let layer1_albedo_l = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_cos_v_1);
     let layer1_rho_ms = tunable_glaze_eon_rho_ms(params_2.body_albedo, 0.5f);
-    let layer1_path_cos_v_3 = (layer1_cos_v_1 / _e22);
-    let _e34 = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
-    let _e36 = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
-    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - _e36)) * vec3(0.27190268f)) / max(_e34, vec3(0.000001f))));
+    let layer1_path_cos_v_3 = (layer1_cos_v_1 / layer1_path_factor_v);
+    let albedo_eon = tunable_glaze_albedo_eon(params_2.body_albedo, 0.5f, layer1_path_cos_v_3);
+    let e_fon = tunable_glaze_e_fon(layer1_path_cos_v_3, 0.5f);
+    let layer1_first_escape_v_1 = (vec3(1f) + (((layer1_rho_ms * (1f - e_fon)) * vec3(0.27190268f)) / max(albedo_eon, vec3(0.000001f))));
     let layer1_first_return_v_1 = min(max(((vec3(1f) - (layer1_first_escape_v_1 * vec3(0.39237955f))) / vec3(0.6076205f)), vec3(0f)), vec3(1f));
     let albedo_v = tunable_glaze_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v, layer1_albedo_l, layer1_rho, tunable_glaze_layer1_r_return, vec3<f32>(0.3307788f, 0.37049037f, 0.38116804f), layer1_first_escape_v_1, layer1_first_return_v_1);
     let coat_albedo = (1f - layer1_transmit_v_1);

@@ -47,9 +47,9 @@ fn wet_clay_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn wet_clay_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = wet_clay_lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = wet_clay_lambda_ggx(n_dot_l, alpha_5);
-    return (1f / ((_e5 + _e6) + 1f));
+    let lambda_v = wet_clay_lambda_ggx(n_dot_v, alpha_5);
+    let lambda_l = wet_clay_lambda_ggx(n_dot_l, alpha_5);
+    return (1f / ((lambda_v + lambda_l) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -210,7 +210,7 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let d = wet_clay_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.0144f);
     let g = wet_clay_g_smith_ggx_correlated(cos_v, cos_l, 0.0144f);
     let fresnel = wet_clay_fr_dielectric(dot(v_1, h), 1.33f);
-    let _e21 = wet_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let single_event = wet_clay_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = wet_clay_coat_scale_curve(n_dot_l_3);
     let layer1_scale_v = wet_clay_coat_scale_curve(n_dot_v_4);
     let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -223,28 +223,28 @@ fn wet_clay_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32> {
     let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_4, 1.33f);
     let layer1_lambda_l = wet_clay_lambda_ggx(cos_l, 0.0144f);
     let layer1_lambda_v = wet_clay_lambda_ggx(cos_v, 0.0144f);
-    let _e47 = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_share = wet_clay_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
-    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    let _e62 = wet_clay_coat_deficit_curve(n_dot_l_3);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
-    let _e70 = wet_clay_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
+    let specular = ((single_event + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let layer1_deficit_l = wet_clay_coat_deficit_curve(n_dot_l_3);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + layer1_deficit_l), 0f), 1f);
+    let layer1_deficit_v = wet_clay_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_1, n_1, 1.33f);
     let layer1_l = wet_clay_refract_down(l_1, n_1, 1.33f);
     let layer1_n_dot_v = dot(n_1, layer1_v);
     let layer1_n_dot_l = dot(n_1, layer1_l);
     let layer1_cos_v = max(layer1_n_dot_v, 0.0001f);
     let layer1_cos_l = max(layer1_n_dot_l, 0.0001f);
-    let _e86 = wet_clay_coat_path_curve(n_dot_l_3);
-    let layer1_path_cos_l = (layer1_cos_l / _e86);
-    let _e88 = wet_clay_coat_path_curve(n_dot_v_4);
-    let layer1_path_cos_v = (layer1_cos_v / _e88);
-    let _e91 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
-    let absorb_l = vec3(_e91);
-    let _e94 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
-    let absorb_v = vec3(_e94);
+    let layer1_path_factor_l = wet_clay_coat_path_curve(n_dot_l_3);
+    let layer1_path_cos_l = (layer1_cos_l / layer1_path_factor_l);
+    let layer1_path_factor_v = wet_clay_coat_path_curve(n_dot_v_4);
+    let layer1_path_cos_v = (layer1_cos_v / layer1_path_factor_v);
+    let slab_transmittance_grey = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_l);
+    let absorb_l = vec3(slab_transmittance_grey);
+    let slab_transmittance_grey_1 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v);
+    let absorb_v = vec3(slab_transmittance_grey_1);
     let layer1_f_base = wet_clay_fd_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v, layer1_cos_l, dot(layer1_v, layer1_l));
     let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_l);
     let layer1_albedo_v = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v);
@@ -295,15 +295,15 @@ fn wet_clay_grazing_lookup_roughness(r: f32, n_dot_v_3: f32) -> f32 {
 fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let n_dot_v_5 = dot(n_4, v_4);
     let layer1_fresnel_v = wet_clay_fr_dielectric(n_dot_v_5, 1.33f);
-    let _e9 = wet_clay_coat_deficit_curve(n_dot_v_5);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
+    let layer1_deficit_v = wet_clay_coat_deficit_curve(n_dot_v_5);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let layer1_v = wet_clay_refract_down(v_4, n_4, 1.33f);
     let layer1_n_dot_v_1 = dot(n_4, layer1_v);
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
-    let _e20 = wet_clay_coat_path_curve(n_dot_v_5);
-    let layer1_path_cos_v_1 = (layer1_cos_v_1 / _e20);
-    let _e23 = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
-    let absorb_v_1 = vec3(_e23);
+    let layer1_path_factor_v = wet_clay_coat_path_curve(n_dot_v_5);
+    let layer1_path_cos_v_1 = (layer1_cos_v_1 / layer1_path_factor_v);
+    let slab_transmittance_grey = wet_clay_slab_transmittance_grey(0.32000002f, layer1_path_cos_v_1);
+    let absorb_v_1 = vec3(slab_transmittance_grey);
     let layer1_albedo_l = wet_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_path_cos_v_1);
     let albedo_v = wet_clay_interfaced_albedo_dir(layer1_transmit_v_1, absorb_v_1, layer1_albedo_l, wet_clay_layer1_rho, wet_clay_layer1_r_return, vec3(0.36041924f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);

@@ -49,9 +49,9 @@ fn red_plastic_lambda_ggx(n_dot_x: f32, alpha_1: f32) -> f32 {
 // G2 = 1 / (1 + Λ(v) + Λ(l)).
 fn red_plastic_g_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha_2: f32) -> f32 {
     let alpha_5 = max(alpha_2, 0.001f);
-    let _e5 = red_plastic_lambda_ggx(n_dot_v, alpha_5);
-    let _e6 = red_plastic_lambda_ggx(n_dot_l, alpha_5);
-    return (1f / ((_e5 + _e6) + 1f));
+    let lambda_v = red_plastic_lambda_ggx(n_dot_v, alpha_5);
+    let lambda_l = red_plastic_lambda_ggx(n_dot_l, alpha_5);
+    return (1f / ((lambda_v + lambda_l) + 1f));
 }
 
 // Fresnel equations for an unpolarised dielectric interface (Born & Wolf 1999; pbrt-v4
@@ -156,7 +156,7 @@ fn red_plastic_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let d = red_plastic_d_ggx(dot(n_1, h), dot(n_cross_h, n_cross_h), 0.122499995f);
     let g = red_plastic_g_smith_ggx_correlated(cos_v, cos_l, 0.122499995f);
     let fresnel = red_plastic_fr_dielectric(dot(v_1, h), 1.49f);
-    let _e21 = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
+    let single_event = red_plastic_f_cook_torrance(d, g, vec3(fresnel), cos_v, cos_l);
     let layer1_scale_l = red_plastic_coat_scale_curve(n_dot_l_2);
     let layer1_scale_v = red_plastic_coat_scale_curve(n_dot_v_3);
     let layer1_mirrored_along = cross(n_1, (v_1 + l_1));
@@ -169,14 +169,14 @@ fn red_plastic_brdf(n_1: vec3<f32>, v_1: vec3<f32>, l_1: vec3<f32>) -> vec3<f32>
     let layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_3, 1.49f);
     let layer1_lambda_l = red_plastic_lambda_ggx(cos_l, 0.122499995f);
     let layer1_lambda_v = red_plastic_lambda_ggx(cos_v, 0.122499995f);
-    let _e47 = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
-    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * _e47);
+    let layer1_second_share = red_plastic_second_event_share(max(layer1_lambda_l, layer1_lambda_v));
+    let layer1_first_event = (max(layer1_fresnel_l, layer1_fresnel_v) * layer1_second_share);
     let layer1_second_event = ((((layer1_first_event * layer1_mirrored_d) * layer1_mirrored_fresnel) * g) / ((cos_v * cos_l) * 4f));
-    let specular = ((_e21 + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
-    let _e62 = red_plastic_coat_deficit_curve(n_dot_l_2);
-    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + _e62), 0f), 1f);
-    let _e70 = red_plastic_coat_deficit_curve(n_dot_v_3);
-    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + _e70), 0f), 1f);
+    let specular = ((single_event + vec3(layer1_second_event)) * (layer1_scale_l * layer1_scale_v));
+    let layer1_deficit_l = red_plastic_coat_deficit_curve(n_dot_l_2);
+    let layer1_transmit_l = min(max(((1f - layer1_fresnel_l) + layer1_deficit_l), 0f), 1f);
+    let layer1_deficit_v = red_plastic_coat_deficit_curve(n_dot_v_3);
+    let layer1_transmit_v = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let f = red_plastic_interfaced_layer(specular, layer1_transmit_l, layer1_transmit_v, vec3(1f), vec3(1f), red_plastic_under, 1.49f);
     return select(vec3(0f), f, ((n_dot_v_3 > 0f) && (n_dot_l_2 > 0f)));
 }
@@ -223,8 +223,8 @@ fn red_plastic_grazing_lookup_roughness(r: f32, n_dot_v_2: f32) -> f32 {
 fn red_plastic_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> RedPlasticIblLobes {
     let n_dot_v_4 = dot(n_4, v_4);
     let layer1_fresnel_v = red_plastic_fr_dielectric(n_dot_v_4, 1.49f);
-    let _e9 = red_plastic_coat_deficit_curve(n_dot_v_4);
-    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + _e9), 0f), 1f);
+    let layer1_deficit_v = red_plastic_coat_deficit_curve(n_dot_v_4);
+    let layer1_transmit_v_1 = min(max(((1f - layer1_fresnel_v) + layer1_deficit_v), 0f), 1f);
     let albedo_v = red_plastic_interfaced_albedo_dir(layer1_transmit_v_1, vec3(1f), red_plastic_layer1_albedo_v, red_plastic_layer1_rho, red_plastic_layer1_r_return, vec3(0.4161897f), vec3(1f), vec3(1f));
     let coat_albedo = (1f - layer1_transmit_v_1);
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));

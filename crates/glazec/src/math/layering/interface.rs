@@ -131,7 +131,8 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         match self.roughness {
             None => smooth.named(&name),
             Some(r) => {
-                let deficit = tables::lookup(self.tables.deficit, &[mu, r, self.eta]);
+                let deficit = tables::lookup(self.tables.deficit, &[mu, r, self.eta])
+                    .named(&self.name(&format!("deficit_{side}")));
                 let rough = (smooth + deficit).clamp(0.0, 1.0);
                 self.unless_below_one(|| smooth, rough, F::select).named(&name)
             }
@@ -174,7 +175,10 @@ impl<'i, F: Real> CoatInterface<'i, F> {
     pub(super) fn path_cosine(&self, mu: F, mu_refracted: F, side: &str) -> F {
         match self.path_factor(mu) {
             None => mu_refracted,
-            Some(q) => (mu_refracted / q).named(&self.name(&format!("path_cos_{side}"))),
+            Some(q) => {
+                let q = q.named(&self.name(&format!("path_factor_{side}")));
+                (mu_refracted / q).named(&self.name(&format!("path_cos_{side}")))
+            }
         }
     }
 
@@ -219,7 +223,9 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         let roughness = (spread_above / (n - 1.0).at_least(0.05)).sqrt().min(n.lit(1.0));
         let q_above = tables::lookup(TableId::CoatPath, &[mu_outside, roughness, n]);
         let excess = F::select(n.lt_lit(1.0), n.lit(0.0), q_above - 1.0);
-        let q = self.path_factor(mu).map_or(excess + 1.0, |q_own| q_own + excess);
+        let q = self
+            .path_factor(mu)
+            .map_or(excess + 1.0, |q_own| q_own.named(&self.name(&format!("path_factor_{side}"))) + excess);
         (mu_refracted / q).named(&self.name(&format!("path_cos_{side}")))
     }
 
@@ -278,7 +284,8 @@ impl<'i, F: Real> CoatInterface<'i, F> {
         let lambda_l = lambda_ggx(g.n_dot_l, clamped).named(&self.name("lambda_l"));
         let lambda_v = lambda_ggx(g.n_dot_v, clamped).named(&self.name("lambda_v"));
         let lambda = lambda_l.max(lambda_v);
-        let first = (first_fresnel * second_event_share(lambda)).named(&self.name("first_event"));
+        let share = second_event_share(lambda).named(&self.name("second_share"));
+        let first = (first_fresnel * share).named(&self.name("first_event"));
         // The same call as a GGX coat's single-scattering lobe makes (it clamps α itself): the
         // module shares it for a literal α, and a shader compiler merges it for a runtime one.
         let shadowing = g_smith_ggx_correlated(g.n_dot_v, g.n_dot_l, alpha);
@@ -398,7 +405,7 @@ pub(super) fn interfaced_lobe<F: Real>(
         None => F::select(eta.lt_lit(1.0), macro_surface(), microfacet()),
     }
     .named(&name("fresnel"));
-    f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l)
+    f_cook_torrance(distribution, shadowing, fresnel.splat(), g.n_dot_v, g.n_dot_l).named(&name("single_event"))
 }
 
 /// A coat's dielectric Fresnel reflectance at cosine `cos_i` from above: exact, or Schlick's

@@ -123,7 +123,7 @@ shading_fn! {
     /// G2 = 1 / (1 + Λ(v) + Λ(l)).
     pub fn g_smith_ggx_correlated(n_dot_v: S, n_dot_l: S, alpha: S) -> S {
         let alpha = alpha.at_least(ALPHA_MIN);
-        (lambda_ggx(n_dot_v, alpha) + lambda_ggx(n_dot_l, alpha) + 1.0).recip()
+        (lambda_ggx(n_dot_v, alpha).named("lambda_v") + lambda_ggx(n_dot_l, alpha).named("lambda_l") + 1.0).recip()
     }
 }
 
