@@ -86,16 +86,16 @@ vec3 car_paint_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, 
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_scale_curve(float cos_theta) {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * -0.1727557) + 1.0000006);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.70080215, -0.7268715, 0.075482756)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.10977743, 0.012890697, 5.8114532e-5)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.00086009497, -0.00038713208, 2.7716162e-5)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.0005024672, -0.0007742644, 0.0003871322)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 7.241965e-5));
-    float f_6 = (f_5 + (max(u, 0.93333334) * -7.241965e-5));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f = ((u * -0.011517048) + 1.0000006);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(0.046720147, -0.0484581, 0.0050321817)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(0.0073184967, 0.00085937977, 3.874302e-6)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(5.733967e-5, -2.5808811e-5, 1.847744e-6)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(3.349781e-5, -5.1617622e-5, 2.5808811e-5)));
+    float f_5 = (f_4 + (max(u, 13.0) * 4.827976e-6));
+    float f_6 = (f_5 + (max(u, 14.0) * -4.827976e-6));
     return f_6;
 }
 
@@ -123,20 +123,20 @@ float car_paint_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_coat_deficit_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * 0.018868122) + -9.304378e-6);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.41898763, 0.14115073, 0.25619617)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.04369545, -0.28174376, 0.094916634)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(0.16662645, 0.056496438, 0.018922206)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.0033847406, -0.025781661, 0.009866177)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.0031867106, 0.0033487321, 0.00019804694)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.0012062758, 0.00075615157, 0.0004861098)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(-3.600769e-5, 0.00075616484, -0.00021604773)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.00030606767, 0.00023405152, -7.20159e-5)));
-    float f_16 = (f_15 + (max(u_1, 0.83870965) * 1.8003984e-5));
-    float f_17 = (f_16 + (max(u_1, 0.87096775) * -1.8003984e-5));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_7 = ((u_1 * 0.0006086491) + -9.304378e-6);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(-0.013515729, 0.004553249, 0.008264393)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(-0.0014095306, -0.009088508, 0.0030618268)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(0.0053750467, 0.0018224656, 0.0006103937)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(10.0, 11.0, 12.0)), vec3(0.000109185174, -0.00083166646, 0.00031826377)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(13.0, 14.0, 15.0)), vec3(-0.000102797116, 0.00010802361, 6.388611e-6)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(16.0, 17.0, 18.0)), vec3(3.8912054e-5, 2.4392095e-5, 1.568089e-5)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(19.0, 20.0, 21.0)), vec3(-1.1614793e-6, 2.4392375e-5, -6.96926e-6)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(22.0, 23.0, 24.0)), vec3(9.873132e-6, 7.5500516e-6, -2.3230914e-6)));
+    float f_16 = (f_15 + (max(u_1, 26.0) * 5.807742e-7));
+    float f_17 = (f_16 + (max(u_1, 27.0) * -5.807742e-7));
     return f_17;
 }
 
@@ -168,23 +168,23 @@ vec3 car_paint_f_schlick(vec3 f0_, float cos_theta_2) {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_scale_curve(float cos_theta_3) {
-    float u_2 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
-    float f_18 = (1.0202721 + dot(max(vec3(u_2), vec3(0.125, 0.25, 0.375)), vec3(0.45265388, -0.3683586, -0.2977934)));
-    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.5, 0.625, 0.75)), vec3(0.03567028, 0.092225075, 0.047680855)));
-    float f_20 = (f_19 + (max(u_2, 0.875) * 0.023007393));
+    float u_2 = (sqrt(min(max(cos_theta_3, 0.0), 1.0)) * 8.0);
+    float f_18 = (1.0202721 + dot(max(vec3(u_2), vec3(1.0, 2.0, 3.0)), vec3(0.056581736, -0.046044827, -0.037224174)));
+    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(4.0, 5.0, 6.0)), vec3(0.004458785, 0.011528134, 0.005960107)));
+    float f_20 = (f_19 + (max(u_2, 7.0) * 0.002875924));
     return f_20;
 }
 
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_next_curve(float cos_theta_4) {
-    float u_3 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_3 * 0.0019297004) + 0.2134062);
-    float f_22 = (f_21 + dot(max(vec3(u_3), vec3(0.25, 0.5, 0.75)), vec3(0.009461105, 0.028464973, 0.00029283762)));
+    float u_3 = (sqrt(min(max(cos_theta_4, 0.0), 1.0)) * 4.0);
+    float f_21 = ((u_3 * 0.0004824251) + 0.2134062);
+    float f_22 = (f_21 + dot(max(vec3(u_3), vec3(1.0, 2.0, 3.0)), vec3(0.0023652762, 0.0071162432, 7.3209405e-5)));
     return f_22;
 }
 
@@ -194,43 +194,43 @@ float car_paint_glossy_next_curve(float cos_theta_4) {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_lobe_albedo_curve(float cos_theta_5) {
-    float u_4 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_23 = ((u_4 * -29.170326) + 1.1541525);
-    float f_24 = (f_23 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(26.13546, 2.7728767, 0.29838753)));
-    float f_25 = (f_24 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(-0.0676775, -0.16279411, -0.005718231)));
-    float f_26 = (f_25 + (max(u_4, 0.875) * 0.06338692));
+    float u_4 = (sqrt(min(max(cos_theta_5, 0.0), 1.0)) * 8.0);
+    float f_23 = ((u_4 * -3.6462908) + 1.1541525);
+    float f_24 = (f_23 + dot(max(vec3(u_4), vec3(1.0, 2.0, 3.0)), vec3(3.2669325, 0.3466096, 0.03729844)));
+    float f_25 = (f_24 + dot(max(vec3(u_4), vec3(4.0, 5.0, 6.0)), vec3(-0.008459687, -0.020349264, -0.0007147789)));
+    float f_26 = (f_25 + (max(u_4, 7.0) * 0.007923365));
     return f_26;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve(float cos_theta_6) {
-    float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_27 = ((u_5 * -0.02538353) + 0.9516745);
-    float f_28 = (f_27 + dot(max(vec3(u_5), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.04854798, -0.083768085, -0.11518026)));
-    float f_29 = (f_28 + dot(max(vec3(u_5), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.12120999, -0.047754053, 0.1340604)));
-    float f_30 = (f_29 + dot(max(vec3(u_5), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.3204757, 0.30429307, 0.10328204)));
-    float f_31 = (f_30 + dot(max(vec3(u_5), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.07329763, -0.12263686, -0.09455592)));
-    float f_32 = (f_31 + (max(u_5, 0.8666667) * -0.056797568));
-    float f_33 = (f_32 + (max(u_5, 0.93333334) * -0.032047037));
+    float u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_27 = ((u_5 * -0.0016922355) + 0.9516745);
+    float f_28 = (f_27 + dot(max(vec3(u_5), vec3(1.0, 2.0, 3.0)), vec3(-0.0032365322, -0.005584538, -0.0076786876)));
+    float f_29 = (f_28 + dot(max(vec3(u_5), vec3(4.0, 5.0, 6.0)), vec3(-0.008080661, -0.0031836033, 0.008937359)));
+    float f_30 = (f_29 + dot(max(vec3(u_5), vec3(7.0, 8.0, 9.0)), vec3(0.021365047, 0.020286202, 0.006885469)));
+    float f_31 = (f_30 + dot(max(vec3(u_5), vec3(10.0, 11.0, 12.0)), vec3(-0.004886508, -0.00817579, -0.0063037276)));
+    float f_32 = (f_31 + (max(u_5, 13.0) * -0.0037865043));
+    float f_33 = (f_32 + (max(u_5, 14.0) * -0.002136469));
     return f_33;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_ggx_albedo_curve_b(float cos_theta_7) {
-    float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_34 = ((u_6 * -0.019831358) + 0.8686472);
-    float f_35 = (f_34 + dot(max(vec3(u_6), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.035854872, -0.060288023, -0.08456107)));
-    float f_36 = (f_35 + dot(max(vec3(u_6), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.10058468, -0.08979679, -0.019196572)));
-    float f_37 = (f_36 + dot(max(vec3(u_6), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.11597439, 0.2546345, 0.2678034)));
-    float f_38 = (f_37 + dot(max(vec3(u_6), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.14310391, -0.009678305, -0.08868546)));
-    float f_39 = (f_38 + (max(u_6, 0.8666667) * -0.09392203));
-    float f_40 = (f_39 + (max(u_6, 0.93333334) * -0.06806106));
+    float u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_34 = ((u_6 * -0.0013220906) + 0.8686472);
+    float f_35 = (f_34 + dot(max(vec3(u_6), vec3(1.0, 2.0, 3.0)), vec3(-0.002390325, -0.004019201, -0.0056374073)));
+    float f_36 = (f_35 + dot(max(vec3(u_6), vec3(4.0, 5.0, 6.0)), vec3(-0.0067056417, -0.005986452, -0.0012797713)));
+    float f_37 = (f_36 + dot(max(vec3(u_6), vec3(7.0, 8.0, 9.0)), vec3(0.0077316165, 0.016975641, 0.017853558)));
+    float f_38 = (f_37 + dot(max(vec3(u_6), vec3(10.0, 11.0, 12.0)), vec3(0.00954026, -0.0006452203, -0.0059123635)));
+    float f_39 = (f_38 + (max(u_6, 13.0) * -0.006261468));
+    float f_40 = (f_39 + (max(u_6, 14.0) * -0.0045374036));
     return f_40;
 }
 
@@ -262,11 +262,11 @@ float car_paint_glossy_trapped_share(float mu_2, float mu_c_1, float alpha_5) {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_quick_curve(float cos_theta_8) {
-    float u_7 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
-    float f_41 = ((u_7 * 0.0144017935) + 0.2634757);
-    float f_42 = (f_41 + dot(max(vec3(u_7), vec3(0.25, 0.5, 0.75)), vec3(-0.029078186, -0.006097257, -0.009634793)));
+    float u_7 = (sqrt(min(max(cos_theta_8, 0.0), 1.0)) * 4.0);
+    float f_41 = ((u_7 * 0.0036004484) + 0.2634757);
+    float f_42 = (f_41 + dot(max(vec3(u_7), vec3(1.0, 2.0, 3.0)), vec3(-0.0072695464, -0.0015243143, -0.0024086982)));
     return f_42;
 }
 
@@ -274,11 +274,11 @@ float car_paint_glossy_quick_curve(float cos_theta_8) {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_steady_curve(float cos_theta_9) {
-    float u_8 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
-    float f_43 = ((u_8 * 0.02468437) + 0.24147323);
-    float f_44 = (f_43 + dot(max(vec3(u_8), vec3(0.25, 0.5, 0.75)), vec3(-0.067401886, 0.055904448, -0.029418409)));
+    float u_8 = (sqrt(min(max(cos_theta_9, 0.0), 1.0)) * 4.0);
+    float f_43 = ((u_8 * 0.0061710924) + 0.24147323);
+    float f_44 = (f_43 + dot(max(vec3(u_8), vec3(1.0, 2.0, 3.0)), vec3(-0.016850471, 0.013976112, -0.007354602)));
     return f_44;
 }
 
@@ -314,11 +314,11 @@ vec3 car_paint_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, vec3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve(float cos_theta_10) {
-    float u_9 = sqrt(min(max(cos_theta_10, 0.0), 1.0));
-    float f_45 = ((u_9 * 0.00097328424) + 0.09675407);
-    float f_46 = (f_45 + dot(max(vec3(u_9), vec3(0.25, 0.5, 0.75)), vec3(0.012419343, 0.008055359, -0.021447986)));
+    float u_9 = (sqrt(min(max(cos_theta_10, 0.0), 1.0)) * 4.0);
+    float f_45 = ((u_9 * 0.00024332106) + 0.09675407);
+    float f_46 = (f_45 + dot(max(vec3(u_9), vec3(1.0, 2.0, 3.0)), vec3(0.0031048357, 0.0020138398, -0.0053619966)));
     return f_46;
 }
 
@@ -445,11 +445,11 @@ vec3 car_paint_trapped_lobe(vec3 trapped_i, vec3 trapped_o, float mu_c_2, vec3 r
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float car_paint_glossy_spread_curve_b(float cos_theta_11) {
-    float u_10 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_47 = ((u_10 * 0.020996809) + 0.8990296);
-    float f_48 = (f_47 + dot(max(vec3(u_10), vec3(0.25, 0.5, 0.75)), vec3(0.13127232, 0.2275126, -0.37978172)));
+    float u_10 = (sqrt(min(max(cos_theta_11, 0.0), 1.0)) * 4.0);
+    float f_47 = ((u_10 * 0.0052492023) + 0.8990296);
+    float f_48 = (f_47 + dot(max(vec3(u_10), vec3(1.0, 2.0, 3.0)), vec3(0.03281808, 0.05687815, -0.09494543)));
     return f_48;
 }
 

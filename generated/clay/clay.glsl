@@ -135,39 +135,39 @@ vec3 clay_eval(vec3 n_2, vec3 v_2, vec3 l_2) {
 // A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_scale_curve(float cos_theta_1) {
-    float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.0022043586) + -0.6954009);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(0.0015793592, 0.0031508654, 0.00425674)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(0.0056762695, 0.0075683594, 0.010084063)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(0.012771606, 0.017331839, 0.022069916)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.02883543, 0.03797391, 0.04869221)));
-    float f_5 = (f_4 + dot(max(vec3(u), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.06412226, 0.082863, 0.105853096)));
-    float f_6 = (f_5 + dot(max(vec3(u), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.13309754, 0.16302307, 0.19358657)));
-    float f_7 = (f_6 + dot(max(vec3(u), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.21833877, 0.23285404, 0.22915077)));
-    float f_8 = (f_7 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.2036838, 0.15571661, 0.09164066)));
-    float f_9 = (f_8 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.019355277, -0.0440134, -0.088944845)));
-    float f_10 = (f_9 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.10872479, -0.10610707, -0.09462981)));
+    float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f = ((u * 7.110834e-5) + -0.6954024);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(5.094707e-5, 0.00010164082, 0.0001373142)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(0.00018310547, 0.00024414063, 0.00032529235)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(0.0004119873, 0.00055909157, 0.0007119328)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(0.0009301752, 0.0012249649, 0.0015707165)));
+    float f_5 = (f_4 + dot(max(vec3(u), vec3(13.0, 14.0, 15.0)), vec3(0.00206846, 0.002673, 0.003414616)));
+    float f_6 = (f_5 + dot(max(vec3(u), vec3(16.0, 17.0, 18.0)), vec3(0.0042934865, 0.005258769, 0.0062447786)));
+    float f_7 = (f_6 + dot(max(vec3(u), vec3(19.0, 20.0, 21.0)), vec3(0.0070431232, 0.0075114965, 0.00739187)));
+    float f_8 = (f_7 + dot(max(vec3(u), vec3(22.0, 23.0, 24.0)), vec3(0.006570548, 0.0050230026, 0.0029562712)));
+    float f_9 = (f_8 + dot(max(vec3(u), vec3(25.0, 26.0, 27.0)), vec3(0.00062423944, -0.0014196634, -0.002869308)));
+    float f_10 = (f_9 + dot(max(vec3(u), vec3(28.0, 29.0, 30.0)), vec3(-0.0035071373, -0.003422916, -0.003052473)));
     return f_10;
 }
 
 // B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float clay_seed_ggx_dfg_bias_curve(float cos_theta_2) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_11 = ((u_1 * 0.000956323) + 0.0041830647);
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(0.0009092055, 0.0013386905, 0.0018886253)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(0.002511084, 0.0032272004, 0.0039451644)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(0.00470886, 0.005640816, 0.006356932)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.00697558, 0.0072371513, 0.006993249)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.005627997, 0.002633728, -0.0025579706)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(-0.010715574, -0.022359483, -0.037089318)));
-    float f_18 = (f_17 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(-0.05215842, -0.06486268, -0.06910293)));
-    float f_19 = (f_18 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(-0.0616536, -0.04034416, -0.0067038056)));
-    float f_20 = (f_19 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.03013172, 0.06141271, 0.07599169)));
-    float f_21 = (f_20 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.069528475, 0.04600502, 0.019350072)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_11 = ((u_1 * 3.084913e-5) + 0.0041830684);
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(2.932921e-5, 4.3183565e-5, 6.0923398e-5)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(8.100271e-5, 0.00010410324, 0.00012726337)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(0.00015189871, 0.0001819618, 0.00020506233)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(10.0, 11.0, 12.0)), vec3(0.00022501871, 0.00023345649, 0.00022558868)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(13.0, 14.0, 15.0)), vec3(0.0001815483, 8.495897e-5, -8.251518e-5)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(16.0, 17.0, 18.0)), vec3(-0.00034566224, -0.0007212758, -0.0011964291)));
+    float f_18 = (f_17 + dot(max(vec3(u_1), vec3(19.0, 20.0, 21.0)), vec3(-0.0016825274, -0.0020923503, -0.0022291169)));
+    float f_19 = (f_18 + dot(max(vec3(u_1), vec3(22.0, 23.0, 24.0)), vec3(-0.0019888394, -0.0013014078, -0.00021626987)));
+    float f_20 = (f_19 + dot(max(vec3(u_1), vec3(25.0, 26.0, 27.0)), vec3(0.00097200833, 0.0019810405, 0.0024513553)));
+    float f_21 = (f_20 + dot(max(vec3(u_1), vec3(28.0, 29.0, 30.0)), vec3(0.0022428478, 0.0014840357, 0.00062419503)));
     return f_21;
 }
 

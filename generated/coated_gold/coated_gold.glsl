@@ -38,34 +38,34 @@ float coated_gold_fr_dielectric(float cos_i, float eta_1) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_deficit_curve(float cos_theta) {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * -0.032026023) + -0.00037076068);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.033704236, -0.020881355, -0.18295114)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.22080079, 0.11075193, 0.015634686)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.049557418, -0.08091132, -0.1859818)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.08017361, 0.2061308, 0.11820417)));
-    float f_5 = (f_4 + dot(max(vec3(u), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.095714614, 0.05991873, 0.010449743)));
-    float f_6 = (f_5 + dot(max(vec3(u), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.03737664, 0.0165298, 0.019110624)));
-    float f_7 = (f_6 + dot(max(vec3(u), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.011165314, 0.008715778, 0.006094121)));
-    float f_8 = (f_7 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.00478209, 0.0025969543, 0.0022205522)));
-    float f_9 = (f_8 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.0010447791, 0.00065062195, 0.00036008007)));
-    float f_10 = (f_9 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.0002891664, 0.00021687511, -0.0003778086)));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f = ((u * -0.0010330975) + -0.000370761);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(-0.0010872334, -0.0006735921, -0.0059016496)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(-0.007122606, 0.0035726428, 0.0005043447)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(-0.0015986264, -0.0026100427, -0.0059994124)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(0.0025862455, 0.0066493805, 0.0038130376)));
+    float f_5 = (f_4 + dot(max(vec3(u), vec3(13.0, 14.0, 15.0)), vec3(0.003087568, 0.0019328622, 0.00033708848)));
+    float f_6 = (f_5 + dot(max(vec3(u), vec3(16.0, 17.0, 18.0)), vec3(0.0012056958, 0.00053322315, 0.00061646895)));
+    float f_7 = (f_6 + dot(max(vec3(u), vec3(19.0, 20.0, 21.0)), vec3(0.0003601733, 0.00028115284, 0.00019658537)));
+    float f_8 = (f_7 + dot(max(vec3(u), vec3(22.0, 23.0, 24.0)), vec3(0.00015426046, 8.3773004e-5, 7.1630566e-5)));
+    float f_9 = (f_8 + dot(max(vec3(u), vec3(25.0, 26.0, 27.0)), vec3(3.3702592e-5, 2.0987813e-5, 1.1615448e-5)));
+    float f_10 = (f_9 + dot(max(vec3(u), vec3(28.0, 29.0, 30.0)), vec3(-9.327909e-6, 6.9959333e-6, -1.2187342e-5)));
     return f_10;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_path_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_11 = ((u_1 * -0.00927484) + 1.0023464);
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.45981467, -0.3406396, 0.03321135)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(0.34221184, 0.25382876, 0.113687254)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.041521102, 0.013379203, 0.006570941)));
-    float f_15 = (f_14 + (max(u_1, 0.90909094) * 0.0030513976));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_11 = ((u_1 * -0.0008431673) + 1.0023464);
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(-0.041801333, -0.030967236, 0.0030192137)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(0.031110168, 0.023075342, 0.010335207)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(0.003774643, 0.0012162924, 0.00059735775)));
+    float f_15 = (f_14 + (max(u_1, 10.0) * 0.00027740002));
     return f_15;
 }
 
@@ -96,23 +96,23 @@ vec3 coated_gold_fr_conductor(float cos_i_1, vec3 eta_2, vec3 k) {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_scale_curve(float cos_theta_2) {
-    float u_2 = sqrt(min(max(cos_theta_2, 0.0), 1.0));
-    float f_16 = (1.0610528 + dot(max(vec3(u_2), vec3(0.125, 0.25, 0.375)), vec3(1.6036816, -1.0432777, -0.4499693)));
-    float f_17 = (f_16 + dot(max(vec3(u_2), vec3(0.5, 0.625, 0.75)), vec3(-0.056975365, -0.13719273, 0.033540726)));
-    float f_18 = (f_17 + (max(u_2, 0.875) * 0.0075826645));
+    float u_2 = (sqrt(min(max(cos_theta_2, 0.0), 1.0)) * 8.0);
+    float f_16 = (1.0610528 + dot(max(vec3(u_2), vec3(1.0, 2.0, 3.0)), vec3(0.2004602, -0.13040972, -0.05624616)));
+    float f_17 = (f_16 + dot(max(vec3(u_2), vec3(4.0, 5.0, 6.0)), vec3(-0.0071219206, -0.01714909, 0.0041925907)));
+    float f_18 = (f_17 + (max(u_2, 7.0) * 0.00094783306));
     return f_18;
 }
 
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_next_curve(float cos_theta_3) {
-    float u_3 = sqrt(min(max(cos_theta_3, 0.0), 1.0));
-    float f_19 = ((u_3 * -0.035583183) + -0.6395629);
-    float f_20 = (f_19 + dot(max(vec3(u_3), vec3(0.25, 0.5, 0.75)), vec3(0.19231004, 0.43643332, 0.56710935)));
+    float u_3 = (sqrt(min(max(cos_theta_3, 0.0), 1.0)) * 4.0);
+    float f_19 = ((u_3 * -0.008895796) + -0.6395629);
+    float f_20 = (f_19 + dot(max(vec3(u_3), vec3(1.0, 2.0, 3.0)), vec3(0.04807751, 0.10910833, 0.14177734)));
     return f_20;
 }
 
@@ -122,13 +122,13 @@ float coated_gold_glossy_next_curve(float cos_theta_3) {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4) {
-    float u_4 = sqrt(min(max(cos_theta_4, 0.0), 1.0));
-    float f_21 = ((u_4 * -0.85115623) + 0.89909506);
-    float f_22 = (f_21 + dot(max(vec3(u_4), vec3(0.125, 0.25, 0.375)), vec3(-1.8826203, 2.2303228, 0.48050165)));
-    float f_23 = (f_22 + dot(max(vec3(u_4), vec3(0.5, 0.625, 0.75)), vec3(0.20334625, 0.1752038, -0.093585014)));
-    float f_24 = (f_23 + (max(u_4, 0.875) * -0.19610357));
+    float u_4 = (sqrt(min(max(cos_theta_4, 0.0), 1.0)) * 8.0);
+    float f_21 = ((u_4 * -0.10639453) + 0.89909506);
+    float f_22 = (f_21 + dot(max(vec3(u_4), vec3(1.0, 2.0, 3.0)), vec3(-0.23532754, 0.27879035, 0.060062706)));
+    float f_23 = (f_22 + dot(max(vec3(u_4), vec3(4.0, 5.0, 6.0)), vec3(0.025418282, 0.021900475, -0.011698127)));
+    float f_24 = (f_23 + (max(u_4, 7.0) * -0.024512947));
     return f_24;
 }
 
@@ -137,42 +137,42 @@ float coated_gold_glossy_lobe_albedo_curve(float cos_theta_4) {
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_blur_curve(float cos_theta_5) {
-    float u_5 = sqrt(min(max(cos_theta_5, 0.0), 1.0));
-    float f_25 = ((u_5 * 0.5371948) + 0.70036405);
-    float f_26 = (f_25 + dot(max(vec3(u_5), vec3(0.2, 0.4, 0.6)), vec3(0.10144182, 0.10002294, -0.34336916)));
-    float f_27 = (f_26 + (max(u_5, 0.8) * -0.6577203));
+    float u_5 = (sqrt(min(max(cos_theta_5, 0.0), 1.0)) * 5.0);
+    float f_25 = ((u_5 * 0.10743897) + 0.70036405);
+    float f_26 = (f_25 + dot(max(vec3(u_5), vec3(1.0, 2.0, 3.0)), vec3(0.020288365, 0.0200046, -0.06867385)));
+    float f_27 = (f_26 + (max(u_5, 4.0) * -0.13154405));
     return f_27;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve(float cos_theta_6) {
-    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_28 = ((u_6 * -0.03918707) + 0.9841455);
-    float f_29 = (f_28 + dot(max(vec3(u_6), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.07646977, -0.12850733, -0.15928559)));
-    float f_30 = (f_29 + dot(max(vec3(u_6), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.09106646, 0.16150744, 0.41677687)));
-    float f_31 = (f_30 + dot(max(vec3(u_6), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.33824426, 0.029349815, -0.14548214)));
-    float f_32 = (f_31 + dot(max(vec3(u_6), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1370752, -0.0824985, -0.04236013)));
-    float f_33 = (f_32 + (max(u_6, 0.8666667) * -0.020624401));
-    float f_34 = (f_33 + (max(u_6, 0.93333334) * -0.009836555));
+    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_28 = ((u_6 * -0.0026124716) + 0.9841455);
+    float f_29 = (f_28 + dot(max(vec3(u_6), vec3(1.0, 2.0, 3.0)), vec3(-0.0050979853, -0.008567154, -0.010619044)));
+    float f_30 = (f_29 + dot(max(vec3(u_6), vec3(4.0, 5.0, 6.0)), vec3(-0.0060710907, 0.010767162, 0.027785122)));
+    float f_31 = (f_30 + dot(max(vec3(u_6), vec3(7.0, 8.0, 9.0)), vec3(0.02254963, 0.0019566417, -0.009698808)));
+    float f_32 = (f_31 + dot(max(vec3(u_6), vec3(10.0, 11.0, 12.0)), vec3(-0.009138346, -0.0054998994, -0.0028240085)));
+    float f_33 = (f_32 + (max(u_6, 13.0) * -0.00137496));
+    float f_34 = (f_33 + (max(u_6, 14.0) * -0.0006557703));
     return f_34;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_ggx_albedo_curve_b(float cos_theta_7) {
-    float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_35 = ((u_7 * -0.02538353) + 0.9516745);
-    float f_36 = (f_35 + dot(max(vec3(u_7), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.04854798, -0.083768085, -0.11518026)));
-    float f_37 = (f_36 + dot(max(vec3(u_7), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.12120999, -0.047754053, 0.1340604)));
-    float f_38 = (f_37 + dot(max(vec3(u_7), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.3204757, 0.30429307, 0.10328204)));
-    float f_39 = (f_38 + dot(max(vec3(u_7), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.07329763, -0.12263686, -0.09455592)));
-    float f_40 = (f_39 + (max(u_7, 0.8666667) * -0.056797568));
-    float f_41 = (f_40 + (max(u_7, 0.93333334) * -0.032047037));
+    float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_35 = ((u_7 * -0.0016922355) + 0.9516745);
+    float f_36 = (f_35 + dot(max(vec3(u_7), vec3(1.0, 2.0, 3.0)), vec3(-0.0032365322, -0.005584538, -0.0076786876)));
+    float f_37 = (f_36 + dot(max(vec3(u_7), vec3(4.0, 5.0, 6.0)), vec3(-0.008080661, -0.0031836033, 0.008937359)));
+    float f_38 = (f_37 + dot(max(vec3(u_7), vec3(7.0, 8.0, 9.0)), vec3(0.021365047, 0.020286202, 0.006885469)));
+    float f_39 = (f_38 + dot(max(vec3(u_7), vec3(10.0, 11.0, 12.0)), vec3(-0.004886508, -0.00817579, -0.0063037276)));
+    float f_40 = (f_39 + (max(u_7, 13.0) * -0.0037865043));
+    float f_41 = (f_40 + (max(u_7, 14.0) * -0.002136469));
     return f_41;
 }
 
@@ -204,11 +204,11 @@ float coated_gold_glossy_trapped_share(float mu_1, float mu_c_1, float alpha_1) 
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_quick_curve(float cos_theta_8) {
-    float u_8 = sqrt(min(max(cos_theta_8, 0.0), 1.0));
-    float f_42 = ((u_8 * 0.5028753) + 0.48326114);
-    float f_43 = (f_42 + dot(max(vec3(u_8), vec3(0.25, 0.5, 0.75)), vec3(-0.42151442, -0.1746285, -0.30422544)));
+    float u_8 = (sqrt(min(max(cos_theta_8, 0.0), 1.0)) * 4.0);
+    float f_42 = ((u_8 * 0.12571883) + 0.48326114);
+    float f_43 = (f_42 + dot(max(vec3(u_8), vec3(1.0, 2.0, 3.0)), vec3(-0.105378605, -0.043657124, -0.07605636)));
     return f_43;
 }
 
@@ -216,11 +216,11 @@ float coated_gold_glossy_quick_curve(float cos_theta_8) {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_steady_curve(float cos_theta_9) {
-    float u_9 = sqrt(min(max(cos_theta_9, 0.0), 1.0));
-    float f_44 = ((u_9 * -0.01998204) + 0.39283627);
-    float f_45 = (f_44 + dot(max(vec3(u_9), vec3(0.25, 0.5, 0.75)), vec3(0.0125947, -0.27517235, -0.0626439)));
+    float u_9 = (sqrt(min(max(cos_theta_9, 0.0), 1.0)) * 4.0);
+    float f_44 = ((u_9 * -0.00499551) + 0.39283627);
+    float f_45 = (f_44 + dot(max(vec3(u_9), vec3(1.0, 2.0, 3.0)), vec3(0.003148675, -0.06879309, -0.015660975)));
     return f_45;
 }
 
@@ -290,16 +290,16 @@ vec3 coated_gold_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_coat_scale_curve(float cos_theta_10) {
-    float u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_46 = ((u_10 * 0.060539242) + 0.99981815);
-    float f_47 = (f_46 + dot(max(vec3(u_10), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.12546837, 0.09257913, 0.26737326)));
-    float f_48 = (f_47 + dot(max(vec3(u_10), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.23175533, -0.22550048, 0.07317067)));
-    float f_49 = (f_48 + dot(max(vec3(u_10), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.07269861, 0.011095398, 0.002680421)));
-    float f_50 = (f_49 + dot(max(vec3(u_10), vec3(0.6666667, 0.73333335, 0.8)), vec3(0.0020688775, 0.00042915347, -0.0003343821)));
-    float f_51 = (f_50 + (max(u_10, 0.8666667) * 0.0004640222));
-    float f_52 = (f_51 + (max(u_10, 0.93333334) * 0.00015020372));
+    float u_10 = ((sqrt(sqrt(min(max(cos_theta_10, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_46 = ((u_10 * 0.0040359497) + 0.99981815);
+    float f_47 = (f_46 + dot(max(vec3(u_10), vec3(1.0, 2.0, 3.0)), vec3(-0.008364558, 0.0061719418, 0.017824888)));
+    float f_48 = (f_47 + dot(max(vec3(u_10), vec3(4.0, 5.0, 6.0)), vec3(-0.015450358, -0.015033364, 0.004878044)));
+    float f_49 = (f_48 + dot(max(vec3(u_10), vec3(7.0, 8.0, 9.0)), vec3(0.004846573, 0.00073969364, 0.00017869473)));
+    float f_50 = (f_49 + dot(max(vec3(u_10), vec3(10.0, 11.0, 12.0)), vec3(0.00013792515, 2.861023e-5, -2.2292137e-5)));
+    float f_51 = (f_50 + (max(u_10, 13.0) * 3.093481e-5));
+    float f_52 = (f_51 + (max(u_10, 14.0) * 1.001358e-5));
     return f_52;
 }
 
@@ -354,11 +354,11 @@ vec3 coated_gold_interfaced_layer(vec3 f_top, float t_i, float t_o, vec3 a_i, ve
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float coated_gold_glossy_spread_curve(float cos_theta_11) {
-    float u_11 = sqrt(min(max(cos_theta_11, 0.0), 1.0));
-    float f_53 = ((u_11 * 0.058451414) + 0.9806291);
-    float f_54 = (f_53 + dot(max(vec3(u_11), vec3(0.25, 0.5, 0.75)), vec3(0.0821147, 0.24325347, -0.38381958)));
+    float u_11 = (sqrt(min(max(cos_theta_11, 0.0), 1.0)) * 4.0);
+    float f_53 = ((u_11 * 0.0146128535) + 0.9806291);
+    float f_54 = (f_53 + dot(max(vec3(u_11), vec3(1.0, 2.0, 3.0)), vec3(0.020528674, 0.060813367, -0.095954895)));
     return f_54;
 }
 

@@ -83,17 +83,17 @@ float3 color_clay_f_cook_torrance(float d, float g, float3 fresnel, float n_dot_
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_scale_curve(float cos_theta)
 {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.005922317) + 1.0087713);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(0.01734227, 0.0017148283, -0.05776405)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.030920515, 0.11055172, 0.1851091)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(-0.048217263, -0.14456205, -0.18024625)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(0.045053963, 0.049760345, 0.0019973519)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.030219557));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.005128384));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f = ((u * 0.00039482117) + 1.0087713);
+    float f_1 = (f + dot(max((u).xxx, float3(1.0, 2.0, 3.0)), float3(0.0011561513, 0.00011432171, -0.003850937)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(4.0, 5.0, 6.0)), float3(-0.002061367, 0.0073701143, 0.012340605)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(7.0, 8.0, 9.0)), float3(-0.0032144785, -0.009637475, -0.012016416)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(10.0, 11.0, 12.0)), float3(0.0030035973, 0.003317356, 0.00013315678)));
+    float f_5 = (f_4 + (max(u, 13.0) * 0.002014637));
+    float f_6 = (f_5 + (max(u, 14.0) * 0.00034189224));
     return f_6;
 }
 
@@ -123,21 +123,21 @@ float color_clay_second_event_share(float lambda)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_deficit_curve(float cos_theta_1)
 {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.030617118) + -0.011473834);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.023994803, -0.04531777, -0.05747962)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.076836586, -0.10043597, -0.111827314)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.13610113, -0.1583646, -0.16133761)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(-0.17006266, -0.15926537, -0.14674506)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(-0.09393099, -0.01871857, -0.020302087)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.09390551, 0.110736944, 0.18043146)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.22835112, 0.19595866, 0.19650386)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.16709071, 0.13145925, 0.09694148)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.062109426, 0.03485953, 0.01808921)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.007428864, 0.0012501882, -0.0022583888)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_7 = ((u_1 * -0.000987649) + -0.011473844);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(1.0, 2.0, 3.0)), float3(-0.0007740259, -0.0014618635, -0.0018541813)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(4.0, 5.0, 6.0)), float3(-0.0024785995, -0.00323987, -0.0036073327)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(7.0, 8.0, 9.0)), float3(-0.004390359, -0.0051085353, -0.005204439)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(10.0, 11.0, 12.0)), float3(-0.0054858923, -0.0051375926, -0.0047337115)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(13.0, 14.0, 15.0)), float3(-0.003030032, -0.00060382485, -0.00065490603)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(16.0, 17.0, 18.0)), float3(0.0030291677, 0.0035722405, 0.0058202967)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(19.0, 20.0, 21.0)), float3(0.007366225, 0.0063211992, 0.00633887)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(22.0, 23.0, 24.0)), float3(0.0053899977, 0.004240637, 0.003127135)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(25.0, 26.0, 27.0)), float3(0.0020035345, 0.0011244991, 0.0005835231)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(28.0, 29.0, 30.0)), float3(0.00023964129, 4.032787e-5, -7.28505e-5)));
     return f_17;
 }
 
@@ -153,15 +153,15 @@ float3 color_clay_refract_down(float3 w, float3 n, float eta_1)
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float color_clay_coat_path_curve(float cos_theta_2)
 {
-    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * 0.5507194) + 1.0632226);
-    float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.09090909, 0.18181819, 0.27272728)), float3(-0.20918548, -0.37085462, -0.64313865)));
-    float f_20 = (f_19 + dot(max((u_2).xxx, float3(0.36363637, 0.45454547, 0.54545456)), float3(-0.5775342, -0.23689723, 0.30165812)));
-    float f_21 = (f_20 + dot(max((u_2).xxx, float3(0.6363636, 0.72727275, 0.8181818)), float3(0.46164456, 0.36589098, 0.20220034)));
-    float f_22 = (f_21 + (max(u_2, 0.90909094) * 0.093710825));
+    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_18 = ((u_2 * 0.0500654) + 1.0632226);
+    float f_19 = (f_18 + dot(max((u_2).xxx, float3(1.0, 2.0, 3.0)), float3(-0.019016862, -0.033714056, -0.05846715)));
+    float f_20 = (f_19 + dot(max((u_2).xxx, float3(4.0, 5.0, 6.0)), float3(-0.05250311, -0.021536112, 0.027423501)));
+    float f_21 = (f_20 + dot(max((u_2).xxx, float3(7.0, 8.0, 9.0)), float3(0.04196763, 0.03326285, 0.018381834)));
+    float f_22 = (f_21 + (max(u_2, 10.0) * 0.008519173));
     return f_22;
 }
 

@@ -94,39 +94,39 @@ vec3 disney_clay_eval(vec3 n_1, vec3 v_2, vec3 l_2) {
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float disney_clay_clearcoat_dfg_scale_curve(float cos_theta_1) {
-    float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_1 = ((u * -0.005037874) + -0.14839892);
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.0042747557, -0.00687176, -0.009160191)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.012062073, -0.014656305, -0.016639858)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.0180192, -0.018318534, -0.015877664)));
-    float f_5 = (f_4 + dot(max(vec3(u), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.010991305, -0.0030497015, 0.012066692)));
-    float f_6 = (f_5 + dot(max(vec3(u), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.029932529, 0.054822564, 0.084905684)));
-    float f_7 = (f_6 + dot(max(vec3(u), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.11681792, 0.14903763, 0.17468868)));
-    float f_8 = (f_7 + dot(max(vec3(u), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.1914865, 0.19269979, 0.17621373)));
-    float f_9 = (f_8 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.14276204, 0.09588727, 0.04137042)));
-    float f_10 = (f_9 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(-0.009783208, -0.049331613, -0.07192301)));
-    float f_11 = (f_10 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.07407081, -0.062303912, -0.050380655)));
+    float u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_1 = ((u * -0.00016251206) + -0.14839983);
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(-0.00013789535, -0.00022166967, -0.00029549003)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(-0.00038909912, -0.00047278404, -0.0005367696)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(-0.0005812645, -0.00059092045, -0.0005121827)));
+    float f_5 = (f_4 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(-0.00035455823, -9.8377466e-5, 0.00038924813)));
+    float f_6 = (f_5 + dot(max(vec3(u), vec3(13.0, 14.0, 15.0)), vec3(0.00096556544, 0.0017684698, 0.002738893)));
+    float f_7 = (f_6 + dot(max(vec3(u), vec3(16.0, 17.0, 18.0)), vec3(0.0037683249, 0.004807651, 0.0056351423)));
+    float f_8 = (f_7 + dot(max(vec3(u), vec3(19.0, 20.0, 21.0)), vec3(0.0061769485, 0.0062161684, 0.0056842566)));
+    float f_9 = (f_8 + dot(max(vec3(u), vec3(22.0, 23.0, 24.0)), vec3(0.0046052933, 0.0030930638, 0.0013346076)));
+    float f_10 = (f_9 + dot(max(vec3(u), vec3(25.0, 26.0, 27.0)), vec3(-0.0003156662, -0.0015912652, -0.0023201704)));
+    float f_11 = (f_10 + dot(max(vec3(u), vec3(28.0, 29.0, 30.0)), vec3(-0.0023893118, -0.0020098686, -0.0016251206)));
     return f_11;
 }
 
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float disney_clay_clearcoat_dfg_bias_curve(float cos_theta_2) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_12 = ((u_1 * 0.00024286285) + 0.0058974912);
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(0.0002583377, 0.0004150495, 0.0005716458)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(0.0009006597, 0.0013078563, 0.0019731596)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(0.002889756, 0.0042911544, 0.0060375035)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(0.008308265, 0.010438021, 0.011886768)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.011126999, 0.0069463626, -0.002034828)));
-    float f_18 = (f_17 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(-0.015916051, -0.033601627, -0.051710486)));
-    float f_19 = (f_18 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(-0.06659998, -0.07285491, -0.0681408)));
-    float f_20 = (f_19 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(-0.049915038, -0.021614432, 0.0125583)));
-    float f_21 = (f_20 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.044379782, 0.06605709, 0.07147286)));
-    float f_22 = (f_21 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.060199402, 0.037934743, 0.01631319)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_12 = ((u_1 * 7.8342855e-6) + 0.0058974964);
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(8.333474e-6, 1.3388693e-5, 1.8440187e-5)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(2.9053539e-5, 4.2188913e-5, 6.365031e-5)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(9.321794e-5, 0.00013842434, 0.00019475818)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(10.0, 11.0, 12.0)), vec3(0.00026800856, 0.00033671036, 0.00038344413)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(13.0, 14.0, 15.0)), vec3(0.00035893545, 0.00022407621, -6.5639615e-5)));
+    float f_18 = (f_17 + dot(max(vec3(u_1), vec3(16.0, 17.0, 18.0)), vec3(-0.0005134195, -0.0010839254, -0.0016680807)));
+    float f_19 = (f_18 + dot(max(vec3(u_1), vec3(19.0, 20.0, 21.0)), vec3(-0.0021483824, -0.0023501664, -0.0021980777)));
+    float f_20 = (f_19 + dot(max(vec3(u_1), vec3(22.0, 23.0, 24.0)), vec3(-0.0016101785, -0.0006972216, 0.00040508807)));
+    float f_21 = (f_20 + dot(max(vec3(u_1), vec3(25.0, 26.0, 27.0)), vec3(0.0014316225, 0.0021308605, 0.0023055854)));
+    float f_22 = (f_21 + dot(max(vec3(u_1), vec3(28.0, 29.0, 30.0)), vec3(0.0019419107, 0.0012237038, 0.0005262311)));
     return f_22;
 }
 

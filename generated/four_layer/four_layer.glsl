@@ -81,20 +81,20 @@ vec3 four_layer_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1,
 // unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
 // reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_gtr1_coat_deficit_curve(float cos_theta) {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * -0.028372109) + -0.0009624428);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.025670707, -0.040554285, -0.057198763)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.075509906, -0.095240116, -0.116888285)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.14729476, -0.15903163, -0.17242777)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.1806798, -0.1820767, -0.17346251)));
-    float f_5 = (f_4 + dot(max(vec3(u), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.15383947, -0.122015774, -0.08112335)));
-    float f_6 = (f_5 + dot(max(vec3(u), vec3(0.516129, 0.5483871, 0.58064514)), vec3(-0.032109316, 0.027136283, 0.090221226)));
-    float f_7 = (f_6 + dot(max(vec3(u), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.14292918, 0.18386021, 0.21080048)));
-    float f_8 = (f_7 + dot(max(vec3(u), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.2199489, 0.21348849, 0.19780637)));
-    float f_9 = (f_8 + dot(max(vec3(u), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.16790143, 0.13775985, 0.10116806)));
-    float f_10 = (f_9 + dot(max(vec3(u), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.07596932, 0.05083031, 0.029882526)));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f = ((u * -0.0009152293) + -0.0009624483);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(-0.00082808733, -0.0013082027, -0.0018451214)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(-0.0024358034, -0.0030722618, -0.0037705898)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(-0.004751444, -0.0051300526, -0.0055621862)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(-0.0058283806, -0.0058734417, -0.005595565)));
+    float f_5 = (f_4 + dot(max(vec3(u), vec3(13.0, 14.0, 15.0)), vec3(-0.0049625635, -0.0039359927, -0.0026168823)));
+    float f_6 = (f_5 + dot(max(vec3(u), vec3(16.0, 17.0, 18.0)), vec3(-0.0010358393, 0.000875473, 0.0029102564)));
+    float f_7 = (f_6 + dot(max(vec3(u), vec3(19.0, 20.0, 21.0)), vec3(0.0046107173, 0.0059308857, 0.0068000928)));
+    float f_8 = (f_7 + dot(max(vec3(u), vec3(22.0, 23.0, 24.0)), vec3(0.0070950612, 0.0068867765, 0.0063808113)));
+    float f_9 = (f_8 + dot(max(vec3(u), vec3(25.0, 26.0, 27.0)), vec3(0.0054162033, 0.0044438466, 0.0032634977)));
+    float f_10 = (f_9 + dot(max(vec3(u), vec3(28.0, 29.0, 30.0)), vec3(0.0024506166, 0.0016396903, 0.0009639519)));
     return f_10;
 }
 
@@ -109,14 +109,14 @@ vec3 four_layer_refract_down(vec3 w, vec3 n, float eta_1) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_11 = ((u_1 * 0.85441303) + 1.298795);
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.15871215, -0.14111447, -0.2991382)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5701791, -0.71037436, -0.39294133)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.09422189, 0.3586102, 0.40072)));
-    float f_15 = (f_14 + (max(u_1, 0.90909094) * 0.27592653));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_11 = ((u_1 * 0.07767391) + 1.2987949);
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(-0.014428377, -0.0128285885, -0.02719438)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(-0.051834464, -0.06457949, -0.035721898)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(0.008565545, 0.032601, 0.036429048)));
+    float f_15 = (f_14 + (max(u_1, 10.0) * 0.025084257));
     return f_15;
 }
 
@@ -165,16 +165,16 @@ float four_layer_g_smith_ggx_correlated(float n_dot_v_2, float n_dot_l_2, float 
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_scale_curve(float cos_theta_2) {
-    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_16 = ((u_2 * -0.01585722) + 1.0037742);
-    float f_17 = (f_16 + dot(max(vec3(u_2), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.015521049, -0.0011971594, -0.027303094)));
-    float f_18 = (f_17 + dot(max(vec3(u_2), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.009397574, 0.07106871, 0.11350215)));
-    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.46666667, 0.53333336, 0.6)), vec3(-0.011117818, -0.15492256, -0.032958988)));
-    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.039440993, 0.054325465, 0.025520327)));
-    float f_21 = (f_20 + (max(u_2, 0.8666667) * 0.004279018));
-    float f_22 = (f_21 + (max(u_2, 0.93333334) * 0.0050067906));
+    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_16 = ((u_2 * -0.001057148) + 1.0037742);
+    float f_17 = (f_16 + dot(max(vec3(u_2), vec3(1.0, 2.0, 3.0)), vec3(0.0010347366, -7.981062e-5, -0.0018202066)));
+    float f_18 = (f_17 + dot(max(vec3(u_2), vec3(4.0, 5.0, 6.0)), vec3(-0.0006265044, 0.0047379136, 0.0075668097)));
+    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(7.0, 8.0, 9.0)), vec3(-0.00074118376, -0.010328174, -0.0021972656)));
+    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(10.0, 11.0, 12.0)), vec3(-0.0026293993, 0.0036216974, 0.001701355)));
+    float f_21 = (f_20 + (max(u_2, 13.0) * 0.00028526783));
+    float f_22 = (f_21 + (max(u_2, 14.0) * 0.000333786));
     return f_22;
 }
 
@@ -202,48 +202,48 @@ float four_layer_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_deficit_curve(float cos_theta_3) {
-    float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_23 = ((u_3 * -0.020166278) + -0.003592166);
-    float f_24 = (f_23 + dot(max(vec3(u_3), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.021597356, -0.040179193, -0.049817026)));
-    float f_25 = (f_24 + dot(max(vec3(u_3), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.06540829, -0.08492416, -0.09904)));
-    float f_26 = (f_25 + dot(max(vec3(u_3), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.113132745, -0.13081473, -0.12935963)));
-    float f_27 = (f_26 + dot(max(vec3(u_3), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.12845609, -0.11919704, -0.09944743)));
-    float f_28 = (f_27 + dot(max(vec3(u_3), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.052427426, -0.007245466, 0.02059634)));
-    float f_29 = (f_28 + dot(max(vec3(u_3), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.112209596, 0.13448581, 0.15254664)));
-    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.15822935, 0.15778777, 0.16349415)));
-    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.10673136, 0.088544466, 0.04380997)));
-    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.025283044, 0.0045521106, 0.0008847585)));
-    float f_33 = (f_32 + dot(max(vec3(u_3), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-0.001206447, -0.0013657487, -0.0018065764)));
+    float u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_23 = ((u_3 * -0.0006505251) + -0.0035921691);
+    float f_24 = (f_23 + dot(max(vec3(u_3), vec3(1.0, 2.0, 3.0)), vec3(-0.0006966889, -0.001296103, -0.0016070008)));
+    float f_25 = (f_24 + dot(max(vec3(u_3), vec3(4.0, 5.0, 6.0)), vec3(-0.0021099448, -0.002739489, -0.0031948388)));
+    float f_26 = (f_25 + dot(max(vec3(u_3), vec3(7.0, 8.0, 9.0)), vec3(-0.0036494434, -0.00421983, -0.0041728914)));
+    float f_27 = (f_26 + dot(max(vec3(u_3), vec3(10.0, 11.0, 12.0)), vec3(-0.0041437447, -0.0038450658, -0.0032079816)));
+    float f_28 = (f_27 + dot(max(vec3(u_3), vec3(13.0, 14.0, 15.0)), vec3(-0.0016912073, -0.00023372471, 0.0006643981)));
+    float f_29 = (f_28 + dot(max(vec3(u_3), vec3(16.0, 17.0, 18.0)), vec3(0.0036196336, 0.004338309, 0.0049208105)));
+    float f_30 = (f_29 + dot(max(vec3(u_3), vec3(19.0, 20.0, 21.0)), vec3(0.005104212, 0.0050898977, 0.0052740253)));
+    float f_31 = (f_30 + dot(max(vec3(u_3), vec3(22.0, 23.0, 24.0)), vec3(0.0034429347, 0.0028562795, 0.001413222)));
+    float f_32 = (f_31 + dot(max(vec3(u_3), vec3(25.0, 26.0, 27.0)), vec3(0.00081558264, 0.00014684256, 2.8540147e-5)));
+    float f_33 = (f_32 + dot(max(vec3(u_3), vec3(28.0, 29.0, 30.0)), vec3(-3.8917206e-5, -4.4056767e-5, -5.827639e-5)));
     return f_33;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_b(float cos_theta_4) {
-    float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_34 = ((u_4 * 0.6249771) + 1.2128764);
-    float f_35 = (f_34 + dot(max(vec3(u_4), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.17379999, -0.19735098, -0.37488556)));
-    float f_36 = (f_35 + dot(max(vec3(u_4), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5835321, -0.5122471, -0.123875216)));
-    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.26421505, 0.3508737, 0.32350385)));
-    float f_38 = (f_37 + (max(u_4, 0.90909094) * 0.1978307));
+    float u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_34 = ((u_4 * 0.0568161) + 1.2128763);
+    float f_35 = (f_34 + dot(max(vec3(u_4), vec3(1.0, 2.0, 3.0)), vec3(-0.0158, -0.017940998, -0.034080505)));
+    float f_36 = (f_35 + dot(max(vec3(u_4), vec3(4.0, 5.0, 6.0)), vec3(-0.053048372, -0.046567917, -0.011261344)));
+    float f_37 = (f_36 + dot(max(vec3(u_4), vec3(7.0, 8.0, 9.0)), vec3(0.02401948, 0.031897664, 0.029409409)));
+    float f_38 = (f_37 + (max(u_4, 10.0) * 0.017984629));
     return f_38;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_c(float cos_theta_5) {
-    float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_39 = ((u_5 * 0.61936736) + 1.0213565);
-    float f_40 = (f_39 + dot(max(vec3(u_5), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.205127, -0.30001545, -0.5639963)));
-    float f_41 = (f_40 + dot(max(vec3(u_5), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.5196192, -0.20065153, 0.29480273)));
-    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.38684246, 0.27492082, 0.13936397)));
-    float f_43 = (f_42 + (max(u_5, 0.90909094) * 0.05309328));
+    float u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_39 = ((u_5 * 0.056306124) + 1.0213565);
+    float f_40 = (f_39 + dot(max(vec3(u_5), vec3(1.0, 2.0, 3.0)), vec3(-0.01864791, -0.027274132, -0.051272392)));
+    float f_41 = (f_40 + dot(max(vec3(u_5), vec3(4.0, 5.0, 6.0)), vec3(-0.04723811, -0.018241048, 0.026800275)));
+    float f_42 = (f_41 + dot(max(vec3(u_5), vec3(7.0, 8.0, 9.0)), vec3(0.035167456, 0.024992824, 0.012669444)));
+    float f_43 = (f_42 + (max(u_5, 10.0) * 0.004826665));
     return f_43;
 }
 
@@ -256,36 +256,36 @@ vec3 four_layer_slab_transmittance(vec3 tau_1, float mu_1) {
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_scale_curve_b(float cos_theta_6) {
-    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_44 = ((u_6 * -0.09836375) + 1.0570874);
-    float f_45 = (f_44 + dot(max(vec3(u_6), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.016100407, 0.041386478, -0.055650454)));
-    float f_46 = (f_45 + dot(max(vec3(u_6), vec3(0.26666668, 0.33333334, 0.4)), vec3(0.028942803, -0.056181554, 0.017554166)));
-    float f_47 = (f_46 + dot(max(vec3(u_6), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.0526804, 0.13846634, 0.08054138)));
-    float f_48 = (f_47 + dot(max(vec3(u_6), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1908213, -0.0485462, -0.15670718)));
-    float f_49 = (f_48 + (max(u_6, 0.8666667) * 0.20178081));
-    float f_50 = (f_49 + (max(u_6, 0.93333334) * -0.023973586));
+    float u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f_44 = ((u_6 * -0.006557584) + 1.0570874);
+    float f_45 = (f_44 + dot(max(vec3(u_6), vec3(1.0, 2.0, 3.0)), vec3(0.0010733604, 0.002759099, -0.0037100315)));
+    float f_46 = (f_45 + dot(max(vec3(u_6), vec3(4.0, 5.0, 6.0)), vec3(0.0019295216, -0.0037454367, 0.0011702776)));
+    float f_47 = (f_46 + dot(max(vec3(u_6), vec3(7.0, 8.0, 9.0)), vec3(0.0035120249, 0.009231091, 0.005369425)));
+    float f_48 = (f_47 + dot(max(vec3(u_6), vec3(10.0, 11.0, 12.0)), vec3(-0.012721419, -0.003236413, -0.0104471445)));
+    float f_49 = (f_48 + (max(u_6, 13.0) * 0.013452053));
+    float f_50 = (f_49 + (max(u_6, 14.0) * -0.001598239));
     return f_50;
 }
 
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_deficit_curve_b(float cos_theta_7) {
-    float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_51 = ((u_7 * -0.02334994) + -0.016049497);
-    float f_52 = (f_51 + dot(max(vec3(u_7), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.03191054, -0.05409825, -0.073503256)));
-    float f_53 = (f_52 + dot(max(vec3(u_7), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.09984654, -0.120689094, -0.13824081)));
-    float f_54 = (f_53 + dot(max(vec3(u_7), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.16592556, -0.1920268, -0.22958589)));
-    float f_55 = (f_54 + dot(max(vec3(u_7), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.21488523, -0.19938082, -0.17912954)));
-    float f_56 = (f_55 + dot(max(vec3(u_7), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.14108264, -0.09059119, -0.029674768)));
-    float f_57 = (f_56 + dot(max(vec3(u_7), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.027411243, 0.10859025, 0.16891617)));
-    float f_58 = (f_57 + dot(max(vec3(u_7), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.21400557, 0.2071494, 0.2902663)));
-    float f_59 = (f_58 + dot(max(vec3(u_7), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.24877523, 0.22388436, 0.18702175)));
-    float f_60 = (f_59 + dot(max(vec3(u_7), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.13321595, 0.08762789, 0.052062992)));
-    float f_61 = (f_60 + dot(max(vec3(u_7), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.029958058, 0.017007504, 0.004341509)));
+    float u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_51 = ((u_7 * -0.0007532239) + -0.016049512);
+    float f_52 = (f_51 + dot(max(vec3(u_7), vec3(1.0, 2.0, 3.0)), vec3(-0.0010293722, -0.0017451048, -0.0023710728)));
+    float f_53 = (f_52 + dot(max(vec3(u_7), vec3(4.0, 5.0, 6.0)), vec3(-0.0032208562, -0.0038931966, -0.004459381)));
+    float f_54 = (f_53 + dot(max(vec3(u_7), vec3(7.0, 8.0, 9.0)), vec3(-0.0053524375, -0.0061944127, -0.0074059963)));
+    float f_55 = (f_54 + dot(max(vec3(u_7), vec3(10.0, 11.0, 12.0)), vec3(-0.006931782, -0.006431639, -0.0057783723)));
+    float f_56 = (f_55 + dot(max(vec3(u_7), vec3(13.0, 14.0, 15.0)), vec3(-0.004551053, -0.0029222965, -0.0009572506)));
+    float f_57 = (f_56 + dot(max(vec3(u_7), vec3(16.0, 17.0, 18.0)), vec3(0.0008841753, 0.0035030246, 0.0054488033)));
+    float f_58 = (f_57 + dot(max(vec3(u_7), vec3(19.0, 20.0, 21.0)), vec3(0.0069034994, 0.0066821575, 0.009363495)));
+    float f_59 = (f_58 + dot(max(vec3(u_7), vec3(22.0, 23.0, 24.0)), vec3(0.008024957, 0.0072221123, 0.0060329353)));
+    float f_60 = (f_59 + dot(max(vec3(u_7), vec3(25.0, 26.0, 27.0)), vec3(0.004297303, 0.0028266981, 0.0016794549)));
+    float f_61 = (f_60 + dot(max(vec3(u_7), vec3(28.0, 29.0, 30.0)), vec3(0.00096638774, 0.0005486289, 0.00014004952)));
     return f_61;
 }
 
@@ -332,14 +332,14 @@ vec3 four_layer_albedo_eon(vec3 albedo_2, float r_3, float mu_3) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float four_layer_coat_path_curve_d(float cos_theta_8) {
-    float u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_62 = ((u_8 * 0.9989592) + 1.2154765);
-    float f_63 = (f_62 + dot(max(vec3(u_8), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.008608699, 0.10287821, -0.086366296)));
-    float f_64 = (f_63 + dot(max(vec3(u_8), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(-0.42313886, -1.11914, -0.8689335)));
-    float f_65 = (f_64 + dot(max(vec3(u_8), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(-0.05576874, 0.45673752, 0.48545372)));
-    float f_66 = (f_65 + (max(u_8, 0.90909094) * 0.30706084));
+    float u_8 = ((sqrt(sqrt(min(max(cos_theta_8, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_62 = ((u_8 * 0.09081447) + 1.2154764);
+    float f_63 = (f_62 + dot(max(vec3(u_8), vec3(1.0, 2.0, 3.0)), vec3(-0.000782609, 0.009352565, -0.007851481)));
+    float f_64 = (f_63 + dot(max(vec3(u_8), vec3(4.0, 5.0, 6.0)), vec3(-0.03846717, -0.10174, -0.07899392)));
+    float f_65 = (f_64 + dot(max(vec3(u_8), vec3(7.0, 8.0, 9.0)), vec3(-0.005069971, 0.04152167, 0.044132113)));
+    float f_66 = (f_65 + (max(u_8, 10.0) * 0.027914643));
     return f_66;
 }
 

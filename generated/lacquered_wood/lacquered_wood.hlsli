@@ -85,17 +85,17 @@ float3 lacquered_wood_f_cook_torrance(float d, float g, float3 fresnel, float n_
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_scale_curve(float cos_theta)
 {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.051895376) + 0.99983186);
-    float f_1 = (f + dot(max((u).xxx, float3(0.06666667, 0.13333334, 0.2)), float3(-0.1786208, 0.4314673, -0.18818562)));
-    float f_2 = (f_1 + dot(max((u).xxx, float3(0.26666668, 0.33333334, 0.4)), float3(-0.24814187, 0.049195293, 0.047053102)));
-    float f_3 = (f_2 + dot(max((u).xxx, float3(0.46666667, 0.53333336, 0.6)), float3(0.02862454, 0.004068014, 0.0020009282)));
-    float f_4 = (f_3 + dot(max((u).xxx, float3(0.6666667, 0.73333335, 0.8)), float3(4.112721e-5, 0.0006982685, -0.00031113627)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.0003343821));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 4.9173836e-5));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f = ((u * 0.003459692) + 0.99983186);
+    float f_1 = (f + dot(max((u).xxx, float3(1.0, 2.0, 3.0)), float3(-0.011908054, 0.028764486, -0.012545705)));
+    float f_2 = (f_1 + dot(max((u).xxx, float3(4.0, 5.0, 6.0)), float3(-0.016542792, 0.003279686, 0.0031368732)));
+    float f_3 = (f_2 + dot(max((u).xxx, float3(7.0, 8.0, 9.0)), float3(0.0019083023, 0.00027120113, 0.0001333952)));
+    float f_4 = (f_3 + dot(max((u).xxx, float3(10.0, 11.0, 12.0)), float3(2.7418137e-6, 4.6551228e-5, -2.0742416e-5)));
+    float f_5 = (f_4 + (max(u, 13.0) * 2.2292137e-5));
+    float f_6 = (f_5 + (max(u, 14.0) * 3.2782555e-6));
     return f_6;
 }
 
@@ -125,21 +125,21 @@ float lacquered_wood_second_event_share(float lambda)
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_deficit_curve(float cos_theta_1)
 {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.0044140294) + -9.304378e-6);
-    float f_8 = (f_7 + dot(max((u_1).xxx, float3(0.032258064, 0.06451613, 0.09677419)), float3(-0.07599794, -0.09372843, -0.16153325)));
-    float f_9 = (f_8 + dot(max((u_1).xxx, float3(0.12903225, 0.16129032, 0.19354838)), float3(-0.16409607, 0.22801462, 0.120679624)));
-    float f_10 = (f_9 + dot(max((u_1).xxx, float3(0.22580644, 0.2580645, 0.29032257)), float3(-0.26423988, -0.11185803, 0.083679885)));
-    float f_11 = (f_10 + dot(max((u_1).xxx, float3(0.32258064, 0.3548387, 0.38709676)), float3(0.10134033, 0.14106882, 0.09795896)));
-    float f_12 = (f_11 + dot(max((u_1).xxx, float3(0.41935483, 0.4516129, 0.48387095)), float3(0.035050724, 0.027807033, -0.004147478)));
-    float f_13 = (f_12 + dot(max((u_1).xxx, float3(0.516129, 0.5483871, 0.58064514)), float3(0.016485425, 0.006001293, 0.006490611)));
-    float f_14 = (f_13 + dot(max((u_1).xxx, float3(0.61290324, 0.6451613, 0.67741936)), float3(0.004815411, 0.0032185505, 0.0033007297)));
-    float f_15 = (f_14 + dot(max((u_1).xxx, float3(0.7096774, 0.7419355, 0.7741935)), float3(0.0016816934, 0.0011272022, 0.00058839354)));
-    float f_16 = (f_15 + dot(max((u_1).xxx, float3(0.8064516, 0.83870965, 0.87096775)), float3(0.0007958298, -2.0873655e-5, 0.0002765857)));
-    float f_17 = (f_16 + dot(max((u_1).xxx, float3(0.9032258, 0.9354839, 0.9677419)), float3(0.000104366576, -0.000104366576, -0.0003457319)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_7 = ((u_1 * -0.00014238805) + -9.304378e-6);
+    float f_8 = (f_7 + dot(max((u_1).xxx, float3(1.0, 2.0, 3.0)), float3(-0.0024515465, -0.0030234978, -0.00521075)));
+    float f_9 = (f_8 + dot(max((u_1).xxx, float3(4.0, 5.0, 6.0)), float3(-0.0052934214, 0.00735531, 0.003892891)));
+    float f_10 = (f_9 + dot(max((u_1).xxx, float3(7.0, 8.0, 9.0)), float3(-0.0085238665, -0.0036083236, 0.002699351)));
+    float f_11 = (f_10 + dot(max((u_1).xxx, float3(10.0, 11.0, 12.0)), float3(0.0032690428, 0.004550607, 0.0031599663)));
+    float f_12 = (f_11 + dot(max((u_1).xxx, float3(13.0, 14.0, 15.0)), float3(0.0011306684, 0.000897001, -0.00013378961)));
+    float f_13 = (f_12 + dot(max((u_1).xxx, float3(16.0, 17.0, 18.0)), float3(0.00053178705, 0.00019359158, 0.00020937342)));
+    float f_14 = (f_13 + dot(max((u_1).xxx, float3(19.0, 20.0, 21.0)), float3(0.0001553366, 0.000103823666, 0.00010647549)));
+    float f_15 = (f_14 + dot(max((u_1).xxx, float3(22.0, 23.0, 24.0)), float3(5.4247976e-5, 3.636147e-5, 1.8980376e-5)));
+    float f_16 = (f_15 + dot(max((u_1).xxx, float3(25.0, 26.0, 27.0)), float3(2.5671947e-5, -6.7333895e-7, 8.922107e-6)));
+    float f_17 = (f_16 + dot(max((u_1).xxx, float3(28.0, 29.0, 30.0)), float3(3.3666875e-6, -3.3666875e-6, -1.11526315e-5)));
     return f_17;
 }
 
@@ -155,15 +155,15 @@ float3 lacquered_wood_refract_down(float3 w, float3 n, float eta_1)
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float lacquered_wood_coat_path_curve(float cos_theta_2)
 {
-    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * -0.013566732) + 1.0009205);
-    float f_19 = (f_18 + dot(max((u_2).xxx, float3(0.09090909, 0.18181819, 0.27272728)), float3(-0.59184575, -0.24992633, 0.23101997)));
-    float f_20 = (f_19 + dot(max((u_2).xxx, float3(0.36363637, 0.45454547, 0.54545456)), float3(0.41376042, 0.13527393, 0.04887091)));
-    float f_21 = (f_20 + dot(max((u_2).xxx, float3(0.6363636, 0.72727275, 0.8181818)), float3(0.01646341, 0.0047416636, 0.0031379485)));
-    float f_22 = (f_21 + (max(u_2, 0.90909094) * 0.0011827935));
+    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_18 = ((u_2 * -0.0012333393) + 1.0009205);
+    float f_19 = (f_18 + dot(max((u_2).xxx, float3(1.0, 2.0, 3.0)), float3(-0.05380416, -0.022720575, 0.021001816)));
+    float f_20 = (f_19 + dot(max((u_2).xxx, float3(4.0, 5.0, 6.0)), float3(0.037614584, 0.01229763, 0.004442811)));
+    float f_21 = (f_20 + dot(max((u_2).xxx, float3(7.0, 8.0, 9.0)), float3(0.0014966726, 0.0004310608, 0.00028526783)));
+    float f_22 = (f_21 + (max(u_2, 10.0) * 0.00010752678));
     return f_22;
 }
 

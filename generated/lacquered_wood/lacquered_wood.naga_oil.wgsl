@@ -80,16 +80,16 @@ fn lacquered_wood_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1:
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn lacquered_wood_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.051895376f) + 0.99983186f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.1786208f, 0.4314673f, -0.18818562f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.24814187f, 0.049195293f, 0.047053102f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.02862454f, 0.004068014f, 0.0020009282f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.00004112721f, 0.0006982685f, -0.00031113627f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.0003343821f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.000049173836f));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f = ((u * 0.003459692f) + 0.99983186f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.011908054f, 0.028764486f, -0.012545705f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.016542792f, 0.003279686f, 0.0031368732f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0019083023f, 0.00027120113f, 0.0001333952f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.0000027418137f, 0.000046551228f, -0.000020742416f)));
+    let f_5 = (f_4 + (max(u, 13f) * 0.000022292137f));
+    let f_6 = (f_5 + (max(u, 14f) * 0.0000032782555f));
     return f_6;
 }
 
@@ -117,20 +117,20 @@ fn lacquered_wood_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn lacquered_wood_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.0044140294f) + -0.000009304378f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.07599794f, -0.09372843f, -0.16153325f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.16409607f, 0.22801462f, 0.120679624f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.26423988f, -0.11185803f, 0.083679885f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.10134033f, 0.14106882f, 0.09795896f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.035050724f, 0.027807033f, -0.004147478f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.016485425f, 0.006001293f, 0.006490611f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.004815411f, 0.0032185505f, 0.0033007297f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.0016816934f, 0.0011272022f, 0.00058839354f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0007958298f, -0.000020873655f, 0.0002765857f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.000104366576f, -0.000104366576f, -0.0003457319f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_7 = ((u_1 * -0.00014238805f) + -0.000009304378f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0024515465f, -0.0030234978f, -0.00521075f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0052934214f, 0.00735531f, 0.003892891f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0085238665f, -0.0036083236f, 0.002699351f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.0032690428f, 0.004550607f, 0.0031599663f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.0011306684f, 0.000897001f, -0.00013378961f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.00053178705f, 0.00019359158f, 0.00020937342f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0001553366f, 0.000103823666f, 0.00010647549f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.000054247976f, 0.00003636147f, 0.000018980376f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.000025671947f, -0.00000067333895f, 0.000008922107f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.0000033666875f, -0.0000033666875f, -0.0000111526315f)));
     return f_17;
 }
 
@@ -145,14 +145,14 @@ fn lacquered_wood_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.08, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn lacquered_wood_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.013566732f) + 1.0009205f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.59184575f, -0.24992633f, 0.23101997f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.41376042f, 0.13527393f, 0.04887091f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.01646341f, 0.0047416636f, 0.0031379485f)));
-    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.0011827935f));
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_18 = ((u_2 * -0.0012333393f) + 1.0009205f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.05380416f, -0.022720575f, 0.021001816f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.037614584f, 0.01229763f, 0.004442811f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0014966726f, 0.0004310608f, 0.00028526783f)));
+    let f_22 = (f_21 + (max(u_2, 10f) * 0.00010752678f));
     return f_22;
 }
 

@@ -75,16 +75,16 @@ vec3 red_plastic_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float red_plastic_coat_scale_curve(float cos_theta) {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.001976788) + 1.0098102);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(0.01942545, -0.00931531, -0.008625985)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.046350364, 0.016642215, 0.13165624)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.1115056, -0.058360305, -0.16252758)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.1208818, 0.019832255, 0.026702287)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * 0.06753982));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0017380716));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f = ((u * 0.00013178587) + 1.0098102);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(0.0012950301, -0.0006210208, -0.0005750656)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(-0.003090024, 0.0011094809, 0.008777082)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(0.0074337125, -0.0038906932, -0.010835171)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(-0.008058786, 0.0013221502, 0.0017801523)));
+    float f_5 = (f_4 + (max(u, 13.0) * 0.004502654));
+    float f_6 = (f_5 + (max(u, 14.0) * 0.00011587143));
     return f_6;
 }
 
@@ -112,20 +112,20 @@ float red_plastic_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float red_plastic_coat_deficit_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.027474105) + -0.019108152);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.023405373, -0.04362893, -0.054295957)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.068392396, -0.09155202, -0.11342007)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(-0.13207489, -0.14736867, -0.15377295)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.17376554, -0.15963492, -0.14641985)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(-0.10081938, -0.061563134, -0.03442532)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.040477596, 0.05824327, 0.13688295)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.16309465, 0.19886005, 0.212673)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.1885691, 0.17051768, 0.13557301)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.10260548, 0.06777491, 0.039659534)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(0.024948267, 0.009848009, 0.0016434321)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_7 = ((u_1 * -0.00088626146) + -0.01910817);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(-0.00075501204, -0.0014073849, -0.0017514825)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(-0.0022062063, -0.002953291, -0.003658712)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(-0.0042604804, -0.004753828, -0.0049604177)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(10.0, 11.0, 12.0)), vec3(-0.00560534, -0.0051495135, -0.004723221)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(13.0, 14.0, 15.0)), vec3(-0.003252238, -0.0019859076, -0.0011104941)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(16.0, 17.0, 18.0)), vec3(0.0013056844, 0.0018789023, 0.004415497)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(19.0, 20.0, 21.0)), vec3(0.0052611902, 0.0064147785, 0.0068604685)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(22.0, 23.0, 24.0)), vec3(0.0060828365, 0.005500597, 0.0043733055)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(25.0, 26.0, 27.0)), vec3(0.0033098646, 0.002186282, 0.001279342)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(28.0, 29.0, 30.0)), vec3(0.0008047825, 0.00031767692, 5.3015043e-5)));
     return f_17;
 }
 

@@ -73,16 +73,16 @@ vec3 wet_clay_f_cook_torrance(float d, float g, vec3 fresnel, float n_dot_v_1, f
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float wet_clay_coat_scale_curve(float cos_theta) {
-    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f = ((u * 0.061948296) + 0.9990154);
-    float f_1 = (f + dot(max(vec3(u), vec3(0.06666667, 0.13333334, 0.2)), vec3(-0.077725045, -0.082651384, 0.38304088)));
-    float f_2 = (f_1 + dot(max(vec3(u), vec3(0.26666668, 0.33333334, 0.4)), vec3(-0.084671915, -0.33158544, 0.020545723)));
-    float f_3 = (f_2 + dot(max(vec3(u), vec3(0.46666667, 0.53333336, 0.6)), vec3(0.06567838, 0.02743898, 0.016996266)));
-    float f_4 = (f_3 + dot(max(vec3(u), vec3(0.6666667, 0.73333335, 0.8)), vec3(-0.0066894297, 0.011061431, -0.004359484)));
-    float f_5 = (f_4 + (max(u, 0.8666667) * -0.0020143392));
-    float f_6 = (f_5 + (max(u, 0.93333334) * 0.0039643054));
+    float u = ((sqrt(sqrt(min(max(cos_theta, 0.0001), 1.0))) - 0.1) * 16.666668);
+    float f = ((u * 0.0041298866) + 0.9990154);
+    float f_1 = (f + dot(max(vec3(u), vec3(1.0, 2.0, 3.0)), vec3(-0.00518167, -0.005510092, 0.02553606)));
+    float f_2 = (f_1 + dot(max(vec3(u), vec3(4.0, 5.0, 6.0)), vec3(-0.0056447983, -0.022105694, 0.0013697147)));
+    float f_3 = (f_2 + dot(max(vec3(u), vec3(7.0, 8.0, 9.0)), vec3(0.004378557, 0.0018292665, 0.0011330843)));
+    float f_4 = (f_3 + dot(max(vec3(u), vec3(10.0, 11.0, 12.0)), vec3(-0.00044596195, 0.00073742867, -0.00029063225)));
+    float f_5 = (f_4 + (max(u, 13.0) * -0.00013428926));
+    float f_6 = (f_5 + (max(u, 14.0) * 0.000264287));
     return f_6;
 }
 
@@ -110,20 +110,20 @@ float wet_clay_second_event_share(float lambda) {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float wet_clay_coat_deficit_curve(float cos_theta_1) {
-    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_7 = ((u_1 * -0.0460079) + -0.00045738393);
-    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(0.032258064, 0.06451613, 0.09677419)), vec3(-0.02235955, -0.021145582, -0.1344705)));
-    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(0.12903225, 0.16129032, 0.19354838)), vec3(-0.14395773, -0.066309065, -0.1627881)));
-    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(0.22580644, 0.2580645, 0.29032257)), vec3(0.04900217, 0.01960133, -0.17166997)));
-    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(0.32258064, 0.3548387, 0.38709676)), vec3(-0.03717453, 0.08526692, 0.07795528)));
-    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(0.41935483, 0.4516129, 0.48387095)), vec3(0.1392397, 0.12087162, 0.09367427)));
-    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(0.516129, 0.5483871, 0.58064514)), vec3(0.07772511, 0.03698719, 0.034275267)));
-    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(0.61290324, 0.6451613, 0.67741936)), vec3(0.018932091, 0.020119188, 0.015577349)));
-    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(0.7096774, 0.7419355, 0.7741935)), vec3(0.006749162, 0.0037896275, 0.0038726719)));
-    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(0.8064516, 0.83870965, 0.87096775)), vec3(0.0027401017, 0.0007500142, 0.0003133549)));
-    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(0.9032258, 0.9354839, 0.9677419)), vec3(-7.729927e-6, -0.0004480775, -0.00065559417)));
+    float u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001), 1.0))) - 0.1) * 34.444447);
+    float f_7 = ((u_1 * -0.0014841259) + -0.00045738433);
+    float f_8 = (f_7 + dot(max(vec3(u_1), vec3(1.0, 2.0, 3.0)), vec3(-0.0007212758, -0.00068211555, -0.004337758)));
+    float f_9 = (f_8 + dot(max(vec3(u_1), vec3(4.0, 5.0, 6.0)), vec3(-0.004643798, -0.002139002, -0.005251229)));
+    float f_10 = (f_9 + dot(max(vec3(u_1), vec3(7.0, 8.0, 9.0)), vec3(0.0015807152, 0.000632301, -0.005537741)));
+    float f_11 = (f_10 + dot(max(vec3(u_1), vec3(10.0, 11.0, 12.0)), vec3(-0.0011991784, 0.0027505457, 0.0025146864)));
+    float f_12 = (f_11 + dot(max(vec3(u_1), vec3(13.0, 14.0, 15.0)), vec3(0.004491603, 0.0038990844, 0.0030217506)));
+    float f_13 = (f_12 + dot(max(vec3(u_1), vec3(16.0, 17.0, 18.0)), vec3(0.0025072573, 0.0011931425, 0.0011056485)));
+    float f_14 = (f_13 + dot(max(vec3(u_1), vec3(19.0, 20.0, 21.0)), vec3(0.0006107163, 0.00064900354, 0.0005024966)));
+    float f_15 = (f_14 + dot(max(vec3(u_1), vec3(22.0, 23.0, 24.0)), vec3(0.00021771411, 0.00012224652, 0.00012492464)));
+    float f_16 = (f_15 + dot(max(vec3(u_1), vec3(25.0, 26.0, 27.0)), vec3(8.839043e-5, 2.4194058e-5, 1.0108139e-5)));
+    float f_17 = (f_16 + dot(max(vec3(u_1), vec3(28.0, 29.0, 30.0)), vec3(-2.4925976e-7, -1.4454192e-5, -2.1148153e-5)));
     return f_17;
 }
 
@@ -138,14 +138,14 @@ vec3 wet_clay_refract_down(vec3 w, vec3 n, float eta_1) {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 float wet_clay_coat_path_curve(float cos_theta_2) {
-    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 1.1111112);
-    float f_18 = ((u_2 * -0.01600051) + 1.0027214);
-    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(0.09090909, 0.18181819, 0.27272728)), vec3(-0.34522128, -0.49502707, -0.183918)));
-    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(0.36363637, 0.45454547, 0.54545456)), vec3(0.32279932, 0.41598308, 0.19065149)));
-    float f_21 = (f_20 + dot(max(vec3(u_2), vec3(0.6363636, 0.72727275, 0.8181818)), vec3(0.07171647, 0.01959608, 0.011121162)));
-    float f_22 = (f_21 + (max(u_2, 0.90909094) * 0.005647775));
+    float u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001), 1.0))) - 0.1) * 12.222222);
+    float f_18 = ((u_2 * -0.0014545918) + 1.0027214);
+    float f_19 = (f_18 + dot(max(vec3(u_2), vec3(1.0, 2.0, 3.0)), vec3(-0.031383753, -0.04500246, -0.016719818)));
+    float f_20 = (f_19 + dot(max(vec3(u_2), vec3(4.0, 5.0, 6.0)), vec3(0.029345393, 0.037816644, 0.017331958)));
+    float f_21 = (f_20 + dot(max(vec3(u_2), vec3(7.0, 8.0, 9.0)), vec3(0.0065196753, 0.0017814636, 0.001011014)));
+    float f_22 = (f_21 + (max(u_2, 10.0) * 0.0005134344));
     return f_22;
 }
 

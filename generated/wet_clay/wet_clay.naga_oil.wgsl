@@ -77,16 +77,16 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.061948296f) + 0.9990154f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.077725045f, -0.082651384f, 0.38304088f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.084671915f, -0.33158544f, 0.020545723f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.06567838f, 0.02743898f, 0.016996266f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.0066894297f, 0.011061431f, -0.004359484f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * -0.0020143392f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0039643054f));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f = ((u * 0.0041298866f) + 0.9990154f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.00518167f, -0.005510092f, 0.02553606f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0056447983f, -0.022105694f, 0.0013697147f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.004378557f, 0.0018292665f, 0.0011330843f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.00044596195f, 0.00073742867f, -0.00029063225f)));
+    let f_5 = (f_4 + (max(u, 13f) * -0.00013428926f));
+    let f_6 = (f_5 + (max(u, 14f) * 0.000264287f));
     return f_6;
 }
 
@@ -114,20 +114,20 @@ fn wet_clay_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.0460079f) + -0.00045738393f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02235955f, -0.021145582f, -0.1344705f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.14395773f, -0.066309065f, -0.1627881f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.04900217f, 0.01960133f, -0.17166997f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.03717453f, 0.08526692f, 0.07795528f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.1392397f, 0.12087162f, 0.09367427f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.07772511f, 0.03698719f, 0.034275267f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.018932091f, 0.020119188f, 0.015577349f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.006749162f, 0.0037896275f, 0.0038726719f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0027401017f, 0.0007500142f, 0.0003133549f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000007729927f, -0.0004480775f, -0.00065559417f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_7 = ((u_1 * -0.0014841259f) + -0.00045738433f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0007212758f, -0.00068211555f, -0.004337758f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.004643798f, -0.002139002f, -0.005251229f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0015807152f, 0.000632301f, -0.005537741f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.0011991784f, 0.0027505457f, 0.0025146864f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.004491603f, 0.0038990844f, 0.0030217506f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0025072573f, 0.0011931425f, 0.0011056485f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0006107163f, 0.00064900354f, 0.0005024966f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.00021771411f, 0.00012224652f, 0.00012492464f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.00008839043f, 0.000024194058f, 0.000010108139f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.00000024925976f, -0.000014454192f, -0.000021148153f)));
     return f_17;
 }
 
@@ -142,14 +142,14 @@ fn wet_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * -0.01600051f) + 1.0027214f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.34522128f, -0.49502707f, -0.183918f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.32279932f, 0.41598308f, 0.19065149f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.07171647f, 0.01959608f, 0.011121162f)));
-    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.005647775f));
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_18 = ((u_2 * -0.0014545918f) + 1.0027214f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.031383753f, -0.04500246f, -0.016719818f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.029345393f, 0.037816644f, 0.017331958f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0065196753f, 0.0017814636f, 0.001011014f)));
+    let f_22 = (f_21 + (max(u_2, 10f) * 0.0005134344f));
     return f_22;
 }
 

@@ -137,39 +137,39 @@ fn clay_eval(n_2: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32> {
 // A(μ; r) of Bowsher 2022's GGX coat lobe (Schlick-GGX Smith, k = (r + 1)²/8): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn clay_seed_ggx_dfg_scale_curve(cos_theta_1: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.0022043586f) + -0.6954009f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.0015793592f, 0.0031508654f, 0.00425674f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.0056762695f, 0.0075683594f, 0.010084063f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.012771606f, 0.017331839f, 0.022069916f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.02883543f, 0.03797391f, 0.04869221f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.06412226f, 0.082863f, 0.105853096f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.13309754f, 0.16302307f, 0.19358657f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21833877f, 0.23285404f, 0.22915077f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2036838f, 0.15571661f, 0.09164066f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.019355277f, -0.0440134f, -0.088944845f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.10872479f, -0.10610707f, -0.09462981f)));
+    let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f = ((u * 0.00007110834f) + -0.6954024f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.00005094707f, 0.00010164082f, 0.0001373142f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.00018310547f, 0.00024414063f, 0.00032529235f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0004119873f, 0.00055909157f, 0.0007119328f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.0009301752f, 0.0012249649f, 0.0015707165f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.00206846f, 0.002673f, 0.003414616f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0042934865f, 0.005258769f, 0.0062447786f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0070431232f, 0.0075114965f, 0.00739187f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.006570548f, 0.0050230026f, 0.0029562712f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.00062423944f, -0.0014196634f, -0.002869308f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.0035071373f, -0.003422916f, -0.003052473f)));
     return f_10;
 }
 
 // B(μ; r) of Bowsher 2022's GGX coat lobe (see `seed_ggx_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn clay_seed_ggx_dfg_bias_curve(cos_theta_2: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * 0.000956323f) + 0.0041830647f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.0009092055f, 0.0013386905f, 0.0018886253f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.002511084f, 0.0032272004f, 0.0039451644f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.00470886f, 0.005640816f, 0.006356932f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.00697558f, 0.0072371513f, 0.006993249f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.005627997f, 0.002633728f, -0.0025579706f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.010715574f, -0.022359483f, -0.037089318f)));
-    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.05215842f, -0.06486268f, -0.06910293f)));
-    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.0616536f, -0.04034416f, -0.0067038056f)));
-    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.03013172f, 0.06141271f, 0.07599169f)));
-    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.069528475f, 0.04600502f, 0.019350072f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_11 = ((u_1 * 0.00003084913f) + 0.0041830684f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.00002932921f, 0.000043183565f, 0.000060923398f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.00008100271f, 0.00010410324f, 0.00012726337f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.00015189871f, 0.0001819618f, 0.00020506233f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.00022501871f, 0.00023345649f, 0.00022558868f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.0001815483f, 0.00008495897f, -0.00008251518f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(-0.00034566224f, -0.0007212758f, -0.0011964291f)));
+    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(-0.0016825274f, -0.0020923503f, -0.0022291169f)));
+    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(-0.0019888394f, -0.0013014078f, -0.00021626987f)));
+    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.00097200833f, 0.0019810405f, 0.0024513553f)));
+    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.0022428478f, 0.0014840357f, 0.00062419503f)));
     return f_21;
 }
 

@@ -40,34 +40,34 @@ fn coated_gold_fr_dielectric(cos_i: f32, eta_1: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_coat_deficit_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.032026023f) + -0.00037076068f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.033704236f, -0.020881355f, -0.18295114f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.22080079f, 0.11075193f, 0.015634686f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.049557418f, -0.08091132f, -0.1859818f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.08017361f, 0.2061308f, 0.11820417f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.095714614f, 0.05991873f, 0.010449743f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.03737664f, 0.0165298f, 0.019110624f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.011165314f, 0.008715778f, 0.006094121f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00478209f, 0.0025969543f, 0.0022205522f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0010447791f, 0.00065062195f, 0.00036008007f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.0002891664f, 0.00021687511f, -0.0003778086f)));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f = ((u * -0.0010330975f) + -0.000370761f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0010872334f, -0.0006735921f, -0.0059016496f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.007122606f, 0.0035726428f, 0.0005043447f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0015986264f, -0.0026100427f, -0.0059994124f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.0025862455f, 0.0066493805f, 0.0038130376f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.003087568f, 0.0019328622f, 0.00033708848f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0012056958f, 0.00053322315f, 0.00061646895f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0003601733f, 0.00028115284f, 0.00019658537f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.00015426046f, 0.000083773004f, 0.000071630566f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.000033702592f, 0.000020987813f, 0.000011615448f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.000009327909f, 0.0000069959333f, -0.000012187342f)));
     return f_10;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_coat_path_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * -0.00927484f) + 1.0023464f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.45981467f, -0.3406396f, 0.03321135f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.34221184f, 0.25382876f, 0.113687254f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.041521102f, 0.013379203f, 0.006570941f)));
-    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.0030513976f));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_11 = ((u_1 * -0.0008431673f) + 1.0023464f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.041801333f, -0.030967236f, 0.0030192137f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.031110168f, 0.023075342f, 0.010335207f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.003774643f, 0.0012162924f, 0.00059735775f)));
+    let f_15 = (f_14 + (max(u_1, 10f) * 0.00027740002f));
     return f_15;
 }
 
@@ -98,23 +98,23 @@ fn coated_gold_fr_conductor(cos_i_1: f32, eta_2: vec3<f32>, k: vec3<f32>) -> vec
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_scale_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = sqrt(min(max(cos_theta_2, 0f), 1f));
-    let f_16 = (1.0610528f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(1.6036816f, -1.0432777f, -0.4499693f)));
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.056975365f, -0.13719273f, 0.033540726f)));
-    let f_18 = (f_17 + (max(u_2, 0.875f) * 0.0075826645f));
+    let u_2 = (sqrt(min(max(cos_theta_2, 0f), 1f)) * 8f);
+    let f_16 = (1.0610528f + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.2004602f, -0.13040972f, -0.05624616f)));
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0071219206f, -0.01714909f, 0.0041925907f)));
+    let f_18 = (f_17 + (max(u_2, 7f) * 0.00094783306f));
     return f_18;
 }
 
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
-    let u_3 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_19 = ((u_3 * -0.035583183f) + -0.6395629f);
-    let f_20 = (f_19 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.19231004f, 0.43643332f, 0.56710935f)));
+    let u_3 = (sqrt(min(max(cos_theta_3, 0f), 1f)) * 4f);
+    let f_19 = ((u_3 * -0.008895796f) + -0.6395629f);
+    let f_20 = (f_19 + dot(max(vec3(u_3), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.04807751f, 0.10910833f, 0.14177734f)));
     return f_20;
 }
 
@@ -124,13 +124,13 @@ fn coated_gold_glossy_next_curve(cos_theta_3: f32) -> f32 {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
-    let u_4 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_4 * -0.85115623f) + 0.89909506f);
-    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(-1.8826203f, 2.2303228f, 0.48050165f)));
-    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.20334625f, 0.1752038f, -0.093585014f)));
-    let f_24 = (f_23 + (max(u_4, 0.875f) * -0.19610357f));
+    let u_4 = (sqrt(min(max(cos_theta_4, 0f), 1f)) * 8f);
+    let f_21 = ((u_4 * -0.10639453f) + 0.89909506f);
+    let f_22 = (f_21 + dot(max(vec3(u_4), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.23532754f, 0.27879035f, 0.060062706f)));
+    let f_23 = (f_22 + dot(max(vec3(u_4), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.025418282f, 0.021900475f, -0.011698127f)));
+    let f_24 = (f_23 + (max(u_4, 7f) * -0.024512947f));
     return f_24;
 }
 
@@ -139,42 +139,42 @@ fn coated_gold_glossy_lobe_albedo_curve(cos_theta_4: f32) -> f32 {
 // peak seen through the coat's transmission from μ, tapered towards grazing.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 6 of its 6 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_blur_curve(cos_theta_5: f32) -> f32 {
-    let u_5 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_25 = ((u_5 * 0.5371948f) + 0.70036405f);
-    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(0.2f, 0.4f, 0.6f)), vec3<f32>(0.10144182f, 0.10002294f, -0.34336916f)));
-    let f_27 = (f_26 + (max(u_5, 0.8f) * -0.6577203f));
+    let u_5 = (sqrt(min(max(cos_theta_5, 0f), 1f)) * 5f);
+    let f_25 = ((u_5 * 0.10743897f) + 0.70036405f);
+    let f_26 = (f_25 + dot(max(vec3(u_5), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.020288365f, 0.0200046f, -0.06867385f)));
+    let f_27 = (f_26 + (max(u_5, 4f) * -0.13154405f));
     return f_27;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.21777777 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_28 = ((u_6 * -0.03918707f) + 0.9841455f);
-    let f_29 = (f_28 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.07646977f, -0.12850733f, -0.15928559f)));
-    let f_30 = (f_29 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.09106646f, 0.16150744f, 0.41677687f)));
-    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.33824426f, 0.029349815f, -0.14548214f)));
-    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1370752f, -0.0824985f, -0.04236013f)));
-    let f_33 = (f_32 + (max(u_6, 0.8666667f) * -0.020624401f));
-    let f_34 = (f_33 + (max(u_6, 0.93333334f) * -0.009836555f));
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f_28 = ((u_6 * -0.0026124716f) + 0.9841455f);
+    let f_29 = (f_28 + dot(max(vec3(u_6), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0050979853f, -0.008567154f, -0.010619044f)));
+    let f_30 = (f_29 + dot(max(vec3(u_6), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0060710907f, 0.010767162f, 0.027785122f)));
+    let f_31 = (f_30 + dot(max(vec3(u_6), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.02254963f, 0.0019566417f, -0.009698808f)));
+    let f_32 = (f_31 + dot(max(vec3(u_6), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.009138346f, -0.0054998994f, -0.0028240085f)));
+    let f_33 = (f_32 + (max(u_6, 13f) * -0.00137496f));
+    let f_34 = (f_33 + (max(u_6, 14f) * -0.0006557703f));
     return f_34;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
-    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_35 = ((u_7 * -0.02538353f) + 0.9516745f);
-    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_39 = (f_38 + dot(max(vec3(u_7), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_40 = (f_39 + (max(u_7, 0.8666667f) * -0.056797568f));
-    let f_41 = (f_40 + (max(u_7, 0.93333334f) * -0.032047037f));
+    let u_7 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f_35 = ((u_7 * -0.0016922355f) + 0.9516745f);
+    let f_36 = (f_35 + dot(max(vec3(u_7), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0032365322f, -0.005584538f, -0.0076786876f)));
+    let f_37 = (f_36 + dot(max(vec3(u_7), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.008080661f, -0.0031836033f, 0.008937359f)));
+    let f_38 = (f_37 + dot(max(vec3(u_7), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.021365047f, 0.020286202f, 0.006885469f)));
+    let f_39 = (f_38 + dot(max(vec3(u_7), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.004886508f, -0.00817579f, -0.0063037276f)));
+    let f_40 = (f_39 + (max(u_7, 13f) * -0.0037865043f));
+    let f_41 = (f_40 + (max(u_7, 14f) * -0.002136469f));
     return f_41;
 }
 
@@ -206,11 +206,11 @@ fn coated_gold_glossy_trapped_share(mu_1: f32, mu_c_1: f32, alpha_1: f32) -> f32
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
-    let u_8 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_42 = ((u_8 * 0.5028753f) + 0.48326114f);
-    let f_43 = (f_42 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.42151442f, -0.1746285f, -0.30422544f)));
+    let u_8 = (sqrt(min(max(cos_theta_8, 0f), 1f)) * 4f);
+    let f_42 = ((u_8 * 0.12571883f) + 0.48326114f);
+    let f_43 = (f_42 + dot(max(vec3(u_8), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.105378605f, -0.043657124f, -0.07605636f)));
     return f_43;
 }
 
@@ -218,11 +218,11 @@ fn coated_gold_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_steady_curve(cos_theta_9: f32) -> f32 {
-    let u_9 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_44 = ((u_9 * -0.01998204f) + 0.39283627f);
-    let f_45 = (f_44 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0125947f, -0.27517235f, -0.0626439f)));
+    let u_9 = (sqrt(min(max(cos_theta_9, 0f), 1f)) * 4f);
+    let f_44 = ((u_9 * -0.00499551f) + 0.39283627f);
+    let f_45 = (f_44 + dot(max(vec3(u_9), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.003148675f, -0.06879309f, -0.015660975f)));
     return f_45;
 }
 
@@ -319,11 +319,11 @@ fn coated_gold_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.25, roughness = 0.1, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn coated_gold_glossy_spread_curve(cos_theta_10: f32) -> f32 {
-    let u_10 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_46 = ((u_10 * 0.058451414f) + 0.9806291f);
-    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.0821147f, 0.24325347f, -0.38381958f)));
+    let u_10 = (sqrt(min(max(cos_theta_10, 0f), 1f)) * 4f);
+    let f_46 = ((u_10 * 0.0146128535f) + 0.9806291f);
+    let f_47 = (f_46 + dot(max(vec3(u_10), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.020528674f, 0.060813367f, -0.095954895f)));
     return f_47;
 }
 

@@ -76,16 +76,16 @@ fn color_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn color_clay_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.005922317f) + 1.0087713f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.01734227f, 0.0017148283f, -0.05776405f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.030920515f, 0.11055172f, 0.1851091f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(-0.048217263f, -0.14456205f, -0.18024625f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.045053963f, 0.049760345f, 0.0019973519f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.030219557f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.005128384f));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f = ((u * 0.00039482117f) + 1.0087713f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.0011561513f, 0.00011432171f, -0.003850937f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.002061367f, 0.0073701143f, 0.012340605f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0032144785f, -0.009637475f, -0.012016416f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.0030035973f, 0.003317356f, 0.00013315678f)));
+    let f_5 = (f_4 + (max(u, 13f) * 0.002014637f));
+    let f_6 = (f_5 + (max(u, 14f) * 0.00034189224f));
     return f_6;
 }
 
@@ -113,20 +113,20 @@ fn color_clay_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn color_clay_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.030617118f) + -0.011473834f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.023994803f, -0.04531777f, -0.05747962f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.076836586f, -0.10043597f, -0.111827314f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13610113f, -0.1583646f, -0.16133761f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.17006266f, -0.15926537f, -0.14674506f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.09393099f, -0.01871857f, -0.020302087f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.09390551f, 0.110736944f, 0.18043146f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.22835112f, 0.19595866f, 0.19650386f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.16709071f, 0.13145925f, 0.09694148f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.062109426f, 0.03485953f, 0.01808921f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.007428864f, 0.0012501882f, -0.0022583888f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_7 = ((u_1 * -0.000987649f) + -0.011473844f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0007740259f, -0.0014618635f, -0.0018541813f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0024785995f, -0.00323987f, -0.0036073327f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.004390359f, -0.0051085353f, -0.005204439f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.0054858923f, -0.0051375926f, -0.0047337115f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.003030032f, -0.00060382485f, -0.00065490603f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0030291677f, 0.0035722405f, 0.0058202967f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.007366225f, 0.0063211992f, 0.00633887f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.0053899977f, 0.004240637f, 0.003127135f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.0020035345f, 0.0011244991f, 0.0005835231f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.00023964129f, 0.00004032787f, -0.0000728505f)));
     return f_17;
 }
 
@@ -141,14 +141,14 @@ fn color_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn color_clay_coat_path_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_18 = ((u_2 * 0.5507194f) + 1.0632226f);
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.20918548f, -0.37085462f, -0.64313865f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5775342f, -0.23689723f, 0.30165812f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.46164456f, 0.36589098f, 0.20220034f)));
-    let f_22 = (f_21 + (max(u_2, 0.90909094f) * 0.093710825f));
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_18 = ((u_2 * 0.0500654f) + 1.0632226f);
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.019016862f, -0.033714056f, -0.05846715f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.05250311f, -0.021536112f, 0.027423501f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.04196763f, 0.03326285f, 0.018381834f)));
+    let f_22 = (f_21 + (max(u_2, 10f) * 0.008519173f));
     return f_22;
 }
 

@@ -75,20 +75,20 @@ fn wet_clay_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32, 
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_deficit_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.0460079f) + -0.00045738393f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.02235955f, -0.021145582f, -0.1344705f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.14395773f, -0.066309065f, -0.1627881f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.04900217f, 0.01960133f, -0.17166997f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.03717453f, 0.08526692f, 0.07795528f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.1392397f, 0.12087162f, 0.09367427f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.07772511f, 0.03698719f, 0.034275267f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.018932091f, 0.020119188f, 0.015577349f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.006749162f, 0.0037896275f, 0.0038726719f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.0027401017f, 0.0007500142f, 0.0003133549f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.000007729927f, -0.0004480775f, -0.00065559417f)));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f = ((u * -0.0014841259f) + -0.00045738433f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0007212758f, -0.00068211555f, -0.004337758f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.004643798f, -0.002139002f, -0.005251229f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0015807152f, 0.000632301f, -0.005537741f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.0011991784f, 0.0027505457f, 0.0025146864f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.004491603f, 0.0038990844f, 0.0030217506f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0025072573f, 0.0011931425f, 0.0011056485f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0006107163f, 0.00064900354f, 0.0005024966f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.00021771411f, 0.00012224652f, 0.00012492464f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.00008839043f, 0.000024194058f, 0.000010108139f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.00000024925976f, -0.000014454192f, -0.000021148153f)));
     return f_10;
 }
 
@@ -103,14 +103,14 @@ fn wet_clay_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> {
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.12, eta = 1.33 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn wet_clay_coat_path_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * -0.01600051f) + 1.0027214f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.34522128f, -0.49502707f, -0.183918f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(0.32279932f, 0.41598308f, 0.19065149f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.07171647f, 0.01959608f, 0.011121162f)));
-    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.005647775f));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_11 = ((u_1 * -0.0014545918f) + 1.0027214f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.031383753f, -0.04500246f, -0.016719818f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.029345393f, 0.037816644f, 0.017331958f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0065196753f, 0.0017814636f, 0.001011014f)));
+    let f_15 = (f_14 + (max(u_1, 10f) * 0.0005134344f));
     return f_15;
 }
 

@@ -88,16 +88,16 @@ fn car_paint_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32,
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.1727557f) + 1.0000006f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.70080215f, -0.7268715f, 0.075482756f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(0.10977743f, 0.012890697f, 0.000058114532f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.00086009497f, -0.00038713208f, 0.000027716162f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.0005024672f, -0.0007742644f, 0.0003871322f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.00007241965f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * -0.00007241965f));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f = ((u * -0.011517048f) + 1.0000006f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.046720147f, -0.0484581f, 0.0050321817f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.0073184967f, 0.00085937977f, 0.000003874302f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.00005733967f, -0.000025808811f, 0.000001847744f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.00003349781f, -0.000051617622f, 0.000025808811f)));
+    let f_5 = (f_4 + (max(u, 13f) * 0.000004827976f));
+    let f_6 = (f_5 + (max(u, 14f) * -0.000004827976f));
     return f_6;
 }
 
@@ -125,20 +125,20 @@ fn car_paint_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 28 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * 0.018868122f) + -0.000009304378f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.41898763f, 0.14115073f, 0.25619617f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.04369545f, -0.28174376f, 0.094916634f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.16662645f, 0.056496438f, 0.018922206f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.0033847406f, -0.025781661f, 0.009866177f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.0031867106f, 0.0033487321f, 0.00019804694f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.0012062758f, 0.00075615157f, 0.0004861098f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.00003600769f, 0.00075616484f, -0.00021604773f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.00030606767f, 0.00023405152f, -0.0000720159f)));
-    let f_16 = (f_15 + (max(u_1, 0.83870965f) * 0.000018003984f));
-    let f_17 = (f_16 + (max(u_1, 0.87096775f) * -0.000018003984f));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_7 = ((u_1 * 0.0006086491f) + -0.000009304378f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.013515729f, 0.004553249f, 0.008264393f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0014095306f, -0.009088508f, 0.0030618268f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0053750467f, 0.0018224656f, 0.0006103937f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.000109185174f, -0.00083166646f, 0.00031826377f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.000102797116f, 0.00010802361f, 0.000006388611f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.000038912054f, 0.000024392095f, 0.00001568089f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(-0.0000011614793f, 0.000024392375f, -0.00000696926f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.000009873132f, 0.0000075500516f, -0.0000023230914f)));
+    let f_16 = (f_15 + (max(u_1, 26f) * 0.0000005807742f));
+    let f_17 = (f_16 + (max(u_1, 27f) * -0.0000005807742f));
     return f_17;
 }
 
@@ -170,23 +170,23 @@ fn car_paint_f_schlick(f0_: vec3<f32>, cos_theta_2: f32) -> vec3<f32> {
 // (solved over μ at each node).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_scale_curve(cos_theta_3: f32) -> f32 {
-    let u_2 = sqrt(min(max(cos_theta_3, 0f), 1f));
-    let f_18 = (1.0202721f + dot(max(vec3(u_2), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(0.45265388f, -0.3683586f, -0.2977934f)));
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(0.03567028f, 0.092225075f, 0.047680855f)));
-    let f_20 = (f_19 + (max(u_2, 0.875f) * 0.023007393f));
+    let u_2 = (sqrt(min(max(cos_theta_3, 0f), 1f)) * 8f);
+    let f_18 = (1.0202721f + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.056581736f, -0.046044827f, -0.037224174f)));
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.004458785f, 0.011528134f, 0.005960107f)));
+    let f_20 = (f_19 + (max(u_2, 7f) * 0.002875924f));
     return f_20;
 }
 
 // w₀(μ; r_c, r, η): the share of the trapped light that leaves at the next (second) event.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
-    let u_3 = sqrt(min(max(cos_theta_4, 0f), 1f));
-    let f_21 = ((u_3 * 0.0019297004f) + 0.2134062f);
-    let f_22 = (f_21 + dot(max(vec3(u_3), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.009461105f, 0.028464973f, 0.00029283762f)));
+    let u_3 = (sqrt(min(max(cos_theta_4, 0f), 1f)) * 4f);
+    let f_21 = ((u_3 * 0.0004824251f) + 0.2134062f);
+    let f_22 = (f_21 + dot(max(vec3(u_3), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.0023652762f, 0.0071162432f, 0.000073209405f)));
     return f_22;
 }
 
@@ -196,43 +196,43 @@ fn car_paint_glossy_next_curve(cos_theta_4: f32) -> f32 {
 // what the lobe does not (fitted where probes between the nodes found a gain or a loss).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 9 of its 9 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_lobe_albedo_curve(cos_theta_5: f32) -> f32 {
-    let u_4 = sqrt(min(max(cos_theta_5, 0f), 1f));
-    let f_23 = ((u_4 * -29.170326f) + 1.1541525f);
-    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(0.125f, 0.25f, 0.375f)), vec3<f32>(26.13546f, 2.7728767f, 0.29838753f)));
-    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(0.5f, 0.625f, 0.75f)), vec3<f32>(-0.0676775f, -0.16279411f, -0.005718231f)));
-    let f_26 = (f_25 + (max(u_4, 0.875f) * 0.06338692f));
+    let u_4 = (sqrt(min(max(cos_theta_5, 0f), 1f)) * 8f);
+    let f_23 = ((u_4 * -3.6462908f) + 1.1541525f);
+    let f_24 = (f_23 + dot(max(vec3(u_4), vec3<f32>(1f, 2f, 3f)), vec3<f32>(3.2669325f, 0.3466096f, 0.03729844f)));
+    let f_25 = (f_24 + dot(max(vec3(u_4), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.008459687f, -0.020349264f, -0.0007147789f)));
+    let f_26 = (f_25 + (max(u_4, 7f) * 0.007923365f));
     return f_26;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.28444445 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_ggx_albedo_curve(cos_theta_6: f32) -> f32 {
-    let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_27 = ((u_5 * -0.02538353f) + 0.9516745f);
-    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.04854798f, -0.083768085f, -0.11518026f)));
-    let f_29 = (f_28 + dot(max(vec3(u_5), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.12120999f, -0.047754053f, 0.1340604f)));
-    let f_30 = (f_29 + dot(max(vec3(u_5), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.3204757f, 0.30429307f, 0.10328204f)));
-    let f_31 = (f_30 + dot(max(vec3(u_5), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.07329763f, -0.12263686f, -0.09455592f)));
-    let f_32 = (f_31 + (max(u_5, 0.8666667f) * -0.056797568f));
-    let f_33 = (f_32 + (max(u_5, 0.93333334f) * -0.032047037f));
+    let u_5 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f_27 = ((u_5 * -0.0016922355f) + 0.9516745f);
+    let f_28 = (f_27 + dot(max(vec3(u_5), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0032365322f, -0.005584538f, -0.0076786876f)));
+    let f_29 = (f_28 + dot(max(vec3(u_5), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.008080661f, -0.0031836033f, 0.008937359f)));
+    let f_30 = (f_29 + dot(max(vec3(u_5), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.021365047f, 0.020286202f, 0.006885469f)));
+    let f_31 = (f_30 + dot(max(vec3(u_5), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.004886508f, -0.00817579f, -0.0063037276f)));
+    let f_32 = (f_31 + (max(u_5, 13f) * -0.0037865043f));
+    let f_33 = (f_32 + (max(u_5, 14f) * -0.002136469f));
     return f_33;
 }
 
 // E(μ; r): the directional albedo of a white single-scattering GGX reflector.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.36 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_ggx_albedo_curve_b(cos_theta_7: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_34 = ((u_6 * -0.019831358f) + 0.8686472f);
-    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(-0.035854872f, -0.060288023f, -0.08456107f)));
-    let f_36 = (f_35 + dot(max(vec3(u_6), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.10058468f, -0.08979679f, -0.019196572f)));
-    let f_37 = (f_36 + dot(max(vec3(u_6), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.11597439f, 0.2546345f, 0.2678034f)));
-    let f_38 = (f_37 + dot(max(vec3(u_6), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(0.14310391f, -0.009678305f, -0.08868546f)));
-    let f_39 = (f_38 + (max(u_6, 0.8666667f) * -0.09392203f));
-    let f_40 = (f_39 + (max(u_6, 0.93333334f) * -0.06806106f));
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_7, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f_34 = ((u_6 * -0.0013220906f) + 0.8686472f);
+    let f_35 = (f_34 + dot(max(vec3(u_6), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.002390325f, -0.004019201f, -0.0056374073f)));
+    let f_36 = (f_35 + dot(max(vec3(u_6), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0067056417f, -0.005986452f, -0.0012797713f)));
+    let f_37 = (f_36 + dot(max(vec3(u_6), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0077316165f, 0.016975641f, 0.017853558f)));
+    let f_38 = (f_37 + dot(max(vec3(u_6), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.00954026f, -0.0006452203f, -0.0059123635f)));
+    let f_39 = (f_38 + (max(u_6, 13f) * -0.006261468f));
+    let f_40 = (f_39 + (max(u_6, 14f) * -0.0045374036f));
     return f_40;
 }
 
@@ -264,11 +264,11 @@ fn car_paint_glossy_trapped_share(mu_2: f32, mu_c_1: f32, alpha_5: f32) -> f32 {
 // w₁(μ; r_c, r, η): the share of the trapped light that leaves at the rate B = ½.
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
-    let u_7 = sqrt(min(max(cos_theta_8, 0f), 1f));
-    let f_41 = ((u_7 * 0.0144017935f) + 0.2634757f);
-    let f_42 = (f_41 + dot(max(vec3(u_7), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.029078186f, -0.006097257f, -0.009634793f)));
+    let u_7 = (sqrt(min(max(cos_theta_8, 0f), 1f)) * 4f);
+    let f_41 = ((u_7 * 0.0036004484f) + 0.2634757f);
+    let f_42 = (f_41 + dot(max(vec3(u_7), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0072695464f, -0.0015243143f, -0.0024086982f)));
     return f_42;
 }
 
@@ -276,11 +276,11 @@ fn car_paint_glossy_quick_curve(cos_theta_8: f32) -> f32 {
 // rest, 1 − w₀ − w₁ − w₂, leaves at the slow rate `glossy_slow_retention`).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_steady_curve(cos_theta_9: f32) -> f32 {
-    let u_8 = sqrt(min(max(cos_theta_9, 0f), 1f));
-    let f_43 = ((u_8 * 0.02468437f) + 0.24147323f);
-    let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(-0.067401886f, 0.055904448f, -0.029418409f)));
+    let u_8 = (sqrt(min(max(cos_theta_9, 0f), 1f)) * 4f);
+    let f_43 = ((u_8 * 0.0061710924f) + 0.24147323f);
+    let f_44 = (f_43 + dot(max(vec3(u_8), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.016850471f, 0.013976112f, -0.007354602f)));
     return f_44;
 }
 
@@ -316,11 +316,11 @@ fn car_paint_interfaced_layer(f_top: vec3<f32>, t_i: f32, t_o: f32, a_i: vec3<f3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3, roughness = 0, eta = 1.02 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_spread_curve(cos_theta_10: f32) -> f32 {
-    let u_9 = sqrt(min(max(cos_theta_10, 0f), 1f));
-    let f_45 = ((u_9 * 0.00097328424f) + 0.09675407f);
-    let f_46 = (f_45 + dot(max(vec3(u_9), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.012419343f, 0.008055359f, -0.021447986f)));
+    let u_9 = (sqrt(min(max(cos_theta_10, 0f), 1f)) * 4f);
+    let f_45 = ((u_9 * 0.00024332106f) + 0.09675407f);
+    let f_46 = (f_45 + dot(max(vec3(u_9), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.0031048357f, 0.0020138398f, -0.0053619966f)));
     return f_46;
 }
 
@@ -447,11 +447,11 @@ fn car_paint_trapped_lobe(trapped_i: vec3<f32>, trapped_o: vec3<f32>, mu_c_2: f3
 // reflection keeps the direction's horizontal part).
 // Tabulated by `glazec tables` from white random walks through the reference's coat and
 // conductor microsurfaces (Heitz et al. 2016; f64).
-// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here conductor_roughness = 0.3006279, roughness = 0.04, eta = 1.5 (literals): piecewise linear along `cos_theta` through 5 of its 5 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn car_paint_glossy_spread_curve_b(cos_theta_11: f32) -> f32 {
-    let u_10 = sqrt(min(max(cos_theta_11, 0f), 1f));
-    let f_47 = ((u_10 * 0.020996809f) + 0.8990296f);
-    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(0.25f, 0.5f, 0.75f)), vec3<f32>(0.13127232f, 0.2275126f, -0.37978172f)));
+    let u_10 = (sqrt(min(max(cos_theta_11, 0f), 1f)) * 4f);
+    let f_47 = ((u_10 * 0.0052492023f) + 0.8990296f);
+    let f_48 = (f_47 + dot(max(vec3(u_10), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.03281808f, 0.05687815f, -0.09494543f)));
     return f_48;
 }
 

@@ -77,16 +77,16 @@ fn red_plastic_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f3
 // c(μ; r, η): the scale of the rough interface's lobe, f_ss(l, v)·c(μl)·c(μv), for it to reflect
 // E_ss + E_ms, single and multiple scattering (Turquin 2019, made reciprocal); 1 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 16 of its 16 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn red_plastic_coat_scale_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * 0.001976788f) + 1.0098102f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.06666667f, 0.13333334f, 0.2f)), vec3<f32>(0.01942545f, -0.00931531f, -0.008625985f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.26666668f, 0.33333334f, 0.4f)), vec3<f32>(-0.046350364f, 0.016642215f, 0.13165624f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.46666667f, 0.53333336f, 0.6f)), vec3<f32>(0.1115056f, -0.058360305f, -0.16252758f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.6666667f, 0.73333335f, 0.8f)), vec3<f32>(-0.1208818f, 0.019832255f, 0.026702287f)));
-    let f_5 = (f_4 + (max(u, 0.8666667f) * 0.06753982f));
-    let f_6 = (f_5 + (max(u, 0.93333334f) * 0.0017380716f));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 16.666668f);
+    let f = ((u * 0.00013178587f) + 1.0098102f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.0012950301f, -0.0006210208f, -0.0005750656f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.003090024f, 0.0011094809f, 0.008777082f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.0074337125f, -0.0038906932f, -0.010835171f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.008058786f, 0.0013221502f, 0.0017801523f)));
+    let f_5 = (f_4 + (max(u, 13f) * 0.004502654f));
+    let f_6 = (f_5 + (max(u, 14f) * 0.00011587143f));
     return f_6;
 }
 
@@ -114,20 +114,20 @@ fn red_plastic_second_event_share(lambda: f32) -> f32 {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.35, eta = 1.49 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn red_plastic_coat_deficit_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_7 = ((u_1 * -0.027474105f) + -0.019108152f);
-    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.023405373f, -0.04362893f, -0.054295957f)));
-    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.068392396f, -0.09155202f, -0.11342007f)));
-    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.13207489f, -0.14736867f, -0.15377295f)));
-    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.17376554f, -0.15963492f, -0.14641985f)));
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.10081938f, -0.061563134f, -0.03442532f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.040477596f, 0.05824327f, 0.13688295f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.16309465f, 0.19886005f, 0.212673f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.1885691f, 0.17051768f, 0.13557301f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.10260548f, 0.06777491f, 0.039659534f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.024948267f, 0.009848009f, 0.0016434321f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_7 = ((u_1 * -0.00088626146f) + -0.01910817f);
+    let f_8 = (f_7 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.00075501204f, -0.0014073849f, -0.0017514825f)));
+    let f_9 = (f_8 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0022062063f, -0.002953291f, -0.003658712f)));
+    let f_10 = (f_9 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0042604804f, -0.004753828f, -0.0049604177f)));
+    let f_11 = (f_10 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.00560534f, -0.0051495135f, -0.004723221f)));
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.003252238f, -0.0019859076f, -0.0011104941f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0013056844f, 0.0018789023f, 0.004415497f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0052611902f, 0.0064147785f, 0.0068604685f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.0060828365f, 0.005500597f, 0.0043733055f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.0033098646f, 0.002186282f, 0.001279342f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.0008047825f, 0.00031767692f, 0.000053015043f)));
     return f_17;
 }
 

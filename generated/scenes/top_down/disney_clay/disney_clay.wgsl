@@ -96,39 +96,39 @@ fn disney_clay_eval(n_1: vec3<f32>, v_2: vec3<f32>, l_2: vec3<f32>) -> vec3<f32>
 // A(μ; r) of the Disney clear-coat lobe (GTR1 of α = r², Smith at α = 0.25): its directional
 // albedo is F0·A + B (the split-sum DFG of Karis 2013, for this lobe).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn disney_clay_clearcoat_dfg_scale_curve(cos_theta_1: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_1 = ((u * -0.005037874f) + -0.14839892f);
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.0042747557f, -0.00687176f, -0.009160191f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.012062073f, -0.014656305f, -0.016639858f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.0180192f, -0.018318534f, -0.015877664f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.010991305f, -0.0030497015f, 0.012066692f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.029932529f, 0.054822564f, 0.084905684f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.11681792f, 0.14903763f, 0.17468868f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.1914865f, 0.19269979f, 0.17621373f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.14276204f, 0.09588727f, 0.04137042f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(-0.009783208f, -0.049331613f, -0.07192301f)));
-    let f_11 = (f_10 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.07407081f, -0.062303912f, -0.050380655f)));
+    let u = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_1 = ((u * -0.00016251206f) + -0.14839983f);
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.00013789535f, -0.00022166967f, -0.00029549003f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.00038909912f, -0.00047278404f, -0.0005367696f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0005812645f, -0.00059092045f, -0.0005121827f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.00035455823f, -0.000098377466f, 0.00038924813f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.00096556544f, 0.0017684698f, 0.002738893f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0037683249f, 0.004807651f, 0.0056351423f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0061769485f, 0.0062161684f, 0.0056842566f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.0046052933f, 0.0030930638f, 0.0013346076f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(25f, 26f, 27f)), vec3<f32>(-0.0003156662f, -0.0015912652f, -0.0023201704f)));
+    let f_11 = (f_10 + dot(max(vec3(u), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.0023893118f, -0.0020098686f, -0.0016251206f)));
     return f_11;
 }
 
 // B(μ; r) of the Disney clear-coat lobe (see `clearcoat_dfg_scale`).
 // Tabulated by `glazec tables` by deterministic quadrature of Bowsher 2022's lobe.
-// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.14 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn disney_clay_clearcoat_dfg_bias_curve(cos_theta_2: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_12 = ((u_1 * 0.00024286285f) + 0.0058974912f);
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(0.0002583377f, 0.0004150495f, 0.0005716458f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(0.0009006597f, 0.0013078563f, 0.0019731596f)));
-    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(0.002889756f, 0.0042911544f, 0.0060375035f)));
-    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(0.008308265f, 0.010438021f, 0.011886768f)));
-    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(0.011126999f, 0.0069463626f, -0.002034828f)));
-    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.015916051f, -0.033601627f, -0.051710486f)));
-    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(-0.06659998f, -0.07285491f, -0.0681408f)));
-    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(-0.049915038f, -0.021614432f, 0.0125583f)));
-    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.044379782f, 0.06605709f, 0.07147286f)));
-    let f_22 = (f_21 + dot(max(vec3(u_1), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.060199402f, 0.037934743f, 0.01631319f)));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_12 = ((u_1 * 0.0000078342855f) + 0.0058974964f);
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(0.000008333474f, 0.000013388693f, 0.000018440187f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(0.000029053539f, 0.000042188913f, 0.00006365031f)));
+    let f_15 = (f_14 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.00009321794f, 0.00013842434f, 0.00019475818f)));
+    let f_16 = (f_15 + dot(max(vec3(u_1), vec3<f32>(10f, 11f, 12f)), vec3<f32>(0.00026800856f, 0.00033671036f, 0.00038344413f)));
+    let f_17 = (f_16 + dot(max(vec3(u_1), vec3<f32>(13f, 14f, 15f)), vec3<f32>(0.00035893545f, 0.00022407621f, -0.000065639615f)));
+    let f_18 = (f_17 + dot(max(vec3(u_1), vec3<f32>(16f, 17f, 18f)), vec3<f32>(-0.0005134195f, -0.0010839254f, -0.0016680807f)));
+    let f_19 = (f_18 + dot(max(vec3(u_1), vec3<f32>(19f, 20f, 21f)), vec3<f32>(-0.0021483824f, -0.0023501664f, -0.0021980777f)));
+    let f_20 = (f_19 + dot(max(vec3(u_1), vec3<f32>(22f, 23f, 24f)), vec3<f32>(-0.0016101785f, -0.0006972216f, 0.00040508807f)));
+    let f_21 = (f_20 + dot(max(vec3(u_1), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.0014316225f, 0.0021308605f, 0.0023055854f)));
+    let f_22 = (f_21 + dot(max(vec3(u_1), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.0019419107f, 0.0012237038f, 0.0005262311f)));
     return f_22;
 }
 

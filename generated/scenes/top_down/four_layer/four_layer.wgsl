@@ -83,20 +83,20 @@ fn four_layer_f_cook_torrance(d: f32, g: f32, fresnel: vec3<f32>, n_dot_v_1: f32
 // unscaled single-scattering lobe: G = F − E_ss, so T = 1 − E_ss carries the light GTR1
 // reflects after more than one event (⟨E_ms⟩ ≤ 0.4%) into the coat (no `coat_scale`).
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.2, eta = 1.5 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_gtr1_coat_deficit_curve(cos_theta: f32) -> f32 {
-    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f = ((u * -0.028372109f) + -0.0009624428f);
-    let f_1 = (f + dot(max(vec3(u), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.025670707f, -0.040554285f, -0.057198763f)));
-    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.075509906f, -0.095240116f, -0.116888285f)));
-    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.14729476f, -0.15903163f, -0.17242777f)));
-    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.1806798f, -0.1820767f, -0.17346251f)));
-    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.15383947f, -0.122015774f, -0.08112335f)));
-    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(-0.032109316f, 0.027136283f, 0.090221226f)));
-    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.14292918f, 0.18386021f, 0.21080048f)));
-    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.2199489f, 0.21348849f, 0.19780637f)));
-    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.16790143f, 0.13775985f, 0.10116806f)));
-    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.07596932f, 0.05083031f, 0.029882526f)));
+    let u = ((sqrt(sqrt(min(max(cos_theta, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f = ((u * -0.0009152293f) + -0.0009624483f);
+    let f_1 = (f + dot(max(vec3(u), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.00082808733f, -0.0013082027f, -0.0018451214f)));
+    let f_2 = (f_1 + dot(max(vec3(u), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0024358034f, -0.0030722618f, -0.0037705898f)));
+    let f_3 = (f_2 + dot(max(vec3(u), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.004751444f, -0.0051300526f, -0.0055621862f)));
+    let f_4 = (f_3 + dot(max(vec3(u), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.0058283806f, -0.0058734417f, -0.005595565f)));
+    let f_5 = (f_4 + dot(max(vec3(u), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.0049625635f, -0.0039359927f, -0.0026168823f)));
+    let f_6 = (f_5 + dot(max(vec3(u), vec3<f32>(16f, 17f, 18f)), vec3<f32>(-0.0010358393f, 0.000875473f, 0.0029102564f)));
+    let f_7 = (f_6 + dot(max(vec3(u), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0046107173f, 0.0059308857f, 0.0068000928f)));
+    let f_8 = (f_7 + dot(max(vec3(u), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.0070950612f, 0.0068867765f, 0.0063808113f)));
+    let f_9 = (f_8 + dot(max(vec3(u), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.0054162033f, 0.0044438466f, 0.0032634977f)));
+    let f_10 = (f_9 + dot(max(vec3(u), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.0024506166f, 0.0016396903f, 0.0009639519f)));
     return f_10;
 }
 
@@ -111,14 +111,14 @@ fn four_layer_refract_down(w: vec3<f32>, n: vec3<f32>, eta_1: f32) -> vec3<f32> 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.4472136, eta = 1.5 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve(cos_theta_1: f32) -> f32 {
-    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_11 = ((u_1 * 0.85441303f) + 1.298795f);
-    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.15871215f, -0.14111447f, -0.2991382f)));
-    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5701791f, -0.71037436f, -0.39294133f)));
-    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.09422189f, 0.3586102f, 0.40072f)));
-    let f_15 = (f_14 + (max(u_1, 0.90909094f) * 0.27592653f));
+    let u_1 = ((sqrt(sqrt(min(max(cos_theta_1, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_11 = ((u_1 * 0.07767391f) + 1.2987949f);
+    let f_12 = (f_11 + dot(max(vec3(u_1), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.014428377f, -0.0128285885f, -0.02719438f)));
+    let f_13 = (f_12 + dot(max(vec3(u_1), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.051834464f, -0.06457949f, -0.035721898f)));
+    let f_14 = (f_13 + dot(max(vec3(u_1), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.008565545f, 0.032601f, 0.036429048f)));
+    let f_15 = (f_14 + (max(u_1, 10f) * 0.025084257f));
     return f_15;
 }
 
@@ -167,48 +167,48 @@ fn four_layer_g_smith_ggx_correlated(n_dot_v_2: f32, n_dot_l_2: f32, alpha_4: f3
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_deficit_curve(cos_theta_2: f32) -> f32 {
-    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_16 = ((u_2 * -0.020166278f) + -0.003592166f);
-    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.021597356f, -0.040179193f, -0.049817026f)));
-    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.06540829f, -0.08492416f, -0.09904f)));
-    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.113132745f, -0.13081473f, -0.12935963f)));
-    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.12845609f, -0.11919704f, -0.09944743f)));
-    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.052427426f, -0.007245466f, 0.02059634f)));
-    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.112209596f, 0.13448581f, 0.15254664f)));
-    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.15822935f, 0.15778777f, 0.16349415f)));
-    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.10673136f, 0.088544466f, 0.04380997f)));
-    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.025283044f, 0.0045521106f, 0.0008847585f)));
-    let f_26 = (f_25 + dot(max(vec3(u_2), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(-0.001206447f, -0.0013657487f, -0.0018065764f)));
+    let u_2 = ((sqrt(sqrt(min(max(cos_theta_2, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_16 = ((u_2 * -0.0006505251f) + -0.0035921691f);
+    let f_17 = (f_16 + dot(max(vec3(u_2), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0006966889f, -0.001296103f, -0.0016070008f)));
+    let f_18 = (f_17 + dot(max(vec3(u_2), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0021099448f, -0.002739489f, -0.0031948388f)));
+    let f_19 = (f_18 + dot(max(vec3(u_2), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0036494434f, -0.00421983f, -0.0041728914f)));
+    let f_20 = (f_19 + dot(max(vec3(u_2), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.0041437447f, -0.0038450658f, -0.0032079816f)));
+    let f_21 = (f_20 + dot(max(vec3(u_2), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.0016912073f, -0.00023372471f, 0.0006643981f)));
+    let f_22 = (f_21 + dot(max(vec3(u_2), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0036196336f, 0.004338309f, 0.0049208105f)));
+    let f_23 = (f_22 + dot(max(vec3(u_2), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.005104212f, 0.0050898977f, 0.0052740253f)));
+    let f_24 = (f_23 + dot(max(vec3(u_2), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.0034429347f, 0.0028562795f, 0.001413222f)));
+    let f_25 = (f_24 + dot(max(vec3(u_2), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.00081558264f, 0.00014684256f, 0.000028540147f)));
+    let f_26 = (f_25 + dot(max(vec3(u_2), vec3<f32>(28f, 29f, 30f)), vec3<f32>(-0.000038917206f, -0.000044056767f, -0.00005827639f)));
     return f_26;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.39223224, eta = 1.6500001 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_b(cos_theta_3: f32) -> f32 {
-    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_27 = ((u_3 * 0.6249771f) + 1.2128764f);
-    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.17379999f, -0.19735098f, -0.37488556f)));
-    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5835321f, -0.5122471f, -0.123875216f)));
-    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.26421505f, 0.3508737f, 0.32350385f)));
-    let f_31 = (f_30 + (max(u_3, 0.90909094f) * 0.1978307f));
+    let u_3 = ((sqrt(sqrt(min(max(cos_theta_3, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_27 = ((u_3 * 0.0568161f) + 1.2128763f);
+    let f_28 = (f_27 + dot(max(vec3(u_3), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0158f, -0.017940998f, -0.034080505f)));
+    let f_29 = (f_28 + dot(max(vec3(u_3), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.053048372f, -0.046567917f, -0.011261344f)));
+    let f_30 = (f_29 + dot(max(vec3(u_3), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.02401948f, 0.031897664f, 0.029409409f)));
+    let f_31 = (f_30 + (max(u_3, 10f) * 0.017984629f));
     return f_31;
 }
 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.3, eta = 1.1 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_c(cos_theta_4: f32) -> f32 {
-    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_32 = ((u_4 * 0.61936736f) + 1.0213565f);
-    let f_33 = (f_32 + dot(max(vec3(u_4), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.205127f, -0.30001545f, -0.5639963f)));
-    let f_34 = (f_33 + dot(max(vec3(u_4), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.5196192f, -0.20065153f, 0.29480273f)));
-    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(0.38684246f, 0.27492082f, 0.13936397f)));
-    let f_36 = (f_35 + (max(u_4, 0.90909094f) * 0.05309328f));
+    let u_4 = ((sqrt(sqrt(min(max(cos_theta_4, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_32 = ((u_4 * 0.056306124f) + 1.0213565f);
+    let f_33 = (f_32 + dot(max(vec3(u_4), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.01864791f, -0.027274132f, -0.051272392f)));
+    let f_34 = (f_33 + dot(max(vec3(u_4), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.04723811f, -0.018241048f, 0.026800275f)));
+    let f_35 = (f_34 + dot(max(vec3(u_4), vec3<f32>(7f, 8f, 9f)), vec3<f32>(0.035167456f, 0.024992824f, 0.012669444f)));
+    let f_36 = (f_35 + (max(u_4, 10f) * 0.004826665f));
     return f_36;
 }
 
@@ -221,20 +221,20 @@ fn four_layer_slab_transmittance(tau_1: vec3<f32>, mu_1: f32) -> vec3<f32> {
 // G(μ; r, η) = F(μ) − A(μ): how much less the rough interface reflects than a smooth one, A
 // the albedo of its scaled lobe (`coat_scale`); T = 1 − F + G; 0 when smooth.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 32 of its 32 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_deficit_curve_b(cos_theta_5: f32) -> f32 {
-    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_37 = ((u_5 * -0.02334994f) + -0.016049497f);
-    let f_38 = (f_37 + dot(max(vec3(u_5), vec3<f32>(0.032258064f, 0.06451613f, 0.09677419f)), vec3<f32>(-0.03191054f, -0.05409825f, -0.073503256f)));
-    let f_39 = (f_38 + dot(max(vec3(u_5), vec3<f32>(0.12903225f, 0.16129032f, 0.19354838f)), vec3<f32>(-0.09984654f, -0.120689094f, -0.13824081f)));
-    let f_40 = (f_39 + dot(max(vec3(u_5), vec3<f32>(0.22580644f, 0.2580645f, 0.29032257f)), vec3<f32>(-0.16592556f, -0.1920268f, -0.22958589f)));
-    let f_41 = (f_40 + dot(max(vec3(u_5), vec3<f32>(0.32258064f, 0.3548387f, 0.38709676f)), vec3<f32>(-0.21488523f, -0.19938082f, -0.17912954f)));
-    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(0.41935483f, 0.4516129f, 0.48387095f)), vec3<f32>(-0.14108264f, -0.09059119f, -0.029674768f)));
-    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(0.516129f, 0.5483871f, 0.58064514f)), vec3<f32>(0.027411243f, 0.10859025f, 0.16891617f)));
-    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(0.61290324f, 0.6451613f, 0.67741936f)), vec3<f32>(0.21400557f, 0.2071494f, 0.2902663f)));
-    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(0.7096774f, 0.7419355f, 0.7741935f)), vec3<f32>(0.24877523f, 0.22388436f, 0.18702175f)));
-    let f_46 = (f_45 + dot(max(vec3(u_5), vec3<f32>(0.8064516f, 0.83870965f, 0.87096775f)), vec3<f32>(0.13321595f, 0.08762789f, 0.052062992f)));
-    let f_47 = (f_46 + dot(max(vec3(u_5), vec3<f32>(0.9032258f, 0.9354839f, 0.9677419f)), vec3<f32>(0.029958058f, 0.017007504f, 0.004341509f)));
+    let u_5 = ((sqrt(sqrt(min(max(cos_theta_5, 0.0001f), 1f))) - 0.1f) * 34.444447f);
+    let f_37 = ((u_5 * -0.0007532239f) + -0.016049512f);
+    let f_38 = (f_37 + dot(max(vec3(u_5), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.0010293722f, -0.0017451048f, -0.0023710728f)));
+    let f_39 = (f_38 + dot(max(vec3(u_5), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.0032208562f, -0.0038931966f, -0.004459381f)));
+    let f_40 = (f_39 + dot(max(vec3(u_5), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.0053524375f, -0.0061944127f, -0.0074059963f)));
+    let f_41 = (f_40 + dot(max(vec3(u_5), vec3<f32>(10f, 11f, 12f)), vec3<f32>(-0.006931782f, -0.006431639f, -0.0057783723f)));
+    let f_42 = (f_41 + dot(max(vec3(u_5), vec3<f32>(13f, 14f, 15f)), vec3<f32>(-0.004551053f, -0.0029222965f, -0.0009572506f)));
+    let f_43 = (f_42 + dot(max(vec3(u_5), vec3<f32>(16f, 17f, 18f)), vec3<f32>(0.0008841753f, 0.0035030246f, 0.0054488033f)));
+    let f_44 = (f_43 + dot(max(vec3(u_5), vec3<f32>(19f, 20f, 21f)), vec3<f32>(0.0069034994f, 0.0066821575f, 0.009363495f)));
+    let f_45 = (f_44 + dot(max(vec3(u_5), vec3<f32>(22f, 23f, 24f)), vec3<f32>(0.008024957f, 0.0072221123f, 0.0060329353f)));
+    let f_46 = (f_45 + dot(max(vec3(u_5), vec3<f32>(25f, 26f, 27f)), vec3<f32>(0.004297303f, 0.0028266981f, 0.0016794549f)));
+    let f_47 = (f_46 + dot(max(vec3(u_5), vec3<f32>(28f, 29f, 30f)), vec3<f32>(0.00096638774f, 0.0005486289f, 0.00014004952f)));
     return f_47;
 }
 
@@ -281,14 +281,14 @@ fn four_layer_albedo_eon(albedo_2: vec3<f32>, r_3: f32, mu_3: f32) -> vec3<f32> 
 // q(μ; r, η) = μ′/μ_eff ≥ 1: how much longer the path through the slab is than along Snell's
 // μ′, μ_eff the geometric-mean cosine of the directions the rough interface refracts into.
 // Tabulated by `glazec tables` from Heitz et al. 2016 microsurface walks and quadrature (f64).
-// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes, as hinges max(u, knot)·Δslope; no table read.
+// Here roughness = 0.5, eta = 1.2 (literals): piecewise linear along `cos_theta` through 12 of its 12 nodes (u counts them), as hinges max(u, knot)·Δslope; no table read.
 fn four_layer_coat_path_curve_d(cos_theta_6: f32) -> f32 {
-    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 1.1111112f);
-    let f_48 = ((u_6 * 0.9989592f) + 1.2154765f);
-    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(0.09090909f, 0.18181819f, 0.27272728f)), vec3<f32>(-0.008608699f, 0.10287821f, -0.086366296f)));
-    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(0.36363637f, 0.45454547f, 0.54545456f)), vec3<f32>(-0.42313886f, -1.11914f, -0.8689335f)));
-    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(0.6363636f, 0.72727275f, 0.8181818f)), vec3<f32>(-0.05576874f, 0.45673752f, 0.48545372f)));
-    let f_52 = (f_51 + (max(u_6, 0.90909094f) * 0.30706084f));
+    let u_6 = ((sqrt(sqrt(min(max(cos_theta_6, 0.0001f), 1f))) - 0.1f) * 12.222222f);
+    let f_48 = ((u_6 * 0.09081447f) + 1.2154764f);
+    let f_49 = (f_48 + dot(max(vec3(u_6), vec3<f32>(1f, 2f, 3f)), vec3<f32>(-0.000782609f, 0.009352565f, -0.007851481f)));
+    let f_50 = (f_49 + dot(max(vec3(u_6), vec3<f32>(4f, 5f, 6f)), vec3<f32>(-0.03846717f, -0.10174f, -0.07899392f)));
+    let f_51 = (f_50 + dot(max(vec3(u_6), vec3<f32>(7f, 8f, 9f)), vec3<f32>(-0.005069971f, 0.04152167f, 0.044132113f)));
+    let f_52 = (f_51 + (max(u_6, 10f) * 0.027914643f));
     return f_52;
 }
 

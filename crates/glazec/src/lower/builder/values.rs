@@ -211,7 +211,7 @@ impl ModuleBuilder {
         let mut doc: Vec<String> = def.summary().iter().map(|l| l.to_string()).collect();
         doc.push(match &curve {
             Some((axis, curve)) => format!(
-                "Here {} (literals): piecewise linear along `{}` through {} of its {} nodes, {}; no table read.",
+                "Here {} (literals): piecewise linear along `{}` through {} of its {} nodes (u counts them), {}; no table read.",
                 fixed.join(", "),
                 def.params[*axis].0,
                 curve.kept(),

@@ -49,6 +49,20 @@ impl Axis {
         }
     }
 
+    /// The coordinate of an argument in node units, u·(n − 1) ∈ [0, n − 1] for an axis of `n`
+    /// nodes (node i at i): what a table's curve is written in, so that its knots are whole
+    /// numbers. The cosine axis folds the scale into its own.
+    pub fn position<F: Real>(self, x: F, n: usize) -> F {
+        let scale = (n - 1) as f32;
+        match self {
+            Axis::Cosine => {
+                (x.clamp(COSINE_FLOOR as f32, 1.0).sqrt().sqrt() - COSINE_FLOOR_ROOT)
+                    * (scale / (1.0 - COSINE_FLOOR_ROOT))
+            }
+            _ => self.coordinate(x) * scale,
+        }
+    }
+
     /// The argument at node `i` of `n` (the inverse of [`Self::coordinate`]); `f64::INFINITY`
     /// for the last node of a depth axis.
     pub fn node(self, i: usize, n: usize) -> f64 {

@@ -4,12 +4,13 @@
 //! Multilinear interpolation is separable, so with every axis but one fixed, a lookup is the
 //! piecewise-linear function through the table's nodes along the free axis, each node's value
 //! interpolated across the fixed axes (exactly what [`super::lookup`] computes for those cells).
-//! A piecewise-linear function with knots k₁ < k₂ < … on u ∈ [0, 1] is
+//! A piecewise-linear function with knots k₁ < k₂ < … on u ∈ [0, n − 1] (the free argument's
+//! coordinate in node units, [`Axis::position`], so that every knot is a node's whole number) is
 //!
 //!   f(u) = a + s₀·u + Σⱼ cⱼ·max(u, kⱼ),   cⱼ = sⱼ − sⱼ₋₁ (the change of slope at kⱼ),
 //!
 //! (a absorbs −Σ cⱼkⱼ), which costs a max and a multiply-add per knot and no memory at all. The
-//! shader groups the knots by three: `dot(max(vec3(u), knots), slope_changes)`. Its terms are as
+//! shader groups the knots by three: `dot(max(vec3(u), vec3(1f, 2f, 3f)), slope_changes)`. Its terms are as
 //! large as the slopes, so where that would lose a curve's small values to rounding (more than
 //! an eighth of the table's 16-bit step) the curve is summed piece by piece instead, each term
 //! at most its piece's change of value ([`Form`]).
@@ -45,7 +46,8 @@ use crate::math::{Real, Vector};
 /// allow.
 pub const KNOT_TOLERANCE: f64 = 1e-12;
 
-/// A function of one argument, piecewise linear in that argument's coordinate u ∈ [0, 1].
+/// A function of one argument, piecewise linear in that argument's coordinate in node units,
+/// u ∈ [0, n − 1] ([`Axis::position`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Curve {
     /// How the argument maps to u.
@@ -57,7 +59,7 @@ pub struct Curve {
     /// share never rounds below zero (a lobe divides by one); elsewhere rounding stays inside.
     pub floor: f32,
     pub rounding: f32,
-    /// The nodes the curve was built on (uniform in u).
+    /// The nodes the curve was built on (u = 0, 1, …, n − 1).
     pub nodes: usize,
 }
 
@@ -83,17 +85,14 @@ impl Curve {
         let points: Vec<(f64, f64)> = (0..n)
             .map(|i| {
                 let u = i as f32 / (n - 1) as f32;
-                (
-                    f64::from(u),
-                    f64::from(multilinear::<f32>(table, |a| if a == axis { u } else { coordinates[a] }, &[])),
-                )
+                (i as f64, f64::from(multilinear::<f32>(table, |a| if a == axis { u } else { coordinates[a] }, &[])))
             })
             .collect();
         Curve::through_points(mapping, &points, f64::from(table.quantization().scale))
     }
 
-    /// The piecewise-linear function through `points` (u, value), u ascending from 0 to 1,
-    /// keeping the points it needs to stay within [`KNOT_TOLERANCE`] of all of them. `step` is
+    /// The piecewise-linear function through `points` (u, value), u the node positions 0, 1, …,
+    /// n − 1, keeping the points it needs to stay within [`KNOT_TOLERANCE`] of all of them. `step` is
     /// the precision of the values (a table's 16-bit step): the hinge form is used where its
     /// rounding (f32 ε times the sum of its terms' sizes) stays within an eighth of it, the
     /// piece form elsewhere.
@@ -108,7 +107,10 @@ impl Curve {
             constant -= change * points[knot].0;
             knots.push((points[knot].0 as f32, change as f32));
         }
-        let size = constant.abs() + slopes[0].abs() + knots.iter().map(|&(_, c)| f64::from(c.abs())).sum::<f64>();
+        // Each term is at most its factor times the largest u.
+        let u_max = points[points.len() - 1].0;
+        let size =
+            constant.abs() + u_max * (slopes[0].abs() + knots.iter().map(|&(_, c)| f64::from(c.abs())).sum::<f64>());
         let mut rounding = f64::from(f32::EPSILON) * size;
         let form = if rounding <= step / 8.0 {
             Form::Hinges { constant: constant as f32, slope: slopes[0] as f32, knots }
@@ -143,7 +145,7 @@ impl Curve {
 
     /// The curve's sum, before the floor.
     fn sum<F: Real>(&self, x: F) -> F {
-        let u = self.mapping.coordinate(x).named("u");
+        let u = self.mapping.position(x, self.nodes).named("u");
         // (A partial sum that folds to a number, as on the CPU, stays unnamed.)
         let partial = |v: F| if v.known().is_some() { v } else { v.named("f") };
         let triple = |a: f32, b: f32, c: f32| F::vec3(u.lit(a), u.lit(b), u.lit(c));
