@@ -87,7 +87,7 @@ pub(super) fn glsl_entry(
 pub(super) fn guarded(text: &str, material: &str) -> String {
     let own = own_prefixes(material);
     let own: Vec<&str> = own.iter().map(String::as_str).collect();
-    let mut out = String::new();
+    let mut out = String::with_capacity(text.len() + text.len() / 8);
     for item in items::items(text) {
         items::push_guarded(&mut out, &item, &own);
     }
@@ -147,10 +147,18 @@ pub(super) fn glsl_library(material: &str, library: &Module, polished: String) -
         let naga_name = format!("_group_{}_binding_{}_fs", rb.group, rb.binding);
         renamed = replace_word(&renamed, &naga_name, name);
     }
-    let renamed: String = renamed.lines().map(|l| rename_block(l) + "\n").collect();
+    let mut blocks = String::with_capacity(renamed.len());
+    for line in renamed.lines() {
+        match rename_block(line) {
+            Some(line) => blocks.push_str(&line),
+            None => blocks.push_str(line),
+        }
+        blocks.push('\n');
+    }
+    let renamed = blocks;
     let own = own_prefixes(material);
     let own: Vec<&str> = own.iter().map(String::as_str).collect();
-    let mut out = String::new();
+    let mut out = String::with_capacity(renamed.len() + renamed.len() / 8);
     for item in items::items(&renamed) {
         if item.name == Some("main") || item.lines.iter().all(|l| l.starts_with("#version")) {
             continue;
@@ -161,18 +169,18 @@ pub(super) fn glsl_library(material: &str, library: &Module, polished: String) -
 }
 
 /// A uniform block line `layout(…) uniform <T>_block_<n><Stage> { <type> <name>…; };` with the
-/// block named `<name>_block`.
-fn rename_block(line: &str) -> String {
-    let Some(at) = line.find(" uniform ") else { return line.to_string() };
+/// block named `<name>_block`; `None` for any other line.
+fn rename_block(line: &str) -> Option<String> {
+    let at = line.find(" uniform ")?;
     let rest = &line[at + " uniform ".len()..];
-    let Some(brace) = rest.find(" { ") else { return line.to_string() };
+    let brace = rest.find(" { ")?;
     let block = &rest[..brace];
     if !block.contains("_block_") {
-        return line.to_string();
+        return None;
     }
     let member = rest[brace + 3..].split_whitespace().nth(1).unwrap_or_default();
     let member: String = member.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
-    line.replacen(block, &format!("{member}_block"), 1)
+    Some(line.replacen(block, &format!("{member}_block"), 1))
 }
 
 /// `text` with every whole-word `from` replaced by `to`.

@@ -306,7 +306,8 @@ pub fn header(material: &str, origin: &crate::origin::Origin) -> String {
 
 /// Backend text with the doc comments and call-result names restored ([`polish`]).
 fn polished(material: &str, module: &Module, text: &str, glsl_entry: bool) -> String {
-    let mut out = String::new();
+    // Room for the comments the polish adds (about a third of a library's text).
+    let mut out = String::with_capacity(text.len() * 3 / 2);
     polish::polish(module, material, text, glsl_entry, &mut out);
     out
 }
