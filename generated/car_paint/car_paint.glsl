@@ -679,6 +679,6 @@ CarPaintIblLobes car_paint_ibl_lobes(vec3 n_6, vec3 v_6) {
     vec3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     vec3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e128 = (dot(n_6, v_6) > 0.0);
-    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (_e128 ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e128 ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
+    bool above = (dot(n_6, v_6) > 0.0);
+    return CarPaintIblLobes(CarPaintIblLobe[2](CarPaintIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0))), CarPaintIblLobe(reflected_1, car_paint_base_roughness, (above ? under_albedo : vec3(0.0)))), CarPaintIblLobe(n_6, 1.0, vec3(0.0)));
 }

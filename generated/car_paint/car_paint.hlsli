@@ -760,7 +760,7 @@ CarPaintIblLobes car_paint_ibl_lobes(float3 n_6, float3 v_6)
     const float3 reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016);
     const float lookup_roughness = car_paint_grazing_lookup_roughness(0.04, dot(n_6, v_6));
     const float3 reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277);
-    bool _e128 = (dot(n_6, v_6) > 0.0);
-    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (_e128 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (_e128 ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
+    bool above = (dot(n_6, v_6) > 0.0);
+    const CarPaintIblLobes carpaintibllobes = ConstructCarPaintIblLobes(Constructarray2_CarPaintIblLobe_(ConstructCarPaintIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx)), ConstructCarPaintIblLobe(reflected_1, car_paint_base_roughness, (above ? under_albedo : (0.0).xxx))), ConstructCarPaintIblLobe(n_6, 1.0, (0.0).xxx));
     return carpaintibllobes;
 }

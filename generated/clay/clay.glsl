@@ -232,6 +232,6 @@ ClayIblLobes clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     vec3 absorption_ww = clay_absorption_ww(vec3(0.8), 0.25, layer1_cos_v_1, layer1_cos_v_1);
     vec3 layer1_albedo_l = clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
-    bool _e40 = (dot(n_4, v_4) > 0.0);
-    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (_e40 ? (((vec3(1.0) - coat_albedo) * absorption_ww) * layer1_albedo_l) : vec3(0.0))));
+    bool above_1 = (dot(n_4, v_4) > 0.0);
+    return ClayIblLobes(ClayIblLobe[1](ClayIblLobe(reflected, lookup_roughness, (above_1 ? coat_albedo : vec3(0.0)))), ClayIblLobe(n_4, 1.0, (above_1 ? (((vec3(1.0) - coat_albedo) * absorption_ww) * layer1_albedo_l) : vec3(0.0))));
 }

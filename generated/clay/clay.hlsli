@@ -288,7 +288,7 @@ ClayIblLobes clay_ibl_lobes(float3 n_4, float3 v_4)
     float layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001);
     const float3 absorption_ww = clay_absorption_ww((0.8).xxx, 0.25, layer1_cos_v_1, layer1_cos_v_1);
     const float3 layer1_albedo_l = clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, layer1_cos_v_1);
-    bool _e40 = (dot(n_4, v_4) > 0.0);
-    const ClayIblLobes clayibllobes = ConstructClayIblLobes(Constructarray1_ClayIblLobe_(ConstructClayIblLobe(reflected, lookup_roughness, (_e40 ? coat_albedo : (0.0).xxx))), ConstructClayIblLobe(n_4, 1.0, (_e40 ? ((((1.0).xxx - coat_albedo) * absorption_ww) * layer1_albedo_l) : (0.0).xxx)));
+    bool above_1 = (dot(n_4, v_4) > 0.0);
+    const ClayIblLobes clayibllobes = ConstructClayIblLobes(Constructarray1_ClayIblLobe_(ConstructClayIblLobe(reflected, lookup_roughness, (above_1 ? coat_albedo : (0.0).xxx))), ConstructClayIblLobe(n_4, 1.0, (above_1 ? ((((1.0).xxx - coat_albedo) * absorption_ww) * layer1_albedo_l) : (0.0).xxx)));
     return clayibllobes;
 }

@@ -660,6 +660,6 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(vec3 n_6, vec3 v_6) {
     float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
     vec3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    bool _e153 = (dot(n_6, v_6) > 0.0);
-    return CoatedGoldIblLobes(CoatedGoldIblLobe[2](CoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? vec3(coat_albedo) : vec3(0.0))), CoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : vec3(0.0)))), CoatedGoldIblLobe(n_6, 1.0, vec3(0.0)));
+    bool above = (dot(n_6, v_6) > 0.0);
+    return CoatedGoldIblLobes(CoatedGoldIblLobe[2](CoatedGoldIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0))), CoatedGoldIblLobe(reflected_1, base_roughness, (above ? under_albedo : vec3(0.0)))), CoatedGoldIblLobe(n_6, 1.0, vec3(0.0)));
 }

@@ -738,7 +738,7 @@ CoatedGoldIblLobes coated_gold_ibl_lobes(float3 n_6, float3 v_6)
     const float lookup_roughness = coated_gold_grazing_lookup_roughness(0.1, dot(n_6, v_6));
     float base_roughness = sqrt(min((layer1_alpha_4 * 1.5), 1.0));
     const float3 reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    bool _e153 = (dot(n_6, v_6) > 0.0);
-    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (_e153 ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (_e153 ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
+    bool above = (dot(n_6, v_6) > 0.0);
+    const CoatedGoldIblLobes coatedgoldibllobes = ConstructCoatedGoldIblLobes(Constructarray2_CoatedGoldIblLobe_(ConstructCoatedGoldIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx)), ConstructCoatedGoldIblLobe(reflected_1, base_roughness, (above ? under_albedo : (0.0).xxx))), ConstructCoatedGoldIblLobe(n_6, 1.0, (0.0).xxx));
     return coatedgoldibllobes;
 }

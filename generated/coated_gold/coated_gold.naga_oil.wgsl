@@ -664,7 +664,7 @@ fn coated_gold_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CoatedGoldIblLobes {
     let lookup_roughness = coated_gold_grazing_lookup_roughness(0.1f, dot(n_6, v_6));
     let base_roughness = sqrt(min((layer1_alpha_4 * 1.5f), 1f));
     let reflected_1 = coated_gold_specular_dominant_direction(n_6, v_6, (base_roughness * base_roughness));
-    let _e153 = (dot(n_6, v_6) > 0f);
-    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e153)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, _e153))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
+    let above = (dot(n_6, v_6) > 0f);
+    return CoatedGoldIblLobes(array<CoatedGoldIblLobe, 2>(CoatedGoldIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above)), CoatedGoldIblLobe(reflected_1, base_roughness, select(vec3(0f), under_albedo, above))), CoatedGoldIblLobe(n_6, 1f, vec3(0f)));
 }
 

@@ -335,6 +335,6 @@ ColorClayIblLobes color_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);
     float lookup_roughness = color_clay_grazing_lookup_roughness(0.3, dot(n_4, v_4));
-    bool _e89 = (dot(n_4, v_4) > 0.0);
-    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, lookup_roughness, (_e89 ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (_e89 ? under_albedo : vec3(0.0))));
+    bool above = (dot(n_4, v_4) > 0.0);
+    return ColorClayIblLobes(ColorClayIblLobe[1](ColorClayIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0)))), ColorClayIblLobe(n_4, 1.0, (above ? under_albedo : vec3(0.0))));
 }

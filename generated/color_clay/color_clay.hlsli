@@ -396,7 +396,7 @@ ColorClayIblLobes color_clay_ibl_lobes(float3 n_4, float3 v_4)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09);
     const float lookup_roughness = color_clay_grazing_lookup_roughness(0.3, dot(n_4, v_4));
-    bool _e89 = (dot(n_4, v_4) > 0.0);
-    const ColorClayIblLobes colorclayibllobes = ConstructColorClayIblLobes(Constructarray1_ColorClayIblLobe_(ConstructColorClayIblLobe(reflected, lookup_roughness, (_e89 ? (coat_albedo).xxx : (0.0).xxx))), ConstructColorClayIblLobe(n_4, 1.0, (_e89 ? under_albedo : (0.0).xxx)));
+    bool above = (dot(n_4, v_4) > 0.0);
+    const ColorClayIblLobes colorclayibllobes = ConstructColorClayIblLobes(Constructarray1_ColorClayIblLobe_(ConstructColorClayIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx))), ConstructColorClayIblLobe(n_4, 1.0, (above ? under_albedo : (0.0).xxx)));
     return colorclayibllobes;
 }

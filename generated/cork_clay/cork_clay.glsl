@@ -74,5 +74,6 @@ CorkClayIblLobes cork_clay_ibl_lobes(vec3 n_2, vec3 v_2) {
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     vec3 albedo_l = cork_clay_albedo_eon(vec3(0.45193905, 0.3308476, 0.19974965), 0.8, cos_v_1);
-    return CorkClayIblLobes(CorkClayIblLobe[1](CorkClayIblLobe(n_2, 0.0, vec3(0.0))), CorkClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : vec3(0.0))));
+    bool above = (dot(n_2, v_2) > 0.0);
+    return CorkClayIblLobes(CorkClayIblLobe[1](CorkClayIblLobe(n_2, 0.0, vec3(0.0))), CorkClayIblLobe(n_2, 1.0, (above ? albedo_l : vec3(0.0))));
 }

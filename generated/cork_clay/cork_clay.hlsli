@@ -117,6 +117,7 @@ CorkClayIblLobes cork_clay_ibl_lobes(float3 n_2, float3 v_2)
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     const float3 albedo_l = cork_clay_albedo_eon(float3(0.45193905, 0.3308476, 0.19974965), 0.8, cos_v_1);
-    const CorkClayIblLobes corkclayibllobes = ConstructCorkClayIblLobes(Constructarray1_CorkClayIblLobe_(ConstructCorkClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructCorkClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : (0.0).xxx)));
+    bool above = (dot(n_2, v_2) > 0.0);
+    const CorkClayIblLobes corkclayibllobes = ConstructCorkClayIblLobes(Constructarray1_CorkClayIblLobe_(ConstructCorkClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructCorkClayIblLobe(n_2, 1.0, (above ? albedo_l : (0.0).xxx)));
     return corkclayibllobes;
 }

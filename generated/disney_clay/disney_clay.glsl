@@ -180,6 +180,6 @@ DisneyClayIblLobes disney_clay_ibl_lobes(vec3 n_3, vec3 v_4) {
     vec3 reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196);
     float lookup_roughness = disney_clay_grazing_lookup_roughness(0.14, dot(n_3, v_4));
     vec3 albedo_l = disney_clay_albedo_oren_nayar(vec3(0.72, 0.42, 0.3), 0.6, cos_v_1);
-    bool _e25 = (dot(n_3, v_4) > 0.0);
-    return DisneyClayIblLobes(DisneyClayIblLobe[1](DisneyClayIblLobe(reflected, lookup_roughness, (_e25 ? coat_albedo : vec3(0.0)))), DisneyClayIblLobe(n_3, 1.0, (_e25 ? albedo_l : vec3(0.0))));
+    bool above_1 = (dot(n_3, v_4) > 0.0);
+    return DisneyClayIblLobes(DisneyClayIblLobe[1](DisneyClayIblLobe(reflected, lookup_roughness, (above_1 ? coat_albedo : vec3(0.0)))), DisneyClayIblLobe(n_3, 1.0, (above_1 ? albedo_l : vec3(0.0))));
 }

@@ -231,7 +231,7 @@ DisneyClayIblLobes disney_clay_ibl_lobes(float3 n_3, float3 v_4)
     const float3 reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196);
     const float lookup_roughness = disney_clay_grazing_lookup_roughness(0.14, dot(n_3, v_4));
     const float3 albedo_l = disney_clay_albedo_oren_nayar(float3(0.72, 0.42, 0.3), 0.6, cos_v_1);
-    bool _e25 = (dot(n_3, v_4) > 0.0);
-    const DisneyClayIblLobes disneyclayibllobes = ConstructDisneyClayIblLobes(Constructarray1_DisneyClayIblLobe_(ConstructDisneyClayIblLobe(reflected, lookup_roughness, (_e25 ? coat_albedo : (0.0).xxx))), ConstructDisneyClayIblLobe(n_3, 1.0, (_e25 ? albedo_l : (0.0).xxx)));
+    bool above_1 = (dot(n_3, v_4) > 0.0);
+    const DisneyClayIblLobes disneyclayibllobes = ConstructDisneyClayIblLobes(Constructarray1_DisneyClayIblLobe_(ConstructDisneyClayIblLobe(reflected, lookup_roughness, (above_1 ? coat_albedo : (0.0).xxx))), ConstructDisneyClayIblLobe(n_3, 1.0, (above_1 ? albedo_l : (0.0).xxx)));
     return disneyclayibllobes;
 }

@@ -182,7 +182,7 @@ fn disney_clay_ibl_lobes(n_3: vec3<f32>, v_4: vec3<f32>) -> DisneyClayIblLobes {
     let reflected = disney_clay_specular_dominant_direction(n_3, v_4, 0.0196f);
     let lookup_roughness = disney_clay_grazing_lookup_roughness(0.14f, dot(n_3, v_4));
     let albedo_l = disney_clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, cos_v_1);
-    let _e25 = (dot(n_3, v_4) > 0f);
-    return DisneyClayIblLobes(array<DisneyClayIblLobe, 1>(DisneyClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e25))), DisneyClayIblLobe(n_3, 1f, select(vec3(0f), albedo_l, _e25)));
+    let above_1 = (dot(n_3, v_4) > 0f);
+    return DisneyClayIblLobes(array<DisneyClayIblLobe, 1>(DisneyClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, above_1))), DisneyClayIblLobe(n_3, 1f, select(vec3(0f), albedo_l, above_1)));
 }
 

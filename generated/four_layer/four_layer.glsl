@@ -674,6 +674,6 @@ FourLayerIblLobes four_layer_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e352 = (dot(n_4, v_4) > 0.0);
-    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (_e352 ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (_e352 ? under_albedo : vec3(0.0))));
+    bool above = (dot(n_4, v_4) > 0.0);
+    return FourLayerIblLobes(FourLayerIblLobe[1](FourLayerIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0)))), FourLayerIblLobe(n_4, 1.0, (above ? under_albedo : vec3(0.0))));
 }

@@ -747,7 +747,7 @@ FourLayerIblLobes four_layer_ibl_lobes(float3 n_4, float3 v_4)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003);
     const float lookup_roughness = four_layer_grazing_lookup_roughness(0.2, dot(n_4, v_4));
-    bool _e352 = (dot(n_4, v_4) > 0.0);
-    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (_e352 ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (_e352 ? under_albedo : (0.0).xxx)));
+    bool above = (dot(n_4, v_4) > 0.0);
+    const FourLayerIblLobes fourlayeribllobes = ConstructFourLayerIblLobes(Constructarray1_FourLayerIblLobe_(ConstructFourLayerIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx))), ConstructFourLayerIblLobe(n_4, 1.0, (above ? under_albedo : (0.0).xxx)));
     return fourlayeribllobes;
 }

@@ -267,6 +267,6 @@ LacqueredWoodIblLobes lacquered_wood_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064);
     float lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08, dot(n_4, v_4));
-    bool _e51 = (dot(n_4, v_4) > 0.0);
-    return LacqueredWoodIblLobes(LacqueredWoodIblLobe[1](LacqueredWoodIblLobe(reflected, lookup_roughness, (_e51 ? vec3(coat_albedo) : vec3(0.0)))), LacqueredWoodIblLobe(n_4, 1.0, (_e51 ? under_albedo : vec3(0.0))));
+    bool above = (dot(n_4, v_4) > 0.0);
+    return LacqueredWoodIblLobes(LacqueredWoodIblLobe[1](LacqueredWoodIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0)))), LacqueredWoodIblLobe(n_4, 1.0, (above ? under_albedo : vec3(0.0))));
 }

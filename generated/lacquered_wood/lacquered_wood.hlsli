@@ -323,7 +323,7 @@ LacqueredWoodIblLobes lacquered_wood_ibl_lobes(float3 n_4, float3 v_4)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064);
     const float lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08, dot(n_4, v_4));
-    bool _e51 = (dot(n_4, v_4) > 0.0);
-    const LacqueredWoodIblLobes lacqueredwoodibllobes = ConstructLacqueredWoodIblLobes(Constructarray1_LacqueredWoodIblLobe_(ConstructLacqueredWoodIblLobe(reflected, lookup_roughness, (_e51 ? (coat_albedo).xxx : (0.0).xxx))), ConstructLacqueredWoodIblLobe(n_4, 1.0, (_e51 ? under_albedo : (0.0).xxx)));
+    bool above = (dot(n_4, v_4) > 0.0);
+    const LacqueredWoodIblLobes lacqueredwoodibllobes = ConstructLacqueredWoodIblLobes(Constructarray1_LacqueredWoodIblLobe_(ConstructLacqueredWoodIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx))), ConstructLacqueredWoodIblLobe(n_4, 1.0, (above ? under_albedo : (0.0).xxx)));
     return lacqueredwoodibllobes;
 }

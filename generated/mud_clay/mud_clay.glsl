@@ -74,5 +74,6 @@ MudClayIblLobes mud_clay_ibl_lobes(vec3 n_2, vec3 v_2) {
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     vec3 albedo_l = mud_clay_albedo_eon(vec3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v_1);
-    return MudClayIblLobes(MudClayIblLobe[1](MudClayIblLobe(n_2, 0.0, vec3(0.0))), MudClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : vec3(0.0))));
+    bool above = (dot(n_2, v_2) > 0.0);
+    return MudClayIblLobes(MudClayIblLobe[1](MudClayIblLobe(n_2, 0.0, vec3(0.0))), MudClayIblLobe(n_2, 1.0, (above ? albedo_l : vec3(0.0))));
 }

@@ -117,6 +117,7 @@ MudClayIblLobes mud_clay_ibl_lobes(float3 n_2, float3 v_2)
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     const float3 albedo_l = mud_clay_albedo_eon(float3(0.3498077, 0.27976614, 0.2202807), 0.6, cos_v_1);
-    const MudClayIblLobes mudclayibllobes = ConstructMudClayIblLobes(Constructarray1_MudClayIblLobe_(ConstructMudClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructMudClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : (0.0).xxx)));
+    bool above = (dot(n_2, v_2) > 0.0);
+    const MudClayIblLobes mudclayibllobes = ConstructMudClayIblLobes(Constructarray1_MudClayIblLobe_(ConstructMudClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructMudClayIblLobe(n_2, 1.0, (above ? albedo_l : (0.0).xxx)));
     return mudclayibllobes;
 }

@@ -74,5 +74,6 @@ PaperClayIblLobes paper_clay_ibl_lobes(vec3 n_2, vec3 v_2) {
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     vec3 albedo_l = paper_clay_albedo_eon(vec3(0.81943893, 0.7996387, 0.76015425), 0.4, cos_v_1);
-    return PaperClayIblLobes(PaperClayIblLobe[1](PaperClayIblLobe(n_2, 0.0, vec3(0.0))), PaperClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : vec3(0.0))));
+    bool above = (dot(n_2, v_2) > 0.0);
+    return PaperClayIblLobes(PaperClayIblLobe[1](PaperClayIblLobe(n_2, 0.0, vec3(0.0))), PaperClayIblLobe(n_2, 1.0, (above ? albedo_l : vec3(0.0))));
 }

@@ -117,6 +117,7 @@ PaperClayIblLobes paper_clay_ibl_lobes(float3 n_2, float3 v_2)
     float n_dot_v_2 = dot(n_2, v_2);
     float cos_v_1 = max(n_dot_v_2, 0.0001);
     const float3 albedo_l = paper_clay_albedo_eon(float3(0.81943893, 0.7996387, 0.76015425), 0.4, cos_v_1);
-    const PaperClayIblLobes paperclayibllobes = ConstructPaperClayIblLobes(Constructarray1_PaperClayIblLobe_(ConstructPaperClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructPaperClayIblLobe(n_2, 1.0, ((dot(n_2, v_2) > 0.0) ? albedo_l : (0.0).xxx)));
+    bool above = (dot(n_2, v_2) > 0.0);
+    const PaperClayIblLobes paperclayibllobes = ConstructPaperClayIblLobes(Constructarray1_PaperClayIblLobe_(ConstructPaperClayIblLobe(n_2, 0.0, (0.0).xxx)), ConstructPaperClayIblLobe(n_2, 1.0, (above ? albedo_l : (0.0).xxx)));
     return paperclayibllobes;
 }

@@ -228,6 +228,6 @@ RedPlasticIblLobes red_plastic_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);
     float lookup_roughness = red_plastic_grazing_lookup_roughness(0.35, dot(n_4, v_4));
-    bool _e47 = (dot(n_4, v_4) > 0.0);
-    return RedPlasticIblLobes(RedPlasticIblLobe[1](RedPlasticIblLobe(reflected, lookup_roughness, (_e47 ? vec3(coat_albedo) : vec3(0.0)))), RedPlasticIblLobe(n_4, 1.0, (_e47 ? under_albedo : vec3(0.0))));
+    bool above = (dot(n_4, v_4) > 0.0);
+    return RedPlasticIblLobes(RedPlasticIblLobe[1](RedPlasticIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0)))), RedPlasticIblLobe(n_4, 1.0, (above ? under_albedo : vec3(0.0))));
 }

@@ -282,7 +282,7 @@ RedPlasticIblLobes red_plastic_ibl_lobes(float3 n_4, float3 v_4)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995);
     const float lookup_roughness = red_plastic_grazing_lookup_roughness(0.35, dot(n_4, v_4));
-    bool _e47 = (dot(n_4, v_4) > 0.0);
-    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, lookup_roughness, (_e47 ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (_e47 ? under_albedo : (0.0).xxx)));
+    bool above = (dot(n_4, v_4) > 0.0);
+    const RedPlasticIblLobes redplasticibllobes = ConstructRedPlasticIblLobes(Constructarray1_RedPlasticIblLobe_(ConstructRedPlasticIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx))), ConstructRedPlasticIblLobe(n_4, 1.0, (above ? under_albedo : (0.0).xxx)));
     return redplasticibllobes;
 }

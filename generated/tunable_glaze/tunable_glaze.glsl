@@ -646,6 +646,6 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(vec3 n_4, vec3 v_4, TunableGlazePar
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    bool _e236 = (dot(n_4, v_4) > 0.0);
-    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (_e236 ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (_e236 ? under_albedo : vec3(0.0))));
+    bool above = (dot(n_4, v_4) > 0.0);
+    return TunableGlazeIblLobes(TunableGlazeIblLobe[1](TunableGlazeIblLobe(reflected, lookup_roughness, (above ? vec3(coat_albedo) : vec3(0.0)))), TunableGlazeIblLobe(n_4, 1.0, (above ? under_albedo : vec3(0.0))));
 }

@@ -732,7 +732,7 @@ TunableGlazeIblLobes tunable_glaze_ibl_lobes(float3 n_4, float3 v_4, TunableGlaz
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     const float lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    bool _e236 = (dot(n_4, v_4) > 0.0);
-    const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, lookup_roughness, (_e236 ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (_e236 ? under_albedo : (0.0).xxx)));
+    bool above = (dot(n_4, v_4) > 0.0);
+    const TunableGlazeIblLobes tunableglazeibllobes = ConstructTunableGlazeIblLobes(Constructarray1_TunableGlazeIblLobe_(ConstructTunableGlazeIblLobe(reflected, lookup_roughness, (above ? (coat_albedo).xxx : (0.0).xxx))), ConstructTunableGlazeIblLobe(n_4, 1.0, (above ? under_albedo : (0.0).xxx)));
     return tunableglazeibllobes;
 }

@@ -650,7 +650,7 @@ fn tunable_glaze_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>, params_2: TunableGlaz
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = tunable_glaze_specular_dominant_direction(n_4, v_4, (params_2.glaze_roughness * params_2.glaze_roughness));
     let lookup_roughness = tunable_glaze_grazing_lookup_roughness(params_2.glaze_roughness, dot(n_4, v_4));
-    let _e236 = (dot(n_4, v_4) > 0f);
-    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e236))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e236)));
+    let above = (dot(n_4, v_4) > 0f);
+    return TunableGlazeIblLobes(array<TunableGlazeIblLobe, 1>(TunableGlazeIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above))), TunableGlazeIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above)));
 }
 

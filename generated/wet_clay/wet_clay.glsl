@@ -308,6 +308,6 @@ WetClayIblLobes wet_clay_ibl_lobes(vec3 n_4, vec3 v_4) {
     vec3 under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0.0));
     vec3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e55 = (dot(n_4, v_4) > 0.0);
-    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (_e55 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (_e55 ? under_albedo : vec3(0.0))));
+    bool above_1 = (dot(n_4, v_4) > 0.0);
+    return WetClayIblLobes(WetClayIblLobe[1](WetClayIblLobe(reflected, lookup_roughness, (above_1 ? vec3(coat_albedo) : vec3(0.0)))), WetClayIblLobe(n_4, 1.0, (above_1 ? under_albedo : vec3(0.0))));
 }

@@ -367,7 +367,7 @@ WetClayIblLobes wet_clay_ibl_lobes(float3 n_4, float3 v_4)
     float3 under_albedo = max((albedo_v - (coat_albedo).xxx), (0.0).xxx);
     const float3 reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144);
     const float lookup_roughness = wet_clay_grazing_lookup_roughness(0.12, dot(n_4, v_4));
-    bool _e55 = (dot(n_4, v_4) > 0.0);
-    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (_e55 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (_e55 ? under_albedo : (0.0).xxx)));
+    bool above_1 = (dot(n_4, v_4) > 0.0);
+    const WetClayIblLobes wetclayibllobes = ConstructWetClayIblLobes(Constructarray1_WetClayIblLobe_(ConstructWetClayIblLobe(reflected, lookup_roughness, (above_1 ? (coat_albedo).xxx : (0.0).xxx))), ConstructWetClayIblLobe(n_4, 1.0, (above_1 ? under_albedo : (0.0).xxx)));
     return wetclayibllobes;
 }

@@ -681,7 +681,7 @@ fn car_paint_ibl_lobes(n_6: vec3<f32>, v_6: vec3<f32>) -> CarPaintIblLobes {
     let reflected = car_paint_specular_dominant_direction(n_6, v_6, 0.0016f);
     let lookup_roughness = car_paint_grazing_lookup_roughness(0.04f, dot(n_6, v_6));
     let reflected_1 = car_paint_specular_dominant_direction(n_6, v_6, 0.138277f);
-    let _e128 = (dot(n_6, v_6) > 0f);
-    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e128)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, _e128))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
+    let above = (dot(n_6, v_6) > 0f);
+    return CarPaintIblLobes(array<CarPaintIblLobe, 2>(CarPaintIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above)), CarPaintIblLobe(reflected_1, car_paint_base_roughness, select(vec3(0f), under_albedo, above))), CarPaintIblLobe(n_6, 1f, vec3(0f)));
 }
 

@@ -234,7 +234,7 @@ fn clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ClayIblLobes {
     let layer1_cos_v_1 = max(layer1_n_dot_v_1, 0.0001f);
     let absorption_ww = clay_absorption_ww(vec3(0.8f), 0.25f, layer1_cos_v_1, layer1_cos_v_1);
     let layer1_albedo_l = clay_albedo_oren_nayar(vec3<f32>(0.72f, 0.42f, 0.3f), 0.6f, layer1_cos_v_1);
-    let _e40 = (dot(n_4, v_4) > 0f);
-    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, _e40))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * absorption_ww) * layer1_albedo_l), _e40)));
+    let above_1 = (dot(n_4, v_4) > 0f);
+    return ClayIblLobes(array<ClayIblLobe, 1>(ClayIblLobe(reflected, lookup_roughness, select(vec3(0f), coat_albedo, above_1))), ClayIblLobe(n_4, 1f, select(vec3(0f), (((vec3(1f) - coat_albedo) * absorption_ww) * layer1_albedo_l), above_1)));
 }
 

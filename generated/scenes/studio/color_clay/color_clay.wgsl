@@ -337,7 +337,7 @@ fn color_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> ColorClayIblLobes {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = color_clay_specular_dominant_direction(n_4, v_4, 0.09f);
     let lookup_roughness = color_clay_grazing_lookup_roughness(0.3f, dot(n_4, v_4));
-    let _e89 = (dot(n_4, v_4) > 0f);
-    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e89))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e89)));
+    let above = (dot(n_4, v_4) > 0f);
+    return ColorClayIblLobes(array<ColorClayIblLobe, 1>(ColorClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above))), ColorClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above)));
 }
 

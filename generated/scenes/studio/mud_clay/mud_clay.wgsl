@@ -76,6 +76,7 @@ fn mud_clay_ibl_lobes(n_2: vec3<f32>, v_2: vec3<f32>) -> MudClayIblLobes {
     let n_dot_v_2 = dot(n_2, v_2);
     let cos_v_1 = max(n_dot_v_2, 0.0001f);
     let albedo_l = mud_clay_albedo_eon(vec3<f32>(0.3498077f, 0.27976614f, 0.2202807f), 0.6f, cos_v_1);
-    return MudClayIblLobes(array<MudClayIblLobe, 1>(MudClayIblLobe(n_2, 0f, vec3(0f))), MudClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, (dot(n_2, v_2) > 0f))));
+    let above = (dot(n_2, v_2) > 0f);
+    return MudClayIblLobes(array<MudClayIblLobe, 1>(MudClayIblLobe(n_2, 0f, vec3(0f))), MudClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, above)));
 }
 

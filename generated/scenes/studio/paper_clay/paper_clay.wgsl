@@ -76,6 +76,7 @@ fn paper_clay_ibl_lobes(n_2: vec3<f32>, v_2: vec3<f32>) -> PaperClayIblLobes {
     let n_dot_v_2 = dot(n_2, v_2);
     let cos_v_1 = max(n_dot_v_2, 0.0001f);
     let albedo_l = paper_clay_albedo_eon(vec3<f32>(0.81943893f, 0.7996387f, 0.76015425f), 0.4f, cos_v_1);
-    return PaperClayIblLobes(array<PaperClayIblLobe, 1>(PaperClayIblLobe(n_2, 0f, vec3(0f))), PaperClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, (dot(n_2, v_2) > 0f))));
+    let above = (dot(n_2, v_2) > 0f);
+    return PaperClayIblLobes(array<PaperClayIblLobe, 1>(PaperClayIblLobe(n_2, 0f, vec3(0f))), PaperClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, above)));
 }
 

@@ -76,6 +76,7 @@ fn cork_clay_ibl_lobes(n_2: vec3<f32>, v_2: vec3<f32>) -> CorkClayIblLobes {
     let n_dot_v_2 = dot(n_2, v_2);
     let cos_v_1 = max(n_dot_v_2, 0.0001f);
     let albedo_l = cork_clay_albedo_eon(vec3<f32>(0.45193905f, 0.3308476f, 0.19974965f), 0.8f, cos_v_1);
-    return CorkClayIblLobes(array<CorkClayIblLobe, 1>(CorkClayIblLobe(n_2, 0f, vec3(0f))), CorkClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, (dot(n_2, v_2) > 0f))));
+    let above = (dot(n_2, v_2) > 0f);
+    return CorkClayIblLobes(array<CorkClayIblLobe, 1>(CorkClayIblLobe(n_2, 0f, vec3(0f))), CorkClayIblLobe(n_2, 1f, select(vec3(0f), albedo_l, above)));
 }
 

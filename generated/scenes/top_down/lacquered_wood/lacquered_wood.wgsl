@@ -269,7 +269,7 @@ fn lacquered_wood_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> LacqueredWoodIblL
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = lacquered_wood_specular_dominant_direction(n_4, v_4, 0.0064f);
     let lookup_roughness = lacquered_wood_grazing_lookup_roughness(0.08f, dot(n_4, v_4));
-    let _e51 = (dot(n_4, v_4) > 0f);
-    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e51))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e51)));
+    let above = (dot(n_4, v_4) > 0f);
+    return LacqueredWoodIblLobes(array<LacqueredWoodIblLobe, 1>(LacqueredWoodIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above))), LacqueredWoodIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above)));
 }
 

@@ -593,7 +593,7 @@ fn four_layer_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> FourLayerIblLobes {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = four_layer_specular_dominant_direction(n_4, v_4, 0.040000003f);
     let lookup_roughness = four_layer_grazing_lookup_roughness(0.2f, dot(n_4, v_4));
-    let _e352 = (dot(n_4, v_4) > 0f);
-    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e352))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e352)));
+    let above = (dot(n_4, v_4) > 0f);
+    return FourLayerIblLobes(array<FourLayerIblLobe, 1>(FourLayerIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above))), FourLayerIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above)));
 }
 

@@ -230,7 +230,7 @@ fn red_plastic_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> RedPlasticIblLobes {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = red_plastic_specular_dominant_direction(n_4, v_4, 0.122499995f);
     let lookup_roughness = red_plastic_grazing_lookup_roughness(0.35f, dot(n_4, v_4));
-    let _e47 = (dot(n_4, v_4) > 0f);
-    return RedPlasticIblLobes(array<RedPlasticIblLobe, 1>(RedPlasticIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e47))), RedPlasticIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e47)));
+    let above = (dot(n_4, v_4) > 0f);
+    return RedPlasticIblLobes(array<RedPlasticIblLobe, 1>(RedPlasticIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above))), RedPlasticIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above)));
 }
 

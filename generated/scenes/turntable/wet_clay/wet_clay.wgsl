@@ -310,7 +310,7 @@ fn wet_clay_ibl_lobes(n_4: vec3<f32>, v_4: vec3<f32>) -> WetClayIblLobes {
     let under_albedo = max((albedo_v - vec3(coat_albedo)), vec3(0f));
     let reflected = wet_clay_specular_dominant_direction(n_4, v_4, 0.0144f);
     let lookup_roughness = wet_clay_grazing_lookup_roughness(0.12f, dot(n_4, v_4));
-    let _e55 = (dot(n_4, v_4) > 0f);
-    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), _e55))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, _e55)));
+    let above_1 = (dot(n_4, v_4) > 0f);
+    return WetClayIblLobes(array<WetClayIblLobe, 1>(WetClayIblLobe(reflected, lookup_roughness, select(vec3(0f), vec3(coat_albedo), above_1))), WetClayIblLobe(n_4, 1f, select(vec3(0f), under_albedo, above_1)));
 }
 

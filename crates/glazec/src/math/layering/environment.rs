@@ -93,7 +93,7 @@ pub fn environment_lobes<F: Real>(
         Method::WeidlichWilkie => seed_lobes(&coats, &body, inputs, (top_normal, base_normal), v, true),
     };
     // One-sided, as the BRDF: nothing is reflected towards a viewer below the horizon.
-    let above = n.dot(v).gt_lit(0.0);
+    let above = n.dot(v).gt_lit(0.0).named("above");
     for lobe in &mut lobes {
         lobe.weight = F::Vec::select(above, lobe.weight, inputs.zero());
     }
