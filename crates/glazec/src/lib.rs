@@ -286,7 +286,12 @@ impl Compiled {
         self.emit_files(targets, true)
     }
 
-    fn emit_files(&self, targets: &[Target], with_harness: bool) -> Result<Vec<Artifact>, emit::EmitError> {
+    /// [`Compiled::emit_with_harness`] when `with_harness`, else [`Compiled::emit`] (for callers
+    /// that take the choice as an option: `--harness`, `Build::harness`).
+    ///
+    /// # Errors
+    /// Only for a compiler bug.
+    pub fn emit_files(&self, targets: &[Target], with_harness: bool) -> Result<Vec<Artifact>, emit::EmitError> {
         let harness = if with_harness || targets.contains(&Target::Spv) {
             let harness = self.harness()?;
             Some(emit::HarnessModule { module: &harness.module, info: &harness.info, files: with_harness })

@@ -216,15 +216,14 @@ fn plan_one(
     bindings: &Choice,
     harness: bool,
 ) -> Result<Vec<OutputFile>, ProjectError> {
-    let emit = |c: &Compiled| if harness { c.emit_with_harness(targets) } else { c.emit(targets) };
     let artifacts = if *bindings == Choice::default() {
-        emit(c)?
+        c.emit_files(targets, harness)?
     } else {
         let rebound = c.with_bindings(bindings).map_err(|e| match e {
             crate::BindError::Clash(source) => ProjectError::Bind { material: c.material.name.clone(), source },
             crate::BindError::Internal(e) => ProjectError::Validate(e),
         })?;
-        emit(&rebound)?
+        rebound.emit_files(targets, harness)?
     };
     Ok(output::plan(out_dir, &c.material.name, artifacts))
 }

@@ -24,9 +24,7 @@ pub struct ValidateError {
 /// # Errors
 /// naga's validation error, rendered, if the module is invalid.
 pub fn validate(material: &str, module: &naga::Module) -> Result<ModuleInfo, ValidateError> {
-    Validator::new(ValidationFlags::all(), Capabilities::default())
-        .validate(module)
-        .map_err(|e| ValidateError { material: material.to_string(), message: e.emit_to_string("") })
+    run(material, module, ValidationFlags::all())
 }
 
 /// The `ModuleInfo` of `module` with none of the validator's optional checks: for a module made
@@ -37,7 +35,11 @@ pub fn validate(material: &str, module: &naga::Module) -> Result<ModuleInfo, Val
 /// # Errors
 /// naga's validation error, rendered, if the module is invalid.
 pub fn analyse(material: &str, module: &naga::Module) -> Result<ModuleInfo, ValidateError> {
-    Validator::new(ValidationFlags::empty(), Capabilities::default())
+    run(material, module, ValidationFlags::empty())
+}
+
+fn run(material: &str, module: &naga::Module, flags: ValidationFlags) -> Result<ModuleInfo, ValidateError> {
+    Validator::new(flags, Capabilities::default())
         .validate(module)
         .map_err(|e| ValidateError { material: material.to_string(), message: e.emit_to_string("") })
 }

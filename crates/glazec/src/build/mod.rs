@@ -249,9 +249,8 @@ impl Build {
         }
         let mut inputs = Vec::new();
         for (file, c) in files.iter().zip(&rebound) {
-            let internal = |e: crate::emit::EmitError| BuildError::Internal(crate::error_chain(&e));
-            let artifacts = if self.harness { c.emit_with_harness(&self.targets) } else { c.emit(&self.targets) }
-                .map_err(internal)?;
+            let artifacts =
+                c.emit_files(&self.targets, self.harness).map_err(|e| BuildError::Internal(crate::error_chain(&e)))?;
             let planned = output::plan(&shader_dir, &c.material.name, artifacts.clone());
             let written: Vec<_> = artifacts.into_iter().zip(planned.iter().map(|f| f.path.clone())).collect();
             outputs.extend(planned);
